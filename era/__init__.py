@@ -1,0 +1,15 @@
+"""ERA: the Eigensystem Realization Algorithm of Juang & Pappa (1985) for modal identification.
+
+Pure numerics (numpy/scipy); no web dependency.
+"""
+
+from .data import ResponseData
+from .errors import DataError, EraError, HankelError, OrderError
+from .indicators import mac
+from .modal import ModalModel
+from .realization import Identification, identify
+
+__all__ = [
+    "ResponseData", "identify", "Identification", "ModalModel", "mac",
+    "EraError", "DataError", "HankelError", "OrderError",
+]

@@ -1,0 +1,112 @@
+"""Response data: the pulse responses (Markov parameters) that ERA starts from."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import DataError
+
+
+def _labels(given, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
+    if given is None:
+        return tuple(f"{default_prefix}{i + 1}" for i in range(n))
+    labels = tuple(str(x) for x in given)
+    if len(labels) != n:
+        raise DataError(
+            f"{len(labels)} {what} labels were given for {n} {what}s; give one label per {what} "
+            f"(the {what} axis of `markov` has length {n}) or none."
+        )
+    return labels
+
+
+@dataclass(frozen=True, eq=False)
+class ResponseData:
+    """Pulse responses or free decays, ready for :func:`era.identify`.
+
+    Parameters
+    ----------
+    markov : array_like, shape (N, p, m)
+        ``markov[k] = C A^k B`` for k = 0..N-1: the pulse response of p outputs to m inputs
+        (Markov parameters, with the direct term Y(0) = D dropped), or free decays of p sensors from
+        m initial conditions as in the paper (eq. 15). A 1-D array is read as (N, 1, 1) and a 2-D
+        array as (N, p, 1). Real, finite values only.
+    dt : float
+        Sampling interval Δτ in seconds (> 0).
+    outputs, inputs : sequence of str, optional
+        Channel labels, p and m of them; default ``y1..yp`` and ``u1..um``.
+    output_units, input_units : sequence of str, optional
+        Units of each output channel and each input (e.g. ``"m/s^2"``, ``"N"``), for labels and reports.
+    """
+
+    markov: np.ndarray
+    dt: float
+    outputs: tuple[str, ...] | None = None
+    inputs: tuple[str, ...] | None = None
+    output_units: tuple[str, ...] | None = None
+    input_units: tuple[str, ...] | None = None
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        y = np.asarray(self.markov)
+        if y.dtype == object or not (np.issubdtype(y.dtype, np.number) or y.dtype == bool):
+            raise DataError("`markov` must be a numeric array of shape (N, p, m).")
+        if np.iscomplexobj(y):
+            raise DataError(
+                "`markov` is complex; ERA needs real time-domain pulse responses. Convert FRFs with "
+                "era.markov_from_frf first."
+            )
+        if y.ndim == 1:
+            y = y[:, None, None]
+        elif y.ndim == 2:
+            y = y[:, :, None]
+        elif y.ndim != 3:
+            raise DataError(f"`markov` has {y.ndim} dimensions; expected (N, p, m): samples × outputs × inputs.")
+        if min(y.shape) == 0:
+            raise DataError(f"`markov` has shape {y.shape}; every axis (samples, outputs, inputs) needs length ≥ 1.")
+        y = np.array(y, dtype=float, order="C")  # own, contiguous, read-only copy
+        finite = np.isfinite(y)
+        if not finite.all():
+            k, i, j = np.argwhere(~finite)[0]
+            n_bad = int((~finite).sum())
+            raise DataError(
+                f"`markov` holds {n_bad} NaN or infinite value(s), the first at sample {k}, output {i}, "
+                f"input {j}; remove or interpolate them before identification."
+            )
+        y.setflags(write=False)
+        try:
+            dt = float(self.dt)
+        except (TypeError, ValueError):
+            raise DataError(f"`dt` must be a number of seconds, got {self.dt!r}.") from None
+        if not np.isfinite(dt) or dt <= 0:
+            raise DataError(f"`dt` must be a positive, finite sampling interval in seconds, got {self.dt!r}.")
+        n, p, m = y.shape
+        object.__setattr__(self, "markov", y)
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "outputs", _labels(self.outputs, p, "output", "y"))
+        object.__setattr__(self, "inputs", _labels(self.inputs, m, "input", "u"))
+        if self.output_units is not None:
+            object.__setattr__(self, "output_units", _labels(self.output_units, p, "output", ""))
+        if self.input_units is not None:
+            object.__setattr__(self, "input_units", _labels(self.input_units, m, "input", ""))
+
+    @property
+    def n_samples(self) -> int:
+        """N, the number of samples (time steps)."""
+        return self.markov.shape[0]
+
+    @property
+    def n_outputs(self) -> int:
+        """p, the number of outputs (sensors)."""
+        return self.markov.shape[1]
+
+    @property
+    def n_inputs(self) -> int:
+        """m, the number of inputs (references or initial conditions)."""
+        return self.markov.shape[2]
+
+    @property
+    def time_s(self) -> np.ndarray:
+        """Sample times k·Δτ in seconds, shape (N,)."""
+        return np.arange(self.n_samples) * self.dt

@@ -1,0 +1,136 @@
+"""Accuracy indicators of ERA: modal amplitude coherence γ (eqs. 42-45), modal phase collinearity μ
+(eqs. 46-54), modal contribution, and the MAC used to compare shapes."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs: int) -> np.ndarray:
+    """Modal amplitude coherence γ_j (eqs. 42-45).
+
+    Parameters
+    ----------
+    histories : complex ndarray, shape (modes, s·m)
+        Row j is q_j^*, the modal amplitude history ψ^{-1} W of mode j (eq. 44) at the column shifts
+        t_0 = 0, t_1, ..., t_{s-1}; its first m entries are the initial modal amplitude b_j^* (eq. 42).
+    z : complex ndarray, shape (modes,)
+        Discrete eigenvalues z_j = exp(s_j Δτ).
+    col_shifts : int ndarray, shape (s,)
+        (0, t_1, ..., t_{s-1}).
+    n_inputs : int
+        m.
+
+    Returns
+    -------
+    ndarray, shape (modes,)
+        γ_j = |q̄_j^* q_j| / (|q̄_j| |q_j|) in [0, 1], with q̄_j the ideal history
+        [b_j^*, z_j^{t_1} b_j^*, ...] of eq. 43 (exp(t_i Δτ s_j) = z_j^{t_i}). A mode whose history is
+        identically zero gets γ = 0.
+    """
+    modes = histories.shape[0]
+    q = histories.reshape(modes, len(col_shifts), n_inputs)
+    b = q[:, 0, :]
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        growth = z[:, None] ** col_shifts[None, :]  # (modes, s)
+        ideal = growth[:, :, None] * b[:, None, :]
+        inner = np.abs(np.einsum("jsm,jsm->j", ideal.conj(), q))
+        norms = np.linalg.norm(ideal.reshape(modes, -1), axis=1) * np.linalg.norm(histories, axis=1)
+    ok = np.isfinite(norms) & (norms > 0) & np.isfinite(inner)
+    out = np.zeros(modes)
+    out[ok] = inner[ok] / norms[ok]
+    return np.clip(out, 0.0, 1.0)
+
+
+def mpc(shapes: np.ndarray) -> np.ndarray:
+    """Modal phase collinearity μ_j (eqs. 46-54), invariant to the complex scaling of each shape.
+
+    The paper centres each shape c_j (eq. 48) and forms c_rr, c_ri, c_ii (eqs. 49-51): these are the
+    entries of the 2 × 2 scatter matrix S of the points (Re c_k, Im c_k). Eqs. 52-54 then rotate the
+    points to the principal axis, but as printed they depend on the phase that the eigensolver happens
+    to give the shape. The rotation-free form is the one used here: with λ_1 ≥ λ_2 ≥ 0 the eigenvalues
+    of S,
+
+        μ = ((λ_1 - λ_2) / (λ_1 + λ_2))²,
+
+    which is 1 when the centred points lie on one line through the origin (a real shape times any
+    complex number: the 0°/180° behaviour the paper asks for) and 0 when they are spread evenly in
+    phase. Multiplying a shape by a complex number rotates the points and leaves λ_1, λ_2 unchanged.
+
+    Degenerate cases: when the centred shape vanishes (a single sensor, or all sensors moving as one)
+    the shape is a complex multiple of a real vector, so μ = 1; a shape that is identically zero
+    (an unobserved mode) gets μ = 0, so thresholds on μ drop it.
+
+    Parameters
+    ----------
+    shapes : complex ndarray, shape (p, modes)
+
+    Returns
+    -------
+    ndarray, shape (modes,) in [0, 1].
+    """
+    c = np.asarray(shapes, dtype=complex)
+    centred = c - c.mean(axis=0, keepdims=True)
+    re, im = centred.real, centred.imag
+    c_rr = np.einsum("pj,pj->j", re, re)
+    c_ii = np.einsum("pj,pj->j", im, im)
+    c_ri = np.einsum("pj,pj->j", re, im)
+    trace = c_rr + c_ii
+    # λ_1 - λ_2 of [[c_rr, c_ri], [c_ri, c_ii]], computed without cancellation
+    spread = np.hypot(c_rr - c_ii, 2.0 * c_ri)
+    scale = np.einsum("pj,pj->j", c.conj(), c).real
+    out = np.ones(c.shape[1])
+    tiny = np.finfo(float).eps * 16
+    informative = trace > tiny * scale
+    out[informative] = (spread[informative] / trace[informative]) ** 2
+    out[scale == 0] = 0.0
+    return np.clip(out, 0.0, 1.0)
+
+
+def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair) -> np.ndarray:
+    """Each mode's share of H(0): the Frobenius norm of its term in H(0), in the units of the singular values.
+
+    Mode j adds o_j r_j^T to H(0) (plus the complex conjugate for a pair), with o_j = [c_j z_j^{j_i}]_i
+    (length r·p) and r_j = [b_j z_j^{t_i}]_i (length s·m). For a real pole the norm is |o_j| |r_j|; for a
+    pair, ‖2 Re(o r^T)‖_F² = 2 (|o|²|r|² + Re((o^T o)(r^T r))). Comparable with the singular values d_i,
+    so strong and weak modes can be told apart (the modal singular value).
+
+    Parameters
+    ----------
+    shapes : (p, modes) complex; amplitudes : (modes, m) complex; z : (modes,) complex;
+    row_shifts : (r,) int; col_shifts : (s,) int; is_pair : (modes,) bool.
+
+    Returns
+    -------
+    ndarray, shape (modes,)
+    """
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        rows = z[None, :] ** row_shifts[:, None]  # (r, modes)
+        cols = z[None, :] ** col_shifts[:, None]  # (s, modes)
+        # o^T o = (sum_i z^{2 j_i}) (c^T c) and |o|² = (sum_i |z|^{2 j_i}) |c|², likewise for r
+        o2 = np.sum(np.abs(rows) ** 2, axis=0) * np.sum(np.abs(shapes) ** 2, axis=0)
+        r2 = np.sum(np.abs(cols) ** 2, axis=0) * np.sum(np.abs(amplitudes) ** 2, axis=1)
+        oo = np.sum(rows**2, axis=0) * np.sum(shapes**2, axis=0)
+        rr = np.sum(cols**2, axis=0) * np.sum(amplitudes**2, axis=1)
+        pair = 2.0 * (o2 * r2 + (oo * rr).real)
+        single = o2 * r2
+        out = np.sqrt(np.maximum(np.where(is_pair, pair, single), 0.0))
+    return np.where(np.isfinite(out), out, np.inf)
+
+
+def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Modal assurance criterion between the columns of ``a`` (p, i) and ``b`` (p, j): an (i, j) array in [0, 1].
+
+    MAC = |a^H b|² / ((a^H a)(b^H b)); a zero column gives MAC 0 with every other column.
+    """
+    a = np.asarray(a, dtype=complex)
+    b = np.asarray(b, dtype=complex)
+    if a.ndim == 1:
+        a = a[:, None]
+    if b.ndim == 1:
+        b = b[:, None]
+    num = np.abs(a.conj().T @ b) ** 2
+    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
+    out = np.zeros_like(num)
+    np.divide(num, den, out=out, where=den > 0)
+    return np.clip(out, 0.0, 1.0)

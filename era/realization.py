@@ -1,0 +1,198 @@
+"""identify(): H(0), H(1) and one SVD (eqs. 16, 22-23); realize(): the minimum realization (eq. 34),
+and the paper's non-minimal algorithms A1 (eq. 19) and A2 (eq. 20) for comparison."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import hankel, svd
+from .data import ResponseData
+from .errors import EraError, HankelError, OrderError
+from .modal import ModalModel, build_model
+
+
+@dataclass(frozen=True, eq=False)
+class Identification:
+    """The SVD of H(0) and the projection of H(1) on its leading singular vectors: every order from one SVD.
+
+    Attributes
+    ----------
+    data : ResponseData
+    row_shifts, col_shifts : int ndarray, shapes (r,) and (s,)
+        (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
+    singular_values : ndarray, shape (k,)
+        d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD, the computed rank for the
+        randomized one.
+    P : (r p, K), Q : (s m, K)
+        Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
+    projected : (K, K)
+        P^T H(1) Q, from which the realization of every order n ≤ K is a leading block (eq. 34).
+    svd_method : "dense" or "randomized"
+    """
+
+    data: ResponseData
+    row_shifts: np.ndarray
+    col_shifts: np.ndarray
+    singular_values: np.ndarray
+    P: np.ndarray
+    Q: np.ndarray
+    projected: np.ndarray
+    svd_method: str
+
+    @property
+    def rows(self) -> int:
+        return len(self.row_shifts)
+
+    @property
+    def cols(self) -> int:
+        return len(self.col_shifts)
+
+    @property
+    def dt(self) -> float:
+        return self.data.dt
+
+    @property
+    def max_order(self) -> int:
+        """K, the largest order that can be realized: the numerical rank of H(0), or the kept rank."""
+        return self.P.shape[1]
+
+    def order(self, tol: float = 1e-12) -> int:
+        """The rank n by the δ test (eqs. 38-39): the number of singular values with d_i / d_1 > tol."""
+        d = self.singular_values
+        if d.size == 0 or d[0] == 0:
+            return 0
+        return int(min(np.count_nonzero(d / d[0] > tol), self.max_order))
+
+    def _check_order(self, order) -> int:
+        if isinstance(order, bool) or not isinstance(order, (int, np.integer)):
+            raise OrderError(f"`order` must be a positive integer, got {order!r}.")
+        order = int(order)
+        if order < 1:
+            raise OrderError(f"`order` must be at least 1, got {order}.")
+        if order > self.max_order:
+            raise OrderError(
+                f"Order {order} is above the numerical rank of H(0), {self.max_order}: singular values past it "
+                f"are round-off or were not computed. Choose an order ≤ {self.max_order}"
+                + (" (or identify with a larger max_order)." if self.svd_method == "randomized" else ".")
+            )
+        return order
+
+    def balanced(self, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """A, B, C and the state history W of the order-n realization of eq. 34 in balanced form.
+
+        With D_n^{±1/2} splitting the singular values evenly between the two sides (a similarity transform
+        of the paper's [P_d^# H(1) Q, Q^T E_m, E_p^T P_d]):
+        A = D^{-1/2} P_n^T H(1) Q_n D^{-1/2}, B = D^{1/2} Q_n^T E_m, C = E_p^T P_n D^{1/2}, W = D^{1/2} Q_n^T.
+        Shapes (n, n), (n, m), (p, n), (n, s m).
+        """
+        n = self._check_order(order)
+        p, m = self.data.n_outputs, self.data.n_inputs
+        root = np.sqrt(self.singular_values[:n])
+        A = self.projected[:n, :n] / root[:, None] / root[None, :]
+        W = root[:, None] * self.Q[:, :n].T
+        C = self.P[:p, :n] * root[None, :]
+        return A, W[:, :m].copy(), C, W
+
+    def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
+        """The realization of the given order and its modes.
+
+        Parameters
+        ----------
+        order : int, optional
+            n; default :meth:`order` with δ = 1e-12.
+        method : "ERA", "A1" or "A2"
+            "ERA": the minimum realization of eq. 34 (balanced form, state dimension n).
+            "A1" (eq. 19): [H(1) H^#, H(0) E_m, E_p^T], state dimension r·p.
+            "A2" (eq. 20): [H^# H(1), E_m, E_p^T H(0)], state dimension s·m.
+            H^# = Q_n D_n^{-1} P_n^T (eq. 27). A1 and A2 are NOT minimal: besides the n modes of the data
+            they carry r·p - n (or s·m - n) eigenvalues at or near zero, reported as real poles of damping
+            ratio 1. They reproduce the data but the paper does not recommend them; they are here to compare.
+
+        Returns
+        -------
+        ModalModel
+        """
+        if order is None:
+            order = max(self.order(), 1)
+        method = str(method).upper()
+        d = self.data
+        if method == "ERA":
+            A, B, C, W = self.balanced(order)
+        elif method in ("A1", "A2"):
+            n = self._check_order(order)
+            h0 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 0)
+            h1 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 1)
+            h_pinv = (self.Q[:, :n] / self.singular_values[:n]) @ self.P[:, :n].T  # (s m, r p), eq. 27
+            p, m = d.n_outputs, d.n_inputs
+            if method == "A1":
+                A, B, C, W = h1 @ h_pinv, h0[:, :m].copy(), np.eye(h0.shape[0])[:p], h0
+            else:
+                A, B, C, W = h_pinv @ h1, np.eye(h0.shape[1])[:, :m], h0[:p].copy(), h_pinv @ h0
+        else:
+            raise EraError(f"`method` must be 'ERA', 'A1' or 'A2', got {method!r}.")
+        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, method)
+
+
+def _count(value, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise HankelError(f"`{name}` must be a positive integer, got {value!r}.")
+    return int(value)
+
+
+def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shifts=None, *,
+             max_order: int | None = None, svd_method: str = "auto") -> Identification:
+    """Build H(0) and H(1) (eq. 16), take ONE singular value decomposition of H(0) (eq. 22) and project H(1).
+
+    Parameters
+    ----------
+    data : ResponseData
+        Y(k) = C A^k B, shape (N, p, m), sampling interval Δτ = data.dt seconds.
+    rows, cols : int
+        r and s, the numbers of block rows and block columns. H(0) is (r p) × (s m).
+    row_shifts : sequence of r - 1 increasing positive ints, optional
+        j_1, ..., j_{r-1} (default j_i = i).
+    col_shifts : sequence of s - 1 increasing positive ints, optional
+        t_1, ..., t_{s-1} (default t_i = i). The column shifts are also the times of the ideal modal
+        histories of γ (eq. 43).
+    max_order : int, optional
+        The largest order needed. Default: the numerical rank of H(0) (singular values above
+        max(r p, s m)·ε·d_1). With the randomized SVD, the rank computed (default 200).
+    svd_method : "auto", "dense" or "randomized"
+        "auto" takes the dense LAPACK SVD unless min(shape)²·max(shape) of H(0) exceeds
+        era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
+
+    Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.hankel.MAX_HANKEL_ELEMENTS elements.
+
+    Returns
+    -------
+    Identification
+    """
+    if not isinstance(data, ResponseData):
+        raise EraError(f"`data` must be an era.ResponseData, got {type(data).__name__}; wrap your (N, p, m) "
+                       "array as era.ResponseData(markov=Y, dt=...).")
+    r, s = _count(rows, "rows"), _count(cols, "cols")
+    js = hankel.shifts(r, row_shifts, "row_shifts")
+    ts = hankel.shifts(s, col_shifts, "col_shifts")
+    n_samples, p, m = data.markov.shape
+    hankel.check_size(n_samples, p, m, js, ts)
+    if max_order is not None:
+        max_order = _count(max_order, "max_order")
+    h0 = hankel.block_hankel(data.markov, js, ts, 0)
+    method = svd.choose_method(h0.shape, svd_method)
+    if method == "dense":
+        P, d, Q = svd.dense_svd(h0)
+        tol = max(h0.shape) * np.finfo(float).eps * (d[0] if d.size else 0.0)
+        keep = int(np.count_nonzero(d > tol))
+        if max_order is not None:
+            keep = min(keep, max_order)
+    else:
+        P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
+        keep = int(np.count_nonzero(d > max(h0.shape) * np.finfo(float).eps * d[0])) if d.size else 0
+    del h0
+    P, Q = np.ascontiguousarray(P[:, :keep]), np.ascontiguousarray(Q[:, :keep])
+    h1 = hankel.block_hankel(data.markov, js, ts, 1)
+    projected = P.T @ (h1 @ Q)
+    return Identification(data=data, row_shifts=js, col_shifts=ts, singular_values=d, P=P, Q=Q,
+                          projected=projected, svd_method=method)
