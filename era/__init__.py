@@ -5,11 +5,12 @@ Pure numerics (numpy/scipy); no web dependency.
 
 from .data import ResponseData
 from .errors import DataError, EraError, HankelError, OrderError
+from .geometry import Geometry
 from .indicators import mac
 from .modal import ModalModel
 from .realization import Identification, identify
 
 __all__ = [
-    "ResponseData", "identify", "Identification", "ModalModel", "mac",
+    "ResponseData", "Geometry", "identify", "Identification", "ModalModel", "mac",
     "EraError", "DataError", "HankelError", "OrderError",
 ]

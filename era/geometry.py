@@ -1,0 +1,77 @@
+"""Test geometry: nodes, trace lines, and where each output channel measures."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import DataError
+
+
+@dataclass(frozen=True, eq=False)
+class Geometry:
+    """Nodes, trace lines and sensor placement of a test article.
+
+    Attributes
+    ----------
+    node_ids : int ndarray, shape (n_nodes,)
+        Node labels as in the source file (unique).
+    coordinates : float ndarray, shape (n_nodes, 3)
+        x, y, z of each node in ``units``.
+    edges : int ndarray, shape (n_edges, 2)
+        Trace lines as pairs of row indices into ``node_ids`` (not labels).
+    channel_nodes : int ndarray, shape (p,)
+        Row index into ``node_ids`` of the node each output channel measures, -1 when unknown.
+    channel_directions : float ndarray, shape (p, 3)
+        Unit vector of the measured direction of each output channel (global axes), zeros when unknown.
+    units : str
+        Length unit of the coordinates (e.g. "m", "ft").
+    """
+
+    node_ids: np.ndarray
+    coordinates: np.ndarray
+    edges: np.ndarray
+    channel_nodes: np.ndarray
+    channel_directions: np.ndarray
+    units: str = "m"
+
+    def __post_init__(self):
+        ids = np.asarray(self.node_ids, dtype=int).reshape(-1)
+        xyz = np.asarray(self.coordinates, dtype=float)
+        if xyz.shape != (ids.size, 3):
+            raise DataError(f"Geometry: coordinates have shape {xyz.shape}, expected ({ids.size}, 3) for {ids.size} nodes.")
+        if not np.isfinite(xyz).all():
+            raise DataError("Geometry: node coordinates contain NaN or infinite values.")
+        if np.unique(ids).size != ids.size:
+            raise DataError("Geometry: node ids are not unique.")
+        edges = np.asarray(self.edges, dtype=int).reshape(-1, 2)
+        if edges.size and (edges.min() < 0 or edges.max() >= ids.size):
+            raise DataError("Geometry: a trace line refers to a node that does not exist.")
+        nodes = np.asarray(self.channel_nodes, dtype=int).reshape(-1)
+        if nodes.size and (nodes.min() < -1 or nodes.max() >= ids.size):
+            raise DataError("Geometry: a channel refers to a node that does not exist.")
+        dirs = np.asarray(self.channel_directions, dtype=float).reshape(-1, 3)
+        if dirs.shape[0] != nodes.size:
+            raise DataError(f"Geometry: {nodes.size} channel nodes but {dirs.shape[0]} channel directions.")
+        for name, value in (("node_ids", ids), ("coordinates", xyz), ("edges", edges),
+                            ("channel_nodes", nodes), ("channel_directions", dirs)):
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.node_ids.size
+
+    def displaced(self, shape: np.ndarray, scale: float = 1.0) -> np.ndarray:
+        """Node coordinates displaced by a real sensor shape (p,) along each channel's direction: (n_nodes, 3).
+
+        Only nodes with a sensor move; several channels on one node add up (e.g. x, y, z sensors).
+        """
+        shape = np.asarray(shape, dtype=float).reshape(-1)
+        if shape.size != self.channel_nodes.size:
+            raise DataError(f"Geometry: a shape of {shape.size} values for {self.channel_nodes.size} channels.")
+        out = self.coordinates.copy()
+        known = self.channel_nodes >= 0
+        np.add.at(out, self.channel_nodes[known], scale * shape[known, None] * self.channel_directions[known])
+        return out
