@@ -9,8 +9,9 @@ from .geometry import Geometry
 from .indicators import mac
 from .modal import ModalModel
 from .realization import Identification, identify
+from .stabilization import StableMode, Stabilization, stabilization
 
 __all__ = [
-    "ResponseData", "Geometry", "identify", "Identification", "ModalModel", "mac",
+    "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode", "ModalModel", "mac",
     "EraError", "DataError", "HankelError", "OrderError",
 ]

@@ -45,17 +45,20 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
 def mpc(shapes: np.ndarray) -> np.ndarray:
     """Modal phase collinearity μ_j (eqs. 46-54), invariant to the complex scaling of each shape.
 
-    The paper centres each shape c_j (eq. 48) and forms c_rr, c_ri, c_ii (eqs. 49-51): these are the
-    entries of the 2 × 2 scatter matrix S of the points (Re c_k, Im c_k). Eqs. 52-54 then rotate the
-    points to the principal axis, but as printed they depend on the phase that the eigensolver happens
-    to give the shape. The rotation-free form is the one used here: with λ_1 ≥ λ_2 ≥ 0 the eigenvalues
-    of S,
+    The paper centres each shape c_j (eq. 48) and forms c_rr, c_ri, c_ii (eqs. 49-51): the entries of the
+    2 × 2 scatter matrix S of the points (Re c_k, Im c_k) in the complex plane. Eqs. 52-54 rotate the
+    points by θ onto their principal axis and take the share of the scatter that lies along it. As
+    printed, θ (eq. 53) lands on the MINOR axis for some phases of the shape (whenever e and c_ri have
+    opposite signs), and eq. 54 then returns λ_2/(λ_1 + λ_2) instead: ≈ 0 for a real shape rotated by
+    such an angle. The quantity eq. 54 means is, with λ_1 ≥ λ_2 ≥ 0 the eigenvalues of S,
 
-        μ = ((λ_1 - λ_2) / (λ_1 + λ_2))²,
+        μ = λ_1 / (λ_1 + λ_2),      λ_{1,2} = (c_rr + c_ii)/2 ± sqrt(((c_rr - c_ii)/2)² + c_ri²),
 
-    which is 1 when the centred points lie on one line through the origin (a real shape times any
-    complex number: the 0°/180° behaviour the paper asks for) and 0 when they are spread evenly in
-    phase. Multiplying a shape by a complex number rotates the points and leaves λ_1, λ_2 unchanged.
+    which is what eq. 54 gives on the major-axis branch, needs no angle, and is unchanged when the shape is
+    multiplied by any complex number (that rotates the points, not S's eigenvalues). μ = 1 when the
+    centred points lie on one line (0°/180° behaviour, any real shape times a complex number); its
+    lowest value, 1/2, is reached when they are spread evenly in phase. (Pappa, Elliott & Schenk 1993
+    later rescaled it to MPC = (2μ - 1)², which spans [0, 1]; this is the 1985 definition.)
 
     Degenerate cases: when the centred shape vanishes (a single sensor, or all sensors moving as one)
     the shape is a complex multiple of a real vector, so μ = 1; a shape that is identically zero
@@ -67,7 +70,7 @@ def mpc(shapes: np.ndarray) -> np.ndarray:
 
     Returns
     -------
-    ndarray, shape (modes,) in [0, 1].
+    ndarray, shape (modes,) in [1/2, 1], or 0 for a zero shape.
     """
     c = np.asarray(shapes, dtype=complex)
     centred = c - c.mean(axis=0, keepdims=True)
@@ -75,14 +78,12 @@ def mpc(shapes: np.ndarray) -> np.ndarray:
     c_rr = np.einsum("pj,pj->j", re, re)
     c_ii = np.einsum("pj,pj->j", im, im)
     c_ri = np.einsum("pj,pj->j", re, im)
-    trace = c_rr + c_ii
-    # λ_1 - λ_2 of [[c_rr, c_ri], [c_ri, c_ii]], computed without cancellation
-    spread = np.hypot(c_rr - c_ii, 2.0 * c_ri)
+    trace = c_rr + c_ii  # λ_1 + λ_2
+    spread = np.hypot(c_rr - c_ii, 2.0 * c_ri)  # λ_1 - λ_2, without cancellation
     scale = np.einsum("pj,pj->j", c.conj(), c).real
     out = np.ones(c.shape[1])
-    tiny = np.finfo(float).eps * 16
-    informative = trace > tiny * scale
-    out[informative] = (spread[informative] / trace[informative]) ** 2
+    informative = trace > 16 * np.finfo(float).eps * scale
+    out[informative] = 0.5 * (1.0 + spread[informative] / trace[informative])
     out[scale == 0] = 0.0
     return np.clip(out, 0.0, 1.0)
 

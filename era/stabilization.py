@@ -1,0 +1,173 @@
+"""The stabilization diagram: the poles of every model order from ONE SVD, their stability, and the modes
+that persist across orders."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import EraError
+from .indicators import mac
+from .modal import build_model
+from .realization import Identification
+
+
+@dataclass(frozen=True)
+class StableMode:
+    """A mode suggested by the diagram: stable poles of several orders tracked as one.
+
+    frequency_hz, damping_ratio, emac, mpc : means over the orders where it appears;
+    frequency_std_hz, damping_std : their standard deviations (the spread across orders);
+    orders : the orders where it appears; pole_indices : its poles in the Stabilization arrays;
+    shape : (p,) complex, the shape at the highest of those orders.
+    """
+
+    frequency_hz: float
+    frequency_std_hz: float
+    damping_ratio: float
+    damping_std: float
+    emac: float
+    mpc: float
+    orders: tuple
+    pole_indices: tuple
+    shape: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Stabilization:
+    """Poles of every order of one identification; per-pole arrays have shape (n_poles,).
+
+    orders : (n_orders,) the orders computed (requested orders above ident.max_order are left out).
+    order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
+    stable_frequency, stable_damping, stable_shape : the pole has a partner at the previous computed order
+        within freq_tol (relative frequency change), damping_tol (relative damping change) and with
+        MAC ≥ mac_min; the first order has no previous one, so all False there.
+    shapes : (p, n_poles) complex.
+    modes : the suggested modes, sorted by frequency.
+    """
+
+    orders: np.ndarray
+    order: np.ndarray
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    emac: np.ndarray
+    mpc: np.ndarray
+    contribution: np.ndarray
+    stable_frequency: np.ndarray
+    stable_damping: np.ndarray
+    stable_shape: np.ndarray
+    shapes: np.ndarray
+    modes: tuple
+
+    @property
+    def stable(self) -> np.ndarray:
+        """Stable in frequency, damping and shape: (n_poles,) bool."""
+        return self.stable_frequency & self.stable_damping & self.stable_shape
+
+
+def _relative_change(new: np.ndarray, old: np.ndarray) -> np.ndarray:
+    """|new - old| / |old| for every pair: (len(new), len(old)); 0/0 counts as no change."""
+    diff = np.abs(new[:, None] - old[None, :])
+    ref = np.abs(old)[None, :] * np.ones_like(diff)
+    out = np.where(diff == 0, 0.0, np.inf)
+    np.divide(diff, ref, out=out, where=ref > 0)
+    return out
+
+
+def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list[list[int]]:
+    """Track stable poles across orders: each joins the cluster whose latest pole is nearest in frequency,
+    within freq_tol and MAC ≥ mac_min, at most one pole per cluster and order (so repeated or close modes
+    with different shapes stay apart)."""
+    clusters: list[list[int]] = []
+    for n in np.unique(order):
+        idx = np.flatnonzero((order == n) & stable)
+        if not idx.size:
+            continue
+        heads = [c[-1] for c in clusters]
+        taken: set[int] = set()
+        filled: set[int] = set()
+        if heads:
+            df = _relative_change(freq[idx], freq[heads])
+            ok = (df <= freq_tol) & (mac(shapes[:, idx], shapes[:, heads]) >= mac_min)
+            cost = np.where(ok, df, np.inf)
+            for flat in np.argsort(cost, axis=None):
+                i, j = np.unravel_index(flat, cost.shape)
+                if not np.isfinite(cost[i, j]):
+                    break
+                if int(idx[i]) not in taken and j not in filled:
+                    clusters[j].append(int(idx[i]))
+                    taken.add(int(idx[i]))
+                    filled.add(j)
+        clusters.extend([int(i)] for i in idx if int(i) not in taken)
+    return [c for c in clusters if len(c) >= min_orders]
+
+
+def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
+                  damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3) -> Stabilization:
+    """Poles of every requested order, each realized from the leading block of the SAME projected H(1).
+
+    Parameters
+    ----------
+    ident : Identification
+        From :func:`era.identify`; no SVD is recomputed here.
+    orders : iterable of int
+        Model orders n (state dimensions). Orders above ident.max_order are skipped.
+    freq_tol, damping_tol : float
+        Relative change of frequency and of damping ratio to the nearest pole of the previous order
+        below which a pole is stable (defaults 1 % and 5 %).
+    mac_min : float
+        MAC with that pole at or above which the shape is stable (default 0.98).
+    min_orders : int
+        A suggested mode must be found stable (all three) in at least this many orders.
+
+    Returns
+    -------
+    Stabilization
+    """
+    req = sorted({int(n) for n in orders})
+    if not req or req[0] < 1:
+        raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
+    done = [n for n in req if n <= ident.max_order]
+    d = ident.data
+    cols = []
+    prev = None
+    for n in done:
+        A, B, C, W = ident.balanced(n)
+        model = build_model(A, B, C, W, d.dt, ident.row_shifts, ident.col_shifts)
+        f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
+        if prev is None:
+            sf = sd = ss = np.zeros(len(f), dtype=bool)
+        elif len(prev[0]) == 0 or len(f) == 0:
+            sf = sd = ss = np.zeros(len(f), dtype=bool)
+        else:
+            df = _relative_change(f, prev[0])
+            near = np.argmin(df, axis=1)
+            rows = np.arange(len(f))
+            sf = df[rows, near] <= freq_tol
+            sd = _relative_change(z, prev[1])[rows, near] <= damping_tol
+            ss = mac(sh, prev[2])[rows, near] >= mac_min
+        prev = (f, z, sh)
+        cols.append((np.full(len(f), n), f, z, model.emac, model.mpc, model.contribution, sf, sd, ss, sh))
+    p = d.n_outputs
+    if cols:
+        parts = list(zip(*cols))
+        arrays = [np.concatenate(x) for x in parts[:-1]]
+        shapes = np.concatenate(parts[-1], axis=1)
+    else:
+        arrays = [np.zeros(0, dtype=t) for t in (int, float, float, float, float, float, bool, bool, bool)]
+        shapes = np.zeros((p, 0), dtype=complex)
+    order, freq, damp, gamma, mu, contrib, sf, sd, ss = arrays
+    stable = sf & sd & ss
+    modes = []
+    for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
+        c = np.array(c)
+        modes.append(StableMode(
+            frequency_hz=float(freq[c].mean()), frequency_std_hz=float(freq[c].std()),
+            damping_ratio=float(damp[c].mean()), damping_std=float(damp[c].std()),
+            emac=float(gamma[c].mean()), mpc=float(mu[c].mean()), orders=tuple(int(x) for x in order[c]),
+            pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy()))
+    modes.sort(key=lambda m: m.frequency_hz)
+    return Stabilization(orders=np.array(done, dtype=int), order=order, frequency_hz=freq, damping_ratio=damp,
+                         emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf, stable_damping=sd,
+                         stable_shape=ss, shapes=shapes, modes=tuple(modes))
