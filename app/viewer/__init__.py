@@ -1,0 +1,88 @@
+"""The mode-shape viewer: viser 1.1.1 embedded in the page on the app's own port.
+
+    viewer = ModeViewer()
+    app.include_router(viewer.router)            # and viewer.start() / viewer.stop() in the lifespan
+    key = viewer.publish(geometry, frequency_hz, shapes, labels)
+    <iframe src="{viewer.iframe_url(key)}">     # POST /viser/{key}/mode {index, amplitude?, speed?} selects the mode
+    data = viewer.record(geometry, frequency_hz, shapes, mode_index)  # .viser bytes for a report
+    <iframe src="{viewer.playback_url('/files/mode1.viser')}">      # plays it with no live Python session
+
+Modules: scene.py (geometry + shape -> lines and colours, pure numpy), registry.py (keys and view state),
+live.py (viser server, per-browser scenes, animation thread), bridge.py (HTTP/websocket routes), record.py (.viser).
+One viser server per process: run the app with one uvicorn worker.
+"""
+
+from __future__ import annotations
+
+from urllib.parse import quote
+
+import numpy as np
+
+from era.geometry import Geometry
+
+from .bridge import make_router
+from .live import LiveViewer
+from .record import record_mode
+from .registry import Registry
+
+__all__ = ["ModeViewer"]
+
+
+class ModeViewer:
+    """Publish mode sets under random keys and show them, animated, in viser iframes served by `router`."""
+
+    def __init__(self, fps: float = 30.0, capacity: int = 256):
+        self.registry = Registry(capacity)
+        self._live = LiveViewer(self.registry, fps=fps)
+        self.router = make_router(self)
+
+    def start(self) -> None:
+        """Start the internal viser server (127.0.0.1, a free port) and the animation thread."""
+        self._live.start()
+
+    def stop(self) -> None:
+        self._live.stop()
+
+    @property
+    def running(self) -> bool:
+        return self._live.running
+
+    @property
+    def port(self) -> int:
+        """Internal port of the viser server (only the bridge talks to it)."""
+        return self._live.port
+
+    @property
+    def frames_sent(self) -> int:
+        """Animation frames sent to all browsers since start (to measure the frame rate)."""
+        return self._live.frames_sent
+
+    def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None) -> str:
+        """Register modes to show; returns a random key (128 bits, URL-safe).
+
+        geometry : era.Geometry, or None for the p sensors in a row (scene.default_geometry)
+        frequency_hz : (modes,) Hz; shapes : (p, modes) complex; labels : one string per mode or None
+        Raises era.DataError when the sizes do not match."""
+        return self.registry.publish(geometry, frequency_hz, shapes, labels)
+
+    def set_mode(self, key: str, index=None, amplitude=None, speed=None, phase_deg=None):
+        """What every client of `key` shows (same as POST /viser/{key}/mode); KeyError, ValueError."""
+        return self._live.set_mode(key, index=index, amplitude=amplitude, speed=speed, phase_deg=phase_deg)
+
+    def session_count(self, key: str | None = None) -> int:
+        """Browsers currently showing `key` (all keys if None)."""
+        return self._live.session_count(key)
+
+    def iframe_url(self, key: str) -> str:
+        """Page for an <iframe>; its websocket path /viser/{key} carries the key."""
+        return f"/viser/{quote(key, safe='')}/"
+
+    def record(self, geometry: Geometry | None, frequency_hz, shapes, mode_index: int, frames: int = 30,
+               amplitude: float = 0.15, period_s: float = 2.0) -> bytes:
+        """One cycle of one mode as .viser bytes (see record.record_mode); needs no running server."""
+        return record_mode(geometry, np.asarray(frequency_hz), shapes, mode_index, frames=frames,
+                           amplitude=amplitude, period_s=period_s)
+
+    def playback_url(self, file_url: str) -> str:
+        """Page for an <iframe> that plays the .viser file at `file_url` (same origin) in viser's shipped client."""
+        return "/viser/?playbackPath=" + quote(file_url, safe="/")

@@ -1,0 +1,152 @@
+"""HTTP side of the viewer: viser's shipped browser client, the websocket bridge, and the mode-selection route.
+
+URL scheme (one port serves everything):
+  GET  /viser/                   the client page; with ?playbackPath=<url> it plays a .viser recording, no server
+  GET  /viser/{key}/             the client page for a published key (the iframe)
+  WS   /viser/{key}              bridged to the internal viser server at ws://127.0.0.1:{port}/viser/{key}
+  POST /viser/{key}/mode         {index, amplitude?, speed?, phase_deg?}: what every client of the key shows
+
+viser's client opens its websocket at its own page URL with http -> ws and the query string and trailing slash
+dropped, so the page /viser/{key}/ connects to /viser/{key}: the key travels in the websocket path.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import gzip
+import logging
+from functools import lru_cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import viser
+import websockets
+from fastapi import APIRouter, HTTPException, Request, WebSocket
+from fastapi.responses import HTMLResponse, RedirectResponse, Response
+from pydantic import BaseModel, Field
+from starlette.websockets import WebSocketDisconnect
+
+from .registry import MAX_AMPLITUDE, MAX_SPEED
+
+if TYPE_CHECKING:
+    from . import ModeViewer
+
+log = logging.getLogger(__name__)
+
+CLIENT_HTML = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
+
+
+@lru_cache(maxsize=1)
+def client_page() -> tuple[bytes, bytes]:
+    """viser's single-file client build (scripts, styles and assets inlined: works offline), plain and gzipped."""
+    if not CLIENT_HTML.is_file():
+        raise RuntimeError(f"viser's browser client is missing from the installed package ({CLIENT_HTML}); "
+                           "reinstall viser==1.1.1.")
+    raw = CLIENT_HTML.read_bytes()
+    return raw, gzip.compress(raw, 6)
+
+
+def page_response(request: Request) -> Response:
+    raw, packed = client_page()
+    headers = {"Cache-Control": "no-cache", "X-Content-Type-Options": "nosniff", "Vary": "Accept-Encoding"}
+    if "gzip" in request.headers.get("accept-encoding", ""):
+        headers["Content-Encoding"] = "gzip"
+        return Response(packed, media_type="text/html; charset=utf-8", headers=headers)
+    return Response(raw, media_type="text/html; charset=utf-8", headers=headers)
+
+
+class ModeChoice(BaseModel):
+    """What a key's viewers show."""
+
+    index: int = Field(ge=0, description="Mode to show (column of the published shapes, from 0)")
+    amplitude: float | None = Field(None, ge=0, le=MAX_AMPLITUDE,
+                                    description="Largest displacement drawn, as a fraction of the structure's size")
+    speed: float | None = Field(None, ge=0, le=MAX_SPEED, description="Animation cycles per second; 0 freezes")
+    phase_deg: float | None = Field(None, ge=-3600, le=3600,
+                                    description="Set the phase of the cycle (degrees), e.g. to freeze at a peak")
+
+
+async def pump_to_browser(upstream, browser: WebSocket) -> None:
+    async for message in upstream:
+        if isinstance(message, bytes):
+            await browser.send_bytes(message)
+        else:
+            await browser.send_text(message)
+
+
+async def pump_to_viser(browser: WebSocket, upstream) -> None:
+    while True:
+        message = await browser.receive()
+        if message["type"] == "websocket.disconnect":
+            return
+        if message.get("bytes") is not None:
+            await upstream.send(message["bytes"])
+        elif message.get("text") is not None:
+            await upstream.send(message["text"])
+
+
+def make_router(viewer: "ModeViewer") -> APIRouter:
+    router = APIRouter(tags=["viewer"])
+
+    @router.get("/viser/", include_in_schema=False)
+    def viser_client(request: Request) -> Response:
+        """The viewer page with no live session: used with ?playbackPath= for recordings."""
+        return page_response(request)
+
+    @router.get("/viser/{key}/", include_in_schema=False)
+    def viser_client_for_key(key: str, request: Request) -> Response:
+        if key not in viewer.registry:
+            return HTMLResponse("<p>Unknown or expired viewer link: reload the page to show the modes again.</p>",
+                                status_code=404)
+        return page_response(request)
+
+    @router.get("/viser/{key}", include_in_schema=False)
+    def viser_client_slash(key: str) -> RedirectResponse:
+        return RedirectResponse(viewer.iframe_url(key), status_code=307)
+
+    @router.post("/viser/{key}/mode")
+    def select_mode(key: str, choice: ModeChoice) -> dict:
+        """Select the mode, amplitude and speed that every viewer of this key shows."""
+        try:
+            state = viewer.set_mode(key, index=choice.index, amplitude=choice.amplitude, speed=choice.speed,
+                                    phase_deg=choice.phase_deg)
+        except KeyError:
+            raise HTTPException(404, "Unknown or expired viewer key: publish the modes again.") from None
+        except ValueError as exc:
+            raise HTTPException(422, str(exc)) from None
+        return {"index": state.index, "amplitude": state.amplitude, "speed": state.speed,
+                "phase_deg": state.phase * 360.0}
+
+    @router.websocket("/viser/{key}")
+    async def viser_socket(browser: WebSocket, key: str) -> None:
+        """Forward the browser's websocket to the internal viser server, both ways, until either side closes."""
+        if key not in viewer.registry or not viewer.running:
+            await browser.close(code=1008, reason="Unknown or expired viewer key")
+            return
+        offered = [p for p in browser.scope.get("subprotocols", []) if p.startswith("viser-v")]
+        try:
+            upstream = await websockets.connect(
+                f"ws://127.0.0.1:{viewer.port}/viser/{key}", subprotocols=offered or None,
+                max_size=None, compression=None, open_timeout=5, ping_interval=None)
+        except (OSError, websockets.WebSocketException, asyncio.TimeoutError) as exc:
+            log.warning("viewer bridge could not reach viser: %s", exc)
+            await browser.close(code=1011, reason="Viewer unavailable")
+            return
+        await browser.accept(subprotocol=upstream.subprotocol)
+        tasks = [asyncio.create_task(pump_to_browser(upstream, browser)),
+                 asyncio.create_task(pump_to_viser(browser, upstream))]
+        try:
+            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+            await upstream.close()
+            # Pass viser's close code on (1002 = client/server version mismatch, shown by the client).
+            code = upstream.close_code if upstream.close_code not in (None, 1005, 1006) else 1000
+            try:
+                await browser.close(code=code, reason=(upstream.close_reason or "")[:120])
+            except (RuntimeError, WebSocketDisconnect):
+                pass                                # the browser already left
+
+    return router

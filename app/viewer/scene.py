@@ -1,0 +1,172 @@
+"""What the mode-shape viewer draws: pure numpy from a geometry and a mode shape to line segments and colours.
+
+No viser here, so the drawing rules are unit-testable: `frame()` is everything one animation frame needs.
+
+Conventions
+-----------
+- A mode shape is the complex sensor vector ψ (p,) of `era.ModalModel.shapes[:, j]`, scaled here so max |ψ| = 1.
+- The animation shows the real motion u(θ) = Re(ψ e^{iθ}) (p,), θ = 2π·phase, at each channel's node along the
+  channel's direction (`era.Geometry.displaced`). Nodes without a sensor stay put: we do not interpolate, so what the
+  engineer sees is exactly what was measured; the trace lines to unmeasured nodes stretch.
+- Displacement is drawn at `amplitude` × the structure's size (largest bounding-box side), so the same slider value
+  looks alike on a 0.3 m beam and a 3 m grid.
+- Colour is the instantaneous |displacement| of each node divided by the largest peak over the cycle (0 = still,
+  1 = the node's largest excursion), through `COLOUR_STOPS` (blue, teal, green, orange, red: all dark enough to read on
+  viser's white background).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from era.errors import DataError
+from era.geometry import Geometry
+
+# (value, R, G, B) stops of the displacement colour scale, 0..1 -> 0..255.
+COLOUR_STOPS = np.array([
+    (0.00, 20, 70, 200),
+    (0.25, 0, 150, 170),
+    (0.50, 60, 160, 40),
+    (0.75, 240, 140, 0),
+    (1.00, 210, 20, 20),
+], dtype=float)
+
+UNDEFORMED_RGB = (185, 185, 185)
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One animation frame.
+
+    Attributes
+    ----------
+    positions : (n_nodes, 3) float, displaced node coordinates in the geometry's units
+    level : (n_nodes,) float in [0, 1], |displacement| / largest peak displacement
+    segments : (n_edges, 2, 3) float32, start and end point of each trace line
+    segment_colours : (n_edges, 2, 3) uint8, RGB at each end of each trace line
+    sensor_points : (n_sensor_nodes, 3) float32, positions of the nodes that carry a channel
+    sensor_colours : (n_sensor_nodes, 3) uint8
+    """
+
+    positions: np.ndarray
+    level: np.ndarray
+    segments: np.ndarray
+    segment_colours: np.ndarray
+    sensor_points: np.ndarray
+    sensor_colours: np.ndarray
+
+
+def default_geometry(n_channels: int) -> Geometry:
+    """A stand-in when the data came without geometry: the p sensors in a row, 1 unit apart along x, joined in
+    channel order, each measuring +z (a beam seen from the side), units "channel"."""
+    if n_channels < 1:
+        raise DataError("The viewer needs at least one channel to draw.")
+    x = np.arange(n_channels, dtype=float)
+    return Geometry(
+        node_ids=np.arange(1, n_channels + 1),
+        coordinates=np.column_stack([x, np.zeros(n_channels), np.zeros(n_channels)]),
+        edges=np.column_stack([np.arange(n_channels - 1), np.arange(1, n_channels)]),
+        channel_nodes=np.arange(n_channels),
+        channel_directions=np.tile([0.0, 0.0, 1.0], (n_channels, 1)),
+        units="channel",
+    )
+
+
+def check_modes(geometry: Geometry, frequency_hz, shapes) -> tuple[np.ndarray, np.ndarray]:
+    """Validate and return (frequency_hz (modes,) float, shapes (p, modes) complex) for `geometry`.
+
+    Raises `era.DataError` saying what does not match (channel count, mode count, non-finite values)."""
+    f = np.atleast_1d(np.asarray(frequency_hz, dtype=float)).reshape(-1)
+    psi = np.asarray(shapes, dtype=complex)
+    if psi.ndim == 1:
+        psi = psi[:, None]
+    if psi.ndim != 2:
+        raise DataError(f"Mode shapes must be a (channels, modes) array, got shape {psi.shape}.")
+    p = geometry.channel_nodes.size
+    if psi.shape[0] != p:
+        raise DataError(f"Mode shapes have {psi.shape[0]} rows but the geometry places {p} channels; "
+                        "give one row per output channel.")
+    if psi.shape[1] != f.size:
+        raise DataError(f"{psi.shape[1]} mode shapes but {f.size} frequencies; give one frequency per mode.")
+    if psi.shape[1] == 0:
+        raise DataError("No modes to show: keep at least one mode.")
+    if not (np.isfinite(f).all() and np.isfinite(psi).all()):
+        raise DataError("Mode frequencies or shapes contain NaN or infinite values.")
+    return f, psi
+
+
+def structure_size(geometry: Geometry) -> float:
+    """Largest side of the nodes' bounding box in the geometry's units (1.0 for a single point)."""
+    size = float(np.ptp(geometry.coordinates, axis=0).max()) if geometry.n_nodes else 0.0
+    return size if size > 0 else 1.0
+
+
+def node_modal_vectors(geometry: Geometry, shape: np.ndarray) -> np.ndarray:
+    """Complex displacement vector of each node, (n_nodes, 3), for a shape (p,) normalised to max |ψ| = 1.
+
+    Several channels on one node (x, y, z sensors) add up; nodes without a channel get zeros."""
+    psi = np.asarray(shape, dtype=complex).reshape(-1)
+    peak = np.abs(psi).max(initial=0.0)
+    psi = psi / peak if peak > 0 else psi
+    out = np.zeros((geometry.n_nodes, 3), dtype=complex)
+    known = geometry.channel_nodes >= 0
+    np.add.at(out, geometry.channel_nodes[known], psi[known, None] * geometry.channel_directions[known])
+    return out
+
+
+def colours(level: np.ndarray) -> np.ndarray:
+    """Map levels in [0, 1] (clipped) to RGB uint8 through `COLOUR_STOPS`: shape (...) -> (..., 3)."""
+    v = np.clip(np.asarray(level, dtype=float), 0.0, 1.0)
+    rgb = [np.interp(v, COLOUR_STOPS[:, 0], COLOUR_STOPS[:, k]) for k in (1, 2, 3)]
+    return np.rint(np.stack(rgb, axis=-1)).astype(np.uint8)
+
+
+def frame(geometry: Geometry, node_vectors: np.ndarray, phase: float, amplitude: float) -> Frame:
+    """Node positions, trace lines and colours at one instant of the motion.
+
+    Parameters
+    ----------
+    geometry : the test article
+    node_vectors : (n_nodes, 3) complex, from `node_modal_vectors`
+    phase : fraction of the cycle, θ = 2π·phase
+    amplitude : largest displacement drawn, as a fraction of `structure_size(geometry)`
+    """
+    theta = 2.0 * np.pi * phase
+    motion = np.real(node_vectors * np.exp(1j * theta))               # (n, 3), unit = largest peak component
+    peak = np.linalg.norm(np.abs(node_vectors), axis=1).max(initial=0.0)
+    size = structure_size(geometry)
+    positions = geometry.coordinates + (amplitude * size) * motion
+    level = np.linalg.norm(motion, axis=1) / peak if peak > 0 else np.zeros(geometry.n_nodes)
+    node_rgb = colours(level)
+    edges = geometry.edges
+    sensors = np.unique(geometry.channel_nodes[geometry.channel_nodes >= 0])
+    return Frame(
+        positions=positions,
+        level=level,
+        segments=positions[edges].astype(np.float32).reshape(-1, 2, 3),
+        segment_colours=node_rgb[edges].reshape(-1, 2, 3),
+        sensor_points=positions[sensors].astype(np.float32),
+        sensor_colours=node_rgb[sensors],
+    )
+
+
+def camera_pose(geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
+    """(position, look_at) of a three-quarter view from above that frames the whole structure (z is up)."""
+    xyz = geometry.coordinates
+    centre = (xyz.min(axis=0) + xyz.max(axis=0)) / 2 if geometry.n_nodes else np.zeros(3)
+    size = structure_size(geometry)
+    return centre + size * np.array([0.45, -0.95, 0.75]), centre
+
+
+def mode_labels(frequency_hz: np.ndarray, labels=None) -> list[str]:
+    """Dropdown text per mode: the caller's labels, or "Mode k · f Hz"; made unique so a label picks one mode."""
+    if labels is None:
+        labels = [f"Mode {k + 1} · {f:.4g} Hz" for k, f in enumerate(frequency_hz)]
+    labels = [str(s) for s in labels]
+    if len(labels) != len(frequency_hz):
+        raise DataError(f"{len(labels)} labels for {len(frequency_hz)} modes; give one label per mode.")
+    if len(set(labels)) < len(labels):
+        labels = [f"{k + 1}. {s}" for k, s in enumerate(labels)]
+    return labels

@@ -1,0 +1,292 @@
+"""The mode-shape viewer without a browser: drawing rules, keys and view state, recordings, routes and the bridge."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("viser")
+
+import msgspec  # noqa: E402  (viser dependencies: the .viser format is zstd-compressed msgpack)
+import zstandard  # noqa: E402
+from fastapi import FastAPI  # noqa: E402
+from fastapi.testclient import TestClient  # noqa: E402
+from starlette.websockets import WebSocketDisconnect  # noqa: E402
+
+from app.viewer import ModeViewer, scene  # noqa: E402
+from app.viewer.registry import Registry, ViewState, updated_state  # noqa: E402
+from era.errors import DataError  # noqa: E402
+from era.geometry import Geometry  # noqa: E402
+
+SENSORS = [(x, y) for y in (1, 4, 6) for x in (1, 5, 9)]
+
+
+def grid(sensors=SENSORS) -> Geometry:
+    """11 × 8 joints 1 ft apart, bars between neighbours, sensors measuring +z."""
+    xy = np.array([(x, y) for y in range(8) for x in range(11)], dtype=float)
+    node = {(int(x), int(y)): k for k, (x, y) in enumerate(xy)}
+    edges = [(node[x, y], node[x + 1, y]) for y in range(8) for x in range(10)]
+    edges += [(node[x, y], node[x, y + 1]) for y in range(7) for x in range(11)]
+    return Geometry(node_ids=np.arange(1, 89), coordinates=np.column_stack([xy, np.zeros(88)]),
+                    edges=np.array(edges), channel_nodes=np.array([node[s] for s in sensors]),
+                    channel_directions=np.tile([0.0, 0.0, 1.0], (len(sensors), 1)), units="ft")
+
+
+def bending() -> np.ndarray:
+    x, y = np.array(SENSORS, dtype=float).T
+    return np.sin(np.pi * x / 10) * np.sin(np.pi * y / 7)
+
+
+def decode_viser(data: bytes) -> dict:
+    """Inverse of viser's StateSerializer.serialize: [u64 size][zstd([u64 len][msgpack][buffers])]."""
+    size = int.from_bytes(data[:8], "little")
+    inner = zstandard.ZstdDecompressor().decompress(data[8:], max_output_size=size)
+    length = int.from_bytes(inner[:8], "little")
+    return msgspec.msgpack.decode(inner[8:8 + length])
+
+
+# ---- drawing rules ---------------------------------------------------------------------------------------------
+
+def test_only_sensor_nodes_move_along_their_direction_by_amplitude_times_size():
+    g = grid()
+    psi = bending() * 2.0                                    # any scale: the viewer normalises to max |ψ| = 1
+    vectors = scene.node_modal_vectors(g, psi)
+    f = scene.frame(g, vectors, phase=0.0, amplitude=0.2)
+    moved = np.flatnonzero(np.abs(f.positions - g.coordinates).sum(axis=1) > 0)
+    assert set(moved) == set(g.channel_nodes)                # 79 unmeasured nodes stay put
+    expected_z = 0.2 * 10.0 * psi / np.abs(psi).max()          # structure size: 10 ft (largest side)
+    np.testing.assert_allclose(f.positions[g.channel_nodes, 2], expected_z)
+    np.testing.assert_allclose(f.positions[g.channel_nodes, :2], g.coordinates[g.channel_nodes, :2])
+
+
+def test_segments_follow_the_trace_lines_and_sensors_are_points():
+    g = grid()
+    f = scene.frame(g, scene.node_modal_vectors(g, bending()), phase=0.1, amplitude=0.3)
+    assert f.segments.shape == (157, 2, 3) and f.segment_colours.shape == (157, 2, 3)
+    np.testing.assert_allclose(f.segments, f.positions[g.edges], rtol=1e-6)
+    assert f.segment_colours.dtype == np.uint8
+    assert f.sensor_points.shape == (9, 3) and f.sensor_colours.shape == (9, 3)
+
+
+def test_colour_is_displacement_over_the_largest_peak():
+    g = grid()
+    psi = bending()
+    vectors = scene.node_modal_vectors(g, psi)
+    f = scene.frame(g, vectors, phase=0.0, amplitude=0.1)
+    peak = g.channel_nodes[np.argmax(np.abs(psi))]
+    assert f.level[peak] == pytest.approx(1.0)
+    assert tuple(scene.colours(f.level)[peak]) == (210, 20, 20)            # red: largest excursion
+    still = np.setdiff1d(np.arange(88), g.channel_nodes)
+    assert np.all(f.level[still] == 0) and tuple(scene.colours(0.0)) == (20, 70, 200)   # blue: still
+    np.testing.assert_allclose(f.level[g.channel_nodes], np.abs(psi) / np.abs(psi).max())
+    # a real mode passes through zero a quarter cycle later: everything still and blue
+    quarter = scene.frame(g, vectors, phase=0.25, amplitude=0.1)
+    np.testing.assert_allclose(quarter.positions, g.coordinates, atol=1e-12)
+    np.testing.assert_allclose(quarter.level, 0.0, atol=1e-12)
+
+
+def test_complex_mode_moves_its_imaginary_part_a_quarter_cycle_later():
+    g = grid()
+    psi = bending() + 0.5j * bending()[::-1]
+    vectors = scene.node_modal_vectors(g, psi)
+    quarter = scene.frame(g, vectors, phase=0.25, amplitude=0.1)
+    np.testing.assert_allclose(quarter.positions[g.channel_nodes, 2], -1.0 * (psi.imag / np.abs(psi).max()),
+                               atol=1e-12)
+
+
+def test_colour_scale_is_clipped_and_interpolated_between_stops():
+    rgb = scene.colours(np.array([-1.0, 0.0, 0.125, 0.5, 1.0, 3.0]))
+    assert rgb.shape == (6, 3)
+    np.testing.assert_array_equal(rgb[0], rgb[1])
+    np.testing.assert_array_equal(rgb[4], rgb[5])
+    np.testing.assert_array_equal(rgb[2], [10, 110, 185])                   # halfway between the first two stops
+    np.testing.assert_array_equal(rgb[3], [60, 160, 40])
+
+
+def test_channels_on_one_node_add_up():
+    g = Geometry(node_ids=[1, 2], coordinates=[[0, 0, 0], [2, 0, 0]], edges=[[0, 1]], channel_nodes=[1, 1],
+                 channel_directions=[[1, 0, 0], [0, 0, 1]])
+    f = scene.frame(g, scene.node_modal_vectors(g, np.array([0.5, 1.0])), phase=0.0, amplitude=0.5)
+    np.testing.assert_allclose(f.positions[1], [2 + 0.5, 0, 1.0])         # size 2 → 1 unit for |ψ| = 1
+    np.testing.assert_allclose(f.positions[0], [0, 0, 0])
+
+
+def test_default_geometry_puts_the_sensors_in_a_row_measuring_z():
+    g = scene.default_geometry(4)
+    np.testing.assert_array_equal(g.coordinates[:, 0], [0, 1, 2, 3])
+    np.testing.assert_array_equal(g.edges, [[0, 1], [1, 2], [2, 3]])
+    np.testing.assert_array_equal(g.channel_nodes, [0, 1, 2, 3])
+    np.testing.assert_array_equal(g.channel_directions[:, 2], 1.0)
+    one = scene.frame(scene.default_geometry(1), np.array([[0, 0, 1j]]), phase=0.0, amplitude=0.2)
+    assert one.segments.shape == (0, 2, 3) and one.sensor_points.shape == (1, 3)
+
+
+def test_mismatched_modes_are_refused_with_a_message():
+    g = grid()
+    with pytest.raises(DataError, match="8 rows but the geometry places 9 channels"):
+        scene.check_modes(g, [1.0], np.ones((8, 1)))
+    with pytest.raises(DataError, match="2 mode shapes but 1 frequencies"):
+        scene.check_modes(g, [1.0], np.ones((9, 2)))
+    with pytest.raises(DataError, match="NaN"):
+        scene.check_modes(g, [np.nan], np.ones((9, 1)))
+    with pytest.raises(DataError, match="at least one mode"):
+        scene.check_modes(g, [], np.ones((9, 0)))
+
+
+def test_labels_default_to_frequency_and_are_made_unique():
+    assert scene.mode_labels(np.array([1.5, 20.25])) == ["Mode 1 · 1.5 Hz", "Mode 2 · 20.25 Hz"]
+    assert scene.mode_labels(np.array([1.0, 2.0]), ["a", "a"]) == ["1. a", "2. a"]
+    with pytest.raises(DataError, match="one label per mode"):
+        scene.mode_labels(np.array([1.0]), ["a", "b"])
+
+
+def test_camera_frames_the_structure_from_above():
+    position, look_at = scene.camera_pose(grid())
+    np.testing.assert_allclose(look_at, [5.0, 3.5, 0.0])
+    assert position[2] > 5 and np.linalg.norm(position - look_at) > 10
+
+
+# ---- keys and view state ---------------------------------------------------------------------------------------
+
+def test_keys_are_random_url_safe_and_at_least_128_bits():
+    reg = Registry()
+    keys = {reg.publish(grid(), [1.0], bending()[:, None]) for _ in range(50)}
+    assert len(keys) == 50
+    for key in keys:
+        assert len(key) >= 22 and all(c.isalnum() or c in "-_" for c in key)
+
+
+def test_registry_drops_the_least_recently_used_key_beyond_capacity():
+    reg = Registry(capacity=2)
+    a, b = (reg.publish(None, [1.0], [[1.0], [0.5]]) for _ in range(2))
+    assert reg.get(a) is not None                         # a is now the most recently used
+    c = reg.publish(None, [1.0], [[1.0], [0.5]])
+    assert a in reg and c in reg and b not in reg and len(reg) == 2
+
+
+def test_publish_without_geometry_uses_the_row_of_sensors():
+    reg = Registry()
+    key = reg.publish(None, [3.0, 7.0], np.ones((5, 2)), ["first", "second"])
+    entry = reg.get(key)
+    assert entry.geometry.n_nodes == 5 and entry.labels == ["first", "second"] and entry.n_modes == 2
+
+
+def test_view_state_changes_are_validated():
+    s = ViewState(index=0, amplitude=0.1, speed=0.5, phase=0.3)
+    assert updated_state(s, 3, index=0).phase == 0.3                       # same mode keeps its phase
+    assert updated_state(s, 3, index=2) == ViewState(2, 0.1, 0.5, 0.0)     # another mode starts its cycle
+    assert updated_state(s, 3, speed=0, phase_deg=450).phase == pytest.approx(0.25)
+    with pytest.raises(ValueError, match="choose 0 to 2"):
+        updated_state(s, 3, index=3)
+    with pytest.raises(ValueError, match="Amplitude"):
+        updated_state(s, 3, amplitude=0.9)
+    with pytest.raises(ValueError, match="Speed"):
+        updated_state(s, 3, speed=-1)
+
+
+def test_animation_advances_the_phase_by_speed_and_freezes_at_zero():
+    reg = Registry()
+    key = reg.publish(grid(), [1.0], bending()[:, None])
+    reg.set_state(key, speed=0.5)
+    assert reg.advance(key, 0.5).phase == pytest.approx(0.25)
+    assert reg.advance(key, 1.6).phase == pytest.approx(0.05)               # wraps after a full cycle
+    reg.set_state(key, speed=0.0, phase_deg=90)
+    assert reg.advance(key, 10.0).phase == pytest.approx(0.25)
+    assert reg.advance("no-such-key", 0.1) is None
+
+
+# ---- recordings and URLs ---------------------------------------------------------------------------------------
+
+def test_record_is_one_cycle_in_the_viser_format():
+    viewer = ModeViewer()
+    data = viewer.record(grid(), [10.0, 20.0], np.column_stack([bending(), -bending()]), 1, frames=12,
+                         period_s=1.5)
+    rec = decode_viser(data)
+    assert rec["viserVersion"] == "1.1.1"
+    assert rec["durationSeconds"] == pytest.approx(1.5)
+    times = [t for t, _ in rec["messages"]]
+    assert times == sorted(times) and max(times) == pytest.approx(1.5 * 11 / 12)
+    kinds = {m["type"] for _, m in rec["messages"]}
+    assert {"LineSegmentsMessage", "PointCloudMessage", "LabelMessage"} <= kinds
+    # every frame after the first updates the moving lines
+    assert len({t for t, m in rec["messages"] if t > 0}) == 11
+
+
+def test_record_refuses_a_mode_that_does_not_exist():
+    with pytest.raises(DataError, match="choose 0 to 0"):
+        ModeViewer().record(grid(), [10.0], bending()[:, None], 1)
+
+
+def test_urls_put_the_key_in_the_path_and_escape_the_playback_file():
+    viewer = ModeViewer()
+    assert viewer.iframe_url("abc_-1") == "/viser/abc_-1/"
+    assert viewer.playback_url("/api/reports/t k/mode 1.viser") == \
+        "/viser/?playbackPath=/api/reports/t%20k/mode%201.viser"
+
+
+# ---- routes and the websocket bridge ---------------------------------------------------------------------------
+
+@pytest.fixture()
+def served():
+    viewer = ModeViewer()
+    app = FastAPI()
+    app.include_router(viewer.router)
+    key = viewer.publish(grid(), [10.0, 20.0], np.column_stack([bending(), 1j * bending()]), None)
+    return viewer, TestClient(app), key
+
+
+def test_client_page_is_viser_build_served_for_known_keys_only(served):
+    viewer, client, key = served
+    page = client.get(viewer.iframe_url(key))
+    assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
+    assert "<title>Viser</title>" in page.text
+    assert client.get("/viser/").status_code == 200
+    assert client.get("/viser/not-a-key/").status_code == 404
+    redirect = client.get(f"/viser/{key}", follow_redirects=False)
+    assert redirect.status_code == 307 and redirect.headers["location"] == viewer.iframe_url(key)
+
+
+def test_mode_route_selects_validates_and_404s(served):
+    viewer, client, key = served
+    r = client.post(f"/viser/{key}/mode", json={"index": 1, "amplitude": 0.3, "speed": 0, "phase_deg": 45})
+    assert r.status_code == 200
+    assert r.json() == {"index": 1, "amplitude": 0.3, "speed": 0.0, "phase_deg": pytest.approx(45.0)}
+    assert viewer.registry.get(key).state == ViewState(1, 0.3, 0.0, 0.125)
+    bad = client.post(f"/viser/{key}/mode", json={"index": 2})
+    assert bad.status_code == 422 and "choose 0 to 1" in bad.json()["detail"]
+    assert client.post(f"/viser/{key}/mode", json={"index": 0, "amplitude": 2}).status_code == 422
+    assert client.post("/viser/unknown/mode", json={"index": 0}).status_code == 404
+
+
+def test_bridge_forwards_viser_traffic_with_the_version_subprotocol(served):
+    viewer, client, key = served
+    viewer.start()
+    try:
+        with client.websocket_connect(f"/viser/{key}", subprotocols=["viser-v1.1.1"]) as ws:
+            assert ws.accepted_subprotocol == "viser-v1.1.1"
+            first = ws.receive_bytes()                       # viser's hybrid frame: u64 sizes, then zstd msgpack
+            assert len(first) > 16 and int.from_bytes(first[8:16], "little") <= len(first) - 16
+        with client.websocket_connect(f"/viser/{key}", subprotocols=["viser-v0.0.1"]) as ws:
+            with pytest.raises(WebSocketDisconnect) as closed:
+                ws.receive_bytes()
+            assert closed.value.code == 1002 and "Version mismatch" in closed.value.reason
+        with pytest.raises(WebSocketDisconnect) as refused:
+            with client.websocket_connect("/viser/unknown-key", subprotocols=["viser-v1.1.1"]):
+                pass
+        assert refused.value.code == 1008
+    finally:
+        viewer.stop()
+
+
+def test_share_url_requests_are_ignored():
+    from viser import _messages
+
+    viewer = ModeViewer()
+    viewer.start()
+    try:
+        handlers = viewer._live._server._websock_server._incoming_handlers
+        assert _messages.ShareUrlRequest not in handlers and _messages.ShareUrlDisconnect not in handlers
+        assert viewer._live._server.request_share_url() is None
+    finally:
+        viewer.stop()
+    assert not viewer.running
