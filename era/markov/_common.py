@@ -1,0 +1,51 @@
+"""Checks shared by the pulse-response builders: time records in, finite real 2-D arrays out."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import DataError
+
+
+def records(value, name: str) -> list[np.ndarray]:
+    """One (N, c) record or a list of them (several tests of one structure) as a list of float (N_r, c) arrays."""
+    items = list(value) if isinstance(value, (list, tuple)) else [value]
+    if not items:
+        raise DataError(f"`{name}` is empty; give an (N, channels) array or a list of them.")
+    out = []
+    for r, item in enumerate(items):
+        a = np.asarray(item)
+        if a.dtype == object or not np.issubdtype(a.dtype, np.number) or np.iscomplexobj(a):
+            raise DataError(f"`{name}` record {r}: expected real numbers, got {a.dtype}.")
+        if a.ndim == 1:
+            a = a[:, None]
+        if a.ndim != 2 or min(a.shape) == 0:
+            raise DataError(f"`{name}` record {r} has shape {a.shape}; expected (N samples, channels).")
+        a = np.asarray(a, dtype=float)
+        bad = ~np.isfinite(a)
+        if bad.any():
+            k, c = np.argwhere(bad)[0]
+            raise DataError(f"`{name}` record {r} holds {int(bad.sum())} NaN or infinite value(s), the first at "
+                            f"sample {k}, channel {c}; remove or interpolate them first.")
+        out.append(a)
+    widths = {a.shape[1] for a in out}
+    if len(widths) > 1:
+        raise DataError(f"`{name}` records have different channel counts {sorted(widths)}; every record must hold "
+                        "the same channels.")
+    return out
+
+
+def check_dt(dt) -> float:
+    try:
+        dt = float(dt)
+    except (TypeError, ValueError):
+        raise DataError(f"`dt` must be a number of seconds, got {dt!r}.") from None
+    if not np.isfinite(dt) or dt <= 0:
+        raise DataError(f"`dt` must be a positive, finite sampling interval in seconds, got {dt!r}.")
+    return dt
+
+
+def positive_int(value, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise DataError(f"`{name}` must be a positive integer, got {value!r}.")
+    return int(value)
