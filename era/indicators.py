@@ -32,14 +32,26 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
     q = histories.reshape(modes, len(col_shifts), n_inputs)
     b = q[:, 0, :]
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        growth = z[:, None] ** col_shifts[None, :]  # (modes, s)
-        ideal = growth[:, :, None] * b[:, None, :]
-        inner = np.abs(np.einsum("jsm,jsm->j", ideal.conj(), q))
-        norms = np.linalg.norm(ideal.reshape(modes, -1), axis=1) * np.linalg.norm(histories, axis=1)
+        growth = powers(z, col_shifts)  # (modes, s): exp(t_i Δτ s_j) = z_j^{t_i}
+        # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄
+        inner = np.abs(np.einsum("js,js->j", growth.conj(), np.einsum("jsm,jm->js", q, b.conj())))
+        ideal_norm = np.sqrt(np.sum(np.abs(growth) ** 2, axis=1) * np.sum(np.abs(b) ** 2, axis=1))
+        norms = ideal_norm * np.linalg.norm(histories, axis=1)
     ok = np.isfinite(norms) & (norms > 0) & np.isfinite(inner)
     out = np.zeros(modes)
     out[ok] = inner[ok] / norms[ok]
     return np.clip(out, 0.0, 1.0)
+
+
+def powers(z: np.ndarray, exponents: np.ndarray) -> np.ndarray:
+    """z_j ** t_i for every mode j and shift t_i: (modes, len(exponents)); 0 ** 0 = 1."""
+    z = np.asarray(z, dtype=complex)
+    t = np.asarray(exponents)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        out = np.exp(np.log(z)[:, None] * t[None, :])
+    out[:, t == 0] = 1.0
+    out[(z == 0)[:, None] & (t != 0)[None, :]] = 0.0
+    return out
 
 
 def mpc(shapes: np.ndarray) -> np.ndarray:
@@ -106,16 +118,15 @@ def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair) -> np.n
     ndarray, shape (modes,)
     """
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        rows = z[None, :] ** row_shifts[:, None]  # (r, modes)
-        cols = z[None, :] ** col_shifts[:, None]  # (s, modes)
-        # o^T o = (sum_i z^{2 j_i}) (c^T c) and |o|² = (sum_i |z|^{2 j_i}) |c|², likewise for r
-        o2 = np.sum(np.abs(rows) ** 2, axis=0) * np.sum(np.abs(shapes) ** 2, axis=0)
-        r2 = np.sum(np.abs(cols) ** 2, axis=0) * np.sum(np.abs(amplitudes) ** 2, axis=1)
-        oo = np.sum(rows**2, axis=0) * np.sum(shapes**2, axis=0)
-        rr = np.sum(cols**2, axis=0) * np.sum(amplitudes**2, axis=1)
+        rows = powers(z, row_shifts)  # (modes, r)
+        cols = powers(z, col_shifts)  # (modes, s)
+        # o^T o = (Σ_i z^{2 j_i}) (c^T c) and |o|² = (Σ_i |z|^{2 j_i}) |c|², likewise for r
+        o2 = np.sum(np.abs(rows) ** 2, axis=1) * np.sum(np.abs(shapes) ** 2, axis=0)
+        r2 = np.sum(np.abs(cols) ** 2, axis=1) * np.sum(np.abs(amplitudes) ** 2, axis=1)
+        oo = np.sum(rows**2, axis=1) * np.sum(shapes**2, axis=0)
+        rr = np.sum(cols**2, axis=1) * np.sum(amplitudes**2, axis=1)
         pair = 2.0 * (o2 * r2 + (oo * rr).real)
-        single = o2 * r2
-        out = np.sqrt(np.maximum(np.where(is_pair, pair, single), 0.0))
+        out = np.sqrt(np.maximum(np.where(is_pair, pair, o2 * r2), 0.0))
     return np.where(np.isfinite(out), out, np.inf)
 
 

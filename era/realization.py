@@ -3,7 +3,8 @@ and the paper's non-minimal algorithms A1 (eq. 19) and A2 (eq. 20) for compariso
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import threading
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -15,7 +16,7 @@ from .modal import ModalModel, build_model
 
 @dataclass(frozen=True, eq=False)
 class Identification:
-    """The SVD of H(0) and the projection of H(1) on its leading singular vectors: every order from one SVD.
+    """The SVD of H(0), from which every order is realized (with H(1) projected on its singular vectors).
 
     Attributes
     ----------
@@ -27,9 +28,10 @@ class Identification:
         randomized one.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
-    projected : (K, K)
-        P^T H(1) Q, from which the realization of every order n ≤ K is a leading block (eq. 34).
     svd_method : "dense" or "randomized"
+
+    The realization of every order n ≤ K is a leading block of the projection P^T H(1) Q (eq. 34); see
+    :meth:`projected`.
     """
 
     data: ResponseData
@@ -38,8 +40,12 @@ class Identification:
     singular_values: np.ndarray
     P: np.ndarray
     Q: np.ndarray
-    projected: np.ndarray
     svd_method: str
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
+
+    #: The projection is computed at least this large at once, so a slider over orders reuses it.
+    MIN_PROJECTION = 160
 
     @property
     def rows(self) -> int:
@@ -79,6 +85,22 @@ class Identification:
             )
         return order
 
+    def projected(self, order: int) -> np.ndarray:
+        """P_n^T H(1) Q_n, shape (n, n): the leading block of the projection of H(1) on the singular vectors.
+
+        Computed once for max(n, MIN_PROJECTION) (capped at K) and kept; a larger n extends it (H(1) is
+        rebuilt from the data for that, so it is not held in memory).
+        """
+        n = self._check_order(order)
+        with self._lock:
+            full = self._cache.get("projected")
+            if full is None or full.shape[0] < n:
+                k = min(max(n, self.MIN_PROJECTION), self.max_order)
+                h1 = hankel.block_hankel(self.data.markov, self.row_shifts, self.col_shifts, 1)
+                full = self.P[:, :k].T @ (h1 @ self.Q[:, :k])
+                self._cache["projected"] = full
+        return full[:n, :n]
+
     def balanced(self, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """A, B, C and the state history W of the order-n realization of eq. 34 in balanced form.
 
@@ -90,7 +112,7 @@ class Identification:
         n = self._check_order(order)
         p, m = self.data.n_outputs, self.data.n_inputs
         root = np.sqrt(self.singular_values[:n])
-        A = self.projected[:n, :n] / root[:, None] / root[None, :]
+        A = self.projected(n) / root[:, None] / root[None, :]
         W = root[:, None] * self.Q[:, :n].T
         C = self.P[:p, :n] * root[None, :]
         return A, W[:, :m].copy(), C, W
@@ -192,7 +214,4 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
         keep = int(np.count_nonzero(d > max(h0.shape) * np.finfo(float).eps * d[0])) if d.size else 0
     del h0
     P, Q = np.ascontiguousarray(P[:, :keep]), np.ascontiguousarray(Q[:, :keep])
-    h1 = hankel.block_hankel(data.markov, js, ts, 1)
-    projected = P.T @ (h1 @ Q)
-    return Identification(data=data, row_shifts=js, col_shifts=ts, singular_values=d, P=P, Q=Q,
-                          projected=projected, svd_method=method)
+    return Identification(data=data, row_shifts=js, col_shifts=ts, singular_values=d, P=P, Q=Q, svd_method=method)
