@@ -100,7 +100,25 @@ def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list
                     taken.add(int(idx[i]))
                     filled.add(j)
         clusters.extend([int(i)] for i in idx if int(i) not in taken)
-    return [c for c in clusters if len(c) >= min_orders]
+    tracks = [c for c in clusters if len(c) >= min_orders]
+    return _merge_fragments(tracks, order, freq, freq_tol)
+
+
+def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
+    """Join tracks of one mode that broke apart (a shape that turned within a repeated pair's plane, an
+    order where the pole was not stable): same mean frequency within freq_tol and no order in common.
+    Only tracks that already pass min_orders are joined, so stray noise poles do not add up to a mode."""
+    merged: list[list[int]] = []
+    for c in sorted(clusters, key=len, reverse=True):
+        f = freq[c].mean()
+        for m in merged:
+            if abs(freq[m].mean() - f) <= freq_tol * max(abs(f), 1e-300) and not set(order[m]) & set(order[c]):
+                m.extend(c)
+                m.sort()
+                break
+        else:
+            merged.append(list(c))
+    return merged
 
 
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,

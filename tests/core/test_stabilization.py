@@ -68,3 +68,13 @@ def test_orders_above_the_rank_are_skipped_and_bad_orders_refused():
     assert stab.orders.tolist() == [2, 4]
     with pytest.raises(era.EraError, match="positive integers"):
         era.stabilization(ident, orders=[0, 2])
+
+
+def test_a_repeated_pair_is_suggested_as_two_modes_at_one_frequency():
+    f = [3.1, 7.4, 7.6, 12.0, 18.5, 18.5, 25.0]
+    data, _ = modal_response(f, [0.01, 0.02, 0.02, 0.005, 0.01, 0.01, 0.03], 8, 3, 1200, 0.01, snr_db=30, seed=1)
+    stab = era.stabilization(era.identify(data, rows=60, cols=150), orders=range(2, 81, 2))
+    persistent = [m for m in stab.modes if len(m.orders) >= 15]
+    np.testing.assert_allclose([m.frequency_hz for m in persistent], f, rtol=1e-3)
+    repeated = [m for m in persistent if abs(m.frequency_hz - 18.5) < 0.05]
+    assert len(repeated) == 2 and not set(repeated[0].orders) <= set(repeated[1].orders)
