@@ -174,7 +174,7 @@ class GridModel:
     """The grid FE model for one set of parameters (see :func:`nasa_grid`). Immutable; results are cached."""
 
     _params: dict
-    perturbation: GridPerturbation = field(default_factory=GridPerturbation)
+    perturbation: GridPerturbation = field(default_factory=GridPerturbation, repr=False)
 
     @property
     def params(self) -> dict:

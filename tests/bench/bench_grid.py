@@ -1,0 +1,54 @@
+"""Speed of the grid FE model: what era.explain pays per candidate evaluation.
+
+Run: python3 -m pytest tests/bench/bench_grid.py -s
+Reference: one dense LAPACK generalized eigen-solve (scipy.linalg.eigh, lowest 10) of the nominal grid's own
+K and M, in the same process. One build + modes(10) must stay under ~50 ms; we assert it in that unit.
+"""
+
+import time
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from era.grid import nasa_grid
+from era.simulate import simulate_grid_test
+
+VARIANTS = {
+    "nominal": {},
+    "joint_stiffness=300": {"joint_stiffness": 300.0},
+    "loose joint (3,3)": {"loose_joint_at": (3, 3), "loose_joint_stiffness": 50.0},
+    "point mass (10,0)": {"point_mass_kg": 1.0, "point_mass_at": (10, 0)},
+    "elements_per_bar=2": {"elements_per_bar": 2},
+}
+
+
+def _median_time(fn, repeat=15):
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
+
+
+@pytest.fixture(scope="module")
+def reference():
+    system = nasa_grid()._system[1]
+    K, M = system.K.toarray(), system.M.toarray()
+    return _median_time(lambda: scipy.linalg.eigh(K, M, subset_by_index=[0, 9]))
+
+
+@pytest.mark.parametrize("name", list(VARIANTS))
+def test_one_candidate_build_and_modes10(name, reference):
+    base = nasa_grid()
+    t = _median_time(lambda: base.with_params(**VARIANTS[name]).modes(10))
+    print(f"\n[{name}] build + modes(10): {t * 1e3:.1f} ms = {t / reference:.2f}× one dense eigh of the "
+          f"nominal ({reference * 1e3:.1f} ms)")
+    assert t < 0.05 if name != "elements_per_bar=2" else t < 0.15
+
+
+def test_simulated_test_costs_little_next_to_era():
+    t = _median_time(lambda: simulate_grid_test("point_mass", seed=0), repeat=5)
+    print(f"\n[simulate_grid_test] 40 s, 9 × 6 records with a fine truth mesh: {t * 1e3:.0f} ms")
+    assert t < 0.5
