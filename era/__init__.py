@@ -15,3 +15,12 @@ __all__ = [
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode", "ModalModel", "mac",
     "EraError", "DataError", "HankelError", "OrderError",
 ]
+
+# test data in (issue 3): readers, writers and pulse responses from every kind of test
+from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
+from .markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
+
+__all__ += [
+    "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
+    "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
+]

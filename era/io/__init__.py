@@ -1,0 +1,149 @@
+"""Reading test data: ``era.load`` turns a UFF, CSV or NPZ file into Markov parameters, geometry and provenance.
+
+Readers (uff.py, csv.py, npz.py) return what the file holds; records.py picks the conversion (era.markov).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..data import ResponseData
+from ..errors import DataError
+from ..geometry import Geometry
+from .csv import merge, read_csv
+from .npz import read_npz, save_npz
+from .records import Records, to_response
+from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
+from .uff_write import save_modes_uff
+
+FORMATS = ("uff", "csv", "npz")
+_EXTENSIONS = {".uff": "uff", ".unv": "uff", ".uf": "uff", ".csv": "csv", ".txt": "csv", ".tsv": "csv",
+               ".dat": "csv", ".npz": "npz"}
+
+
+@dataclass(frozen=True, eq=False)
+class Dataset:
+    """What :func:`load` read.
+
+    data : ResponseData, or None when the file holds only geometry and/or modes (UFF 15/82/55).
+    geometry : Geometry or None; its channels are the outputs of ``data``.
+    source : dict with "file", "format", "kind" (conversion used), "records" (what was read), "conversions"
+        (what was done to it, in order), "outputs"/"inputs" with units: for reports.
+    modes : ModeSet or None, modes stored in the file (UFF 55), e.g. from a finite-element program.
+    """
+
+    data: ResponseData | None
+    geometry: Geometry | None
+    source: dict = field(default_factory=dict)
+    modes: ModeSet | None = None
+
+
+def _read_bytes(src, name: str | None) -> tuple[bytes, str]:
+    if isinstance(src, (bytes, bytearray, memoryview)):
+        return bytes(src), name or "uploaded data"
+    if hasattr(src, "read"):
+        raw = src.read()
+        if isinstance(raw, str):
+            raise DataError("Open the file in binary mode ('rb') or pass bytes.")
+        return raw, name or os.path.basename(str(getattr(src, "name", "uploaded file")))
+    path = os.fspath(src)
+    if not os.path.isfile(path):
+        raise DataError(f"{path}: no such file.")
+    with open(path, "rb") as fh:
+        return fh.read(), name or os.path.basename(path)
+
+
+def sniff(raw: bytes, name: str) -> str:
+    """The format from the content, then the file name: 'uff', 'csv' or 'npz'."""
+    if not raw.strip():
+        raise DataError(f"{name}: the file is empty.")
+    if raw[:4] == b"PK\x03\x04":
+        return "npz"
+    head = raw.lstrip(b"\r\n\t ")[:8]
+    if head.startswith(b"-1") and raw.lstrip(b"\r\n")[:6] == b"    -1":
+        return "uff"
+    ext = os.path.splitext(name)[1].lower()
+    if ext in _EXTENSIONS and _EXTENSIONS[ext] != "npz":
+        return _EXTENSIONS[ext]
+    sample = raw[:4096]
+    if b"\x00" in sample or sum(b < 9 or 13 < b < 32 for b in sample) > 0.01 * len(sample):
+        raise DataError(f"{name}: binary content that is neither an .npz archive nor a UFF file; the formats read are "
+                        "UFF (58/58b, 15, 82, 55), CSV/text and NPZ.")
+    return "csv"
+
+
+def load(source, format: str | None = None, *, name: str | None = None, kind: str = "auto",
+         dt: float | None = None, **options) -> Dataset:
+    """Read test data and turn it into Markov parameters for :func:`era.identify`.
+
+    Parameters
+    ----------
+    source : path, bytes or binary file object, or a list of them (several CSV files = several records)
+    format : "uff", "csv", "npz" or None (sniffed from the content, then the extension of ``name``/the path)
+    name : the original file name of an upload (for sniffing and messages)
+    kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
+    dt : sampling interval in s for CSV files without a time column
+    options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
+
+    Raises DataError naming the file, record or line and what is wrong.
+    """
+    sources = list(source) if isinstance(source, (list, tuple)) else [source]
+    if not sources:
+        raise DataError("No file given.")
+    raws = [_read_bytes(s, name if len(sources) == 1 else None) for s in sources]
+    labels = [lab for _, lab in raws]
+    fmt = format.lower() if format else sniff(raws[0][0], labels[0])
+    if fmt not in FORMATS:
+        raise DataError(f"`format` must be one of {FORMATS} or None, got {format!r}.")
+    for raw, lab in raws:
+        if not raw.strip():
+            raise DataError(f"{lab}: the file is empty.")
+    if len(raws) > 1 and fmt != "csv":
+        raise DataError("Several files are read together only as CSV (one record each); load UFF and NPZ one by one.")
+    modes, parts, geometry = None, None, None
+    if fmt == "npz":
+        data, geometry, described = read_npz(raws[0][0], labels[0])
+        return Dataset(data, geometry, _source(labels, fmt, "markov", described, data), None)
+    if fmt == "csv":
+        rec = merge([read_csv(raw, lab, dt) for raw, lab in raws], labels)
+    else:
+        rec, parts, modes = _read_uff_bytes(raws[0][0], labels[0], sources[0])
+    if rec is None:
+        if parts is None and modes is None:
+            raise DataError(f"{labels[0]}: no function records (UFF 58), nodes (15/2411) or modes (55) in this file.")
+        geometry = build_geometry(parts, None, None, labels[0])
+        return Dataset(None, geometry, _source(labels, fmt, None, ["geometry/modes only"], None), modes)
+    try:
+        data, used = to_response(rec, kind, **options)
+    except TypeError as exc:  # an option the conversion does not take
+        raise DataError(f"{labels[0]}: {exc}") from None
+    if rec.nodes is not None:
+        keep = ~rec.force if used == "io" and rec.force is not None else np.ones(len(rec.nodes), bool)
+        geometry = build_geometry(parts, rec.nodes[keep], rec.directions[keep], labels[0])
+    return Dataset(data, geometry, _source(labels, fmt, used, rec.described, data), modes)
+
+
+def _read_uff_bytes(raw: bytes, label: str, src):
+    if isinstance(src, (str, os.PathLike)):
+        return read_uff(os.fspath(src), label)
+    with tempfile.TemporaryDirectory() as tmp:  # pyuff reads from a path
+        path = os.path.join(tmp, "upload.uff")
+        with open(path, "wb") as fh:
+            fh.write(raw)
+        return read_uff(path, label)
+
+
+def _source(labels, fmt, kind, described, data) -> dict:
+    out = {"file": labels[0] if len(labels) == 1 else labels, "format": fmt, "kind": kind, "records": described,
+           "conversions": list(data.meta.get("conversions", [])) if data is not None else []}
+    if data is not None:
+        out.update(outputs=list(data.outputs), inputs=list(data.inputs), output_units=data.output_units,
+                   input_units=data.input_units, dt_s=data.dt, shape=list(data.markov.shape))
+    return out
+
+
+__all__ = ["load", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "sniff"]

@@ -1,0 +1,168 @@
+"""Delimited text: a time column and one column per channel, names (and units) in the header.
+
+Delimiter (comma, semicolon, tab, blanks) and decimal comma are sniffed. Units come from a second header row or
+from the names ("acc1 [m/s^2]", "acc1 (g)"). A column named test/run/record/case splits the rows into several
+records (initial conditions or repeated tests).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+
+import numpy as np
+
+from ..errors import DataError
+from .records import Records
+
+_TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|sec|seconds)$", re.I)
+_TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
+_FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
+_UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
+_NUMBER = re.compile(r"^[+-]?(\d+([.,]\d*)?|[.,]\d+)([eE][+-]?\d+)?$|^[+-]?(nan|inf|infinity)$", re.I)
+
+
+def _decode(raw: bytes, label: str) -> str:
+    if b"\x00" in raw[:65536]:
+        raise DataError(f"{label}: binary content (NUL bytes) where delimited text was expected; is this a CSV file?")
+    for enc in ("utf-8-sig", "cp1252", "latin-1"):
+        try:
+            return raw.decode(enc)
+        except UnicodeDecodeError:
+            continue
+    raise DataError(f"{label}: not readable as text.")  # latin-1 decodes anything; kept for clarity
+
+
+def _split(line: str, delim: str | None) -> list[str]:
+    return [c.strip().strip('"') for c in (line.split(delim) if delim else line.split())]
+
+
+def _is_data(cells: list[str]) -> bool:
+    """A data line is mostly numbers (a test-name column may hold words); header lines are mostly words."""
+    return sum(bool(_NUMBER.match(c)) for c in cells) > len(cells) / 2
+
+
+def _sniff_delimiter(lines: list[str]) -> str | None:
+    for delim in ("\t", ";", ","):
+        counts = {ln.count(delim) for ln in lines}
+        if len(counts) == 1 and counts.pop() > 0:
+            return delim
+    return None
+
+
+def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
+    """Records ("time" domain) from the bytes of one delimited text file."""
+    text = _decode(raw, label)
+    lines = text.splitlines()
+    numbered = [(k + 1, ln) for k, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not numbered:
+        raise DataError(f"{label}: the file is empty (no data lines).")
+    delim = _sniff_delimiter([ln for _, ln in numbered[-20:]] if len(numbered) > 2 else [numbered[-1][1]])
+    header = []
+    while numbered and not _is_data(_split(numbered[0][1], delim)):
+        header.append(_split(numbered.pop(0)[1], delim))
+    if not numbered:
+        raise DataError(f"{label}: a header but no numeric data lines.")
+    first_line = numbered[0][0]
+    n_cols = len(_split(numbered[0][1], delim))
+    names = header[0] if header else [f"c{i + 1}" for i in range(n_cols)]
+    if len(names) != n_cols:
+        raise DataError(f"{label}: the header names {len(names)} columns but line {first_line} holds {n_cols} values.")
+    units = header[1] if len(header) > 1 and len(header[1]) == n_cols else [""] * n_cols
+    for i, nm in enumerate(names):
+        m = _UNIT_IN_NAME.match(nm)
+        if m and not units[i]:
+            names[i], units[i] = m.group(1).strip(), m.group(2).strip()
+    test_col = next((i for i, nm in enumerate(names) if nm.lower() in _TEST_NAMES), None)
+    body = "\n".join(ln for _, ln in numbered)
+    decimal_comma = delim != "," and re.search(r"\d,\d", body) is not None
+    if decimal_comma:
+        body = body.replace(",", ".")
+    numeric = [i for i in range(n_cols) if i != test_col]
+    try:
+        table = np.loadtxt(io.StringIO(body), delimiter=delim, usecols=numeric, ndmin=2, dtype=float,
+                           comments=None)
+        tests = (np.loadtxt(io.StringIO(body), delimiter=delim, usecols=[test_col], dtype=str, ndmin=1,
+                            comments=None) if test_col is not None else None)
+    except ValueError as exc:
+        raise DataError(_first_bad_line(numbered, delim, decimal_comma, numeric, n_cols, label) or
+                        f"{label}: {exc}") from None
+    line_of = np.array([k for k, _ in numbered])
+    _finite(table, label, line_of)
+    names = [names[i] for i in numeric]
+    units = [units[i] for i in numeric]
+    if _TIME_NAMES.match(names[0]) or (units[0].lower() == "s" and dt is None):
+        t, table, names, units = table[:, 0], table[:, 1:], names[1:], units[1:]
+    elif dt is None:
+        raise DataError(f"{label}: no time column (the first column is {names[0]!r}); name it 'time' or pass the "
+                        "sampling interval dt.")
+    else:
+        t = None
+    if table.shape[1] == 0:
+        raise DataError(f"{label}: a time column but no channel columns.")
+    groups = [np.arange(len(table))] if tests is None else [np.flatnonzero(tests == v)
+                                                            for v in dict.fromkeys(tests.tolist())]
+    values, step, start = [], None, 0.0
+    for g in groups:
+        if t is not None:
+            tg = t[g]
+            if len(tg) < 2:
+                raise DataError(f"{label}: record at line {line_of[g[0]]} has a single sample.")
+            steps = np.diff(tg)
+            h = float(np.median(steps))
+            bad = np.flatnonzero(np.abs(steps - h) > 1e-3 * abs(h))
+            if h <= 0 or bad.size:
+                k = int(bad[0]) if bad.size else 0
+                raise DataError(f"{label}, line {line_of[g[k + 1]]}: the time step is {steps[k]:g} s where the typical "
+                                f"step is {h:g} s; samples must be evenly spaced (no gaps, no repeats).")
+            if step is not None and abs(h - step) > 1e-6 * step:
+                raise DataError(f"{label}, line {line_of[g[0]]}: this record is sampled every {h:g} s, the first "
+                                f"every {step:g} s; every record must share the sampling step.")
+            step, start = (h, float(tg[0])) if step is None else (step, start)
+        values.append(table[g])
+    if step is None:
+        step = float(dt)
+    force = np.array([u.lower() in _FORCE_UNITS or "force" in n.lower() for n, u in zip(names, units)])
+    return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
+                   output_units=tuple(units), force=force, nodes=None, directions=None,
+                   described=[f"{label}: {len(table)} lines × {len(names)} channels"
+                              + (f" in {len(values)} records (column {tests is not None and 'test'})" if len(values) > 1
+                                 else "") + (", decimal comma" if decimal_comma else "")
+                              + (f", delimiter {delim!r}" if delim else ", blank-separated")])
+
+
+def _first_bad_line(numbered, delim, decimal_comma, numeric, n_cols, label) -> str | None:
+    """The message for the first data line that does not parse (only called after loadtxt failed)."""
+    for k, ln in numbered:
+        cells = _split(ln.replace(",", ".") if decimal_comma else ln, delim)
+        if len(cells) != n_cols:
+            return (f"{label}, line {k}: {len(cells)} values where the file has {n_cols} columns; every data line "
+                    "must hold the same columns (a cut-off or merged line?).")
+        for c in numeric:
+            try:
+                float(cells[c])
+            except ValueError:
+                return f"{label}, line {k}, column {c + 1}: {cells[c]!r} is not a number."
+    return None
+
+
+def _finite(table: np.ndarray, label: str, line_of: np.ndarray) -> None:
+    bad = ~np.isfinite(table)
+    if bad.any():
+        k, c = np.argwhere(bad)[0]
+        raise DataError(f"{label}, line {line_of[k]}, column {c + 1}: NaN or infinite value ({int(bad.sum())} in "
+                        "all). Remove or interpolate them, then load again.")
+
+
+def merge(records: list[Records], labels: list[str]) -> Records:
+    """Several files of the same channels as several records (one per file)."""
+    first = records[0]
+    for r, lab in zip(records[1:], labels[1:]):
+        if r.outputs != first.outputs:
+            raise DataError(f"{lab}: channels {list(r.outputs)} differ from those of {labels[0]} "
+                            f"{list(first.outputs)}; every file must hold the same channels.")
+        if abs(r.step - first.step) > 1e-6 * first.step:
+            raise DataError(f"{lab}: sampled every {r.step:g} s but {labels[0]} every {first.step:g} s.")
+    return Records(domain="time", values=[v for r in records for v in r.values], step=first.step,
+                   start=first.start, outputs=first.outputs, output_units=first.output_units, force=first.force,
+                   described=[d for r in records for d in r.described])

@@ -1,0 +1,146 @@
+"""What a file holds before it becomes Markov parameters, and the choice of conversion.
+
+Every reader returns :class:`Records`; :func:`to_response` turns them into an :class:`era.ResponseData` with the
+builder that fits the test (era.markov): FRFs by inverse FFT, impulse responses and free decays from their start,
+force-response records by OKID, output-only records by NExT.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..data import ResponseData
+from ..errors import DataError
+from ..markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
+
+KINDS = ("frf", "pulse", "decay", "io", "ambient")
+#: Fewest samples from which any identification is attempted (a 2 × 2 block Hankel needs 4 at the least).
+MIN_SAMPLES = 8
+
+
+@dataclass(frozen=True, eq=False)
+class Records:
+    """Data as read from a file.
+
+    domain : "time" (channel histories), "pulse" (impulse responses / Markov parameters, (N, p, m)) or
+        "frequency" (FRFs, (K, p, m) complex).
+    values : list of (N_r, c) float arrays for "time" (one per record/test); a one-element list holding the
+        (N, p, m) array for "pulse" and "frequency".
+    step : Δτ in s or Δf in Hz.  start : abscissa of the first sample (s or Hz; negative = pre-trigger).
+    outputs, output_units : names and units of the c channels ("time") or p outputs.
+    inputs, input_units : names and units of the m references ("pulse", "frequency").
+    force : (c,) bool, True for channels that measure excitation ("time" only).
+    nodes : (c or p,) int node label of each channel (0 = unknown); directions : (c or p, 3) unit vectors.
+    frf_type : "accelerance", "mobility", "receptance" or None.
+    described : list of str, what was read (for Dataset.source).
+    """
+
+    domain: str
+    values: list
+    step: float
+    start: float
+    outputs: tuple
+    output_units: tuple
+    inputs: tuple = ()
+    input_units: tuple = ()
+    force: np.ndarray | None = None
+    nodes: np.ndarray | None = None
+    directions: np.ndarray | None = None
+    frf_type: str | None = None
+    described: list = field(default_factory=list)
+
+
+def guess_kind(rec: Records) -> str:
+    """The conversion a file's records call for when the caller does not say (see :func:`to_response`)."""
+    if rec.domain == "frequency":
+        return "frf"
+    if rec.domain == "pulse":
+        return "pulse"
+    if rec.force is not None and rec.force.any():
+        return "io"
+    # a free decay dies out within the record; ambient response does not
+    y = rec.values[0]
+    tenth = max(len(y) // 10, 1)
+    head, tail = np.sqrt(np.mean(y[:tenth] ** 2)), np.sqrt(np.mean(y[-tenth:] ** 2))
+    return "decay" if tail < 0.1 * head else "ambient"
+
+
+def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseData, str]:
+    """Markov parameters from records. Returns (ResponseData, kind used).
+
+    kind: "auto" (guess: FRF records -> "frf"; impulse responses -> "pulse"; time records with a force channel ->
+    "io"; time records that decay ten-fold -> "decay"; otherwise "ambient"), or one of
+    "frf" (:func:`era.markov_from_frf`), "pulse" (impulse responses from t = 0, Y(0) dropped),
+    "decay" (:func:`era.markov.markov_from_decay`, each record one initial condition), "io" (OKID,
+    :func:`era.markov_from_io`, force channels as inputs), "ambient" (NExT, :func:`era.markov_from_ambient`).
+    ``options`` go to that function.
+    """
+    kind = guess_kind(rec) if kind == "auto" else kind
+    if kind not in KINDS:
+        raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.")
+    wrong = {"frf": "frequency", "pulse": "pulse"}
+    if kind in wrong and rec.domain != wrong[kind]:
+        raise DataError(f"The file holds {rec.domain} records; they cannot be converted as {kind!r}.")
+    if kind not in wrong and rec.domain != "time":
+        raise DataError(f"The file holds {rec.domain} records; {kind!r} needs time histories.")
+    units = list(rec.output_units) if rec.output_units else None
+    if kind == "frf":
+        f = rec.start + rec.step * np.arange(rec.values[0].shape[0])
+        data = markov_from_frf(f, rec.values[0], frf_type=options.pop("frf_type", rec.frf_type),
+                               outputs=rec.outputs, inputs=rec.inputs, output_units=units,
+                               input_units=list(rec.input_units) or None, **options)
+    elif kind == "pulse":
+        y = rec.values[0]
+        zero = int(round(-rec.start / rec.step)) if rec.start < 0 else 0
+        start = options.pop("start", zero + 1)  # the sample after t = 0: Y(0) = D is dropped
+        data = markov_from_decay(y, rec.step, start=start, outputs=rec.outputs, inputs=rec.inputs,
+                                 output_units=units, input_units=list(rec.input_units) or None, **options)
+    else:
+        _check_time(rec)
+        if kind == "decay":
+            n = min(len(v) for v in rec.values)
+            stack = np.stack([v[:n] for v in rec.values], axis=2)
+            inputs = [f"record {i + 1}" for i in range(len(rec.values))]
+            data = markov_from_decay(stack, rec.step, outputs=rec.outputs, inputs=inputs, output_units=units,
+                                     **options)
+        elif kind == "io":
+            force = rec.force if rec.force is not None else np.zeros(len(rec.outputs), bool)
+            if "inputs" in options:  # explicit input channels, by index or name
+                force = np.zeros(len(rec.outputs), bool)
+                for c in options.pop("inputs"):
+                    force[rec.outputs.index(c) if isinstance(c, str) else int(c)] = True
+            if not force.any() or force.all():
+                raise DataError("OKID needs both excitation and response channels; none of the channels is marked "
+                                "as force (unit N/lbf or name 'force'). Say which with inputs=[channel, ...].")
+            names = np.array(rec.outputs)
+            u_units = [rec.output_units[i] for i in np.flatnonzero(force)] if rec.output_units else None
+            y_units = [rec.output_units[i] for i in np.flatnonzero(~force)] if rec.output_units else None
+            data = markov_from_io([v[:, force] for v in rec.values], [v[:, ~force] for v in rec.values], rec.step,
+                                  output_names=list(names[~force]), input_names=list(names[force]),
+                                  output_units=y_units, input_units=u_units, **options)
+        else:
+            data = markov_from_ambient(list(rec.values), rec.step, options.pop("references", None),
+                                       names=rec.outputs, output_units=units, **options)
+    if data.n_samples < MIN_SAMPLES:
+        raise DataError(f"Only {data.n_samples} pulse-response samples; ERA needs at least {MIN_SAMPLES} (and "
+                        "usually hundreds). Record longer or at a higher sampling rate.")
+    return data, kind
+
+
+def _check_time(rec: Records) -> None:
+    for r, v in enumerate(rec.values):
+        if len(v) < MIN_SAMPLES:
+            raise DataError(f"Record {r + 1} has {len(v)} samples; at least {MIN_SAMPLES} are needed for any "
+                            "identification.")
+
+
+def check_finite(values: np.ndarray, where: str, row_offset: int = 0, row_name: str = "sample") -> None:
+    """DataError naming the first NaN/inf: ``where`` says the file/record, rows are counted from row_offset."""
+    bad = ~np.isfinite(values)
+    if bad.any():
+        first = np.argwhere(bad)[0]
+        col = f", column {first[1] + 1}" if values.ndim > 1 else ""
+        raise DataError(f"{where}: {int(bad.sum())} NaN or infinite value(s), the first at {row_name} "
+                        f"{int(first[0]) + row_offset}{col}. Remove or interpolate them, then load again.")

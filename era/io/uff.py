@@ -1,0 +1,309 @@
+"""Universal File Format through pyuff: 58/58b function records, 15/2411 nodes, 82 trace lines, 55 modes.
+
+pyuff parses; this module checks what pyuff does not (sizes promised by headers, even sampling, finite values,
+a file cut short) and assembles records into outputs × references by node and direction.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+import pyuff
+
+from ..errors import DataError
+from ..geometry import Geometry
+from .records import Records, check_finite
+
+#: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
+_DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
+#: Specific data types of records 8-11 (ordinate / denominator).
+_QUANTITY = {8: "displacement", 11: "velocity", 12: "acceleration", 13: "force", 9: "force"}
+_FRF_TYPE = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+_TIME_FUNCS = (0, 1)  # general, time response
+_FRF_FUNC = 4
+
+
+def direction_vector(code: int) -> np.ndarray:
+    v = np.zeros(3)
+    if 1 <= abs(code) <= 3:
+        v[abs(code) - 1] = np.sign(code)
+    return v
+
+
+def _dof_label(node: int, code: int) -> str:
+    return f"{node}{'+' if code >= 0 else '-'}{_DIR_LABEL.get(abs(code), str(abs(code)))}" if code else str(node)
+
+
+def _label(value) -> str:
+    s = str(value or "").strip()
+    return "" if s.upper() == "NONE" else s
+
+
+def _line_of(path: str, offset: int) -> int:
+    """1-based line number of a byte offset (only computed for error messages)."""
+    with open(path, "rb") as fh:
+        return fh.read(int(offset)).count(b"\n") + 1
+
+
+def _check_complete(path: str, label: str) -> None:
+    """A UFF file ends with a '    -1' delimiter line; anything else means it was cut short."""
+    with open(path, "rb") as fh:
+        fh.seek(0, os.SEEK_END)
+        size = fh.tell()
+        fh.seek(max(size - 512, 0))
+        tail = fh.read().rstrip(b"\r\n \t\x00")
+    if not tail.endswith(b"    -1"):  # in 58b the delimiter follows the binary values directly
+        raise DataError(f"{label}: the file does not end with a '    -1' delimiter line: it was cut short (truncated "
+                        "upload or copy) inside its last data set. Export or copy it again.")
+
+
+def read_sets(path: str, label: str) -> list[tuple[int, int, dict]]:
+    """Every supported data set as (index, first line, dict) via pyuff, with errors as DataError."""
+    try:
+        uff = pyuff.UFF(path)
+        types = list(uff.get_set_types())
+    except Exception as exc:  # pyuff raises bare Exceptions
+        raise DataError(f"{label}: not a readable UFF file ({exc}).") from None
+    if not types:
+        raise DataError(f"{label}: no UFF data sets found (no '    -1' delimiter lines). Is it a Universal File?")
+    _check_complete(path, label)
+    blocks = getattr(uff, "_block_ind", None)
+    out = []
+    for i, t in enumerate(types):
+        if int(t) not in (15, 2411, 82, 55, 58):
+            continue
+        line = _line_of(path, blocks[i][0]) if blocks is not None else 0
+        try:
+            dset = uff.read_sets(i)
+        except Exception as exc:
+            raise DataError(f"{label}: data set #{i + 1} (UFF {int(t)}) starting at line {line} is corrupt and "
+                            f"cannot be parsed ({exc}).") from None
+        out.append((i, line, dset))
+    return out
+
+
+def _function_record(i: int, line: int, d: dict, label: str) -> dict | None:
+    """One 58 record checked: dict(x0, dx, y, domain, ...) or None for function types we do not use."""
+    where = f"{label}: data set #{i + 1} (UFF 58, line {line})"
+    func = int(d.get("func_type", 0))
+    abscissa = int(d.get("abscissa_spec_data_type", 0))
+    if func == _FRF_FUNC or (func == 0 and abscissa == 18):
+        domain = "frequency"
+    elif func in _TIME_FUNCS and abscissa in (0, 17):
+        domain = "time"
+    else:
+        return None
+    y = np.asarray(d.get("data"))
+    x = np.asarray(d.get("x"), dtype=float)
+    n_promised = int(d.get("num_pts", -1))
+    if y.ndim != 1 or y.size != n_promised:
+        raise DataError(f"{where}: the header promises {n_promised} values but the record holds {y.size}; the file "
+                        "is truncated or corrupt.")
+    if y.size < 2:
+        raise DataError(f"{where}: {y.size} value(s); far too few samples for identification.")
+    if domain == "time" and np.iscomplexobj(y):
+        raise DataError(f"{where}: a time record with complex values; time histories must be real.")
+    check_finite(y, where)
+    if int(d.get("abscissa_spacing", 1)) == 1:
+        x0, dx = float(d["abscissa_min"]), float(d["abscissa_inc"])
+    else:  # uneven abscissa: accept it only if it is in fact even
+        check_finite(x, where + " abscissa")
+        steps = np.diff(x)
+        dx, x0 = float(np.median(steps)), float(x[0])
+        bad = np.flatnonzero(np.abs(steps - dx) > 1e-6 * abs(dx))
+        if bad.size or dx <= 0:
+            k = int(bad[0]) if bad.size else 0
+            raise DataError(f"{where}: the abscissa is not evenly spaced (step {steps[k]:g} after value {k}, typical "
+                            f"{dx:g}); ERA needs a constant sampling step.")
+    if not (np.isfinite(dx) and dx > 0 and np.isfinite(x0)):
+        raise DataError(f"{where}: abscissa increment {dx!r} is not a positive number.")
+    num = _QUANTITY.get(int(d.get("ordinate_spec_data_type", 0)), "")
+    den = _QUANTITY.get(int(d.get("orddenom_spec_data_type", 0)), "")
+    unit = _label(d.get("ordinate_axis_units_lab"))
+    den_unit = _label(d.get("orddenom_axis_units_lab"))
+    if domain == "time" and den == "force":
+        domain = "pulse"  # response per unit force in time: an impulse response
+    rsp = (int(d.get("rsp_node", 0)), int(d.get("rsp_dir", 0)))
+    ref = (int(d.get("ref_node", 0)), int(d.get("ref_dir", 0)))
+    name = _label(d.get("rsp_ent_name")) or _dof_label(*rsp)
+    return {"set": i + 1, "line": line, "domain": domain, "x0": x0, "dx": dx, "y": y, "rsp": rsp, "ref": ref,
+            "name": name if name != "0" else _label(d.get("id1")) or f"channel {i + 1}",
+            "unit": unit or num, "den_unit": den_unit or den, "quantity": num, "den": den,
+            "load_case": int(d.get("load_case_id", 0)), "where": where}
+
+
+def _same_sampling(recs: list[dict], label: str) -> None:
+    first = recs[0]
+    for r in recs[1:]:
+        if r["y"].size != first["y"].size:
+            raise DataError(f"{r['where']}: {r['y'].size} samples, but data set #{first['set']} has "
+                            f"{first['y'].size}; every function record must have the same length.")
+        if abs(r["dx"] - first["dx"]) > 1e-9 * first["dx"] or abs(r["x0"] - first["x0"]) > 1e-6 * first["dx"]:
+            raise DataError(f"{r['where']}: sampling step {r['dx']:g} from {r['x0']:g}, but data set #{first['set']} "
+                            f"has step {first['dx']:g} from {first['x0']:g}; resample to a common grid first.")
+
+
+def _unique(names: list[str]) -> tuple[str, ...]:
+    seen: dict[str, int] = {}
+    out = []
+    for n in names:
+        seen[n] = seen.get(n, 0) + 1
+        out.append(n if seen[n] == 1 else f"{n} ({seen[n]})")
+    return tuple(out)
+
+
+def _matrix(recs: list[dict], domain: str, label: str) -> Records:
+    """FRFs or impulse responses arranged as outputs × references by response and reference node/direction."""
+    outs, refs = [], []
+    for r in recs:
+        outs += [r["rsp"]] if r["rsp"] not in outs else []
+        refs += [r["ref"]] if r["ref"] not in refs else []
+    values = np.zeros((recs[0]["y"].size, len(outs), len(refs)), complex if domain == "frequency" else float)
+    filled = np.zeros((len(outs), len(refs)), bool)
+    first = {}
+    for r in recs:
+        i, j = outs.index(r["rsp"]), refs.index(r["ref"])
+        if filled[i, j]:
+            raise DataError(f"{r['where']}: a second record for response {_dof_label(*r['rsp'])} and reference "
+                            f"{_dof_label(*r['ref'])} (the first is data set #{first[i, j]['set']}); remove one.")
+        values[:, i, j] = r["y"]
+        filled[i, j] = True
+        first[i, j] = r
+    if not filled.all():
+        i, j = np.argwhere(~filled)[0]
+        raise DataError(f"{label}: no record for response {_dof_label(*outs[i])} and reference {_dof_label(*refs[j])}; "
+                        f"the {len(outs)} × {len(refs)} matrix of outputs × references must be complete.")
+    q = {r["quantity"] for r in recs}
+    frf_type = _FRF_TYPE.get(q.pop()) if len(q) == 1 and {r["den"] for r in recs} == {"force"} else None
+    return Records(domain=domain, values=[values], step=recs[0]["dx"], start=recs[0]["x0"],
+                   outputs=_unique([first[i, 0]["name"] for i in range(len(outs))]),
+                   output_units=tuple(f"{first[i, 0]['unit']}/{first[i, 0]['den_unit']}".strip("/")
+                                      for i in range(len(outs))),
+                   inputs=tuple(f"ref {_dof_label(*k)}" for k in refs),
+                   input_units=tuple(first[0, j]["den_unit"] for j in range(len(refs))),
+                   nodes=np.array([k[0] for k in outs]), directions=np.array([direction_vector(k[1]) for k in outs]),
+                   frf_type=frf_type,
+                   described=[f"{len(recs)} UFF 58 {'FRF' if domain == 'frequency' else 'impulse response'} records "
+                              f"(sets {recs[0]['set']}..{recs[-1]['set']}) as {len(outs)} outputs × {len(refs)} "
+                              f"references" + (f", {frf_type}" if frf_type else "")])
+
+
+def _channels(recs: list[dict], label: str) -> Records:
+    """Time records as channels; several load cases with the same channels become several records (tests)."""
+    cases = sorted({r["load_case"] for r in recs})
+    groups = [[r for r in recs if r["load_case"] == c] for c in cases]
+    layout = [tuple(r["rsp"] for r in g) for g in groups]
+    if len(groups) > 1 and len(set(layout)) != 1:
+        groups = [recs]  # not a repeated test: one record of all channels
+    g0 = groups[0]
+    values = [np.stack([r["y"] for r in g], axis=1).astype(float) for g in groups]
+    return Records(domain="time", values=values, step=g0[0]["dx"], start=g0[0]["x0"],
+                   outputs=_unique([r["name"] for r in g0]), output_units=tuple(r["unit"] for r in g0),
+                   force=np.array([r["quantity"] == "force" or r["unit"].lower() in ("n", "lbf", "kn") for r in g0]),
+                   nodes=np.array([r["rsp"][0] for r in g0]),
+                   directions=np.array([direction_vector(r["rsp"][1]) for r in g0]),
+                   described=[f"{len(recs)} UFF 58 time records (sets {recs[0]['set']}..{recs[-1]['set']}) as "
+                              f"{len(g0)} channels × {len(groups)} record(s) of {g0[0]['y'].size} samples, Δτ = {g0[0]['dx']:g} s"])
+
+
+@dataclass(frozen=True, eq=False)
+class ModeSet:
+    """Modes from UFF 55 (e.g. from a finite-element program), for comparison with identified ones.
+
+    frequency_hz (modes,) natural frequency; damping_ratio (modes,) (0 for normal modes); node_ids (n,);
+    shapes (n, 3, modes) complex translations x, y, z at each node; names (modes,) the sets' id lines.
+    """
+
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    node_ids: np.ndarray
+    shapes: np.ndarray
+    names: tuple
+
+
+def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
+    modes = [(i, line, d) for i, line, d in sets if d.get("type") == 55 and int(d.get("analysis_type", 0)) in (2, 3, 7)]
+    if not modes:
+        return None
+    nodes = np.asarray(modes[0][2]["node_nums"], dtype=int)
+    freq, zeta, shapes, names = [], [], [], []
+    for i, line, d in modes:
+        where = f"{label}: data set #{i + 1} (UFF 55, line {line})"
+        if not np.array_equal(np.asarray(d["node_nums"], dtype=int), nodes):
+            raise DataError(f"{where}: its nodes differ from those of the first mode; every mode must list the same "
+                            "nodes.")
+        if int(d["analysis_type"]) == 2:
+            f, z = float(d["freq"]), float(d.get("modal_damp_vis", 0.0))
+        else:
+            s = complex(d["eig"])
+            f, z = abs(s) / 2 / np.pi, (-s.real / abs(s) if s else 0.0)
+        shape = np.stack([np.asarray(d.get(f"r{k}", np.zeros(nodes.size)), dtype=complex) for k in (1, 2, 3)], 1)
+        check_finite(shape, where, row_name="node row")
+        freq.append(f)
+        zeta.append(z)
+        shapes.append(shape)
+        names.append(_label(d.get("id1")) or f"mode {len(names) + 1}")
+    return ModeSet(np.array(freq), np.array(zeta), nodes, np.stack(shapes, axis=2), tuple(names))
+
+
+def _geometry_parts(sets, label: str):
+    ids, xyz, traces = [], [], []
+    for i, line, d in sets:
+        if d.get("type") in (15, 2411):
+            ids.append(np.asarray(d["node_nums"], dtype=int))
+            xyz.append(np.stack([np.asarray(d[k], dtype=float) for k in "xyz"], axis=1))
+        elif d.get("type") == 82:
+            traces.append((i, line, np.asarray(d["nodes"], dtype=int)))
+    if not ids:
+        return None
+    return np.concatenate(ids), np.concatenate(xyz), traces
+
+
+def build_geometry(parts, nodes, directions, label: str) -> Geometry | None:
+    """Geometry from nodes, trace lines (node-label sequences, 0 = pen up) and each output's node label/direction."""
+    if parts is None:
+        return None
+    ids, xyz, traces = parts
+    row = {int(n): k for k, n in enumerate(ids)}
+    edges = []
+    for i, line, seq in traces:
+        for a, b in zip(seq[:-1], seq[1:]):
+            if a and b:
+                if a not in row or b not in row:
+                    raise DataError(f"{label}: trace line in data set #{i + 1} (UFF 82, line {line}) joins node "
+                                    f"{a if a not in row else b}, which the file does not define.")
+                edges.append((row[a], row[b]))
+    if nodes is None:
+        nodes, directions = np.zeros(0, int), np.zeros((0, 3))
+    channel_rows = np.array([row.get(int(n), -1) for n in nodes], dtype=int)
+    return Geometry(ids, xyz, np.array(edges, dtype=int).reshape(-1, 2), channel_rows, directions)
+
+
+def read_uff(path: str, label: str):
+    """(Records or None, geometry parts, ModeSet or None) from a UFF file."""
+    sets = read_sets(path, label)
+    funcs = [_function_record(i, line, d, label) for i, line, d in sets if d.get("type") == 58]
+    skipped = sum(f is None for f in funcs)
+    funcs = [f for f in funcs if f is not None]
+    records = None
+    if funcs:
+        domains = {f["domain"] for f in funcs}
+        if len(domains) > 1:
+            raise DataError(f"{label}: mixes {' and '.join(sorted(domains))} records; load one kind per file.")
+        _same_sampling(funcs, label)
+        domain = domains.pop()
+        records = _channels(funcs, label) if domain == "time" else _matrix(funcs, domain, label)
+        if skipped:
+            records.described.append(f"{skipped} other UFF 58 record(s) (spectra, coherence, ...) not used")
+    return records, _geometry_parts(sets, label), _modes(sets, label)
+
+
+def read_modes_uff(path) -> ModeSet:
+    """The modes (UFF 55) in a file. Raises DataError when it holds none."""
+    label = os.path.basename(str(path))
+    modes = _modes(read_sets(str(path), label), label)
+    if modes is None:
+        raise DataError(f"{label}: no UFF 55 mode shapes (normal or complex modes) in this file.")
+    return modes

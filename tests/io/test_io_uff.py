@@ -1,0 +1,138 @@
+"""UFF in: 58/58b function records into outputs × references, 15/82 into a Geometry, 55 modes both ways."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import era
+import uff_files as U
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
+import sys
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
+from chain_sim import chain, continuous_chain, simulate  # noqa: E402
+
+
+def chain_accelerance(f):
+    a, b, f_modes, _ = continuous_chain()
+    w = 2j * np.pi * f
+    return np.stack([np.linalg.solve(x * np.eye(6) - a, b)[:3] * x ** 2 for x in w]), f_modes
+
+
+GEOMETRY_SETS = [U.nodes15([1, 2, 3, 9], [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]]), U.trace82([1, 2, 3, 9])]
+
+
+@pytest.fixture(scope="module")
+def frf_file(tmp_path_factory):
+    """A roving-accelerometer test: responses at nodes 1, 2, 3 (+Z), reference hammer at node 3 (+Z)."""
+    f = np.arange(0, 50.0 + 1e-9, 0.01)
+    h, f_modes = chain_accelerance(f)
+    sets = list(GEOMETRY_SETS) + [U.record58(h[:, i, 2], 0.0, 0.01, (i + 1, 3), (3, 3), func_type=4,
+                                             denominator=U.FORCE, den_unit="N") for i in range(3)]
+    path = tmp_path_factory.mktemp("uff") / "chain_frf.uff"
+    U.write(path, sets)
+    return path, f_modes
+
+
+def test_frf_records_become_markov_parameters_with_geometry_and_units(frf_file):
+    path, f_modes = frf_file
+    ds = era.load(path)
+    assert ds.source["format"] == "uff" and ds.source["kind"] == "frf"
+    assert ds.data.markov.shape == (4999, 3, 1) and ds.data.dt == pytest.approx(0.01)
+    assert ds.data.outputs == ("1+Z", "2+Z", "3+Z") and ds.data.inputs == ("ref 3+Z",)
+    assert ds.data.output_units == ("m/s^2/N",) * 3 and ds.data.input_units == ("N",)
+    assert "accelerance" in ds.source["records"][0]
+    g = ds.geometry
+    assert g.node_ids.tolist() == [1, 2, 3, 9] and g.edges.tolist() == [[0, 1], [1, 2], [2, 3]]
+    assert g.channel_nodes.tolist() == [0, 1, 2] and np.allclose(g.channel_directions, [[0, 0, 1]] * 3)
+    model = era.identify(ds.data, rows=30, cols=30).realize(order=6)
+    np.testing.assert_allclose(np.sort(model.frequency_hz), f_modes, rtol=2e-3)
+
+
+def test_an_upload_is_read_from_bytes_with_its_original_name(frf_file):
+    path, _ = frf_file
+    with open(path, "rb") as fh:
+        ds = era.load(fh, name="my test.uff", band_hz=(2.0, 40.0))
+    assert ds.source["file"] == "my test.uff"
+    assert ds.data.dt == pytest.approx(1 / 80)
+    assert any("band 2-40 Hz" in c for c in ds.source["conversions"])
+
+
+def test_binary_58b_shaker_records_with_a_force_channel_go_through_okid(tmp_path):
+    ad, bd, cd, dd, f_modes, _ = chain(0.005)
+    force = np.random.default_rng(0).standard_normal((4000, 1))
+    acc = simulate(ad, bd[:, 2:], cd, dd[:, 2:], force)
+    sets = [U.record58(force[:, 0], 0.0, 0.005, (3, 3), ordinate=U.FORCE, unit="N", binary=1)]
+    sets += [U.record58(acc[:, i], 0.0, 0.005, (i + 1, 3), binary=1) for i in range(3)]
+    U.write(tmp_path / "shaker.uff", sets)
+    ds = era.load(tmp_path / "shaker.uff", n_observer=10)
+    assert ds.source["kind"] == "io"
+    assert ds.data.inputs == ("3+Z",) and ds.data.input_units == ("N",) and ds.data.outputs == ("1+Z", "2+Z", "3+Z (2)")
+    model = era.identify(ds.data, rows=20, cols=20).realize(order=6)
+    np.testing.assert_allclose(np.sort(model.frequency_hz), f_modes, rtol=1e-6)
+
+
+def test_impulse_responses_with_pretrigger_start_at_the_sample_after_time_zero(tmp_path):
+    ad, bd, cd, dd, _, _ = chain(0.01)
+    exact = np.stack([cd @ np.linalg.matrix_power(ad, k) @ bd[:, :1] for k in range(300)])  # Y_1.. = C A^k B
+    pulse = np.concatenate([np.zeros((20, 3, 1)), dd[None, :, :1], exact])  # 20 pre-trigger samples, Y_0 = D
+    sets = [U.record58(pulse[:, i, 0], -0.2, 0.01, (i + 1, 3), (1, 3), denominator=U.FORCE, den_unit="N")
+            for i in range(3)]
+    U.write(tmp_path / "irf.uff", sets)
+    ds = era.load(tmp_path / "irf.uff")
+    assert ds.source["kind"] == "pulse"
+    np.testing.assert_allclose(ds.data.markov, exact, rtol=1e-9, atol=1e-11 * np.abs(exact).max())
+
+
+def test_real_testlab_and_artemis_geometry_files():
+    ds = era.load(DATA / "testlab_geometry_15_82.uff")
+    assert ds.data is None and ds.modes is None
+    g = ds.geometry
+    assert g.n_nodes == 36
+    # trace lines 'Massif' (7 segments), 'Stator' (16), 'Dalle' (7) from their node sequences, 0 = pen up
+    assert g.edges.shape == (30, 2)
+    pairs = {tuple(sorted(g.node_ids[e].tolist())) for e in g.edges}
+    assert {(2, 5), (7, 19), (32, 33)} <= pairs and (18, 30) in pairs and (0, 30) not in pairs
+    art = era.load(DATA / "artemis_geometry_RPBC.uff").geometry
+    assert art.n_nodes == 74
+    extent = art.coordinates.max(axis=0) - art.coordinates.min(axis=0)
+    np.testing.assert_allclose(extent, [9.856, 3.84, 2.04], atol=1e-9)  # x -4.24..5.616, y 0..3.84, z 0..2.04 m
+
+
+def test_real_58b_operational_records_are_read_as_ambient_response():
+    ds = era.load(DATA / "mpstd_first_8192.uff", n_lags=512)
+    assert ds.source["kind"] == "ambient"
+    assert ds.data.dt == pytest.approx(1 / 3200)
+    assert ds.data.outputs == ("1+Z", "2+Z", "3+Z", "1+Z (2)") and ds.data.output_units == ("m/s2",) * 4
+    assert ds.data.markov.shape == (512, 4, 4)
+    assert "4 channels × 1 record(s) of 8192 samples" in ds.source["records"][0]
+
+
+def test_full_mpstd_file_from_shared():
+    path = SHARED / "pyuff_samples" / "MPSTD_Set001_2024_10_08.uff"
+    if not path.is_file():
+        pytest.skip("../shared/datasets/pyuff_samples is absent")
+    ds = era.load(path, references=[0], n_lags=1024)
+    assert ds.data.markov.shape == (1024, 4, 1)
+    assert "4 channels × 1 record(s) of 222400 samples" in ds.source["records"][0]
+    assert ds.data.dt == pytest.approx(1 / 3200)
+    assert np.all(ds.data.meta["zero_lag"][:, 0] != 0)
+
+
+def test_modes_written_as_uff55_read_back_with_their_geometry(tmp_path, frf_file):
+    path, f_modes = frf_file
+    ds = era.load(path)
+    model = era.identify(ds.data, rows=30, cols=30).realize(order=6)
+    out = tmp_path / "modes.uff"
+    era.save_modes_uff(out, model, ds.geometry)
+    modes = era.read_modes_uff(out)
+    np.testing.assert_allclose(modes.frequency_hz, model.natural_frequency_hz, rtol=1e-5)
+    np.testing.assert_allclose(modes.damping_ratio, model.damping_ratio, rtol=1e-4)
+    # channel i measures node i+1 in +Z: the shape's z column at those nodes is the identified shape
+    np.testing.assert_allclose(modes.shapes[:3, 2, :], model.shapes, rtol=1e-4, atol=1e-6)
+    assert np.all(modes.shapes[3] == 0) and np.all(modes.shapes[:, :2] == 0)
+    back = era.load(out)
+    assert back.data is None and back.geometry.edges.tolist() == [[0, 1], [1, 2], [2, 3]]
+    assert back.modes.node_ids.tolist() == [1, 2, 3, 9]
