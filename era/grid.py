@@ -114,8 +114,9 @@ def _check_params(p: dict) -> dict:
     return p
 
 
-def _build_frame(p: dict, pert: GridPerturbation) -> tuple[fem.Frame, np.ndarray]:
-    """Mesh the grid: returns the frame and the node index of the horizontal-bar node at each joint (88,)."""
+def _build_frame(p: dict, pert: GridPerturbation) -> fem.Frame:
+    """Mesh the grid. Nodes 0..87 are the joints (index iy·11 + ix; at a semi-rigid joint, the horizontal bar's
+    node); then one node per semi-rigid joint for the vertical bar, linked to the first; then segment interiors."""
     compliance = np.array(pert.joint_compliance, float)
     if p["joint_stiffness"] is not None:
         compliance += 1.0 / p["joint_stiffness"]
@@ -166,7 +167,7 @@ def _build_frame(p: dict, pert: GridPerturbation) -> tuple[fem.Frame, np.ndarray
         links=np.stack([split, v_node[split]], axis=1),
         link_stiffness=np.column_stack([np.full(split.size, np.inf), k_links]),
         node_mass=node_mass, node_springs=np.zeros((n, 3)))
-    return frame, np.arange(NX * NY)
+    return frame
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,8 +191,8 @@ class GridModel:
 
     @cached_property
     def _system(self):
-        frame, joint_nodes = _build_frame(self._params, self.perturbation)
-        cables = [joint_nodes[joint_index(c)] for c in CABLES_FT]
+        frame = _build_frame(self._params, self.perturbation)
+        cables = [joint_index(c) for c in CABLES_FT]
         statics = fem.self_weight(frame, [(cables[0], True, True), (cables[1], False, True)])
         tension = statics.reactions[:, 1]
         lengths = self._params["cable_length_m"] * np.asarray(self.perturbation.cable_factor, float)
@@ -200,7 +201,7 @@ class GridModel:
         frame = replace(frame, node_springs=springs)
         axial = statics.axial_force * float(self._params["gravity"])
         system = fem.assemble_out_of_plane(frame, axial if self._params["gravity"] else None)
-        return frame, system, tension, system.dofs[joint_nodes, 0]
+        return frame, system, tension, system.dofs[:NX * NY, 0]
 
     @property
     def frame(self) -> fem.Frame:

@@ -58,31 +58,37 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
     pert = dict(ei_factor=ei, gj_factor=gj)
     sign = rng.choice([-1.0, 1.0])
     location, nominal, reported = None, {}, {}
+    how = "no hidden effect: only mesh, stiffness scatter and E error separate the truth from the nominal"
     if name == "joint_flexibility":
         k = float(given.get("joint_stiffness", np.exp(rng.uniform(np.log(200), np.log(800)))))
         c = np.exp(0.3 * rng.standard_normal((NX * NY, 2)))           # per-joint, per-axis scatter ±30 %
         pert["joint_compliance"] = c / c.mean() / k                       # mean compliance = 1/k exactly
         reported = {"joint_stiffness": k}
+        how = f"every joint semi-rigid, springs scattered ±30 % per joint and axis, mean compliance 1/{k:.0f} rad/(N·m)"
     elif name == "torsion_stiffness":
         f = float(given.get("torsion_factor", 1 + sign * rng.uniform(0.07, 0.15)))
         params["torsion_factor"] = f
         reported = {"torsion_factor": f}
+        how = f"GJ of all bars × {f:.3f} (on top of the segment scatter)"
     elif name == "cable_length":
         L = float(given.get("cable_length_m", 0.51 * (1 + sign * rng.uniform(0.1, 0.25))))
         d = rng.uniform(0.01, 0.03)
         params["cable_length_m"] = L
         pert["cable_factor"] = np.array([1 + d, 1 - d])                  # the two cables are not equal
         reported = {"cable_length_m": L}
+        how = f"cables {L * (1 + d):.3f} m and {L * (1 - d):.3f} m long (mean {L:.3f} m)"
     elif name == "distributed_mass":
         kg = float(given.get("distributed_mass_kg", rng.uniform(1.5, 3.0)))
         w = np.exp(0.3 * rng.standard_normal(N_SEGMENTS))                # uneven, not uniform
         pert["segment_mass_kg"] = kg * w / w.sum()
         reported = {"distributed_mass_kg": kg}
+        how = f"{kg:.2f} kg spread unevenly (±30 % per segment) over all bars"
     elif name == "point_mass":
         kg = float(given.get("point_mass_kg", rng.uniform(0.8, 2.0)))
         at = tuple(given.get("point_mass_at", JOINTS_FT[rng.integers(NX * NY)]))
         pert["point_masses"] = _mass_patch(at, kg, elements_per_bar)
         reported, location = {"point_mass_kg": kg, "point_mass_at": tuple(map(float, at))}, tuple(map(float, at))
+        how = f"a {kg:.2f} kg patch: 60 % on joint {location}, 40 % on the nearest mesh nodes around it"
     elif name == "loose_joint":
         k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(20.0), np.log(100.0)))))
         at = tuple(given.get("loose_joint_at", _EDGE_JOINTS[rng.integers(len(_EDGE_JOINTS))]))
@@ -90,9 +96,11 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
         comp[joint_index(at)] = 1.0 / (k * np.array([0.9, 1.1]))          # unequal about x and y
         pert["joint_compliance"] = comp
         reported, location = {"loose_joint_stiffness": k, "loose_joint_at": tuple(map(float, at))}, tuple(map(float, at))
+        how = f"joint {location} semi-rigid: {0.9 * k:.1f} N·m/rad about x, {1.1 * k:.1f} about y"
     elif name == "gravity_stiffening":
         nominal = {"gravity": False}        # the truth hangs in gravity; the model handed to explain() lacks it
         reported = {"gravity": True}
+        how = "the grid hangs in gravity (as always); the nominal model to compare with omits the self-weight tension"
     elif name == "damaged_bar":
         orientation, at = given.get("bar", (("x", "y")[rng.integers(2)], None))
         if at is None:
@@ -103,8 +111,10 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
             raise EraError(f"damaged_bar: no bar ({orientation!r}, {at}); use ('x', y_ft) or ('y', x_ft).")
         ei[segs] *= factor
         reported = {"bar": (orientation, float(at)), "ei_factor": factor}
+        how = (f"outside the library: the {'horizontal' if orientation == 'x' else 'vertical'} bar at "
+               f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
     truth = GridModel(nasa_grid(**params).params, GridPerturbation(**pert))
-    return truth, reported, location, nominal, stiffness_factor
+    return truth, reported, location, nominal, stiffness_factor, how
 
 
 def _mass_patch(at, kg: float, elements_per_bar: int) -> tuple:
@@ -167,8 +177,9 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     -------
     data : ResponseData (N, 9, m), dt = 1/32 s, outputs in model.sensors order, w in mm.
     truth : dict with "frequency_hz" (r,), "damping_ratio" (r,), "shapes" (9, r) and "node_shapes" (88, r)
-        mass-normalised (1/√kg, no gain errors) for every mode in the band, "effect" {name, parameters,
-        location, in_library}, "nominal_params" (for nasa_grid), "stiffness_factor", "gains" (9,),
+        mass-normalised (1/√kg, no gain errors) for every mode in the band, "effect" {name ("none" when
+        no effect), parameters (in the candidate's terms), location, description, in_library (False only for
+        effects the candidate library cannot represent)}, "nominal_params" (for nasa_grid), "stiffness_factor", "gains" (9,),
         "inputs_ft", "model" (the truth GridModel), "seed".
     """
     name, given = _parse(effect)
@@ -177,7 +188,7 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     if not (duration_s > 0 and 0 <= noise < 1):
         raise EraError("duration_s must be positive and noise a fraction in [0, 1).")
     rng = np.random.default_rng(seed)
-    truth_model, reported, location, nominal, sf = _truth_model(
+    truth_model, reported, location, nominal, sf, how = _truth_model(
         name, given, rng, elements_per_bar=elements_per_bar, scatter=scatter, e_error=e_error)
     dt = 1.0 / SAMPLE_RATE_HZ
     f_all, phi_nodes = truth_model.node_modes(30)
@@ -209,8 +220,8 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
                         input_units=("N·s" if excitation == "impulse" else "N",) * len(labels),
                         meta={"source": "era.simulate.simulate_grid_test", "seed": seed, "excitation": excitation})
     truth = {"frequency_hz": f, "damping_ratio": zeta, "shapes": phi_sens, "node_shapes": phi_nodes,
-             "effect": {"name": name, "parameters": reported, "location": location,
-                        "in_library": name in EFFECTS},
+             "effect": {"name": name, "parameters": reported, "location": location, "description": how,
+                        "in_library": name not in OUTSIDE_LIBRARY},
              "nominal_params": nominal, "stiffness_factor": sf, "gains": gains, "inputs_ft": tuple(inputs),
              "noise": noise, "model": truth_model, "seed": seed}
     return data, truth

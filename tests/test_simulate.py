@@ -61,6 +61,7 @@ def test_each_hidden_effect_shifts_the_truth_the_physical_way(effect, lower):
     assert np.all(ratio[lower] <= 1 + 1e-9) and ratio[lower].min() < 0.998
     assert truth["effect"]["name"] == effect["name"]
     assert truth["effect"]["in_library"] == (effect["name"] in EFFECTS)
+    assert isinstance(truth["effect"]["description"], str)
     for key, value in effect.items():
         if key not in ("name", "bar"):
             assert truth["effect"]["parameters"][key] == value
