@@ -108,6 +108,9 @@ def test_effect_signatures(f0):
     # added weight low on the grid raises the tension above it: the pendulum modes stiffen, the bending modes drop
     f = nasa_grid(point_mass_kg=1.0, point_mass_at=(5, 3)).modes(12)[0]
     assert f[1] > f0[1] and f[3] < f0[3]
+    # a fraction of the gravity stiffening lands in between (the swing frequency goes as √fraction)
+    f_half = nasa_grid(gravity=0.5).modes(3)[0]
+    assert 0 < f_half[0] < f0[0] and f_half[0] == pytest.approx(f0[0] * np.sqrt(0.5), rel=0.1)
 
 
 def test_params_with_params_and_geometry(nominal):
