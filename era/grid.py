@@ -73,6 +73,8 @@ class GridPerturbation:
         Lumped masses at mesh nodes (joints, or segment interior points that the mesh has).
     cable_factor : (2,)
         Multipliers on the length of the left and right cable.
+    ground_springs : (88,)
+        Springs from each joint's w to the ground, N/m (e.g. a snagged lead: not a candidate effect).
     """
 
     ei_factor: np.ndarray = field(default_factory=lambda: np.ones(N_SEGMENTS))
@@ -81,6 +83,7 @@ class GridPerturbation:
     joint_compliance: np.ndarray = field(default_factory=lambda: np.zeros((NX * NY, 2)))
     point_masses: tuple = ()
     cable_factor: np.ndarray = field(default_factory=lambda: np.ones(2))
+    ground_springs: np.ndarray = field(default_factory=lambda: np.zeros(NX * NY))
 
 
 def _check_params(p: dict) -> dict:
@@ -197,7 +200,8 @@ class GridModel:
         tension = statics.reactions[:, 1]
         lengths = self._params["cable_length_m"] * np.asarray(self.perturbation.cable_factor, float)
         springs = np.zeros((frame.n_nodes, 3))
-        springs[cables, 0] = tension / lengths            # pendulum stiffness T/L of each cable
+        springs[:NX * NY, 0] = self.perturbation.ground_springs
+        springs[cables, 0] += tension / lengths           # pendulum stiffness T/L of each cable
         frame = replace(frame, node_springs=springs)
         axial = statics.axial_force * float(self._params["gravity"])
         system = fem.assemble_out_of_plane(frame, axial if self._params["gravity"] else None)

@@ -19,7 +19,7 @@ from .grid import (AIR_JET_FT, JOINTS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMP
 
 EFFECTS = ("joint_flexibility", "torsion_stiffness", "cable_length", "distributed_mass", "point_mass",
            "loose_joint", "gravity_stiffening")
-OUTSIDE_LIBRARY = ("damaged_bar",)
+OUTSIDE_LIBRARY = ("damaged_bar", "ground_spring")
 DEFAULT_INPUTS_FT = ((10, 0), (0, 7), (3, 2), (7, 5), (0, 4), (6, 1))
 _CORNERS = {(0, 0), (NX - 1, 0), (0, NY - 1), (NX - 1, NY - 1)}
 _EDGE_JOINTS = [tuple(j) for j in JOINTS_FT.astype(int).tolist()
@@ -113,6 +113,14 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
         reported = {"bar": (orientation, float(at)), "ei_factor": factor}
         how = (f"outside the library: the {'horizontal' if orientation == 'x' else 'vertical'} bar at "
                f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
+    elif name == "ground_spring":
+        k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(300.0), np.log(3000.0)))))
+        at = tuple(given.get("at", JOINTS_FT[rng.integers(NX * NY)]))
+        springs = np.zeros(NX * NY)
+        springs[joint_index(at)] = k
+        pert["ground_springs"] = springs
+        reported, location = {"stiffness_n_per_m": k, "at": tuple(map(float, at))}, tuple(map(float, at))
+        how = f"outside the library: joint {location} tied to the ground by a {k:.0f} N/m spring (a snagged lead)"
     truth = GridModel(nasa_grid(**params).params, GridPerturbation(**pert))
     return truth, reported, location, nominal, stiffness_factor, how
 
@@ -152,10 +160,12 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     Parameters
     ----------
     effect : None, str or dict
-        None (no effect), one of EFFECTS, or the outside-the-library "damaged_bar" (one whole bar, EI × 0.5);
+        None (no effect), one of EFFECTS, or one outside the library: "damaged_bar" (one whole bar, EI × 0.5)
+        or "ground_spring" (one joint's w tied to the ground, 300-3000 N/m);
         a dict {"name": ..., parameter: value} fixes parameters, named as nasa_grid's keywords
         (joint_stiffness, torsion_factor, cable_length_m, distributed_mass_kg, point_mass_kg and point_mass_at,
-        loose_joint_stiffness and loose_joint_at; damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor).
+        loose_joint_stiffness and loose_joint_at; damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor;
+        ground_spring: at=(x_ft, y_ft), stiffness_n_per_m).
         Parameters not given are drawn from ``seed``, above the detection limits of issue 5.
         "gravity_stiffening": the truth hangs in gravity as always; ``truth["nominal_params"]`` is
         {"gravity": False}, i.e. the model to hand to explain() is nasa_grid(gravity=False).

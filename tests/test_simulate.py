@@ -53,17 +53,21 @@ def test_the_truth_is_not_the_nominal_model():
     ({"name": "point_mass", "point_mass_kg": 1.5, "point_mass_at": (10, 0)}, slice(3, 10)),
     ({"name": "loose_joint", "loose_joint_stiffness": 2.0, "loose_joint_at": (0, 3)}, slice(3, 10)),
     ({"name": "damaged_bar", "bar": ("y", 5.0), "ei_factor": 0.5}, slice(3, 10)),
+    ({"name": "ground_spring", "at": (10, 0), "stiffness_n_per_m": 1000.0}, slice(0, 0)),
 ])
 def test_each_hidden_effect_shifts_the_truth_the_physical_way(effect, lower):
     _, clean = simulate_grid_test(None, seed=7)               # same seed: same scatter, same E error
     _, truth = simulate_grid_test(effect, seed=7)
     ratio = truth["frequency_hz"][:10] / clean["frequency_hz"][:10]
-    assert np.all(ratio[lower] <= 1 + 1e-9) and ratio[lower].min() < 0.998
+    if effect["name"] == "ground_spring":       # a spring only stiffens
+        assert np.all(ratio >= 1 - 1e-9) and ratio.max() > 1.01
+    else:
+        assert np.all(ratio[lower] <= 1 + 1e-9) and ratio[lower].min() < 0.998
     assert truth["effect"]["name"] == effect["name"]
     assert truth["effect"]["in_library"] == (effect["name"] in EFFECTS)
     assert isinstance(truth["effect"]["description"], str)
     for key, value in effect.items():
-        if key not in ("name", "bar"):
+        if key not in ("name", "bar", "at"):
             assert truth["effect"]["parameters"][key] == value
 
 
