@@ -1,0 +1,73 @@
+"""Settings and limits of the web app, each overridable by an environment variable (ERA_*).
+
+Every limit here is what the API enforces and what the README's limits table documents; a request over a
+limit gets a 413, 422 or 429 whose message names the limit and what would fit.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+
+def _env(name: str, default, cast):
+    raw = os.environ.get(name)
+    if raw is None or raw.strip() == "":
+        return default
+    try:
+        return cast(raw)
+    except ValueError:
+        raise SystemExit(f"Environment variable {name}={raw!r} is not a valid {cast.__name__}.") from None
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Limits and places. Build from the environment with :func:`from_env`, or directly in tests."""
+
+    #: Folder of the SQLite database (era.sqlite3) and stored files (datasets/, reports/).
+    data_dir: Path = field(default_factory=lambda: Path("data"))
+    #: Largest upload accepted by POST /api/datasets, bytes (413 above).
+    max_upload_bytes: int = 64 * 1024 * 1024
+    #: Largest H(0), in elements (rows·p × cols·m); H(1) is as large. 8 bytes each: 2.5e7 is 200 MB per matrix.
+    max_hankel_elements: int = 25_000_000
+    #: Largest model order (state dimension) kept from the SVD.
+    max_order: int = 400
+    #: Largest order shown in the stabilization diagram (every 2nd order from 2).
+    max_stabilization_order: int = 160
+    #: Samples per curve sent to the browser for plots (records are decimated above it; fits use all).
+    max_plot_points: int = 4000
+    #: Heavy jobs (file parsing, SVD, stabilization) running at once; more wait in a queue.
+    heavy_workers: int = 2
+    #: Heavy jobs waiting at most; beyond it a request gets 503 "busy, retry".
+    heavy_queue: int = 8
+    #: Identifications kept in memory (LRU); an evicted one is recomputed from the stored dataset.
+    cache_identifications: int = 8
+    #: Realized models (analysis, order) kept in memory for the order slider.
+    cache_models: int = 128
+    #: Per client (IP address) and minute: requests to /api/ in all, and those that start heavy work.
+    rate_limit_per_minute: int = 1200
+    rate_limit_heavy_per_minute: int = 60
+    #: Start the viser mode-shape viewer (app/viewer.py) when it is installed.
+    viewer: bool = True
+
+    @property
+    def db_path(self) -> Path:
+        return self.data_dir / "era.sqlite3"
+
+
+def from_env() -> Settings:
+    """Settings from ERA_DATA_DIR, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
+    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS and ERA_VIEWER (0 turns the viser viewer off)."""
+    base = Settings()
+    return replace(
+        base,
+        data_dir=Path(_env("ERA_DATA_DIR", str(base.data_dir), str)),
+        max_upload_bytes=int(_env("ERA_MAX_UPLOAD_MB", base.max_upload_bytes / 2**20, float) * 2**20),
+        max_hankel_elements=_env("ERA_MAX_HANKEL_ELEMENTS", base.max_hankel_elements, int),
+        max_order=_env("ERA_MAX_ORDER", base.max_order, int),
+        rate_limit_per_minute=_env("ERA_RATE_LIMIT", base.rate_limit_per_minute, int),
+        rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, int),
+        heavy_workers=_env("ERA_HEAVY_WORKERS", base.heavy_workers, int),
+        viewer=_env("ERA_VIEWER", 1, int) != 0,
+    )

@@ -1,0 +1,208 @@
+"""The FastAPI application: ``app.main:app`` (``uvicorn app.main:app``, or ``python3 -m app``).
+
+create_app() wires settings, the store, the job pools, the viser viewer (when app/viewer.py is installed),
+the limits (upload size, per-client rates) and the error handlers that keep stack traces out of responses.
+"""
+
+from __future__ import annotations
+
+import logging
+import secrets
+import time
+from collections import deque
+from contextlib import asynccontextmanager
+from pathlib import Path
+
+from fastapi import FastAPI, HTTPException, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from fastapi.staticfiles import StaticFiles
+
+import era
+
+from . import config
+from .engine import Engine, NotFound
+from .jobs import Jobs
+from .routes import analyses, datasets, examples, pages, reports
+from .store import Store
+
+log = logging.getLogger("app")
+STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
+
+
+def _make_viewer(settings: config.Settings):
+    """The app-wide ModeViewer, or None when app/viewer.py is not installed or the viewer is turned off."""
+    if not settings.viewer:
+        return None
+    try:
+        from .viewer import ModeViewer
+    except ImportError:
+        return None
+    except Exception:  # a broken viewer must not take the analysis app down with it
+        log.exception("app.viewer failed to import; mode shapes in viser are off")
+        return None
+    return ModeViewer()
+
+
+def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
+    return JSONResponse({"error": message}, status_code=status, headers=headers)
+
+
+class UploadLimit:
+    """Pure ASGI middleware: a request body above ``limit`` bytes gets 413 before it is parsed.
+
+    Checks Content-Length first; a body without one (chunked) is counted as it arrives.
+    """
+
+    def __init__(self, app, limit: int):
+        self.app, self.limit = app, limit
+
+    def _message(self) -> str:
+        return (f"The upload is larger than this server's limit of {self.limit / 2**20:.0f} MB (ERA_MAX_UPLOAD_MB). "
+                "Send fewer channels or samples, or raise the limit.")
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http" or scope["method"] not in ("POST", "PUT"):
+            return await self.app(scope, receive, send)
+        for name, value in scope.get("headers", []):
+            if name == b"content-length" and value.isdigit() and int(value) > self.limit:
+                return await _error(413, self._message())(scope, receive, send)
+        seen = 0
+        answered = False  # we sent the 413 ourselves: drop whatever the app sends after it
+
+        async def counting_receive():
+            nonlocal seen, answered
+            if answered:
+                return {"type": "http.disconnect"}
+            message = await receive()
+            if message["type"] == "http.request":
+                seen += len(message.get("body", b""))
+                if seen > self.limit:
+                    answered = True
+                    await _error(413, self._message())(scope, receive, send)
+                    return {"type": "http.disconnect"}  # the app stops reading: the client went away
+            return message
+
+        async def guarded_send(message):
+            if not answered:
+                await send(message)
+
+        try:
+            await self.app(scope, counting_receive, guarded_send)
+        except Exception:
+            if not answered:
+                raise
+
+
+class RateLimit:
+    """Sliding one-minute windows per client address: all /api/ requests, and the heavy ones (POST)."""
+
+    def __init__(self, per_minute: int, heavy_per_minute: int):
+        self.limits = {"all": per_minute, "heavy": heavy_per_minute}
+        self._hits: dict[tuple[str, str], deque] = {}
+
+    def check(self, client: str, heavy: bool) -> int | None:
+        """Seconds to wait, or None when the request may go ahead (and is counted)."""
+        now = time.monotonic()
+        kinds = ("all", "heavy") if heavy else ("all",)
+        for kind in kinds:
+            q = self._hits.setdefault((client, kind), deque())
+            while q and now - q[0] > 60.0:
+                q.popleft()
+            if len(q) >= self.limits[kind]:
+                return max(1, int(60.0 - (now - q[0])) + 1)
+        for kind in kinds:
+            self._hits[(client, kind)].append(now)
+        if len(self._hits) > 10_000:  # forget idle clients
+            for key in [k for k, q in self._hits.items() if not q or now - q[-1] > 60.0]:
+                del self._hits[key]
+        return None
+
+
+def create_app(settings: config.Settings | None = None) -> FastAPI:
+    settings = settings or config.from_env()
+    viewer = _make_viewer(settings)
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI):
+        store = Store(settings.data_dir)
+        app.state.store = store
+        app.state.engine = Engine(store, settings)
+        app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
+        if viewer is not None:
+            viewer.start()
+        log.info("ERA app: data in %s, viewer %s", settings.data_dir.resolve(), "on" if viewer else "off")
+        try:
+            yield
+        finally:
+            if viewer is not None:
+                viewer.stop()
+            app.state.jobs.shutdown()
+            store.close()
+
+    app = FastAPI(title="ERA modal analysis", version=_version(), lifespan=lifespan,
+                  description="Eigensystem Realization Algorithm (Juang & Pappa 1985): upload pulse responses, "
+                              "identify modes, judge them with γ and μ, share a report.")
+    app.state.settings = settings
+    app.state.viewer = viewer
+    limiter = RateLimit(settings.rate_limit_per_minute, settings.rate_limit_heavy_per_minute)
+
+    @app.middleware("http")
+    async def rate_limit(request: Request, call_next):
+        path = request.url.path
+        if path.startswith("/api/"):
+            client = request.client.host if request.client else "unknown"
+            wait = limiter.check(client, heavy=request.method == "POST")
+            if wait is not None:
+                return _error(429, f"Too many requests from {client}: the limit is "
+                                   f"{settings.rate_limit_per_minute} per minute "
+                                   f"({settings.rate_limit_heavy_per_minute} for uploads and computations). "
+                                   f"Try again in {wait} s.", {"Retry-After": str(wait)})
+        return await call_next(request)
+
+    @app.exception_handler(era.EraError)
+    async def era_error(request: Request, exc: era.EraError):
+        return _error(422, str(exc))
+
+    @app.exception_handler(NotFound)
+    async def not_found(request: Request, exc: NotFound):
+        return _error(404, str(exc))
+
+    @app.exception_handler(HTTPException)
+    async def http_error(request: Request, exc: HTTPException):
+        return _error(exc.status_code, str(exc.detail), getattr(exc, "headers", None))
+
+    @app.exception_handler(RequestValidationError)
+    async def invalid_request(request: Request, exc: RequestValidationError):
+        parts = []
+        for e in exc.errors():
+            where = ".".join(str(x) for x in e.get("loc", ()) if x not in ("body", "query", "path"))
+            parts.append(f"{where or 'request'}: {e.get('msg', 'invalid')}")
+        return _error(422, "Invalid request: " + "; ".join(parts) + ".")
+
+    @app.exception_handler(Exception)
+    async def unexpected(request: Request, exc: Exception):
+        ref = secrets.token_hex(4)
+        log.exception("Unhandled error %s on %s %s", ref, request.method, request.url.path)
+        return _error(500, f"Internal error (reference {ref}); it has been logged. Please report it with the "
+                           "reference.")
+
+    for module in (datasets, examples, analyses, reports, pages):
+        app.include_router(module.router)
+    if viewer is not None:
+        app.include_router(viewer.router)
+    app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+    # Outermost: refuse oversized bodies before anything reads them.
+    app.add_middleware(UploadLimit, limit=settings.max_upload_bytes)
+    return app
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+        return version("era-modal")
+    except Exception:  # not installed (running from a checkout)
+        return "0+unknown"
+
+
+app = create_app()

@@ -1,0 +1,144 @@
+"""Reports: freeze an analysis into one JSON document, and export it as self-contained HTML and as CSV.
+
+A report holds everything its page draws (no recomputation when it is opened): the dataset's summary and
+hash, the parameters, the modes of the chosen order with the kept ones marked, the stabilization diagram,
+measured and reconstructed records, the geometry for the animation, and the software versions.
+"""
+
+from __future__ import annotations
+
+import csv
+import datetime as dt
+import io
+import json
+import platform
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+import era
+
+from . import engine as eng
+
+STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
+#: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
+MAX_REPORT_PAIRS = 36
+MAX_REPORT_POINTS = 1500
+
+
+def _software(version: str) -> dict:
+    import numpy
+    import scipy
+    return {"era-modal": version, "python": platform.python_version(), "numpy": numpy.__version__,
+            "scipy": scipy.__version__}
+
+
+def geometry_json(geometry: era.Geometry | None) -> dict | None:
+    if geometry is None:
+        return None
+    return {"node_ids": geometry.node_ids.tolist(), "coordinates": eng.floats(geometry.coordinates),
+            "edges": geometry.edges.tolist(), "channel_nodes": geometry.channel_nodes.tolist(),
+            "channel_directions": eng.floats(geometry.channel_directions), "units": geometry.units}
+
+
+def build(e: eng.Engine, analysis_id: str, order: int, kept: np.ndarray, version: str) -> dict:
+    """The report document of an analysis at one order with the kept modes (blocking: run it on a pool)."""
+    dataset_id, params = e.analysis(analysis_id)
+    ident = e.identification(analysis_id)
+    data, geometry, _ = e.dataset(dataset_id)
+    model = e.model(analysis_id, order)
+    reduced = model.select(kept)
+    rebuilt = reduced.reconstruct(data.n_samples)
+    sl = eng.decimate(data.n_samples, MAX_REPORT_POINTS)
+    pairs = [(i, j) for j in range(data.n_inputs) for i in range(data.n_outputs)][:MAX_REPORT_PAIRS]
+    stab = eng.stabilization_json(e.stabilization(analysis_id), ident)
+    stab["spectrum"] = eng.spectrum_json(data, e.settings)
+    return {
+        "created": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
+        "software": _software(version),
+        "dataset": e.summary(dataset_id),
+        "analysis": eng.analysis_json(analysis_id, dataset_id, params, ident),
+        "order": int(order), "kept": kept.tolist(),
+        "modes": eng.modes_json(model, data),
+        "kept_fit_percent": eng.fit_percent(reduced.fit_error(data)),
+        "reconstruction": {
+            "time_s": eng.floats(data.time_s[sl]),
+            "pairs": [{"output": data.outputs[i], "input": data.inputs[j], "output_index": i, "input_index": j,
+                       "measured": eng.floats(data.markov[sl, i, j]), "reconstructed": eng.floats(rebuilt[sl, i, j])}
+                      for i, j in pairs]},
+        "stabilization": stab,
+        "geometry": geometry_json(geometry),
+    }
+
+
+def modes_csv(report: dict) -> str:
+    """The modes of a report, one row per mode: kept flag, frequency, damping, γ, μ, contribution, shape."""
+    m = report["modes"]
+    kept = set(report["kept"])
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    shape_cols = [f"{_cell(o)} {part}" for o in m["outputs"] for part in ("re", "im")]
+    w.writerow(["mode", "kept", "frequency_hz", "natural_frequency_hz", "damping_ratio", "emac", "mpc",
+                "contribution_relative", "is_pair", *shape_cols])
+    for k in range(m["n_modes"]):
+        shape = [v for re, im in zip(m["shapes_re"][k], m["shapes_im"][k]) for v in (re, im)]
+        w.writerow([k, int(k in kept), m["frequency_hz"][k], m["natural_frequency_hz"][k], m["damping_ratio"][k],
+                    m["emac"][k], m["mpc"][k], m["contribution_relative"][k], int(m["is_pair"][k]), *shape])
+    return buf.getvalue()
+
+
+def _cell(text: str) -> str:
+    """A label safe for spreadsheets: a leading = + - @ would be read as a formula."""
+    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
+
+
+def standalone_html(report: dict, token: str) -> str:
+    """report.html with plotly.js, the CSS, the page script and the report data inlined: opens offline."""
+    import plotly
+    plotly_js = (Path(plotly.__file__).parent / "package_data" / "plotly.min.js").read_text(encoding="utf-8")
+    page = (STATIC_DIR / "report.html").read_text(encoding="utf-8")
+    css = (STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
+    script = (STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
+    formats = (STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
+    data = json.dumps(dict(report, token=token, standalone=True), separators=(",", ":"))
+    data = data.replace("</", "<\\/").replace("<!--", "<\\!--")  # cannot close the script element early
+
+    def inline(tag: str, body: str) -> str:
+        if tag == "script":
+            return "<script>" + body.replace("</script", "<\\/script") + "</script>"
+        return "<style>" + body + "</style>"
+
+    replacements = {
+        '<script src="/vendor/plotly.min.js"></script>': inline("script", plotly_js),
+        '<link rel="stylesheet" href="/static/css/app.css">': inline("style", css),
+        '<script src="/static/js/format.js"></script>': inline("script", formats),
+        '<script src="/static/js/report.js"></script>':
+            f"<script>window.REPORT_DATA = {data};</script>" + inline("script", script),
+    }
+    for old, new in replacements.items():
+        if old not in page:
+            raise RuntimeError(f"static/report.html lost the line {old!r} that the download inlines")
+        page = page.replace(old, new)
+    return page
+
+
+def geometry_from_json(g: dict | None) -> era.Geometry | None:
+    if g is None:
+        return None
+    return era.Geometry(node_ids=g["node_ids"], coordinates=g["coordinates"], edges=g["edges"],
+                        channel_nodes=g["channel_nodes"], channel_directions=g["channel_directions"], units=g["units"])
+
+
+def modes_uff(report: dict) -> bytes:
+    """The kept modes as UFF 55 (with the geometry as UFF 15/82) through era.save_modes_uff."""
+    m = report["modes"]
+    kept = report["kept"]
+    if not kept:
+        raise era.EraError("This report keeps no modes, so there is nothing to write as UFF 55.")
+    shapes = (np.array(m["shapes_re"], dtype=float) + 1j * np.array(m["shapes_im"], dtype=float)).T[:, kept]
+    s = np.array(m["eigenvalue_re"], dtype=float)[kept] + 1j * np.array(m["eigenvalue_im"], dtype=float)[kept]
+    modes = SimpleNamespace(shapes=shapes, eigenvalues=s)  # what save_modes_uff reads of a ModalModel
+    buf = io.BytesIO()
+    era.save_modes_uff(buf, modes, geometry_from_json(report.get("geometry")), name="ERA")
+    return buf.getvalue()

@@ -1,0 +1,1 @@
+"""One router per resource: datasets, examples, analyses, reports, pages."""

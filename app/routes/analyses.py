@@ -1,0 +1,106 @@
+"""Analyses: one identification (one SVD) per request, then modes of any order, the stabilization diagram,
+reconstructions, and the mode-shape viewer."""
+
+from __future__ import annotations
+
+import time
+
+from fastapi import APIRouter, HTTPException, Query, Request
+from pydantic import BaseModel, Field
+
+from .. import engine as eng
+from .deps import engine, jobs
+
+router = APIRouter(prefix="/api/analyses", tags=["analyses"])
+
+
+class AnalysisRequest(BaseModel):
+    dataset_id: str = Field(min_length=1, max_length=100)
+    rows: int = Field(ge=1, description="r, block rows of H(0) (eq. 16)")
+    cols: int = Field(ge=1, description="s, block columns of H(0)")
+    row_shifts: list[int] | None = Field(None, description="j_1..j_{r-1}, increasing; default 1..r-1")
+    col_shifts: list[int] | None = Field(None, description="t_1..t_{s-1}, increasing; default 1..s-1")
+    max_order: int | None = Field(None, ge=1, description="largest order kept from the SVD")
+
+
+class ViewerRequest(BaseModel):
+    order: int = Field(ge=1)
+
+
+@router.post("", summary="Identify: build H(0), H(1) and take one SVD")
+async def create(request: Request, body: AnalysisRequest):
+    e = engine(request)
+    params = body.model_dump()
+    e.summary(body.dataset_id)  # 404 before queueing work
+
+    def work():
+        analysis_id, ident = e.new_analysis(body.dataset_id, params)
+        return eng.analysis_json(analysis_id, body.dataset_id, params, ident)
+
+    return await jobs(request).heavy(work)
+
+
+@router.get("/{analysis_id}", summary="An analysis: parameters and singular values")
+async def read(request: Request, analysis_id: str):
+    e = engine(request)
+    dataset_id, params = e.analysis(analysis_id)
+    runner = jobs(request).quick if e.is_cached(analysis_id) else jobs(request).heavy
+    ident = await runner(e.identification, analysis_id)
+    return eng.analysis_json(analysis_id, dataset_id, params, ident)
+
+
+async def _model(request: Request, analysis_id: str, order: int):
+    e = engine(request)
+    e.analysis(analysis_id)  # 404
+    if not e.is_cached(analysis_id):  # after a restart: recompute the SVD on the heavy pool first
+        await jobs(request).heavy(e.identification, analysis_id)
+    return await jobs(request).quick(e.model, analysis_id, order)
+
+
+@router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit")
+async def modes(request: Request, analysis_id: str, order: int = Query(ge=1)):
+    t0 = time.perf_counter()
+    e = engine(request)
+    model = await _model(request, analysis_id, order)
+    data = e.dataset(e.analysis(analysis_id)[0])[0]
+    out = await jobs(request).quick(eng.modes_json, model, data)
+    out["compute_ms"] = round((time.perf_counter() - t0) * 1e3, 2)
+    return out
+
+
+@router.get("/{analysis_id}/reconstruction", summary="Measured against reconstructed response for kept modes")
+async def reconstruction(request: Request, analysis_id: str, order: int = Query(ge=1),
+                         modes: str | None = Query(None, description="kept modes, e.g. 0,2,5; default all"),
+                         output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+    e = engine(request)
+    model = await _model(request, analysis_id, order)
+    data = e.dataset(e.analysis(analysis_id)[0])[0]
+    kept = eng.parse_modes(modes, model.n_modes)
+    return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
+
+
+@router.get("/{analysis_id}/stabilization", summary="Poles of every order, their stability, suggested modes")
+async def stabilization(request: Request, analysis_id: str):
+    e = engine(request)
+    e.analysis(analysis_id)
+
+    def work():
+        ident = e.identification(analysis_id)
+        out = eng.stabilization_json(e.stabilization(analysis_id), ident)
+        out["spectrum"] = eng.spectrum_json(ident.data, e.settings)
+        return out
+
+    return await jobs(request).heavy(work)
+
+
+@router.post("/{analysis_id}/viewer", summary="Publish the modes of one order to the viser viewer")
+async def publish(request: Request, analysis_id: str, body: ViewerRequest):
+    viewer = request.app.state.viewer
+    if viewer is None:
+        raise HTTPException(503, "The mode-shape viewer is not available on this server.")
+    e = engine(request)
+    model = await _model(request, analysis_id, body.order)
+    _, geometry, _ = e.dataset(e.analysis(analysis_id)[0])
+    labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
+    key = await jobs(request).quick(viewer.publish, geometry, model.frequency_hz, model.shapes, labels)
+    return {"key": key, "url": viewer.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": model.n_modes}

@@ -1,0 +1,35 @@
+"""HTML pages and the vendored plotly.js (served from the installed plotly package: no CDN)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import plotly
+from fastapi import APIRouter, Request
+from fastapi.responses import FileResponse, HTMLResponse
+
+from .deps import engine
+
+router = APIRouter(include_in_schema=False)
+STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
+PLOTLY_JS = Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
+
+
+@router.get("/")
+async def index():
+    return FileResponse(STATIC_DIR / "index.html", media_type="text/html")
+
+
+@router.get("/r/{token}")
+async def report_page(request: Request, token: str):
+    if engine(request).store.report(token) is None:
+        return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title>"
+                            "<h1>Report not found</h1><p>No report has this link. Check that the whole link was "
+                            "copied.</p><p><a href=\"/\">Start a new analysis</a></p>", status_code=404)
+    return FileResponse(STATIC_DIR / "report.html", media_type="text/html")
+
+
+@router.get("/vendor/plotly.min.js")
+async def plotly_js():
+    return FileResponse(PLOTLY_JS, media_type="application/javascript",
+                        headers={"Cache-Control": "public, max-age=86400"})

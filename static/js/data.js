@@ -1,0 +1,90 @@
+// Panel 1: upload (drag and drop, progress), examples, the dataset summary and the records.
+import { api, upload } from "./api.js";
+import { state, emit, on, el, showError, plotConfig } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+
+function setStatus(text) { $("data-status").textContent = text; }
+
+async function loadDataset(promise, label) {
+  showError("data-error", null);
+  setStatus(label);
+  try {
+    const ds = await promise;
+    state.dataset = ds;
+    setStatus("");
+    emit("dataset", ds);
+  } catch (err) {
+    setStatus("");
+    showError("data-error", err);
+  } finally {
+    $("upload-progress").hidden = true;
+  }
+}
+
+function uploadFile(file) {
+  const bar = $("upload-progress");
+  bar.hidden = false;
+  bar.value = 0;
+  const p = upload("/api/datasets", file, (f) => {
+    bar.value = f;
+    setStatus(f < 1 ? `Uploading ${file.name}: ${Math.round(100 * f)} %` : `Reading ${file.name}…`);
+  });
+  return loadDataset(p, `Uploading ${file.name}…`);
+}
+
+function renderSummary(ds) {
+  const dl = $("summary");
+  dl.replaceChildren();
+  const u = ds.output_units;
+  const units = !u ? "not given" : u.every((x) => x === u[0]) ? `${u[0]} (every output)` : u.join(", ");
+  const rows = [
+    ["Name", ds.name], ["Outputs (p)", `${ds.n_outputs}: ${ds.outputs.join(", ")}`],
+    ["Inputs (m)", `${ds.n_inputs}: ${ds.inputs.join(", ")}`], ["Δt", `${ds.dt} s (Nyquist ${ds.nyquist_hz.toFixed(3)} Hz)`],
+    ["Length", `${ds.n_samples} samples, ${ds.duration_s.toFixed(3)} s`], ["Units", units],
+    ["Geometry", ds.geometry ? `${ds.geometry.n_nodes} nodes, ${ds.geometry.n_edges} lines (${ds.geometry.units})` : "none"],
+  ];
+  for (const [k, v] of rows) dl.append(el("dt", { text: k }), el("dd", { text: v }));
+  dl.hidden = false;
+}
+
+async function plotRecords(input) {
+  const ds = state.dataset;
+  const rec = await api(`/api/datasets/${ds.id}/records?input=${input}`);
+  const traces = rec.series.map((y, i) => ({ x: rec.time_s, y, name: rec.outputs[i], type: "scatter", mode: "lines",
+                                             line: { width: 1 } }));
+  Plotly.react("records-plot", traces, {
+    margin: { l: 55, r: 10, t: 10, b: 40 }, xaxis: { title: { text: "time (s)" } },
+    yaxis: { title: { text: ds.output_units ? ds.output_units[0] : "response" } },
+    legend: { orientation: "h", y: -0.2 }, showlegend: rec.series.length <= 12,
+  }, plotConfig);
+}
+
+export function init() {
+  const drop = $("drop");
+  drop.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
+  drop.addEventListener("dragleave", () => drop.classList.remove("over"));
+  drop.addEventListener("drop", (e) => {
+    e.preventDefault();
+    drop.classList.remove("over");
+    if (e.dataTransfer.files.length) uploadFile(e.dataTransfer.files[0]);
+  });
+  $("file").addEventListener("change", (e) => { if (e.target.files.length) uploadFile(e.target.files[0]); e.target.value = ""; });
+
+  api("/api/examples").then((list) => {
+    for (const ex of list) {
+      $("examples").append(el("button", {
+        class: "secondary", type: "button", title: ex.description, "data-example": ex.name, text: ex.title,
+        onclick: () => loadDataset(api(`/api/examples/${ex.name}`, { method: "POST" }), `Loading ${ex.title}…`),
+      }));
+    }
+  }).catch((err) => showError("data-error", err));
+
+  $("records-input").addEventListener("change", (e) => plotRecords(Number(e.target.value)));
+  on("dataset", (ds) => {
+    renderSummary(ds);
+    const sel = $("records-input");
+    sel.replaceChildren(...ds.inputs.map((name, j) => el("option", { value: j, text: name })));
+    plotRecords(0).catch((err) => showError("data-error", err));
+  });
+}

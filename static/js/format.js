@@ -1,0 +1,23 @@
+/* Number formats and the modes-table columns, shared by the analysis page and the report (classic script:
+   the report download inlines it). */
+(function () {
+  const num = (v, digits) => (v === null || v === undefined || !isFinite(v)) ? "–" : Number(v).toFixed(digits);
+  const columns = [
+    { key: "index", label: "#", title: "mode number at this order", value: (m, k) => k, text: (m, k) => String(k + 1) },
+    { key: "frequency_hz", label: "f (Hz)", title: "damped natural frequency", value: (m, k) => m.frequency_hz[k],
+      text: (m, k) => num(m.frequency_hz[k], 4) },
+    { key: "damping_ratio", label: "ζ (%)", title: "damping ratio", value: (m, k) => m.damping_ratio[k],
+      text: (m, k) => num(100 * m.damping_ratio[k], 3) },
+    { key: "emac", label: "γ", title: "modal amplitude coherence (eqs. 42-45)", value: (m, k) => m.emac[k],
+      text: (m, k) => num(m.emac[k], 3) },
+    { key: "mpc", label: "μ", title: "modal phase collinearity (eqs. 46-54)", value: (m, k) => m.mpc[k],
+      text: (m, k) => num(m.mpc[k], 3) },
+    { key: "emac_mpc", label: "γ·μ", title: "product, the colour of the stabilization diagram",
+      value: (m, k) => m.emac_mpc[k], text: (m, k) => num(m.emac_mpc[k], 3) },
+    { key: "contribution_relative", label: "contribution (%)", title: "share of H(0) relative to the strongest mode",
+      value: (m, k) => m.contribution_relative[k], text: (m, k) => num(100 * m.contribution_relative[k], 1) },
+    { key: "is_pair", label: "type", title: "complex pair or real pole", value: (m, k) => m.is_pair[k] ? 1 : 0,
+      text: (m, k) => m.is_pair[k] ? "pair" : "real" },
+  ];
+  window.EraFormat = { num, columns };
+})();

@@ -1,0 +1,74 @@
+// Wires the panels. The order slider drives: modes of that order (table, poles) -> reconstruction.
+// Requests are coalesced: while one order is on its way, only the latest slider position waits.
+import { api } from "./api.js";
+import { state, on, emit, showError } from "./state.js";
+import * as data from "./data.js";
+import * as hankel from "./hankel.js";
+import * as stabilization from "./stabilization.js";
+import * as table from "./table.js";
+import * as reconstruction from "./reconstruction.js";
+import * as shapes from "./shapes.js";
+import * as share from "./share.js";
+
+// Timing of the last slider updates (ms from the order change to table and reconstruction drawn), for tests.
+window.eraTiming = { order: [] };
+
+let busy = false, wanted = null, pendingSelect = null;
+
+async function pump() {
+  if (busy || wanted === null) return;
+  const { order, t0 } = wanted;
+  wanted = null;
+  busy = true;
+  try {
+    const modes = await api(`/api/analyses/${state.analysis.id}/modes?order=${order}`);
+    if (order === state.order) {
+      state.modes = modes;
+      table.applyThresholds();
+      if (pendingSelect !== null && pendingSelect.order === order) {
+        state.selected = pendingSelect.index < modes.n_modes ? pendingSelect.index : null;
+        pendingSelect = null;
+      } else if (state.selected !== null) {
+        state.selected = nearestMode(modes, state.selectedFrequency);
+      }
+      emit("modes", modes);
+      await reconstruction.update();
+      if (state.selected !== null) emit("select", state.selected);
+      const ms = performance.now() - t0;
+      window.eraTiming.order.push(ms);
+      document.getElementById("order-note").dataset.lastMs = ms.toFixed(1);
+      document.getElementById("order-status")?.remove();
+    }
+  } catch (err) {
+    showError("hankel-error", err);
+  } finally {
+    busy = false;
+    pump();
+  }
+}
+
+function nearestMode(m, f) {
+  if (f === undefined || f === null || !m.n_modes) return null;
+  let best = null;
+  m.frequency_hz.forEach((fk, k) => { if (fk !== null && (best === null || Math.abs(fk - f) < Math.abs(m.frequency_hz[best] - f))) best = k; });
+  return best;
+}
+
+// First listener of "select": the state is updated before any panel redraws.
+on("select", (k) => { state.selected = k; state.selectedFrequency = k === null ? null : state.modes.frequency_hz[k]; });
+
+data.init();
+hankel.init();
+stabilization.init();
+table.init();
+reconstruction.init();
+shapes.init();
+share.init();
+
+on("order", (order) => { wanted = { order, t0: performance.now() }; pump(); });
+on("pole", ({ order, index }) => {
+  if (order === state.order) { emit("select", index); return; }
+  pendingSelect = { order, index };
+  hankel.setOrder(order);
+});
+on("analysis", () => { state.selected = null; state.modes = null; });

@@ -1,0 +1,56 @@
+// Panel 6: the selected mode shape: animated in the viser viewer (iframe) when the server has it, and its
+// components per channel in a bar chart.
+import { api } from "./api.js";
+import { state, on, el, plotConfig } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+let viewer = null;          // {key, url, mode_url, order} of the published modes, or null
+let viewerAvailable = true; // false after the server said it has no viewer
+let publishing = null;
+
+async function publish() {
+  if (!viewerAvailable || !state.analysis) return null;
+  const order = state.order, id = state.analysis.id;
+  if (viewer && viewer.order === order && viewer.analysis === id) return viewer;
+  try {
+    const v = await api(`/api/analyses/${id}/viewer`, { method: "POST", body: { order } });
+    viewer = { ...v, order, analysis: id };
+    const frame = el("iframe", { class: "viewer", src: v.url, title: "mode shape viewer" });
+    $("viewer-box").replaceChildren(frame);
+    return viewer;
+  } catch (err) {
+    viewerAvailable = false;
+    $("viewer-box").replaceChildren(el("div", { class: "note", text: `3-D viewer: ${err.message}` }));
+    return null;
+  }
+}
+
+async function showMode() {
+  const k = state.selected, m = state.modes;
+  if (k === null || !m) return;
+  $("shape-title").textContent = `mode ${k + 1}: ${m.frequency_hz[k].toFixed(4)} Hz, ζ ${(100 * m.damping_ratio[k]).toFixed(3)} %`;
+  const re = m.shapes_re[k], im = m.shapes_im[k];
+  Plotly.react("shape-plot", [
+    { x: m.outputs, y: re, name: "real", type: "bar", marker: { color: "#1f5fbf" } },
+    { x: m.outputs, y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
+  ], { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group", yaxis: { title: { text: "shape (largest = 1)" } },
+       legend: { orientation: "h", y: 1.15 } }, plotConfig);
+  publishing = publishing || publish().finally(() => { publishing = null; });
+  const v = await publishing;
+  if (v && v.order === state.order) await sendMode(v);
+}
+
+async function sendMode(v) {
+  try {
+    await api(v.mode_url, { method: "POST", body: { index: state.selected, amplitude: Number($("shape-amplitude").value),
+                                                    speed: Number($("shape-speed").value) } });
+  } catch (err) { $("viewer-note")?.replaceChildren(err.message); }
+}
+
+export function init() {
+  on("select", showMode);
+  on("modes", () => { if (state.selected !== null) showMode(); });
+  for (const id of ["shape-amplitude", "shape-speed"]) {
+    $(id).addEventListener("change", () => { if (viewer && state.selected !== null) sendMode(viewer); });
+  }
+}

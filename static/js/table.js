@@ -1,0 +1,90 @@
+// Panel 4: the γ/μ table: sortable, a keep/reject checkbox per mode, thresholds that select modes.
+import { state, emit, on, el } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+const { columns } = window.EraFormat;
+let sortKey = "frequency_hz", ascending = true;
+
+export function thresholds() {
+  return { emac: Number($("min-emac").value), mpc: Number($("min-mpc").value),
+           contribution: Number($("min-contrib").value) / 100, pairsOnly: $("pairs-only").checked };
+}
+
+// Kept modes by the thresholds: γ ≥, μ ≥, relative contribution ≥, and (by default) complex pairs only.
+export function applyThresholds() {
+  const m = state.modes, t = thresholds();
+  state.kept = new Set();
+  for (let k = 0; k < m.n_modes; k++) {
+    if (m.emac[k] >= t.emac && m.mpc[k] >= t.mpc && m.contribution_relative[k] >= t.contribution &&
+        (!t.pairsOnly || m.is_pair[k])) state.kept.add(k);
+  }
+}
+
+function sortedIndices(m) {
+  const col = columns.find((c) => c.key === sortKey) || columns[1];
+  const idx = [...Array(m.n_modes).keys()];
+  idx.sort((a, b) => {
+    const va = col.value(m, a), vb = col.value(m, b);
+    const d = (va === null ? -Infinity : va) - (vb === null ? -Infinity : vb);
+    return ascending ? d : -d;
+  });
+  return idx;
+}
+
+export function render() {
+  const m = state.modes;
+  const table = $("modes-table");
+  const head = el("tr", {}, el("th", { class: "keep", text: "keep", title: "keep the mode in the reduced model" }));
+  for (const c of columns) {
+    const th = el("th", { text: c.label, title: c.title, "data-key": c.key });
+    if (c.key === sortKey) th.className = ascending ? "sorted asc" : "sorted";
+    th.addEventListener("click", () => { ascending = sortKey === c.key ? !ascending : true; sortKey = c.key; render(); });
+    head.append(th);
+  }
+  table.tHead.replaceChildren(head);
+  const rows = sortedIndices(m).map((k) => {
+    const box = el("input", { type: "checkbox", "aria-label": `keep mode ${k + 1}`, "data-mode": k });
+    box.checked = state.kept.has(k);
+    box.addEventListener("click", (e) => e.stopPropagation());
+    box.addEventListener("change", () => {
+      if (box.checked) state.kept.add(k); else state.kept.delete(k);
+      tr.classList.toggle("rejected", !box.checked);
+      note();
+      emit("kept", state.kept);
+    });
+    const tr = el("tr", { "data-mode": k }, el("td", { class: "keep" }, box),
+                  ...columns.map((c) => el("td", { text: c.text(m, k), "data-key": c.key })));
+    if (!state.kept.has(k)) tr.classList.add("rejected");
+    if (state.selected === k) tr.classList.add("selected");
+    tr.addEventListener("click", () => emit("select", k));
+    return tr;
+  });
+  table.tBodies[0].replaceChildren(...rows);
+  note();
+}
+
+function note() {
+  $("table-note").textContent = `${state.kept.size} of ${state.modes.n_modes} modes kept · overall fit of all modes ` +
+    `${state.modes.fit_percent_overall.toFixed(2)} %`;
+}
+
+function markSelected() {
+  for (const tr of $("modes-table").tBodies[0].rows) {
+    const on_ = Number(tr.dataset.mode) === state.selected;
+    tr.classList.toggle("selected", on_);
+    if (on_) tr.scrollIntoView({ block: "nearest" });
+  }
+}
+
+export function init() {
+  for (const id of ["min-emac", "min-mpc", "min-contrib", "pairs-only"]) {
+    $(id).addEventListener("change", () => {
+      if (!state.modes) return;
+      applyThresholds();
+      render();
+      emit("kept", state.kept);
+    });
+  }
+  on("modes", render);
+  on("select", markSelected);
+}

@@ -1,0 +1,50 @@
+"""Helpers for the API tests: an app on a temporary data folder, and small datasets as upload files."""
+
+from __future__ import annotations
+
+import io
+from contextlib import contextmanager
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from fastapi.testclient import TestClient
+
+import era
+import era.paper
+from app.config import Settings
+from app.main import create_app
+
+
+@contextmanager
+def client(data_dir: Path, raise_errors: bool = True, **overrides):
+    """A TestClient with the lifespan running (store, pools); the viser viewer off unless asked for."""
+    settings = replace(Settings(data_dir=Path(data_dir), viewer=False), **overrides)
+    with TestClient(create_app(settings), raise_server_exceptions=raise_errors) as c:
+        yield c
+
+
+def npz_bytes(data: era.ResponseData, geometry: era.Geometry | None = None) -> bytes:
+    buf = io.BytesIO()
+    era.save_npz(buf, data, geometry)
+    return buf.getvalue()
+
+
+def case1_npz() -> bytes:
+    return npz_bytes(era.paper.case_1(200))
+
+
+def upload(c: TestClient, blob: bytes, name: str = "case1.npz"):
+    return c.post("/api/datasets", files={"file": (name, blob, "application/octet-stream")})
+
+
+def analysis(c: TestClient, rows: int = 90, cols: int = 90, **extra) -> tuple[dict, dict]:
+    """Upload Case I and identify it; returns (dataset, analysis)."""
+    ds = upload(c, case1_npz()).json()
+    r = c.post("/api/analyses", json=dict(dataset_id=ds["id"], rows=rows, cols=cols, **extra))
+    assert r.status_code == 200, r.text
+    return ds, r.json()
+
+
+def case1_frequencies_hz() -> np.ndarray:
+    return np.arange(1, 6) / (2 * np.pi)  # eq. 58: Im s_j = j rad/s
