@@ -114,7 +114,7 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
         how = (f"outside the library: the {'horizontal' if orientation == 'x' else 'vertical'} bar at "
                f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
     elif name == "ground_spring":
-        k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(300.0), np.log(3000.0)))))
+        k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(30.0), np.log(150.0)))))
         at = tuple(given.get("at", JOINTS_FT[rng.integers(NX * NY)]))
         springs = np.zeros(NX * NY)
         springs[joint_index(at)] = k
@@ -161,7 +161,7 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     ----------
     effect : None, str or dict
         None (no effect), one of EFFECTS, or one outside the library: "damaged_bar" (one whole bar, EI × 0.5)
-        or "ground_spring" (one joint's w tied to the ground, 300-3000 N/m);
+        or "ground_spring" (one joint's w tied to the ground, 30-150 N/m);
         a dict {"name": ..., parameter: value} fixes parameters, named as nasa_grid's keywords
         (joint_stiffness, torsion_factor, cable_length_m, distributed_mass_kg, point_mass_kg and point_mass_at,
         loose_joint_stiffness and loose_joint_at; damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor;

@@ -53,7 +53,7 @@ def test_the_truth_is_not_the_nominal_model():
     ({"name": "point_mass", "point_mass_kg": 1.5, "point_mass_at": (10, 0)}, slice(3, 10)),
     ({"name": "loose_joint", "loose_joint_stiffness": 2.0, "loose_joint_at": (0, 3)}, slice(3, 10)),
     ({"name": "damaged_bar", "bar": ("y", 5.0), "ei_factor": 0.5}, slice(3, 10)),
-    ({"name": "ground_spring", "at": (10, 0), "stiffness_n_per_m": 1000.0}, slice(0, 0)),
+    ({"name": "ground_spring", "at": (10, 0), "stiffness_n_per_m": 100.0}, slice(0, 0)),
 ])
 def test_each_hidden_effect_shifts_the_truth_the_physical_way(effect, lower):
     _, clean = simulate_grid_test(None, seed=7)               # same seed: same scatter, same E error
