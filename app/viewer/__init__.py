@@ -65,9 +65,10 @@ class ModeViewer:
         Raises era.DataError when the sizes do not match."""
         return self.registry.publish(geometry, frequency_hz, shapes, labels)
 
-    def set_mode(self, key: str, index=None, amplitude=None, speed=None, phase_deg=None):
+    def set_mode(self, key: str, index=None, amplitude=None, speed=None, phase_deg=None, interpolate=None):
         """What every client of `key` shows (same as POST /viser/{key}/mode); KeyError, ValueError."""
-        return self._live.set_mode(key, index=index, amplitude=amplitude, speed=speed, phase_deg=phase_deg)
+        return self._live.set_mode(key, index=index, amplitude=amplitude, speed=speed, phase_deg=phase_deg,
+                                   interpolate=interpolate)
 
     def session_count(self, key: str | None = None) -> int:
         """Browsers currently showing `key` (all keys if None)."""
@@ -78,10 +79,10 @@ class ModeViewer:
         return f"/viser/{quote(key, safe='')}/"
 
     def record(self, geometry: Geometry | None, frequency_hz, shapes, mode_index: int, frames: int = 30,
-               amplitude: float = 0.15, period_s: float = 2.0) -> bytes:
+               amplitude: float = 0.15, period_s: float = 2.0, interpolate: bool = True) -> bytes:
         """One cycle of one mode as .viser bytes (see record.record_mode); needs no running server."""
         return record_mode(geometry, np.asarray(frequency_hz), shapes, mode_index, frames=frames,
-                           amplitude=amplitude, period_s=period_s)
+                           amplitude=amplitude, period_s=period_s, interpolate=interpolate)
 
     def playback_url(self, file_url: str) -> str:
         """Page for an <iframe> that plays the .viser file at `file_url` (same origin) in viser's shipped client."""

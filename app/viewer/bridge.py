@@ -4,7 +4,7 @@ URL scheme (one port serves everything):
   GET  /viser/                   the client page; with ?playbackPath=<url> it plays a .viser recording, no server
   GET  /viser/{key}/             the client page for a published key (the iframe)
   WS   /viser/{key}              bridged to the internal viser server at ws://127.0.0.1:{port}/viser/{key}
-  POST /viser/{key}/mode         {index, amplitude?, speed?, phase_deg?}: what every client of the key shows
+  POST /viser/{key}/mode         {index, amplitude?, speed?, phase_deg?, interpolate?}: what the key's clients show
 
 viser's client opens its websocket at its own page URL with http -> ws and the query string and trailing slash
 dropped, so the page /viser/{key}/ connects to /viser/{key}: the key travels in the websocket path.
@@ -32,6 +32,8 @@ if TYPE_CHECKING:
     from . import ModeViewer
 
 log = logging.getLogger(__name__)
+
+_closing: set[asyncio.Task] = set()        # upstream closes still in progress (a reference keeps them alive)
 
 CLIENT_HTML = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 
@@ -64,6 +66,7 @@ class ModeChoice(BaseModel):
     speed: float | None = Field(None, ge=0, le=MAX_SPEED, description="Animation cycles per second; 0 freezes")
     phase_deg: float | None = Field(None, ge=-3600, le=3600,
                                     description="Set the phase of the cycle (degrees), e.g. to freeze at a peak")
+    interpolate: bool | None = Field(None, description="Move unmeasured nodes with a spline through the sensors")
 
 
 async def pump_to_browser(upstream, browser: WebSocket) -> None:
@@ -109,13 +112,13 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
         """Select the mode, amplitude and speed that every viewer of this key shows."""
         try:
             state = viewer.set_mode(key, index=choice.index, amplitude=choice.amplitude, speed=choice.speed,
-                                    phase_deg=choice.phase_deg)
+                                    phase_deg=choice.phase_deg, interpolate=choice.interpolate)
         except KeyError:
             raise HTTPException(404, "Unknown or expired viewer key: publish the modes again.") from None
         except ValueError as exc:
             raise HTTPException(422, str(exc)) from None
         return {"index": state.index, "amplitude": state.amplitude, "speed": state.speed,
-                "phase_deg": state.phase * 360.0}
+                "phase_deg": state.phase * 360.0, "interpolate": state.interpolate}
 
     @router.websocket("/viser/{key}")
     async def viser_socket(browser: WebSocket, key: str) -> None:
@@ -133,20 +136,27 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
             await browser.close(code=1011, reason="Viewer unavailable")
             return
         await browser.accept(subprotocol=upstream.subprotocol)
-        tasks = [asyncio.create_task(pump_to_browser(upstream, browser)),
-                 asyncio.create_task(pump_to_viser(browser, upstream))]
+        to_browser = asyncio.create_task(pump_to_browser(upstream, browser))
+        to_viser = asyncio.create_task(pump_to_viser(browser, upstream))
         try:
-            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+            await asyncio.wait([to_browser, to_viser], return_when=asyncio.FIRST_COMPLETED)
         finally:
-            for task in tasks:
+            for task in (to_browser, to_viser):
                 task.cancel()
-            await asyncio.gather(*tasks, return_exceptions=True)
-            await upstream.close()
-            # Pass viser's close code on (1002 = client/server version mismatch, shown by the client).
-            code = upstream.close_code if upstream.close_code not in (None, 1005, 1006) else 1000
-            try:
-                await browser.close(code=code, reason=(upstream.close_reason or "")[:120])
-            except (RuntimeError, WebSocketDisconnect):
-                pass                                # the browser already left
+            await asyncio.gather(to_browser, to_viser, return_exceptions=True)
+        if to_viser.done() and not to_viser.cancelled() and to_viser.exception() is None:
+            # The browser left: close the viser side in the background (its closing handshake need not hold
+            # this handler open).
+            closing = asyncio.create_task(upstream.close())
+            _closing.add(closing)
+            closing.add_done_callback(_closing.discard)
+            return
+        await upstream.close()
+        # viser closed first: pass its close code on (1002 = client/server version mismatch, shown by the client).
+        code = upstream.close_code if upstream.close_code not in (None, 1005, 1006) else 1000
+        try:
+            await browser.close(code=code, reason=(upstream.close_reason or "")[:120])
+        except (RuntimeError, WebSocketDisconnect):
+            pass                                    # the browser left meanwhile
 
     return router

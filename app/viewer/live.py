@@ -21,8 +21,9 @@ from .registry import MAX_AMPLITUDE, MAX_SPEED, Published, Registry, ViewState
 
 log = logging.getLogger(__name__)
 
-LEGEND = ("Colour: |displacement| from still (blue) to the largest excursion (red). Only nodes with a sensor move; "
-          "grey lines are the undeformed structure.")
+LEGEND = ("Colour: |displacement| from still (blue) to the largest excursion (red). Dots are the sensors; grey lines "
+          "the undeformed structure. *Interpolate* moves unmeasured nodes with a smooth spline through the sensors; "
+          "off, only measured nodes move.")
 
 
 def disable_sharing(server: viser.ViserServer) -> None:
@@ -52,8 +53,8 @@ class Session:
         position, look_at = scene.camera_pose(geometry)
         client.camera.position = position
         client.camera.look_at = look_at
-        first = scene.frame(geometry, entry.node_vectors[state.index], state.phase, state.amplitude)
-        undeformed = scene.frame(geometry, entry.node_vectors[state.index], 0.0, 0.0)
+        first = scene.frame(geometry, entry.vectors(state), state.phase, state.amplitude)
+        undeformed = scene.frame(geometry, entry.vectors(state), 0.0, 0.0)
         with client.atomic():
             self.lines, self.points = add_mode_nodes(client.scene, geometry, first, undeformed)
         gui = client.gui
@@ -62,6 +63,8 @@ class Session:
                                         hint="Largest displacement drawn, as a fraction of the structure's size")
         self.speed = gui.add_slider("Speed", 0.0, MAX_SPEED, 0.05, state.speed,
                                     hint="Animation cycles per second (0 freezes)")
+        self.interpolate = gui.add_checkbox("Interpolate", state.interpolate,
+                                            hint="Move unmeasured nodes with a spline through the sensors")
         gui.add_markdown(LEGEND)
 
         # Only a person's change (event.client set) goes to the key's state; programmatic syncs do not echo back.
@@ -77,6 +80,11 @@ class Session:
             if event.client is not None:
                 viewer.set_mode(key, speed=self.speed.value)
 
+        def on_interpolate(event):
+            if event.client is not None:
+                viewer.set_mode(key, interpolate=self.interpolate.value)
+
+        self.interpolate.on_update(on_interpolate)
         self.mode.on_update(on_mode)
         self.amplitude.on_update(on_amplitude)
         self.speed.on_update(on_speed)
@@ -88,10 +96,11 @@ class Session:
             self.mode.value = self.entry.labels[state.index]
             self.amplitude.value = state.amplitude
             self.speed.value = state.speed
-        now = (state.index, state.amplitude, state.phase)
+            self.interpolate.value = state.interpolate
+        now = (state.index, state.amplitude, state.phase, state.interpolate)
         if now == self.drawn:
             return False
-        f = scene.frame(self.entry.geometry, self.entry.node_vectors[state.index], state.phase, state.amplitude)
+        f = scene.frame(self.entry.geometry, self.entry.vectors(state), state.phase, state.amplitude)
         with self.client.atomic():
             update_mode_nodes(self.lines, self.points, f)
         self.drawn = now

@@ -55,7 +55,7 @@ def update_mode_nodes(lines, points, f: scene.Frame) -> None:
 
 
 def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int, frames: int = 30,
-                amplitude: float = 0.15, period_s: float = 2.0) -> bytes:
+                amplitude: float = 0.15, period_s: float = 2.0, interpolate: bool = True) -> bytes:
     """One cycle of mode `mode_index` as .viser bytes (viser's scene serializer, zstd-compressed msgpack).
 
     Parameters
@@ -67,6 +67,7 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
     frames : frames per cycle (≥ 2); the playback loops the cycle
     amplitude : largest displacement as a fraction of the structure's size
     period_s : duration of the recorded cycle in seconds (playback speed can be changed in the player)
+    interpolate : move unmeasured nodes with the spline through the sensors (scene.py), else they stay put
     """
     psi = np.asarray(shapes, dtype=complex)
     if geometry is None:
@@ -79,7 +80,7 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
     if not 0.0 <= amplitude <= MAX_AMPLITUDE or not period_s > 0:
         raise DataError(f"Amplitude must be in 0..{MAX_AMPLITUDE} and the period positive.")
     mode_index, frames = int(mode_index), int(frames)
-    vectors = scene.node_modal_vectors(geometry, psi[:, mode_index])
+    vectors = scene.node_modal_vectors(geometry, psi[:, mode_index], interpolate=interpolate)
     undeformed = scene.frame(geometry, vectors, 0.0, 0.0)
     with quiet():
         server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)

@@ -24,13 +24,14 @@ MAX_SPEED = 2.0           # animation cycles per second (display speed, not the 
 
 @dataclass(frozen=True)
 class ViewState:
-    """What a key's clients show: mode index, amplitude (fraction of structure size), speed (cycles/s, 0 freezes)
-    and the current phase (fraction of a cycle)."""
+    """What a key's clients show: mode index, amplitude (fraction of structure size), speed (cycles/s, 0 freezes),
+    the current phase (fraction of a cycle) and whether unmeasured nodes follow the spline (scene.py)."""
 
     index: int = 0
     amplitude: float = 0.15
     speed: float = 0.5
     phase: float = 0.0
+    interpolate: bool = True
 
 
 @dataclass
@@ -41,7 +42,8 @@ class Published:
     frequency_hz: np.ndarray
     shapes: np.ndarray
     labels: list[str]
-    node_vectors: list[np.ndarray]          # per mode, (n_nodes, 3) complex (scene.node_modal_vectors)
+    node_vectors: list[np.ndarray]          # per mode, (n_nodes, 3) complex, measured nodes only
+    spline_vectors: list[np.ndarray]        # per mode, unmeasured nodes interpolated (scene.node_modal_vectors)
     state: ViewState = field(default_factory=ViewState)
     revision: int = 0                        # bumped on every state change clients must follow (not phase ticks)
 
@@ -49,9 +51,13 @@ class Published:
     def n_modes(self) -> int:
         return self.frequency_hz.size
 
+    def vectors(self, state: ViewState) -> np.ndarray:
+        """(n_nodes, 3) complex node vectors of the mode `state` shows."""
+        return (self.spline_vectors if state.interpolate else self.node_vectors)[state.index]
+
 
 def updated_state(state: ViewState, n_modes: int, index=None, amplitude=None, speed=None,
-                  phase_deg=None) -> ViewState:
+                  phase_deg=None, interpolate=None) -> ViewState:
     """Validated new state. Selecting another mode restarts its cycle at phase 0 unless a phase is given.
 
     Raises ValueError with a message for the user when a value is out of range."""
@@ -73,6 +79,8 @@ def updated_state(state: ViewState, n_modes: int, index=None, amplitude=None, sp
         if not np.isfinite(float(phase_deg)):
             raise ValueError("Phase must be a finite number of degrees.")
         new = replace(new, phase=(float(phase_deg) / 360.0) % 1.0)
+    if interpolate is not None:
+        new = replace(new, interpolate=bool(interpolate))
     return new
 
 
@@ -92,6 +100,7 @@ class Registry:
         entry = Published(
             geometry=geometry, frequency_hz=f, shapes=psi, labels=scene.mode_labels(f, labels),
             node_vectors=[scene.node_modal_vectors(geometry, psi[:, j]) for j in range(f.size)],
+            spline_vectors=[scene.node_modal_vectors(geometry, psi[:, j], interpolate=True) for j in range(f.size)],
         )
         key = secrets.token_urlsafe(16)      # 128 bits
         with self._lock:
@@ -108,7 +117,7 @@ class Registry:
             return entry
 
     def set_state(self, key: str, **changes) -> ViewState:
-        """Apply user changes (index, amplitude, speed, phase_deg); KeyError if unknown, ValueError if invalid."""
+        """Apply user changes (index, amplitude, speed, phase_deg, interpolate); KeyError if unknown, ValueError."""
         with self._lock:
             entry = self._items[key]
             entry.state = updated_state(entry.state, entry.n_modes, **changes)

@@ -6,8 +6,12 @@ Conventions
 -----------
 - A mode shape is the complex sensor vector ψ (p,) of `era.ModalModel.shapes[:, j]`, scaled here so max |ψ| = 1.
 - The animation shows the real motion u(θ) = Re(ψ e^{iθ}) (p,), θ = 2π·phase, at each channel's node along the
-  channel's direction (`era.Geometry.displaced`). Nodes without a sensor stay put: we do not interpolate, so what the
-  engineer sees is exactly what was measured; the trace lines to unmeasured nodes stretch.
+  channel's direction (as `era.Geometry.displaced`). Nodes without a sensor either stay put (`interpolate=False`:
+  exactly what was measured; the trace lines to them stretch) or follow a thin-plate spline through the measured
+  nodes (`interpolate=True`, the default: a 9-sensor grid then bends like a plate). The spline (scipy's
+  RBFInterpolator, with a linear term) runs in the sensors' own coordinates - a line, a plane or space, whichever
+  they span - on each displacement component, real and imaginary parts apart; a component a node does not measure
+  counts as zero there. It extrapolates linearly beyond the outermost sensors.
 - Displacement is drawn at `amplitude` × the structure's size (largest bounding-box side), so the same slider value
   looks alike on a 0.3 m beam and a 3 m grid.
 - Colour is the instantaneous |displacement| of each node divided by the largest peak over the cycle (0 = still,
@@ -103,17 +107,35 @@ def structure_size(geometry: Geometry) -> float:
     return size if size > 0 else 1.0
 
 
-def node_modal_vectors(geometry: Geometry, shape: np.ndarray) -> np.ndarray:
+def node_modal_vectors(geometry: Geometry, shape: np.ndarray, interpolate: bool = False) -> np.ndarray:
     """Complex displacement vector of each node, (n_nodes, 3), for a shape (p,) normalised to max |ψ| = 1.
 
-    Several channels on one node (x, y, z sensors) add up; nodes without a channel get zeros."""
+    Several channels on one node (x, y, z sensors) add up. Nodes without a channel get zeros, or with
+    `interpolate` the thin-plate spline through the measured nodes (module docstring)."""
     psi = np.asarray(shape, dtype=complex).reshape(-1)
     peak = np.abs(psi).max(initial=0.0)
     psi = psi / peak if peak > 0 else psi
     out = np.zeros((geometry.n_nodes, 3), dtype=complex)
     known = geometry.channel_nodes >= 0
     np.add.at(out, geometry.channel_nodes[known], psi[known, None] * geometry.channel_directions[known])
+    measured = np.unique(geometry.channel_nodes[known])
+    if interpolate and 1 < measured.size < geometry.n_nodes:
+        free = np.setdiff1d(np.arange(geometry.n_nodes), measured)
+        out[free] = _spline(geometry.coordinates[measured], out[measured], geometry.coordinates[free])
     return out
+
+
+def _spline(at: np.ndarray, values: np.ndarray, to: np.ndarray) -> np.ndarray:
+    """Thin-plate spline of complex (m, 3) `values` known at points `at` (m, 3), evaluated at `to` (k, 3)."""
+    from scipy.interpolate import RBFInterpolator
+
+    centre = at.mean(axis=0)
+    _, sv, axes = np.linalg.svd(at - centre, full_matrices=False)
+    axes = axes[sv > 1e-9 * sv.max()]                    # the line, plane or space the sensors span
+    data = np.concatenate([values.real, values.imag], axis=1)
+    spline = RBFInterpolator((at - centre) @ axes.T, data, kernel="thin_plate_spline", degree=1)
+    out = spline((to - centre) @ axes.T)
+    return out[:, :3] + 1j * out[:, 3:]
 
 
 def colours(level: np.ndarray) -> np.ndarray:

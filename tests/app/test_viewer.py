@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -101,6 +103,28 @@ def test_colour_scale_is_clipped_and_interpolated_between_stops():
     np.testing.assert_array_equal(rgb[4], rgb[5])
     np.testing.assert_array_equal(rgb[2], [10, 110, 185])                   # halfway between the first two stops
     np.testing.assert_array_equal(rgb[3], [60, 160, 40])
+
+
+def test_spline_passes_through_the_sensors_and_reproduces_a_tilted_plane():
+    g = grid()
+    x, y = np.array(SENSORS, dtype=float).T
+    tilt = 0.2 + 0.05 * x - 0.1 * y                          # a rigid tilt: the spline's linear part is exact
+    vectors = scene.node_modal_vectors(g, tilt, interpolate=True)
+    everywhere = (0.2 + 0.05 * g.coordinates[:, 0] - 0.1 * g.coordinates[:, 1]) / np.abs(tilt).max()
+    np.testing.assert_allclose(vectors[:, 2].real, everywhere, atol=1e-9)
+    np.testing.assert_allclose(vectors[:, :2], 0.0, atol=1e-9)
+    bent = scene.node_modal_vectors(g, bending() + 0.3j * tilt, interpolate=True)
+    measured = scene.node_modal_vectors(g, bending() + 0.3j * tilt)
+    np.testing.assert_allclose(bent[g.channel_nodes], measured[g.channel_nodes], atol=1e-9)
+    middle = 3 * 11 + 5                                      # node (5, 3), between sensors (5, 1) and (5, 4)
+    assert 0.5 < bent[middle, 2].real < 1.0
+
+
+def test_spline_works_for_sensors_on_a_line():
+    g = Geometry(node_ids=range(1, 6), coordinates=[[k, 0, 0] for k in range(5)], edges=[[k, k + 1] for k in range(4)],
+                 channel_nodes=[0, 2, 4], channel_directions=[[0, 0, 1]] * 3)
+    vectors = scene.node_modal_vectors(g, np.array([0.0, 1.0, 2.0]), interpolate=True)
+    np.testing.assert_allclose(vectors[:, 2].real, [0, 0.25, 0.5, 0.75, 1.0], atol=1e-9)
 
 
 def test_channels_on_one_node_add_up():
@@ -250,8 +274,11 @@ def test_mode_route_selects_validates_and_404s(served):
     viewer, client, key = served
     r = client.post(f"/viser/{key}/mode", json={"index": 1, "amplitude": 0.3, "speed": 0, "phase_deg": 45})
     assert r.status_code == 200
-    assert r.json() == {"index": 1, "amplitude": 0.3, "speed": 0.0, "phase_deg": pytest.approx(45.0)}
-    assert viewer.registry.get(key).state == ViewState(1, 0.3, 0.0, 0.125)
+    assert r.json() == {"index": 1, "amplitude": 0.3, "speed": 0.0, "phase_deg": pytest.approx(45.0),
+                        "interpolate": True}
+    assert viewer.registry.get(key).state == ViewState(1, 0.3, 0.0, 0.125, True)
+    r = client.post(f"/viser/{key}/mode", json={"index": 1, "interpolate": False})
+    assert r.json()["interpolate"] is False and r.json()["phase_deg"] == pytest.approx(45.0)
     bad = client.post(f"/viser/{key}/mode", json={"index": 2})
     assert bad.status_code == 422 and "choose 0 to 1" in bad.json()["detail"]
     assert client.post(f"/viser/{key}/mode", json={"index": 0, "amplitude": 2}).status_code == 422
@@ -266,10 +293,13 @@ def test_bridge_forwards_viser_traffic_with_the_version_subprotocol(served):
             assert ws.accepted_subprotocol == "viser-v1.1.1"
             first = ws.receive_bytes()                       # viser's hybrid frame: u64 sizes, then zstd msgpack
             assert len(first) > 16 and int.from_bytes(first[8:16], "little") <= len(first) - 16
+            ws.close()
+            time.sleep(0.3)             # let the bridge return before the test client cancels what is still running
         with client.websocket_connect(f"/viser/{key}", subprotocols=["viser-v0.0.1"]) as ws:
             with pytest.raises(WebSocketDisconnect) as closed:
                 ws.receive_bytes()
             assert closed.value.code == 1002 and "Version mismatch" in closed.value.reason
+            time.sleep(0.3)
         with pytest.raises(WebSocketDisconnect) as refused:
             with client.websocket_connect("/viser/unknown-key", subprotocols=["viser-v1.1.1"]):
                 pass

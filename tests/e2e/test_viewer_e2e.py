@@ -1,0 +1,232 @@
+"""The mode-shape viewer in a real browser: viser's client over the same-port bridge, pixels of frozen frames,
+the animation's frame rate, and a recorded cycle played back with no live session.
+
+Runs tests/e2e/viewer_app.py under uvicorn on a free 127.0.0.1 port and drives Debian's Chromium (never downloaded).
+Screenshots go to $VIEWER_SHOTS if set (to look at them), else to pytest's tmp dir.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.e2e
+
+CHROMIUM = "/usr/bin/chromium"
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--enable-unsafe-swiftshader"]
+
+if not Path(CHROMIUM).exists():
+    pytest.skip("Debian's chromium is not installed (.ci/run installs it)", allow_module_level=True)
+sync_api = pytest.importorskip("playwright.sync_api")
+Image = pytest.importorskip("PIL.Image")
+
+# Hide everything in the viewer page but the WebGL canvas (control panel, notifications), and tag the canvas.
+ISOLATE_CANVAS = """() => {
+  const canvas = [...document.querySelectorAll('canvas')].sort((a, b) => b.width * b.height - a.width * a.height)[0];
+  for (const el of document.body.querySelectorAll('*'))
+    if (el !== canvas && !el.contains(canvas)) el.style.visibility = 'hidden';
+  canvas.id = 'scene-canvas';
+}"""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def get_json(url: str) -> dict:
+    with urllib.request.urlopen(url, timeout=10) as r:
+        return json.load(r)
+
+
+def post_json(url: str, body: dict) -> dict:
+    req = urllib.request.Request(url, data=json.dumps(body).encode(), headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=10) as r:
+        return json.load(r)
+
+
+@pytest.fixture(scope="module")
+def base(tmp_path_factory):
+    port = free_port()
+    log = tmp_path_factory.mktemp("viewer") / "uvicorn.log"
+    env = dict(os.environ, PYTHONPATH=str(REPO))
+    with open(log, "wb") as out:
+        proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "viewer_app:app", "--app-dir", str(HERE),
+                                 "--host", "127.0.0.1", "--port", str(port), "--workers", "1"],
+                                cwd=REPO, env=env, stdout=out, stderr=subprocess.STDOUT)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(120):
+            try:
+                get_json(url + "/test/key")
+                break
+            except OSError:
+                if proc.poll() is not None:
+                    pytest.fail(f"the test app did not start:\n{log.read_text()}")
+                time.sleep(0.25)
+        else:
+            pytest.fail(f"the test app did not answer within 30 s:\n{log.read_text()}")
+        yield url
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory) -> Path:
+    folder = Path(os.environ["VIEWER_SHOTS"]) if os.environ.get("VIEWER_SHOTS") else tmp_path_factory.mktemp("shots")
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def canvas_pixels(frame_locator, path: Path) -> np.ndarray:
+    png = frame_locator.locator("#scene-canvas").screenshot(path=str(path))
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
+def drawn(img: np.ndarray) -> np.ndarray:
+    """Mask of saturated pixels: the coloured trace lines and sensors (background white, undeformed lines grey)."""
+    return (img.max(axis=-1) - img.min(axis=-1)) > 60
+
+
+def red(img: np.ndarray) -> np.ndarray:
+    """Mask of the colour scale's top end: nodes at their largest excursion."""
+    return (img[..., 0] > 170) & (img[..., 1] < 90) & (img[..., 2] < 90)
+
+
+def warm(img: np.ndarray) -> np.ndarray:
+    """Mask of the colour scale's upper half (yellow to red): nodes far from rest."""
+    return drawn(img) & (img[..., 0] > 150) & (img[..., 0] > img[..., 2] + 60)
+
+
+def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
+    info = get_json(base + "/test/key")
+    mode_url = f"{base}/viser/{info['key']}/mode"
+    post_json(mode_url, {"index": 0, "amplitude": 0.15, "speed": 0.5})
+    page = browser.new_page(viewport={"width": 1000, "height": 700})
+    page.goto(base + "/test/page")                           # the app's page with the viewer in an <iframe>
+    viewer = page.frame_locator("#viewer")
+    viewer.get_by_text("Connected").wait_for(timeout=30_000)
+    viewer.get_by_text("Amplitude").wait_for()
+    assert viewer.get_by_text("Share").count() == 0
+    assert get_json(base + "/test/key")["sessions"] == 1
+    before = get_json(base + "/test/key")["frames_sent"]
+    time.sleep(1.0)
+    assert get_json(base + "/test/key")["frames_sent"] - before >= 15      # animating (30 frames/s nominal)
+    page.screenshot(path=str(shots / "live_page.png"))
+
+    page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
+
+    def frozen(name: str, **choice) -> np.ndarray:
+        post_json(mode_url, {"speed": 0, "phase_deg": 0, "interpolate": False, **choice})
+        time.sleep(1.2)                                      # a few frames for the client to draw the still view
+        return canvas_pixels(viewer, shots / f"{name}.png")
+
+    flat = frozen("still", index=0, amplitude=0.5, phase_deg=90)   # a real mode passes zero a quarter cycle on
+    bend = frozen("bending_sensors_only", index=0, amplitude=0.5, interpolate=False)
+    twist = frozen("torsion_sensors_only", index=1, amplitude=0.5, interpolate=False)
+    plate = frozen("bending_interpolated", index=0, amplitude=0.5, interpolate=True)
+
+    # Undisplaced: the grid is drawn, every node still (blue), nothing at the top of the colour scale.
+    # (At amplitude 0 the colours would still show |ψ|: colour is relative to the mode's own peak.)
+    ys, xs = np.nonzero(drawn(flat))
+    assert drawn(flat).sum() > 2000 and red(flat).sum() == 0
+    left, right = xs.min(), xs.max()
+    third = (right - left) / 3
+
+    # Bending frozen at its peak: pixels change, the structure grows upwards, the red peak is mid-span.
+    assert (np.abs(bend - flat).sum(axis=-1) > 60).sum() > 1000
+    assert np.nonzero(drawn(bend))[0].min() < ys.min() - 30
+    ry, rx = np.nonzero(red(bend))
+    assert rx.size > 30 and left + third < rx.mean() < right - third
+
+    # Torsion: the two red peaks sit at the ends (x = 1 and 9 ft), nothing red mid-span.
+    tx = np.nonzero(red(twist))[1]
+    assert (tx < left + third).sum() > 10 and (tx > right - third).sum() > 10
+    assert ((tx > left + third) & (tx < right - third)).sum() == 0
+
+    # Interpolated: the unmeasured nodes move too, so many more trace-line pixels are warm than with sensors only.
+    assert warm(plate).sum() > 3 * warm(bend).sum() > 0
+    page.close()
+
+
+def test_bridge_streams_about_thirty_frames_per_second(base):
+    """Frame rate as a browser sees it: a websocket client through the bridge counts line updates for 3 s."""
+    msgspec = pytest.importorskip("msgspec")
+    zstandard = pytest.importorskip("zstandard")
+    from websockets.sync.client import connect
+
+    info = get_json(base + "/test/key")
+    post_json(f"{base}/viser/{info['key']}/mode", {"index": 0, "amplitude": 0.2, "speed": 0.5})
+    camera = {"type": "ViewerCameraMessage", "wxyz": [1.0, 0.0, 0.0, 0.0], "position": [0.0, 0.0, 5.0],
+              "fov": 1.0, "near": 0.01, "far": 100.0, "image_height": 500, "image_width": 800,
+              "look_at": [0.0, 0.0, 0.0], "up_direction": [0.0, 0.0, 1.0]}
+    unzip = zstandard.ZstdDecompressor()
+    times = []
+    ws_url = base.replace("http://", "ws://") + f"/viser/{info['key']}"
+    with connect(ws_url, subprotocols=["viser-v1.1.1"], max_size=None) as ws:
+        ws.send(msgspec.msgpack.encode(camera))              # viser counts a client as connected after its camera
+        start = time.monotonic()
+        while time.monotonic() - start < 4.0:
+            raw = ws.recv(timeout=5)
+            size, packed = int.from_bytes(raw[:8], "little"), int.from_bytes(raw[8:16], "little")
+            batch = msgspec.msgpack.decode(unzip.decompress(raw[16:16 + packed], max_output_size=size))
+            now = time.monotonic()
+            times += [now for m in batch["messages"]
+                      if m.get("name") == "/mode/lines" and "points" in m.get("updates", {})]
+    steady = [t for t in times if t - start > 1.0]
+    fps = (len(steady) - 1) / (steady[-1] - steady[0])
+    print(f"line updates received through the bridge: {fps:.1f} frames/s")
+    assert fps > 15                                          # nominal 30; generous for a loaded 2-core CI machine
+
+
+def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
+    page = browser.new_page(viewport={"width": 1000, "height": 700})
+    sockets = []
+    page.on("websocket", lambda ws: sockets.append(ws.url))
+    loaded = []
+    page.on("console", lambda m: loaded.append(m.text) if "File loaded" in m.text else None)
+    page.goto(base + "/test/playback")
+    viewer = page.frame_locator("#viewer")
+    for _ in range(120):
+        if loaded:
+            break
+        page.wait_for_timeout(250)
+    assert loaded and "1.1.1" in loaded[0]                   # "File loaded! Saved with Viser version: 1.1.1"
+    page.wait_for_timeout(1000)
+    page.screenshot(path=str(shots / "playback_page.png"))
+    page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
+    images = []
+    for k in range(6):                                       # 2 s cycle: sample it every 0.35 s
+        images.append(canvas_pixels(viewer, shots / f"playback_{k}.png"))
+        time.sleep(0.35)
+    assert all(drawn(img).sum() > 2000 for img in images)   # the grid is there in every frame
+    changes = [(np.abs(a - b).sum(axis=-1) > 60).sum() for a, b in zip(images, images[1:])]
+    assert max(changes) > 500                                # and it moves
+    hot = [warm(img).sum() for img in images]
+    assert max(hot) > 500 and min(hot) < 100                 # from near its peak to through rest
+    assert sockets == []                                     # no live session behind it
+    page.close()
