@@ -88,7 +88,7 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
         at = tuple(given.get("point_mass_at", JOINTS_FT[rng.integers(NX * NY)]))
         pert["point_masses"] = _mass_patch(at, kg, elements_per_bar)
         reported, location = {"point_mass_kg": kg, "point_mass_at": tuple(map(float, at))}, tuple(map(float, at))
-        how = f"a {kg:.2f} kg patch: 60 % on joint {location}, 40 % on the nearest mesh nodes around it"
+        how = f"a {kg:.2f} kg patch: 70 % on joint {location}, 30 % on the nearest mesh nodes around it"
     elif name == "loose_joint":
         k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(20.0), np.log(100.0)))))
         at = tuple(given.get("loose_joint_at", _EDGE_JOINTS[rng.integers(len(_EDGE_JOINTS))]))
@@ -126,14 +126,14 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
 
 
 def _mass_patch(at, kg: float, elements_per_bar: int) -> tuple:
-    """A mass spread over a joint (60 %) and the nearest mesh nodes along its bars (40 %), not a point."""
+    """A mass spread over a joint (70 %) and the nearest mesh nodes along its bars (30 %), not a point."""
     j = JOINTS_FT[joint_index(at)]
     if elements_per_bar < 2:
         return ((*j, kg),)
     h = 1.0 / elements_per_bar
     around = [j + d for d in ((h, 0), (-h, 0), (0, h), (0, -h))
               if 0 <= j[0] + d[0] <= NX - 1 and 0 <= j[1] + d[1] <= NY - 1]
-    return ((*j, 0.6 * kg),) + tuple((*p, 0.4 * kg / len(around)) for p in around)
+    return ((*j, 0.7 * kg),) + tuple((*p, 0.3 * kg / len(around)) for p in around)
 
 
 def free_decays(f_hz, zeta, phi_out, q0, v0, dt: float, n_samples: int) -> np.ndarray:
