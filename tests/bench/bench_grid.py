@@ -2,7 +2,8 @@
 
 Run: python3 -m pytest tests/bench/bench_grid.py -s
 Reference: one dense LAPACK generalized eigen-solve (scipy.linalg.eigh, lowest 10) of the nominal grid's own
-K and M, in the same process. One build + modes(10) must stay under ~50 ms; we assert it in that unit.
+K and M, in the same process. One build + modes(10) costs about 2× that reference (~10 ms on an idle
+2-core machine; the contract with era.explain is "well under 50 ms"); we assert ≤ 5× (≤ 8× on the fine mesh).
 """
 
 import time
@@ -45,10 +46,14 @@ def test_one_candidate_build_and_modes10(name, reference):
     t = _median_time(lambda: base.with_params(**VARIANTS[name]).modes(10))
     print(f"\n[{name}] build + modes(10): {t * 1e3:.1f} ms = {t / reference:.2f}× one dense eigh of the "
           f"nominal ({reference * 1e3:.1f} ms)")
-    assert t < 0.05 if name != "elements_per_bar=2" else t < 0.15
+    assert t / reference <= (8.0 if name == "elements_per_bar=2" else 5.0)
 
 
-def test_simulated_test_costs_little_next_to_era():
+def test_simulated_test_costs_less_than_identifying_it():
+    import era
+    data, _ = simulate_grid_test("point_mass", seed=0)
+    t_era = _median_time(lambda: era.identify(data, rows=30, cols=500), repeat=3)
     t = _median_time(lambda: simulate_grid_test("point_mass", seed=0), repeat=5)
-    print(f"\n[simulate_grid_test] 40 s, 9 × 6 records with a fine truth mesh: {t * 1e3:.0f} ms")
-    assert t < 0.5
+    print(f"\n[simulate_grid_test] 40 s, 9 × 6 records, fine truth mesh: {t * 1e3:.0f} ms "
+          f"= {t / t_era:.2f}× one era.identify(rows=30, cols=500) of them ({t_era * 1e3:.0f} ms)")
+    assert t <= t_era
