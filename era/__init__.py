@@ -24,3 +24,12 @@ __all__ += [
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
 ]
+
+# simulation against test (issue 5): correlation of test and model modes, and which effect the model misses
+from .correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes, serep, subspace_mac
+from .discrepancy import Explanation, explain
+
+__all__ += [
+    "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
+    "subspace_mac",
+]

@@ -201,10 +201,34 @@ class Gap:
                 "min_mac": self.min_mac, "mean_mac": self.mean_mac, "n_pairs": self.n_pairs}
 
 
-def gap(pairing: ModePairing) -> Gap:
-    """Summary of a pairing: max and RMS |frequency error| (%) and min and mean MAC; NaN when nothing paired."""
+def subspace_mac(pairing: ModePairing, shapes_measured, shapes_model, f_model, close: float = 0.03) -> np.ndarray:
+    """MAC of each pair (k,), where a model mode with neighbours closer than ``close`` (relative frequency) is
+    replaced by the span of that group: MAC = ‖P φ‖² / ‖φ‖², P the projector onto the group's shapes.
+
+    The individual shapes of a nearly repeated pair are not defined (a small perturbation rotates them within
+    their plane), so the measured shape is compared with the plane; isolated modes keep the ordinary MAC.
+    """
+    fa = np.clip(np.nan_to_num(np.asarray(f_model, dtype=float)), 0.0, None)
+    sm = real_shapes(np.asarray(shapes_measured))
+    sa = np.asarray(shapes_model, dtype=float)
+    out = pairing.mac.copy()
+    for n, (i, j) in enumerate(zip(pairing.measured_index, pairing.model_index)):
+        group = np.flatnonzero(np.abs(fa - fa[j]) <= close * max(fa[j], 1e-12))
+        if group.size > 1:
+            q, _ = np.linalg.qr(sa[:, group])
+            phi = sm[:, i]
+            out[n] = float(np.sum((q.T @ phi) ** 2) / max(phi @ phi, 1e-300))
+    return np.clip(out, 0.0, 1.0)
+
+
+def gap(pairing: ModePairing, mac_values=None) -> Gap:
+    """Summary of a pairing: max and RMS |frequency error| (%) and min and mean MAC; NaN when nothing paired.
+
+    mac_values : (k,) MAC per pair to use instead of ``pairing.mac`` (e.g. :func:`subspace_mac`).
+    """
     if pairing.n_pairs == 0:
         return Gap(float("nan"), float("nan"), float("nan"), float("nan"), 0)
     e = pairing.frequency_error_pct
-    return Gap(float(np.max(np.abs(e))), float(np.sqrt(np.mean(e**2))), float(np.min(pairing.mac)),
-               float(np.mean(pairing.mac)), pairing.n_pairs)
+    m = pairing.mac if mac_values is None else np.asarray(mac_values, dtype=float)
+    return Gap(float(np.max(np.abs(e))), float(np.sqrt(np.mean(e**2))), float(np.min(m)),
+               float(np.mean(m)), pairing.n_pairs)

@@ -1,0 +1,15 @@
+"""Simulation against test: which candidate physical effect is the model missing (issue 5).
+
+explain() runs ERA, pairs the modes with the model, fits every candidate effect of a library (the nominal plus a
+global stiffness nuisance plus the effect's parameters), compares them by Bayesian evidence (Laplace, Beck &
+Yuen 2004) and names one only when the data clearly support it.
+"""
+
+from .effects import EffectSpec, Param, grid_effects
+from .explain import VERDICTS, Explanation, NamedEffect, explain
+from .fitting import ErrorLevels, Fit
+from .measured import MeasuredModes, identify_modes, modes_from_arrays
+from .ranking import RankedEffect
+
+__all__ = ["explain", "Explanation", "NamedEffect", "RankedEffect", "EffectSpec", "Param", "grid_effects",
+           "ErrorLevels", "Fit", "MeasuredModes", "identify_modes", "modes_from_arrays", "VERDICTS"]

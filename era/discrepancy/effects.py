@@ -1,0 +1,112 @@
+"""The library of candidate physical effects: what each one changes in the model, and its prior.
+
+An effect is a set of model keywords (``model.with_params(**changes)``) driven by a few parameters. Parameters are
+fitted in a transformed space u (log for positive quantities) where a Gaussian prior N(mean, std²) is sensible;
+the prior width is what the Occam factor of the evidence weighs the fit against.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Param:
+    """One fitted parameter.
+
+    name : the model keyword it sets (``model.with_params(name=value)``).
+    log : True when fitted as u = ln(value) (positive quantities), else u = value.
+    prior_mean, prior_std : Gaussian prior of u.
+    unit : for reports, e.g. "N·m/rad".
+    """
+
+    name: str
+    log: bool
+    prior_mean: float
+    prior_std: float
+    unit: str = ""
+
+    def value(self, u: float) -> float:
+        return float(np.exp(u)) if self.log else float(u)
+
+    def u(self, value: float) -> float:
+        return float(np.log(value)) if self.log else float(value)
+
+
+@dataclass(frozen=True)
+class EffectSpec:
+    """A candidate effect.
+
+    name : identifier (e.g. "joint_flexibility"); "none" is the nominal model with the nuisance only.
+    params : the effect's own parameters (the global ``stiffness_factor`` nuisance is added to every candidate).
+    fixed : keywords always set with this effect (e.g. {"gravity": True}).
+    location_keyword : keyword that takes the (x_ft, y_ft) location, for located effects; None otherwise.
+    trial : effect parameter values (by name) used to screen locations (one model solve per location).
+    summary : a phrase for descriptions, e.g. "the riveted joints are semi-rigid".
+    """
+
+    name: str
+    params: tuple = ()
+    fixed: dict = field(default_factory=dict)
+    location_keyword: str | None = None
+    trial: dict = field(default_factory=dict)
+    summary: str = ""
+
+    @property
+    def located(self) -> bool:
+        return self.location_keyword is not None
+
+
+def nuisance(model) -> Param:
+    """The global stiffness factor every candidate may adjust (modulus, section and model-form errors): ±3 % (1σ)."""
+    s0 = float(model.params.get("stiffness_factor", 1.0))
+    return Param("stiffness_factor", True, np.log(s0), 0.03, "")
+
+
+def grid_effects(model) -> tuple:
+    """The candidate effects for the hanging grid (era.grid.nasa_grid), relative to the nominal ``model``.
+
+    gravity_stiffening is a candidate only when the nominal leaves gravity out; relative parameters (torsion
+    factor, cable length) are centred on the nominal's values with a ±20 % (1σ) prior; stiffnesses and masses
+    have broad log priors (1σ = a factor e^2 ≈ 7.4 for stiffnesses, e^1.2 ≈ 3.3 for masses).
+    """
+    p = model.params
+    out = [EffectSpec("none", summary="the nominal model is right up to a global stiffness factor")]
+    if not p.get("gravity", True):
+        out.append(EffectSpec("gravity_stiffening", fixed={"gravity": True},
+                              summary="the self-weight tension of the hanging grid stiffens it out of plane"))
+    out += [
+        EffectSpec("joint_flexibility", (Param("joint_stiffness", True, np.log(1000.0), 2.0, "N·m/rad"),),
+                   summary="the riveted joints are semi-rigid"),
+        EffectSpec("torsion_stiffness",
+                   (Param("torsion_factor", True, np.log(p.get("torsion_factor", 1.0)), 0.2, ""),),
+                   summary="the torsional stiffness GJ of the flat bars differs from the model"),
+        EffectSpec("cable_length", (Param("cable_length_m", True, np.log(p.get("cable_length_m", 0.51)), 0.2, "m"),),
+                   summary="the suspension cables have a different length"),
+        EffectSpec("distributed_mass", (Param("distributed_mass_kg", True, np.log(2.0), 1.2, "kg"),),
+                   summary="there is extra mass spread over the grid"),
+        EffectSpec("point_mass", (Param("point_mass_kg", True, np.log(1.0), 1.2, "kg"),),
+                   location_keyword="point_mass_at", trial={"point_mass_kg": 1.0},
+                   summary="a concentrated mass is attached"),
+        EffectSpec("loose_joint", (Param("loose_joint_stiffness", True, np.log(300.0), 2.0, "N·m/rad"),),
+                   location_keyword="loose_joint_at", trial={"loose_joint_stiffness": 100.0},
+                   summary="one joint is loose (a rotational spring instead of a rigid connection)"),
+    ]
+    return tuple(out)
+
+
+def describe(spec: EffectSpec, parameters: dict, location, probability: float) -> str:
+    """A sentence an engineer understands: what is missing, how big, where, and how sure."""
+    shown = []
+    for prm in spec.params:
+        v = parameters.get(prm.name)
+        if v is not None:
+            shown.append(f"{prm.name.replace('_', ' ')} = {v:.4g}{(' ' + prm.unit) if prm.unit else ''}")
+    sf = parameters.get("stiffness_factor")
+    where = f" at joint (x = {location[0]:g} ft, y = {location[1]:g} ft)" if location is not None else ""
+    size = f" ({', '.join(shown)})" if shown else ""
+    extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
+    return (f"The test data are best explained if {spec.summary}{where}{size}{extra}; "
+            f"posterior probability {probability:.0%}.")

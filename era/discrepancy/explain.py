@@ -1,0 +1,240 @@
+"""era.explain: from test data and a nominal model to a named missing effect (or an honest "don't know").
+
+ERA modes (several orders) → pairing with the model → every candidate effect fitted and weighed by its evidence
+→ a verdict, the updated model, and the gap before and after.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subspace_mac
+from ..data import ResponseData
+from ..errors import DataError
+from .effects import EffectSpec, describe, grid_effects, nuisance
+from .fitting import ErrorLevels, build_model
+from .measured import MeasuredModes, identify_modes
+from .ranking import RankedEffect, rank_effects
+
+VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
+
+
+@dataclass(frozen=True)
+class NamedEffect:
+    """The effect the data support: name, fitted parameters {keyword: value} (incl. stiffness_factor),
+    location (x_ft, y_ft) or None, posterior probability, and a one-sentence description."""
+
+    name: str
+    parameters: dict
+    location: tuple | None
+    probability: float
+    description: str
+
+
+@dataclass(frozen=True, eq=False)
+class Explanation:
+    """Result of :func:`explain`.
+
+    verdict : one of VERDICTS; effect : NamedEffect or None; message : one paragraph for the report.
+    ranking : RankedEffect per candidate, most probable first.
+    before, after : Gap of the nominal and of the updated model over the paired modes.
+    updated_model : the best-supported model (the named effect fitted, else the nominal with the fitted
+        global stiffness factor).
+    measured : every mode ERA found; fit_modes : (k,) indices of those used (paired with some candidate);
+    unpaired_measured : indices of measured modes no candidate could pair (set aside).
+    pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
+    mac_before, mac_after : their MAC matrices (k, n_model); comac_before, comac_after : (p,) per sensor.
+    residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9);
+    residual_sensors : sensors with COMAC < 0.9 after the update.
+    node_xy_ft : (n_nodes, 2); expanded_measured : (n_nodes, k) SEREP expansion of the measured shapes with the
+    updated model's paired modes; expanded_model : (n_nodes, k) those model modes (NaN columns when unpaired).
+    timing_s : wall-clock seconds of each stage.
+    """
+
+    verdict: str
+    effect: NamedEffect | None
+    message: str
+    ranking: tuple
+    before: Gap
+    after: Gap
+    updated_model: object
+    measured: MeasuredModes
+    fit_modes: np.ndarray
+    unpaired_measured: tuple
+    pairing_before: ModePairing
+    pairing_after: ModePairing
+    mac_before: np.ndarray
+    mac_after: np.ndarray
+    comac_before: np.ndarray
+    comac_after: np.ndarray
+    residual_modes: tuple
+    residual_sensors: tuple
+    node_xy_ft: np.ndarray
+    expanded_measured: np.ndarray
+    expanded_model: np.ndarray
+    timing_s: dict
+
+    def candidate(self, name: str) -> RankedEffect:
+        return next(r for r in self.ranking if r.name == name)
+
+
+def _pair(model, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
+    f, shapes = model.modes(n_model)
+    return pair_modes(measured.frequency_hz, measured.shapes, f, shapes, **kw)
+
+
+def _select_modes(nominal, specs, measured: MeasuredModes, n_model: int) -> np.ndarray:
+    """Measured modes that pair (MAC ≥ 0.5, |Δf| ≤ 50 %) with the nominal or any candidate at its prior mean."""
+    nu = nuisance(nominal)
+    used = set()
+    for spec in specs:
+        if spec.located:
+            continue
+        params = (nu,) + tuple(spec.params)
+        model = build_model(nominal, spec, params, [p.prior_mean for p in params])
+        used |= set(_pair(model, measured, n_model).measured_index.tolist())
+    return np.array(sorted(used), dtype=int)
+
+
+def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
+    """(k,) True for measured modes with a neighbour within ``close`` (relative), among the measured modes or
+    among the nominal model's modes next to their partner: nearly repeated modes."""
+    f = measured.frequency_hz
+    rel = np.abs(f[:, None] - f[None, :]) / f[:, None]
+    np.fill_diagonal(rel, np.inf)
+    out = rel.min(axis=1) <= close
+    p = _pair(model, measured, n_model, max_freq_error=1.0)
+    fa = np.clip(np.nan_to_num(model.modes(n_model)[0]), 0.0, None)
+    for i, j in zip(p.measured_index, p.model_index):
+        others = np.delete(fa, j)
+        if others.size and np.min(np.abs(others - fa[j])) <= close * max(fa[j], 1e-12):
+            out[i] = True
+    return out
+
+
+def _verdict(ranking, min_probability, min_log_bayes):
+    best = ranking[0]
+    none = next(r for r in ranking if r.name == "none")
+    if best.name == "none":
+        return ("no_significant_discrepancy" if none.adequate else "unexplained"), None
+    strong = best.probability >= min_probability and best.log_bayes_factor >= min_log_bayes
+    if strong and best.adequate:
+        return "explained", best
+    if not best.adequate and not none.adequate:
+        return "unexplained", None
+    if best.log_bayes_factor < min_log_bayes and none.adequate:
+        return "no_significant_discrepancy", None
+    if not best.adequate:
+        return "unexplained", None
+    return "ambiguous", None
+
+
+def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None = None,
+            errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), min_probability: float = 0.9,
+            min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4) -> Explanation:
+    """Find which candidate physical effect, missing from ``model``, the test data support.
+
+    Parameters
+    ----------
+    data : era.ResponseData (N, 9, m) in model.sensors order, or MeasuredModes already identified.
+    model : the nominal model (e.g. ``era.grid.nasa_grid(...)``): needs .modes(n), .node_modes(n), .params,
+        .with_params(**changes), .joints_ft (candidate locations of located effects).
+    effects : candidate EffectSpecs, "none" first (default: :func:`era.discrepancy.effects.grid_effects`).
+    errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
+    min_probability, min_log_bayes : naming thresholds — posterior ≥ 0.9 and Bayes factor ≥ 100 against the
+        nominal (+ stiffness factor) by default; the fit must also be adequate.
+    refine_locations : located effects get a full fit at this many best-screened joints.
+
+    Returns
+    -------
+    Explanation (see its docstring); verdict "explained" names ``result.effect``.
+    """
+    t0 = time.perf_counter()
+    timing = {}
+    if isinstance(data, MeasuredModes):
+        measured = data
+    elif isinstance(data, ResponseData):
+        sensors = np.asarray(model.sensors)
+        if data.n_outputs != sensors.shape[0]:
+            raise DataError(f"explain: the data have {data.n_outputs} outputs but the model has {sensors.shape[0]} "
+                            "sensors; give one output per model sensor, in model.sensors order.")
+        measured = identify_modes(data, orders=orders)
+    else:
+        raise DataError(f"explain: `data` must be an era.ResponseData or MeasuredModes, got {type(data).__name__}.")
+    timing["era_s"] = time.perf_counter() - t0
+    specs = tuple(effects) if effects is not None else grid_effects(model)
+    n_model = measured.n_modes + 6
+    fit_modes = _select_modes(model, specs, measured, n_model)
+    if fit_modes.size < 2:
+        raise DataError(f"explain: only {fit_modes.size} of the {measured.n_modes} measured modes look like any "
+                        "model mode (MAC ≥ 0.5 within 50 % in frequency); check the sensor order and units.")
+    unpaired = tuple(int(i) for i in np.setdiff1d(np.arange(measured.n_modes), fit_modes))
+    fm = measured.take(fit_modes)
+    n_model = fm.n_modes + 6
+    close = _close_modes(model, fm, n_model, errors.close)
+    weights = errors.weights(fm, close)
+    t1 = time.perf_counter()
+    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, np.asarray(model.joints_ft, float),
+                           refine=refine_locations)
+    timing["ranking_s"] = time.perf_counter() - t1
+    verdict, named = _verdict(ranking, min_probability, min_log_bayes)
+    spec_of = {s.name: s for s in specs}
+    none = next(r for r in ranking if r.name == "none")
+    chosen = named if named is not None else none
+    updated = chosen.fit.model
+    effect = None
+    if named is not None:
+        effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability,
+                             describe(spec_of[named.name], named.parameters, named.location, named.probability))
+    t2 = time.perf_counter()
+    before = _pair(model, fm, n_model, max_freq_error=1.0)
+    after = _pair(updated, fm, n_model, max_freq_error=1.0)
+    fa, sa = model.modes(n_model)
+    fb, sb = updated.modes(n_model)
+    miss = np.flatnonzero((np.abs(chosen.fit.freq_residual) > 3.0) | ((chosen.fit.mac < 0.9) & ~close))
+    comac_b = comac(fm.shapes[:, before.measured_index], sa[:, before.model_index]) if before.n_pairs else np.zeros(0)
+    comac_a = comac(fm.shapes[:, after.measured_index], sb[:, after.model_index]) if after.n_pairs else np.zeros(0)
+    f_nodes, w_nodes = updated.node_modes(n_model)
+    p = fm.shapes.shape[0]
+    keep = after.model_index[np.argsort(-after.mac)][:p]
+    expanded = serep(fm.shapes, sb[:, keep], w_nodes[:, keep])
+    model_nodes = np.full((w_nodes.shape[0], fm.n_modes), np.nan)
+    model_nodes[:, after.measured_index] = w_nodes[:, after.model_index]
+    timing["report_s"] = time.perf_counter() - t2
+    timing["total_s"] = time.perf_counter() - t0
+    g_b = gap(before, subspace_mac(before, fm.shapes, sa, fa, errors.close))
+    g_a = gap(after, subspace_mac(after, fm.shapes, sb, fb, errors.close))
+    message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired)
+    return Explanation(
+        verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
+        updated_model=updated, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
+        pairing_before=before, pairing_after=after, mac_before=before.mac_matrix, mac_after=after.mac_matrix,
+        comac_before=comac_b, comac_after=comac_a, residual_modes=tuple(int(i) for i in miss),
+        residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
+        node_xy_ft=np.asarray(model.joints_ft, float), expanded_measured=expanded, expanded_model=model_nodes,
+        timing_s=timing)
+
+
+def _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired) -> str:
+    top = ", ".join(f"{r.name} {r.probability:.0%}" for r in ranking[:3])
+    gaps = (f"Gap before: max |Δf| {g_b.max_abs_freq_error_pct:.2f} %, min MAC {g_b.min_mac:.3f}; after: "
+            f"max |Δf| {g_a.max_abs_freq_error_pct:.2f} %, min MAC {g_a.min_mac:.3f}.")
+    where = ""
+    if len(miss):
+        where = " The residual lives in the modes at " + ", ".join(f"{fm.frequency_hz[i]:.3f} Hz" for i in miss)
+        low = np.flatnonzero(comac_a < 0.9)
+        where += (" and at sensors " + ", ".join(str(i + 1) for i in low) if low.size else "") + "."
+    aside = f" {len(unpaired)} measured mode(s) had no model partner and were set aside." if unpaired else ""
+    head = {
+        "explained": effect.description if effect else "",
+        "no_significant_discrepancy": "The nominal model (with a global stiffness factor) agrees with the test "
+                                      "within its error levels; no candidate effect is needed.",
+        "ambiguous": "Several candidate effects explain the data about equally well; more sensors or modes are "
+                     "needed to tell them apart.",
+        "unexplained": "No candidate effect makes the model agree with the test within its error levels: the "
+                       "missing physics is outside the library.",
+    }[verdict]
+    return f"{head} Ranking: {top}. {gaps}{where}{aside}"

@@ -1,0 +1,175 @@
+"""Fitting one candidate effect to measured modes, and its Bayesian evidence by the Laplace approximation.
+
+Beck & Yuen (2004), "Model selection using response measurements: Bayesian probabilistic approach", J. Eng.
+Mech. 130(2): for a model class M with parameters θ, prior p(θ|M) and Gaussian prediction errors,
+
+    ln p(D|M) ≈ ln p(D|θ̂, M) + ln p(θ̂|M) + (k/2) ln 2π − ½ ln det H(θ̂),
+
+θ̂ the most probable parameters and H the Hessian of −ln[p(D|θ) p(θ)] there (Gauss-Newton: JᵀJ of the
+stacked data and prior residuals). With Gaussian priors of widths σ_θ this is, up to constants common to every
+candidate (same data, same error levels),
+
+    ln p(D|M) ≈ −½ χ²_data(θ̂) − ½ χ²_prior(θ̂) − ½ ln det(diag(σ_θ) H diag(σ_θ)),
+
+the best fit plus the Occam factor (the last term: how much the data shrink the prior volume; every extra
+parameter the data pin down costs about ln(σ_prior/σ_posterior)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares, linear_sum_assignment
+
+from ..correlation import pairing_cost
+from .effects import EffectSpec, Param
+from .measured import MeasuredModes
+
+
+@dataclass(frozen=True)
+class ErrorLevels:
+    """Prediction-error levels: measurement spread from ERA plus a floor for model-form error.
+
+    freq_floor : relative frequency error floor (0.0015 = 0.15 %), added in quadrature to ERA's spread across orders.
+    shape_floor : standard deviation of each component of a unit-norm shape (sensor gains, noise, mesh), added
+        in quadrature to ERA's spread of the shape across orders.
+    close : modes closer than this relative frequency to a neighbour (measured or model) form a nearly repeated
+        pair whose individual shapes are not defined (any rotation within the pair is as good); their shapes get
+        ``close_shape_sigma``, so only their frequencies count.
+    """
+
+    freq_floor: float = 0.0015
+    shape_floor: float = 0.015
+    close: float = 0.03
+    close_shape_sigma: float = 0.3
+
+    def weights(self, measured: MeasuredModes, close_mask=None) -> "ModeWeights":
+        """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes."""
+        sf = np.hypot(measured.frequency_std_hz, self.freq_floor * measured.frequency_hz)
+        ss = np.hypot(measured.shape_std, self.shape_floor)
+        if close_mask is not None:
+            ss = np.where(close_mask, np.maximum(ss, self.close_shape_sigma), ss)
+        return ModeWeights(sf, ss)
+
+
+@dataclass(frozen=True, eq=False)
+class ModeWeights:
+    """Per-mode error levels: sigma_f (k,) Hz of each frequency, sigma_s (k,) of each unit-norm shape component."""
+
+    sigma_f: np.ndarray
+    sigma_s: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """One candidate fitted to the measured modes.
+
+    spec : the effect; location : (x_ft, y_ft) or None; params : (k,) the Param records fitted (nuisance first);
+    u : (k,) the most probable transformed parameters; parameters : {name: physical value};
+    log_evidence : ln p(D|M) up to a constant common to all candidates (Laplace);
+    chi2 : data misfit Σ r² at θ̂; chi2_prior; occam : −½ ln det(diag(σ_prior)² H) (≤ 0 when data inform);
+    freq_residual : (n,) (f_model − f_measured)/σ_f at θ̂; freq_error_pct : (n,); mac : (n,);
+    model_index : (n,) the model mode paired with each measured mode; model : the fitted model; n_evals : solves.
+    """
+
+    spec: EffectSpec
+    location: tuple | None
+    params: tuple
+    u: np.ndarray
+    parameters: dict
+    log_evidence: float
+    chi2: float
+    chi2_prior: float
+    occam: float
+    freq_residual: np.ndarray
+    freq_error_pct: np.ndarray
+    mac: np.ndarray
+    model_index: np.ndarray
+    model: object
+    n_evals: int
+
+
+def build_model(nominal, spec: EffectSpec, params: tuple, u, location=None):
+    """The nominal model with the effect switched on at parameters u (transformed, nuisance first)."""
+    changes = dict(spec.fixed)
+    changes.update({p.name: p.value(x) for p, x in zip(params, u)})
+    if spec.location_keyword is not None:
+        changes[spec.location_keyword] = tuple(location)
+    return nominal.with_params(**changes)
+
+
+def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int):
+    """Normalised residuals of a model against the measured modes.
+
+    Each measured mode is paired (frequency and MAC together, one assignment, no refusal) with a model mode.
+    Returns r (n + n p,): frequency residuals (f_model − f_meas)/σ_f then shape residuals (ψ̂ − φ̂)/σ_s of
+    unit-norm, sign-aligned shapes; and (f_model (n,), mac (n,), model_index (n,)).
+    """
+    f, shapes = model.modes(n_model)
+    f = np.clip(np.nan_to_num(np.asarray(f, dtype=float)), 0.0, None)
+    cost, m = pairing_cost(measured.frequency_hz, measured.shapes, f, shapes)
+    rows, cols = linear_sum_assignment(cost)
+    idx = np.empty(measured.n_modes, dtype=int)
+    idx[rows] = cols
+    fa = f[idx]
+    psi = np.asarray(shapes, dtype=float)[:, idx]
+    psi = psi / np.maximum(np.linalg.norm(psi, axis=0, keepdims=True), 1e-300)
+    psi = psi * np.where(np.sum(psi * measured.shapes, axis=0) < 0, -1.0, 1.0)[None, :]
+    r_f = (fa - measured.frequency_hz) / w.sigma_f
+    r_s = ((psi - measured.shapes) / w.sigma_s[None, :]).T.reshape(-1)
+    return np.concatenate([r_f, r_s]), (fa, m[np.arange(measured.n_modes), idx], idx)
+
+
+def _prior_residuals(params, u):
+    return np.array([(x - p.prior_mean) / p.prior_std for p, x in zip(params, u)])
+
+
+def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
+               n_model: int, location=None, u0=None, max_nfev: int = 60) -> Fit:
+    """Most probable parameters of one candidate (least squares on data + prior residuals) and its evidence.
+
+    The parameters are the nuisance stiffness factor followed by the effect's own; the start is ``u0`` or the
+    best of a coarse scan of the effect's parameter over its prior (±2σ), so broad priors do not trap the fit in
+    the wrong valley.
+    """
+    params = (nuisance,) + tuple(spec.params)
+    lo = np.array([p.prior_mean - 5 * p.prior_std for p in params])
+    hi = np.array([p.prior_mean + 5 * p.prior_std for p in params])
+    n_evals = 0
+
+    def total(u):
+        nonlocal n_evals
+        n_evals += 1
+        r, _ = mode_residuals(build_model(nominal, spec, params, u, location), measured, w, n_model)
+        return np.concatenate([r, _prior_residuals(params, u)])
+
+    if u0 is None:
+        u0 = np.array([p.prior_mean for p in params])
+        if len(params) == 2:  # coarse scan of the one effect parameter, the nuisance fixed
+            best = None
+            for k in (-2.0, -1.0, 0.0, 1.0, 2.0):
+                trial = u0.copy()
+                trial[1] = params[1].prior_mean + k * params[1].prior_std
+                c = float(np.sum(total(trial) ** 2))
+                if best is None or c < best[0]:
+                    best = (c, trial)
+            u0 = best[1]
+    u0 = np.clip(np.asarray(u0, dtype=float), lo + 1e-9, hi - 1e-9)
+    sol = least_squares(total, u0, bounds=(lo, hi), diff_step=1e-3, x_scale=[p.prior_std for p in params],
+                        max_nfev=max_nfev)
+    u = sol.x
+    J = sol.jac
+    H = J.T @ J
+    prior_sd = np.array([p.prior_std for p in params])
+    sign, logdet = np.linalg.slogdet(H * np.outer(prior_sd, prior_sd))
+    occam = -0.5 * logdet if sign > 0 else 0.0
+    model = build_model(nominal, spec, params, u, location)
+    r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)
+    chi2 = float(np.sum(r**2))
+    chi2_prior = float(np.sum(_prior_residuals(params, u) ** 2))
+    return Fit(spec=spec, location=None if location is None else tuple(location), params=params, u=u,
+               parameters={p.name: p.value(x) for p, x in zip(params, u)},
+               log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,
+               occam=float(occam), freq_residual=r[: measured.n_modes], freq_error_pct=100 * (fa / measured.frequency_hz - 1),
+               mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + sol.nfev + 1)

@@ -1,0 +1,106 @@
+"""Measured modes for correlation: ERA at several orders, the stable clusters, and their error levels."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..correlation import real_shapes
+from ..data import ResponseData
+from ..errors import DataError
+from ..realization import identify
+from ..stabilization import stabilization
+
+
+@dataclass(frozen=True, eq=False)
+class MeasuredModes:
+    """Identified modes with their measurement error levels.
+
+    frequency_hz, frequency_std_hz, damping_ratio, mpc, emac : (k,) means and frequency spread across orders.
+    shapes : (p, k) real shapes (principal phase), unit norm; n_orders : (k,) orders each mode was stable in.
+    shape_std : (k,) RMS spread of the unit-norm shape components across those orders.
+    """
+
+    frequency_hz: np.ndarray
+    frequency_std_hz: np.ndarray
+    damping_ratio: np.ndarray
+    mpc: np.ndarray
+    emac: np.ndarray
+    shapes: np.ndarray
+    n_orders: np.ndarray
+    shape_std: np.ndarray
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.frequency_hz.size)
+
+    def take(self, idx) -> "MeasuredModes":
+        idx = np.asarray(idx, dtype=int)
+        return MeasuredModes(self.frequency_hz[idx], self.frequency_std_hz[idx], self.damping_ratio[idx],
+                             self.mpc[idx], self.emac[idx], self.shapes[:, idx], self.n_orders[idx],
+                             self.shape_std[idx])
+
+
+def modes_from_arrays(frequency_hz, shapes, frequency_std_hz=None) -> MeasuredModes:
+    """MeasuredModes from plain arrays (frequencies (k,) Hz, shapes (p, k)), e.g. from another identification."""
+    f = np.asarray(frequency_hz, dtype=float).reshape(-1)
+    s = real_shapes(np.asarray(shapes))
+    if s.ndim != 2 or s.shape[1] != f.size:
+        raise DataError(f"modes_from_arrays: {f.size} frequencies but shapes of shape {s.shape}; give (p, k).")
+    s = s / np.linalg.norm(s, axis=0, keepdims=True)
+    sd = np.zeros_like(f) if frequency_std_hz is None else np.asarray(frequency_std_hz, dtype=float).reshape(-1)
+    one = np.ones_like(f)
+    return MeasuredModes(f, sd, np.zeros_like(f), one, one, s, one.astype(int), np.zeros_like(f))
+
+
+def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | None = None,
+                   min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.5,
+                   max_damping: float = 0.1, min_frequency_hz: float = 0.05) -> MeasuredModes:
+    """Run ERA on ``data`` at several orders and keep the modes that stay stable across them.
+
+    One Hankel matrix and one SVD (era.identify), then era.stabilization over ``orders``; a mode is kept when it
+    is stable in at least ``min_orders`` orders, with MPC ≥ min_mpc, EMAC ≥ min_emac, 0 < ζ ≤ max_damping, and a
+    frequency between ``min_frequency_hz`` and 95 % of Nyquist. Its frequency spread across orders is the
+    measurement error level of its frequency.
+
+    rows : block rows r of H(0) (default: enough for the largest order, r p ≥ 2 max order, at most N/3);
+    the columns take most of the remaining samples, capped so H(0) stays a few hundred wide.
+    """
+    n, p, m = data.markov.shape
+    orders = sorted(int(o) for o in orders)
+    if rows is None:
+        rows = int(min(max(np.ceil(2 * orders[-1] / p), 8), n // 3))
+    cols = int(min(max(n - rows - 2, 1), max(4 * rows * p // max(m, 1), 200)))
+    if n < rows + cols + 2 or rows < 2:
+        raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {orders[-1]}; record longer.")
+    ident = identify(data, rows, cols)
+    stab = stabilization(ident, orders, min_orders=min_orders)
+    nyquist = 0.5 / data.dt
+    keep = [md for md in stab.modes
+            if md.mpc >= min_mpc and md.emac >= min_emac and 0.0 < md.damping_ratio <= max_damping
+            and min_frequency_hz <= md.frequency_hz <= 0.95 * nyquist]
+    # two clusters of one physical mode (order-dependent drift) would pair twice: keep the longer-lived one
+    keep.sort(key=lambda md: -len(md.orders))
+    chosen = []
+    for md in keep:
+        if all(abs(md.frequency_hz - c.frequency_hz) > 0.005 * md.frequency_hz for c in chosen):
+            chosen.append(md)
+    chosen.sort(key=lambda md: md.frequency_hz)
+    if not chosen:
+        raise DataError("identify_modes: ERA found no mode that is stable across orders; check the data "
+                        "(units, sampling, a record long enough to hold several periods of the lowest mode).")
+    shapes = real_shapes(np.stack([md.shape for md in chosen], axis=1))
+    shapes = shapes / np.linalg.norm(shapes, axis=0, keepdims=True)
+    spread = []
+    for k, md in enumerate(chosen):
+        each = real_shapes(stab.shapes[:, list(md.pole_indices)])
+        each = each / np.linalg.norm(each, axis=0, keepdims=True)
+        each = each * np.where(each.T @ shapes[:, k] < 0, -1.0, 1.0)[None, :]
+        spread.append(float(np.sqrt(np.mean(np.var(each, axis=1)))))
+    return MeasuredModes(
+        frequency_hz=np.array([md.frequency_hz for md in chosen]),
+        frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
+        damping_ratio=np.array([md.damping_ratio for md in chosen]),
+        mpc=np.array([md.mpc for md in chosen]), emac=np.array([md.emac for md in chosen]),
+        shapes=shapes, n_orders=np.array([len(md.orders) for md in chosen]), shape_std=np.array(spread))

@@ -1,0 +1,90 @@
+"""era.explain on blind simulated tests: the full matrix (every effect × several seeds) and the time of one case.
+
+Run: python3 -m pytest tests/bench/bench_explain.py -s      (or: python3 tests/bench/bench_explain.py [seeds])
+Prints one row per case: truth, verdict, named effect, parameter error, location, after-gap, seconds; and, for
+one case, where the time goes (ERA, each candidate). Reference for the timing ratio: one nominal grid solve
+(build + modes(16)) in the same process — explain costs a few hundred to a thousand of them.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+import era  # noqa: E402
+from era.grid import nasa_grid  # noqa: E402
+from era.simulate import EFFECTS, simulate_grid_test  # noqa: E402
+
+PARAM = {"joint_flexibility": "joint_stiffness", "torsion_stiffness": "torsion_factor",
+         "cable_length": "cable_length_m", "distributed_mass": "distributed_mass_kg", "point_mass": "point_mass_kg",
+         "loose_joint": "loose_joint_stiffness", "gravity_stiffening": None}
+
+
+def run_case(effect, seed):
+    data, truth = simulate_grid_test(effect, seed=seed)
+    nominal = nasa_grid(**truth["nominal_params"])
+    t = time.perf_counter()
+    r = era.explain(data, nominal)
+    seconds = time.perf_counter() - t
+    true_name = truth["effect"]["name"]
+    named = r.effect.name if r.effect else None
+    perr = loc_ok = None
+    if named is not None and named == true_name and PARAM.get(named):
+        key = PARAM[named]
+        perr = 100 * (r.effect.parameters[key] / truth["effect"]["parameters"][key] - 1)
+    if named is not None and truth["effect"]["location"] is not None:
+        loc_ok = r.effect.location is not None and tuple(r.effect.location) == tuple(truth["effect"]["location"])
+    return dict(effect=true_name, seed=seed, truth=truth["effect"]["parameters"], verdict=r.verdict, named=named,
+                probability=r.effect.probability if r.effect else r.ranking[0].probability,
+                top=r.ranking[0].name, param_err_pct=perr, location_ok=loc_ok,
+                before=r.before, after=r.after, seconds=seconds, result=r)
+
+
+def matrix(seeds=(0, 1, 2)):
+    rows = []
+    for effect in (None,) + EFFECTS + ("damaged_bar",):
+        for seed in seeds:
+            c = run_case(effect, seed)
+            rows.append(c)
+            pe = "" if c["param_err_pct"] is None else f"{c['param_err_pct']:+.1f} %"
+            lo = "" if c["location_ok"] is None else ("loc ok" if c["location_ok"] else "LOC WRONG")
+            print(f"{c['effect']:20s} s{seed} {c['verdict']:27s} {str(c['named']):19s} p={c['probability']:.2f} "
+                  f"{pe:9s} {lo:9s} before {c['before'].max_abs_freq_error_pct:6.2f}% "
+                  f"after {c['after'].max_abs_freq_error_pct:5.2f}% MAC {c['after'].min_mac:.3f}  "
+                  f"{c['seconds']:5.1f} s  truth {c['truth']}", flush=True)
+    return rows
+
+
+def test_one_blind_case_time():
+    model = nasa_grid()
+    ts = []
+    for k in range(10):
+        t = time.perf_counter()
+        model.with_params(stiffness_factor=1.0 + 1e-4 * (k + 1)).modes(16)
+        ts.append(time.perf_counter() - t)
+    ref = float(np.median(ts))
+    c = run_case({"name": "point_mass", "point_mass_kg": 1.0, "point_mass_at": (7.0, 2.0)}, 3)
+    r = c["result"]
+    print(f"\none blind case (point_mass, seed 3): {c['seconds']:.1f} s = {c['seconds'] / ref:.0f} × one grid solve "
+          f"({ref * 1e3:.1f} ms); ERA {r.timing_s['era_s']:.2f} s, ranking {r.timing_s['ranking_s']:.1f} s, "
+          f"report {r.timing_s['report_s']:.2f} s")
+    for x in r.ranking:
+        print(f"   {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} solves")
+    assert c["seconds"] < 60.0
+
+
+def test_blind_matrix():
+    rows = matrix()
+    bad = [c for c in rows if c["named"] is not None and c["named"] != c["effect"]]
+    assert not bad, f"confident wrong names: {[(c['effect'], c['seed'], c['named']) for c in bad]}"
+
+
+if __name__ == "__main__":
+    seeds = tuple(int(s) for s in sys.argv[1].split(",")) if len(sys.argv) > 1 else (0, 1, 2)
+    matrix(seeds)
