@@ -5,11 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse
 import scipy.sparse.linalg
 
 from ..errors import EraError
 from . import elements
-from .frame import Frame, dof_map, scatter
+from .frame import Frame, dof_map
 
 G_STANDARD = 9.80665  # m/s²
 
@@ -45,23 +46,31 @@ def self_weight(frame: Frame, supports: list[tuple[int, bool, bool]], g: float =
     L, c, s = frame.bar_geometry()
     dofs, n_dof = dof_map(frame.n_nodes, frame.links, np.ones((frame.links.shape[0], 3), bool))
     edofs = np.concatenate([dofs[frame.bars[:, 0]], dofs[frame.bars[:, 1]]], axis=1)
-    K = scatter(elements.frame_stiffness(L, c, s, frame.EA, frame.EI_in), edofs, n_dof)
+    ke = elements.frame_stiffness(L, c, s, frame.EA, frame.EI_in)
     q = frame.mass_per_length * g
     fe = elements.frame_uniform_load(L, c, s, np.zeros_like(q), -q)
     f = np.bincount(edofs.ravel(), weights=fe.ravel(), minlength=n_dof)
     np.add.at(f, dofs[:, 1], -frame.node_mass * g)
-    fixed = sorted({int(dofs[node, k]) for node, fu, fv in supports for k, on in ((0, fu), (1, fv)) if on})
-    free = np.setdiff1d(np.arange(n_dof), fixed)
+    fixed = np.zeros(n_dof, bool)
+    for node, fu, fv in supports:
+        fixed[dofs[node, 0]] |= bool(fu)
+        fixed[dofs[node, 1]] |= bool(fv)
+    # Assemble K_ff directly from the element triplets (slicing a sparse matrix costs more than the solve).
+    number = np.cumsum(~fixed) - 1
+    rows, cols = np.repeat(edofs, 6, axis=1).ravel(), np.tile(edofs, (1, 6)).ravel()
+    vals = ke.reshape(-1)
+    keep = ~fixed[rows] & ~fixed[cols]
+    n_free = int((~fixed).sum())
+    kff = scipy.sparse.csc_matrix((vals[keep], (number[rows[keep]], number[cols[keep]])), shape=(n_free, n_free))
     u = np.zeros(n_dof)
     try:
-        kff = K[free][:, free]
-        u[free] = scipy.sparse.linalg.spsolve(kff, f[free])
-        if not np.isfinite(u).all() or np.linalg.norm(kff @ u[free] - f[free]) > 1e-8 * np.linalg.norm(f):
+        u[~fixed] = scipy.sparse.linalg.spsolve(kff, f[~fixed])
+        if not np.isfinite(u).all() or np.linalg.norm(kff @ u[~fixed] - f[~fixed]) > 1e-8 * np.linalg.norm(f):
             raise np.linalg.LinAlgError
     except (np.linalg.LinAlgError, RuntimeError) as exc:
         raise EraError("self_weight: the supports do not hold the frame in its plane (singular stiffness); "
-                         "fix v at two points and u at one.") from exc
-    r = K @ u - f
+                       "fix v at two points and u at one.") from exc
+    r = np.bincount(rows, weights=vals * u[cols], minlength=n_dof) - f      # K u - f: the support reactions
     reactions = np.array([[r[dofs[node, 0]] if fu else 0.0, r[dofs[node, 1]] if fv else 0.0]
                           for node, fu, fv in supports])
     axial = elements.frame_axial_force(L, c, s, frame.EA, u[edofs])
