@@ -48,9 +48,15 @@ def client_page() -> tuple[bytes, bytes]:
     return raw, gzip.compress(raw, 6)
 
 
+# The page may only talk to its own origin (its websocket, same-origin .viser files: a crafted ?playbackPath= cannot
+# pull a scene from elsewhere) and only this app may frame it. data:/blob: are the client's own inlined assets.
+CSP = "connect-src 'self' data: blob:; frame-ancestors 'self'; object-src 'none'; base-uri 'none'"
+
+
 def page_response(request: Request) -> Response:
     raw, packed = client_page()
-    headers = {"Cache-Control": "no-cache", "X-Content-Type-Options": "nosniff", "Vary": "Accept-Encoding"}
+    headers = {"Cache-Control": "no-cache", "X-Content-Type-Options": "nosniff", "Vary": "Accept-Encoding",
+               "Content-Security-Policy": CSP}
     if "gzip" in request.headers.get("accept-encoding", ""):
         headers["Content-Encoding"] = "gzip"
         return Response(packed, media_type="text/html; charset=utf-8", headers=headers)

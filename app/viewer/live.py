@@ -21,15 +21,14 @@ from .registry import MAX_AMPLITUDE, MAX_SPEED, Published, Registry, ViewState
 
 log = logging.getLogger(__name__)
 
-LEGEND = ("Colour: |displacement| from still (blue) to the largest excursion (red). Dots are the sensors; grey lines "
-          "the undeformed structure. *Interpolate* moves unmeasured nodes with a smooth spline through the sensors; "
-          "off, only measured nodes move.")
+LEGEND = ("Colour: still (blue) to largest excursion (red). Dots: sensors; grey: at rest. "
+          "*Interpolate* moves unmeasured nodes with a spline through the sensors.")
 
 
 def disable_sharing(server: viser.ViserServer) -> None:
     """No share button, and a share-URL request from a client (which would open a public tunnel to
     share.viser.studio) does nothing."""
-    server.gui.configure_theme(show_share_button=False, show_logo=False)
+    server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="small")
     for message in (_messages.ShareUrlRequest, _messages.ShareUrlDisconnect):
         server._websock_server.unregister_handler(message)
     server.request_share_url = lambda *args, **kwargs: None

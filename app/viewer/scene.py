@@ -133,7 +133,10 @@ def _spline(at: np.ndarray, values: np.ndarray, to: np.ndarray) -> np.ndarray:
     _, sv, axes = np.linalg.svd(at - centre, full_matrices=False)
     axes = axes[sv > 1e-9 * sv.max()]                    # the line, plane or space the sensors span
     data = np.concatenate([values.real, values.imag], axis=1)
-    spline = RBFInterpolator((at - centre) @ axes.T, data, kernel="thin_plate_spline", degree=1)
+    try:
+        spline = RBFInterpolator((at - centre) @ axes.T, data, kernel="thin_plate_spline", degree=1)
+    except (ValueError, np.linalg.LinAlgError):          # sensors on one spot or on coincident nodes: no spline
+        return np.zeros((to.shape[0], 3), dtype=complex)
     out = spline((to - centre) @ axes.T)
     return out[:, :3] + 1j * out[:, 3:]
 

@@ -127,6 +127,13 @@ def test_spline_works_for_sensors_on_a_line():
     np.testing.assert_allclose(vectors[:, 2].real, [0, 0.25, 0.5, 0.75, 1.0], atol=1e-9)
 
 
+def test_sensors_on_one_spot_leave_the_other_nodes_still():
+    g = Geometry(node_ids=[1, 2, 3], coordinates=[[0, 0, 0], [0, 0, 0], [1, 0, 0]], edges=[[0, 2], [1, 2]],
+                 channel_nodes=[0, 1], channel_directions=[[0, 0, 1]] * 2)
+    vectors = scene.node_modal_vectors(g, np.array([1.0, 0.5]), interpolate=True)
+    np.testing.assert_allclose(vectors[:, 2], [1.0, 0.5, 0.0])
+
+
 def test_channels_on_one_node_add_up():
     g = Geometry(node_ids=[1, 2], coordinates=[[0, 0, 0], [2, 0, 0]], edges=[[0, 1]], channel_nodes=[1, 1],
                  channel_directions=[[1, 0, 0], [0, 0, 1]])
@@ -264,6 +271,8 @@ def test_client_page_is_viser_build_served_for_known_keys_only(served):
     page = client.get(viewer.iframe_url(key))
     assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
     assert "<title>Viser</title>" in page.text
+    assert "connect-src 'self'" in page.headers["content-security-policy"]
+    assert "frame-ancestors 'self'" in page.headers["content-security-policy"]
     assert client.get("/viser/").status_code == 200
     assert client.get("/viser/not-a-key/").status_code == 404
     redirect = client.get(f"/viser/{key}", follow_redirects=False)

@@ -34,12 +34,11 @@ if not Path(CHROMIUM).exists():
 sync_api = pytest.importorskip("playwright.sync_api")
 Image = pytest.importorskip("PIL.Image")
 
-# Hide everything in the viewer page but the WebGL canvas (control panel, notifications), and tag the canvas.
+# Hide everything in the viewer page but the WebGL canvas (control panel, notifications).
 ISOLATE_CANVAS = """() => {
   const canvas = [...document.querySelectorAll('canvas')].sort((a, b) => b.width * b.height - a.width * a.height)[0];
   for (const el of document.body.querySelectorAll('*'))
     if (el !== canvas && !el.contains(canvas)) el.style.visibility = 'hidden';
-  canvas.id = 'scene-canvas';
 }"""
 
 
@@ -102,8 +101,10 @@ def shots(tmp_path_factory) -> Path:
     return folder
 
 
-def canvas_pixels(frame_locator, path: Path) -> np.ndarray:
-    png = frame_locator.locator("#scene-canvas").screenshot(path=str(path))
+def canvas_pixels(page, path: Path) -> np.ndarray:
+    """The viewer iframe's pixels (after ISOLATE_CANVAS: just the scene). A page screenshot clipped to the iframe
+    takes a fraction of a second; an element screenshot of a live WebGL canvas takes seconds in software."""
+    png = page.screenshot(path=str(path), clip=page.locator("#viewer").bounding_box())
     return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
 
@@ -143,7 +144,7 @@ def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
     def frozen(name: str, **choice) -> np.ndarray:
         post_json(mode_url, {"speed": 0, "phase_deg": 0, "interpolate": False, **choice})
         time.sleep(1.2)                                      # a few frames for the client to draw the still view
-        return canvas_pixels(viewer, shots / f"{name}.png")
+        return canvas_pixels(page, shots / f"{name}.png")
 
     flat = frozen("still", index=0, amplitude=0.5, phase_deg=90)   # a real mode passes zero a quarter cycle on
     bend = frozen("bending_sensors_only", index=0, amplitude=0.5, interpolate=False)
@@ -221,7 +222,7 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
     page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
     images = []
     for k in range(6):                                       # 2 s cycle: sample it every 0.35 s
-        images.append(canvas_pixels(viewer, shots / f"playback_{k}.png"))
+        images.append(canvas_pixels(page, shots / f"playback_{k}.png"))
         time.sleep(0.35)
     assert all(drawn(img).sum() > 2000 for img in images)   # the grid is there in every frame
     changes = [(np.abs(a - b).sum(axis=-1) > 60).sum() for a, b in zip(images, images[1:])]
@@ -229,4 +230,19 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
     hot = [warm(img).sum() for img in images]
     assert max(hot) > 500 and min(hot) < 100                 # from near its peak to through rest
     assert sockets == []                                     # no live session behind it
+    page.close()
+
+
+def test_viewer_page_fetches_nothing_from_another_origin(base, browser):
+    """A crafted ?playbackPath= pointing elsewhere is blocked by the page's Content-Security-Policy."""
+    page = browser.new_page()
+    blocked = []
+    page.on("console", lambda m: blocked.append(m.text) if "Content Security Policy" in m.text else None)
+    elsewhere = base.replace("127.0.0.1", "localhost") + "/test/mode1.viser"     # same server, another origin
+    page.goto(base + "/viser/?playbackPath=" + elsewhere)
+    for _ in range(40):
+        if blocked:
+            break
+        page.wait_for_timeout(250)
+    assert blocked and "connect-src" in blocked[0]
     page.close()
