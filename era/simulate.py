@@ -26,6 +26,12 @@ _EDGE_JOINTS = [tuple(j) for j in JOINTS_FT.astype(int).tolist()
                 if (j[0] in (0, NX - 1) or j[1] in (0, NY - 1)) and tuple(j) not in _CORNERS]
 
 
+_KEYS = {"none": (), "joint_flexibility": ("joint_stiffness",), "torsion_stiffness": ("torsion_factor",),
+         "cable_length": ("cable_length_m",), "distributed_mass": ("distributed_mass_kg",),
+         "point_mass": ("point_mass_kg", "point_mass_at"), "loose_joint": ("loose_joint_stiffness", "loose_joint_at"),
+         "gravity_stiffening": (), "damaged_bar": ("bar", "ei_factor"), "ground_spring": ("stiffness_n_per_m", "at")}
+
+
 def _parse(effect) -> tuple[str, dict]:
     if effect is None:
         return "none", {}
@@ -37,6 +43,9 @@ def _parse(effect) -> tuple[str, dict]:
         raise EraError(f"effect must be None, a name or a dict with a 'name', got {effect!r}.")
     if name not in EFFECTS + OUTSIDE_LIBRARY + ("none",):
         raise EraError(f"Unknown effect {name!r}; choose from {', '.join(EFFECTS + OUTSIDE_LIBRARY)} or None.")
+    unknown = set(given) - set(_KEYS[name])
+    if unknown:
+        raise EraError(f"Effect {name!r} has no parameter {sorted(unknown)}; it takes {list(_KEYS[name]) or 'none'}.")
     return name, dict(given)
 
 

@@ -86,6 +86,8 @@ def test_drawn_parameters_and_the_gravity_case():
         simulate_grid_test("sagging_floor")
     with pytest.raises(EraError):
         simulate_grid_test({"name": "damaged_bar", "bar": ("x", 12.0)})
+    with pytest.raises(EraError):
+        simulate_grid_test({"name": "point_mass", "mass_kg": 1.0})          # the keyword is point_mass_kg
 
 
 @pytest.mark.parametrize("effect, seed", [(None, 0), ({"name": "joint_flexibility"}, 5)])
