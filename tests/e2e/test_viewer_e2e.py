@@ -139,6 +139,18 @@ def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
     assert get_json(base + "/test/key")["frames_sent"] - before >= 15      # animating (30 frames/s nominal)
     page.screenshot(path=str(shots / "live_page.png"))
 
+    # The viewer's own controls and the POST route drive the same state, both ways.
+    post_json(mode_url, {"index": 0, "speed": 0})
+    viewer.get_by_role("combobox", name="Mode").click()
+    viewer.get_by_role("option", name="Mode 2 · 21.7 Hz").click()
+    for _ in range(40):
+        if get_json(base + "/test/key")["index"] == 1:
+            break
+        time.sleep(0.1)
+    assert get_json(base + "/test/key")["index"] == 1
+    post_json(mode_url, {"index": 2})
+    viewer.locator("input[type=hidden][value='Mode 3 · 33.3 Hz']").wait_for(state="attached", timeout=5_000)
+
     page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
 
     def frozen(name: str, **choice) -> np.ndarray:

@@ -61,8 +61,9 @@ app.include_router(viewer.router)
 
 @app.get("/test/key")
 def key() -> dict:
+    state = viewer.registry.get(KEY).state
     return {"key": KEY, "iframe_url": viewer.iframe_url(KEY), "frames_sent": viewer.frames_sent,
-            "sessions": viewer.session_count(KEY)}
+            "sessions": viewer.session_count(KEY), "index": state.index, "amplitude": state.amplitude}
 
 
 @app.get("/test/page")
