@@ -99,7 +99,7 @@ def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter:
         reported, location = {"point_mass_kg": kg, "point_mass_at": tuple(map(float, at))}, tuple(map(float, at))
         how = f"a {kg:.2f} kg patch: 70 % on joint {location}, 30 % on the nearest mesh nodes around it"
     elif name == "loose_joint":
-        k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(20.0), np.log(100.0)))))
+        k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(10.0), np.log(50.0)))))
         at = tuple(given.get("loose_joint_at", _EDGE_JOINTS[rng.integers(len(_EDGE_JOINTS))]))
         comp = np.zeros((NX * NY, 2))
         comp[joint_index(at)] = 1.0 / (k * np.array([0.9, 1.1]))          # unequal about x and y
