@@ -15,6 +15,7 @@ from __future__ import annotations
 import asyncio
 import gzip
 import logging
+import re
 from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -33,6 +34,7 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
+KEY_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,64}")      # secrets.token_urlsafe alphabet
 _closing: set[asyncio.Task] = set()        # upstream closes still in progress (a reference keeps them alive)
 
 CLIENT_HTML = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
@@ -129,8 +131,10 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
     @router.websocket("/viser/{key}")
     async def viser_socket(browser: WebSocket, key: str) -> None:
         """Forward the browser's websocket to the internal viser server, both ways, until either side closes."""
-        if key not in viewer.registry or not viewer.running:
-            await browser.close(code=1008, reason="Unknown or expired viewer key")
+        # An unknown key still reaches viser, which tells the user to reload (an open page after a server restart
+        # would otherwise retry forever behind a "reconnecting" badge); a key that cannot be one is refused.
+        if not KEY_PATTERN.fullmatch(key) or not viewer.running:
+            await browser.close(code=1008, reason="Not a viewer key" if viewer.running else "Viewer not running")
             return
         offered = [p for p in browser.scope.get("subprotocols", []) if p.startswith("viser-v")]
         try:

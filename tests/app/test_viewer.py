@@ -309,8 +309,12 @@ def test_bridge_forwards_viser_traffic_with_the_version_subprotocol(served):
                 ws.receive_bytes()
             assert closed.value.code == 1002 and "Version mismatch" in closed.value.reason
             time.sleep(0.3)
+        with client.websocket_connect("/viser/expired-key", subprotocols=["viser-v1.1.1"]) as ws:
+            assert len(ws.receive_bytes()) > 16              # viser answers (and tells the user to reload)
+            ws.close()
+            time.sleep(0.3)
         with pytest.raises(WebSocketDisconnect) as refused:
-            with client.websocket_connect("/viser/unknown-key", subprotocols=["viser-v1.1.1"]):
+            with client.websocket_connect("/viser/not%20a%20key", subprotocols=["viser-v1.1.1"]):
                 pass
         assert refused.value.code == 1008
     finally:
