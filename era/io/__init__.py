@@ -42,7 +42,12 @@ class Dataset:
     modes: ModeSet | None = None
 
 
+#: Bytes read from the start of a file on disk to recognise its format.
+_SNIFF_BYTES = 1 << 16
+
+
 def _read_bytes(src, name: str | None) -> tuple[bytes, str]:
+    """The content (or, for a file on disk, its first bytes: UFF is parsed from the path) and a label."""
     if isinstance(src, (bytes, bytearray, memoryview)):
         return bytes(src), name or "uploaded data"
     if hasattr(src, "read"):
@@ -54,7 +59,15 @@ def _read_bytes(src, name: str | None) -> tuple[bytes, str]:
     if not os.path.isfile(path):
         raise DataError(f"{path}: no such file.")
     with open(path, "rb") as fh:
-        return fh.read(), name or os.path.basename(path)
+        return fh.read(_SNIFF_BYTES), name or os.path.basename(path)
+
+
+def _whole(raw: bytes, src) -> bytes:
+    """All of a file whose first bytes _read_bytes took."""
+    if isinstance(src, (str, os.PathLike)) and len(raw) == _SNIFF_BYTES:
+        with open(os.fspath(src), "rb") as fh:
+            return fh.read()
+    return raw
 
 
 def sniff(raw: bytes, name: str) -> str:
@@ -106,10 +119,10 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         raise DataError("Several files are read together only as CSV (one record each); load UFF and NPZ one by one.")
     modes, parts, geometry = None, None, None
     if fmt == "npz":
-        data, geometry, described = read_npz(raws[0][0], labels[0])
+        data, geometry, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
         return Dataset(data, geometry, _source(labels, fmt, "markov", described, data), None)
     if fmt == "csv":
-        rec = merge([read_csv(raw, lab, dt) for raw, lab in raws], labels)
+        rec = merge([read_csv(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
     else:
         rec, parts, modes = _read_uff_bytes(raws[0][0], labels[0], sources[0])
     if rec is None:

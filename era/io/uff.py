@@ -42,7 +42,7 @@ def _label(value) -> str:
 
 
 def _line_of(path: str, offset: int) -> int:
-    """1-based line number of a byte offset (only computed for error messages)."""
+    """1-based line number of a byte offset; only computed for an error message (it reads the file up to there)."""
     with open(path, "rb") as fh:
         return fh.read(int(offset)).count(b"\n") + 1
 
@@ -59,7 +59,30 @@ def _check_complete(path: str, label: str) -> None:
                         "upload or copy) inside its last data set. Export or copy it again.")
 
 
-def read_sets(path: str, label: str) -> list[tuple[int, int, dict]]:
+class _Line:
+    """The first line of a data set, counted only when a message prints it (counting reads the file)."""
+
+    def __init__(self, path: str, offset: int):
+        self.path, self.offset = path, offset
+
+    def __str__(self) -> str:
+        return str(_line_of(self.path, self.offset)) if self.offset >= 0 else "?"
+
+
+class _Where:
+    """'file: data set #i (UFF t, line L)' for messages, formatted only when printed."""
+
+    def __init__(self, label: str, i: int, line: _Line, uff_type: int = 58, suffix: str = ""):
+        self.label, self.i, self.line, self.type, self.suffix = label, i, line, uff_type, suffix
+
+    def __str__(self) -> str:
+        return f"{self.label}: data set #{self.i + 1} (UFF {self.type}, line {self.line}){self.suffix}"
+
+    def __add__(self, suffix: str) -> "_Where":
+        return _Where(self.label, self.i, self.line, self.type, self.suffix + suffix)
+
+
+def read_sets(path: str, label: str) -> list[tuple[int, "_Line", dict]]:
     """Every supported data set as (index, first line, dict) via pyuff, with errors as DataError."""
     try:
         uff = pyuff.UFF(path)
@@ -69,12 +92,13 @@ def read_sets(path: str, label: str) -> list[tuple[int, int, dict]]:
     if not types:
         raise DataError(f"{label}: no UFF data sets found (no '    -1' delimiter lines). Is it a Universal File?")
     _check_complete(path, label)
-    blocks = getattr(uff, "_block_ind", None)
+    blocks = getattr(uff, "_block_ind", None)  # pyuff's byte offsets of each set, for line numbers in messages
+    offsets = [int(b[0]) for b in blocks] if blocks is not None else [-1] * len(types)
+    lines = [_Line(path, off) for off in offsets]
     out = []
-    for i, t in enumerate(types):
+    for i, (t, line) in enumerate(zip(types, lines)):
         if int(t) not in (15, 2411, 82, 55, 58):
             continue
-        line = _line_of(path, blocks[i][0]) if blocks is not None else 0
         try:
             dset = uff.read_sets(i)
         except Exception as exc:
@@ -84,9 +108,9 @@ def read_sets(path: str, label: str) -> list[tuple[int, int, dict]]:
     return out
 
 
-def _function_record(i: int, line: int, d: dict, label: str) -> dict | None:
+def _function_record(i: int, line: _Line, d: dict, label: str) -> dict | None:
     """One 58 record checked: dict(x0, dx, y, domain, ...) or None for function types we do not use."""
-    where = f"{label}: data set #{i + 1} (UFF 58, line {line})"
+    where = _Where(label, i, line)
     func = int(d.get("func_type", 0))
     abscissa = int(d.get("abscissa_spec_data_type", 0))
     if func == _FRF_FUNC or (func == 0 and abscissa == 18):
@@ -198,7 +222,12 @@ def _channels(recs: list[dict], label: str) -> Records:
     if len(groups) > 1 and len(set(layout)) != 1:
         groups = [recs]  # not a repeated test: one record of all channels
     g0 = groups[0]
-    values = [np.stack([r["y"] for r in g], axis=1).astype(float) for g in groups]
+    values = []
+    for g in groups:  # one copy into column-major storage: each channel is one contiguous column
+        v = np.empty((g[0]["y"].size, len(g)), order="F")
+        for c, r in enumerate(g):
+            v[:, c] = r["y"]
+        values.append(v)
     return Records(domain="time", values=values, step=g0[0]["dx"], start=g0[0]["x0"],
                    outputs=_unique([r["name"] for r in g0]), output_units=tuple(r["unit"] for r in g0),
                    force=np.array([r["quantity"] == "force" or r["unit"].lower() in ("n", "lbf", "kn") for r in g0]),
@@ -230,7 +259,7 @@ def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
     nodes = np.asarray(modes[0][2]["node_nums"], dtype=int)
     freq, zeta, shapes, names = [], [], [], []
     for i, line, d in modes:
-        where = f"{label}: data set #{i + 1} (UFF 55, line {line})"
+        where = _Where(label, i, line, 55)
         if not np.array_equal(np.asarray(d["node_nums"], dtype=int), nodes):
             raise DataError(f"{where}: its nodes differ from those of the first mode; every mode must list the same "
                             "nodes.")

@@ -132,6 +132,8 @@ def markov_from_frf(frequencies_hz, frf, *, frf_type: str | None = None, to: str
             factor[0] = 0.0 if power < 0 else factor[0]  # 1/(i·0): no static information survives
             h *= factor[:, None, None]
             conversions.append(f"{frf_type} converted to {to} by (iω)^{power}")
+            if output_units is not None:  # (iω)^k carries units of s^-k
+                output_units = [f"({u})·s^{-power}" for u in output_units]
     if f_lo > 0:
         width = 0.05 * f_lo if taper_hz is None else float(taper_hz)
         gain = np.clip((f - f_lo) / width, 0.0, 1.0) if width > 0 else (f >= f_lo).astype(float)

@@ -14,8 +14,8 @@ from ..data import ResponseData
 from ..errors import DataError
 from ._common import check_dt, positive_int, records
 
-#: Samples per FFT block of the correlation sum; memory stays at (block + lags) × channels.
-_BLOCK = 1 << 16
+#: Smallest FFT length of the block-wise correlation sum; blocks stay small (cache-friendly, bounded memory).
+_MIN_FFT = 1 << 15
 
 
 def correlations(y: np.ndarray, refs: np.ndarray, n_lags: int) -> tuple[np.ndarray, np.ndarray]:
@@ -25,8 +25,8 @@ def correlations(y: np.ndarray, refs: np.ndarray, n_lags: int) -> tuple[np.ndarr
     """
     n, p = y.shape
     total = np.zeros((n_lags, p, refs.shape[1]))
-    block = max(_BLOCK, 4 * n_lags)
-    n_fft = 1 << int(np.ceil(np.log2(block + n_lags)))
+    n_fft = max(_MIN_FFT, 1 << int(np.ceil(np.log2(8 * n_lags))))
+    block = n_fft - n_lags  # block + lags samples fit without circular wrap
     for s in range(0, n, block):
         lead = np.fft.rfft(y[s:s + block + n_lags], n=n_fft, axis=0)
         ref = np.fft.rfft(refs[s:s + block], n=n_fft, axis=0)

@@ -46,7 +46,9 @@ def test_frf_types_convert_into_each_other():
     acc, _, _ = chain_frf(f, "acceleration")
     disp, _, _ = chain_frf(f, "displacement")
     band = (3.0, 50.0)
-    from_acc = era.markov_from_frf(f, acc, frf_type="accelerance", to="displacement", band_hz=band, n_samples=800)
+    from_acc = era.markov_from_frf(f, acc, frf_type="accelerance", to="displacement", band_hz=band, n_samples=800,
+                                   output_units=["m/s^2/N"] * 3)
+    assert from_acc.output_units == ("(m/s^2/N)·s^2",) * 3
     from_disp = era.markov_from_frf(f, disp, band_hz=band, n_samples=800)
     scale = np.abs(from_disp.markov).max()
     assert np.abs(from_acc.markov - from_disp.markov).max() < 1e-9 * scale

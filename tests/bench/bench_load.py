@@ -1,0 +1,101 @@
+"""Loading a ~100 MB UFF file: era.load's time against pyuff's own parse of the same file, in the same process.
+
+Run: python3 -m pytest tests/bench/bench_load.py -s
+The files are written with pyuff into a temporary folder (a minute or so: pyuff writes 58b one value at a time).
+Reported, for era.io.uff.read_uff (pyuff + our checks and assembly into outputs × references) and for era.load
+(all that + the conversion to Markov parameters): the total time and, within the same call, the time spent
+inside pyuff (UFF() and read_sets); the ratio total / pyuff is our overhead. Times are CPU seconds of this process
+(time.process_time, BLAS pinned to one thread): wall time on the shared 2-core machine swings 3x with other jobs.
+"""
+
+import time
+
+import numpy as np
+import pytest
+import pyuff
+
+import era
+from era.io.uff import read_uff
+
+ROUNDS = 3
+
+
+def _write(path, sets):
+    path.unlink(missing_ok=True)
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")  # "add" to a new file: "overwrite" breaks 58b headers
+
+
+def _record(data, dx, rsp, ref, func_type, binary):
+    return {"type": 58, "binary": binary, "func_type": func_type, "rsp_node": rsp, "rsp_dir": 3, "ref_node": ref,
+            "ref_dir": 3, "data": data, "x": dx * np.arange(len(data)), "abscissa_spacing": 1,
+            "abscissa_spec_data_type": 18 if func_type == 4 else 17, "ordinate_spec_data_type": 12,
+            "ordinate_axis_units_lab": "m/s^2", "orddenom_spec_data_type": 13 if func_type == 4 else 0,
+            "orddenom_axis_units_lab": "N" if func_type == 4 else "NONE"}
+
+
+def ambient_58b(path):
+    """8 channels × 1.6 M samples of noise-driven response, UFF 58b binary doubles: 102 MB."""
+    rng = np.random.default_rng(0)
+    n, dt = 1_600_000, 1 / 2048
+    t = np.arange(n) * dt
+    base = np.sin(2 * np.pi * 12.3 * t) + 0.5 * np.sin(2 * np.pi * 31.7 * t)
+    _write(path, [_record(base * (k + 1) + rng.standard_normal(n), dt, k + 1, 0, 1, 1) for k in range(8)])
+    return {"kind": "ambient", "references": [0, 1], "n_lags": 1024}
+
+
+def frf_ascii(path):
+    """1 accelerometer × 48 hammer points × 50 001 lines of complex accelerance, UFF 58 ASCII: 98 MB."""
+    f = np.arange(50_001) * 0.02
+    sets = []
+    for k in range(48):
+        w = f / (50 + 10 * k)
+        sets.append(_record(w ** 2 / (1 - w ** 2 + 0.01j * w), 0.02, 1, k + 1, 4, 0))
+    _write(path, sets)
+    return {"kind": "frf", "band_hz": (5.0, 1000.0)}
+
+
+class PyuffClock:
+    """Adds up the time spent inside pyuff (UFF() with its file scan, read_sets) while era reads a file, so the
+    ratio total / pyuff comes from the same call and is not blurred by load on a shared machine."""
+
+    def __init__(self, monkeypatch):
+        self.seconds = 0.0
+        for name in ("__init__", "read_sets"):
+            original = getattr(pyuff.UFF, name)
+            monkeypatch.setattr(pyuff.UFF, name, self._timed(original))
+
+    def _timed(self, fn):
+        def wrapper(*args, **kwargs):
+            t0 = time.process_time()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                self.seconds += time.process_time() - t0
+        return wrapper
+
+
+@pytest.mark.parametrize("make", [ambient_58b, frf_ascii], ids=["58b binary time records", "58 ASCII FRFs"])
+def test_loading_a_100_mb_uff_is_dominated_by_pyuff_parsing(tmp_path, make, monkeypatch):
+    path = tmp_path / "big.uff"
+    options = make(path)
+    size_mb = path.stat().st_size / 1e6
+    path.read_bytes()  # warm the page cache so no timing below pays for the disk
+    clock = PyuffClock(monkeypatch)
+    rows = []
+    for _ in range(ROUNDS):
+        for what, fn in (("read_uff", lambda: read_uff(str(path), path.name)),
+                         ("era.load", lambda: era.load(path, **options))):
+            clock.seconds = 0.0
+            t0 = time.process_time()
+            fn()
+            total = time.process_time() - t0
+            rows.append((what, total, clock.seconds))
+    ds = era.load(path, **options)
+    best = {w: min((r for r in rows if r[0] == w), key=lambda r: r[1] / r[2]) for w in ("read_uff", "era.load")}
+    (_, t_read, p_read), (_, t_load, p_load) = best["read_uff"], best["era.load"]
+    print(f"\n[{make.__name__}] {size_mb:.0f} MB, markov {ds.data.markov.shape}: "
+          f"read_uff {t_read:.2f} s of which pyuff {p_read:.2f} s -> {t_read / p_read:.3f}x pyuff | "
+          f"era.load with the {options['kind']} conversion {t_load:.2f} s of which pyuff {p_load:.2f} s -> "
+          f"{t_load / p_load:.3f}x pyuff")
+    assert t_read / p_read < 1.25, "our checks and assembly must stay a small fraction of pyuff's parse"
+    assert t_load / p_load < 1.5, "the conversion must not outweigh the parse"
