@@ -149,7 +149,7 @@ class Engine:
         self._idents = LRU(settings.cache_identifications)
         self._models = LRU(settings.cache_models)
         self._stabs = LRU(settings.cache_identifications)
-        self._inflight: dict[str, threading.Lock] = {}
+        self._inflight: dict = {}
         self._inflight_lock = threading.Lock()
 
     # datasets
@@ -205,15 +205,22 @@ class Engine:
         if hit is not None:
             return hit
         dataset_id, params = self.analysis(analysis_id)
+        return self._once(self._idents, analysis_id,
+                          lambda: self._identify(self.dataset(dataset_id)[0], params))
+
+    def _once(self, cache: LRU, key, compute):
+        """cache[key], computed by one thread while others asking for the same key wait for it."""
         with self._inflight_lock:
-            lock = self._inflight.setdefault(analysis_id, threading.Lock())
-        with lock:
-            hit = self._idents.get(analysis_id)
-            if hit is None:
-                hit = self._idents.put(analysis_id, self._identify(self.dataset(dataset_id)[0], params))
-        with self._inflight_lock:
-            self._inflight.pop(analysis_id, None)
-        return hit
+            lock = self._inflight.setdefault(key, threading.Lock())
+        try:
+            with lock:
+                hit = cache.get(key)
+                if hit is None:
+                    hit = cache.put(key, compute())
+                return hit
+        finally:
+            with self._inflight_lock:
+                self._inflight.pop(key, None)
 
     def is_cached(self, analysis_id: str) -> bool:
         return self._idents.get(analysis_id) is not None
@@ -221,8 +228,8 @@ class Engine:
     def model(self, analysis_id: str, order: int) -> era.ModalModel:
         key = (analysis_id, int(order))
         hit = self._models.get(key)
-        if hit is None:
-            hit = self._models.put(key, self.identification(analysis_id).realize(int(order)))
+        if hit is None:  # the modes and the reconstruction of a slider step ask at the same time: realize once
+            hit = self._once(self._models, key, lambda: self.identification(analysis_id).realize(int(order)))
         return hit
 
     def stabilization(self, analysis_id: str):
@@ -283,6 +290,21 @@ def parse_modes(modes: str | list | None, n_modes: int) -> np.ndarray | None:
     return np.array(sorted(set(idx)), dtype=int)
 
 
+def kept_by_thresholds(model: era.ModalModel, min_emac: float = 0.0, min_mpc: float = 0.0,
+                       min_contribution: float = 0.0, pairs_only: bool = False) -> np.ndarray:
+    """Indices of the modes with γ ≥ min_emac, μ ≥ min_mpc, contribution ≥ min_contribution × the largest
+    (as ModalModel.select), and complex pairs only if asked: the automatic keep/reject of the modes table."""
+    for value, name in ((min_emac, "min_emac"), (min_mpc, "min_mpc"), (min_contribution, "min_contribution")):
+        if not 0.0 <= value <= 1.0:
+            raise era.EraError(f"`{name}` is a fraction in [0, 1], got {value!r}.")
+    contrib = np.asarray(model.contribution, dtype=float)
+    top = np.max(contrib[np.isfinite(contrib)]) if np.isfinite(contrib).any() else 0.0
+    keep = (model.emac >= min_emac) & (model.mpc >= min_mpc) & (contrib >= min_contribution * top)
+    if pairs_only:
+        keep &= model.is_pair
+    return np.flatnonzero(keep)
+
+
 def reconstruction_json(model: era.ModalModel, data: era.ResponseData, kept: np.ndarray | None, output: int,
                         input_: int, settings: Settings) -> dict:
     p, m = data.n_outputs, data.n_inputs
@@ -295,7 +317,8 @@ def reconstruction_json(model: era.ModalModel, data: era.ResponseData, kept: np.
     error = reduced.fit_error(data)
     sl = decimate(data.n_samples, settings.max_plot_points)
     return {
-        "output": data.outputs[output], "input": data.inputs[input_], "kept": None if kept is None else kept.tolist(),
+        "output": data.outputs[output], "input": data.inputs[input_],
+        "kept": list(range(model.n_modes)) if kept is None else kept.tolist(),
         "time_s": floats(data.time_s[sl]), "measured": floats(data.markov[sl, output, input_]),
         "reconstructed": floats(rebuilt[sl, output, input_]),
         "fit_percent": fit_percent(error[output, input_]), "fit_percent_all": fit_percent(error),

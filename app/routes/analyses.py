@@ -70,12 +70,20 @@ async def modes(request: Request, analysis_id: str, order: int = Query(ge=1)):
 
 @router.get("/{analysis_id}/reconstruction", summary="Measured against reconstructed response for kept modes")
 async def reconstruction(request: Request, analysis_id: str, order: int = Query(ge=1),
-                         modes: str | None = Query(None, description="kept modes, e.g. 0,2,5; default all"),
+                         modes: str | None = Query(None, description="kept modes, e.g. 0,2,5 (wins over thresholds)"),
+                         min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
+                         min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
+                         min_contribution: float | None = Query(None, description="fraction of the largest"),
+                         pairs_only: bool = Query(False, description="keep complex pairs only"),
                          output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+    """The kept modes are ``modes`` if given, else those passing the thresholds (if any given), else all.
+    The answer names them in ``kept``, so the page can mark its table from the same rule."""
     e = engine(request)
     model = await _model(request, analysis_id, order)
     data = e.dataset(e.analysis(analysis_id)[0])[0]
     kept = eng.parse_modes(modes, model.n_modes)
+    if kept is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or pairs_only):
+        kept = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0, pairs_only)
     return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
 
 

@@ -11,7 +11,7 @@ import * as shapes from "./shapes.js";
 import * as share from "./share.js";
 
 // Timing of the last slider updates (ms from the order change to table and reconstruction drawn), for tests.
-window.eraTiming = { order: [] };
+window.eraTiming = { order: [], parts: [] };
 
 let busy = false, wanted = null, pendingSelect = null;
 
@@ -21,10 +21,13 @@ async function pump() {
   wanted = null;
   busy = true;
   try {
-    const modes = await api(`/api/analyses/${state.analysis.id}/modes?order=${order}`);
+    // Both at once: the modes of this order, and the reconstruction with the modes the thresholds keep.
+    const [modes, rec] = await Promise.all([api(`/api/analyses/${state.analysis.id}/modes?order=${order}`),
+                                            reconstruction.fetchFor(order, "thresholds")]);
+    const t1 = performance.now();
     if (order === state.order) {
       state.modes = modes;
-      table.applyThresholds();
+      state.kept = new Set(rec.kept);
       if (pendingSelect !== null && pendingSelect.order === order) {
         state.selected = pendingSelect.index < modes.n_modes ? pendingSelect.index : null;
         pendingSelect = null;
@@ -32,12 +35,13 @@ async function pump() {
         state.selected = nearestMode(modes, state.selectedFrequency);
       }
       emit("modes", modes);
-      await reconstruction.update();
+      const t2 = performance.now();
+      reconstruction.draw(rec);
       if (state.selected !== null) emit("select", state.selected);
       const ms = performance.now() - t0;
       window.eraTiming.order.push(ms);
-      document.getElementById("order-note").dataset.lastMs = ms.toFixed(1);
-      document.getElementById("order-status")?.remove();
+      window.eraTiming.parts.push({ order, fetch: t1 - t0, draw: t2 - t1, reconstruction: performance.now() - t2 });
+      document.getElementById("order-timing").textContent = `order ${order}: updated in ${ms.toFixed(0)} ms`;
     }
   } catch (err) {
     showError("hankel-error", err);
@@ -70,5 +74,11 @@ on("pole", ({ order, index }) => {
   if (order === state.order) { emit("select", index); return; }
   pendingSelect = { order, index };
   hankel.setOrder(order);
+});
+on("thresholds", async () => {
+  const rec = await reconstruction.fetchFor(state.order, "thresholds");
+  state.kept = new Set(rec.kept);
+  emit("modes", state.modes);
+  reconstruction.draw(rec);
 });
 on("analysis", () => { state.selected = null; state.modes = null; });

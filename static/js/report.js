@@ -87,7 +87,7 @@
       name: "kept modes", marker: { symbol: "star", size: 15, color: "#ffb000", line: { width: 1, color: "#000" } } });
     Plotly.newPlot("report-stab", traces, { margin: { l: 55, r: 90, t: 10, b: 45 }, hovermode: "closest",
       xaxis: { title: { text: "frequency (Hz)" }, range: [0, s.nyquist_hz] }, yaxis: { title: { text: "model order n" } },
-      yaxis2: { overlaying: "y", side: "right", type: "log", showgrid: false, title: { text: "CMIF" }, exponentformat: "e" },
+      yaxis2: { overlaying: "y", side: "right", type: "log", showgrid: false, showticklabels: false, title: { text: "CMIF (log scale)" } },
       legend: { orientation: "h", y: -0.18 } }, cfg);
   }
 
@@ -132,6 +132,17 @@
     return { x, y, z };
   }
 
+  // Axes padded by the animation amplitude, drawn to scale (a flat grid keeps some height to move in).
+  function sceneLayout(g, scale) {
+    const lo = [0, 1, 2].map((a) => Math.min(...g.coordinates.map((c) => c[a])) - 1.5 * scale);
+    const hi = [0, 1, 2].map((a) => Math.max(...g.coordinates.map((c) => c[a])) + 1.5 * scale);
+    const span = hi.map((h, a) => h - lo[a]);
+    const big = Math.max(...span);
+    const axis = (a) => ({ range: [lo[a], hi[a]], title: { text: "xyz"[a] + ` (${g.units})` } });
+    return { aspectmode: "manual", aspectratio: { x: span[0] / big, y: span[1] / big, z: Math.max(span[2] / big, 0.25) },
+             xaxis: axis(0), yaxis: axis(1), zaxis: axis(2), camera: { eye: { x: 0.9, y: -1.5, z: 0.9 } } };
+  }
+
   function shape(r, k) {
     const m = r.modes, g = r.geometry;
     $("report-shape-title").textContent = `mode ${k + 1}: ${F.num(m.frequency_hz[k], 4)} Hz, ζ ${F.num(100 * m.damping_ratio[k], 3)} %`;
@@ -142,6 +153,10 @@
       box.append(el("iframe", undefined, { class: "viewer", src: r.playback[String(k)], title: "mode shape (viser playback)" }));
     }
     const re = m.shapes_re[k];
+    const live = r.playback && r.playback[String(k)] && !r.standalone;
+    $("report-shape").hidden = live;
+    $("report-shape").style.height = g ? "460px" : "300px";  // the viser playback shows it; the plotly view is for the offline file
+    if (live) return;
     if (!g) {
       Plotly.react("report-shape", [{ x: m.outputs, y: re, type: "bar", name: "real" },
                                     { x: m.outputs, y: m.shapes_im[k], type: "bar", name: "imaginary" }],
@@ -155,7 +170,8 @@
     Plotly.react("report-shape", [
       { ...rest, type: "scatter3d", mode: "lines", name: "undeformed", line: { color: "#c3c9d4", width: 2 }, hoverinfo: "skip" },
       { ...moving, type: "scatter3d", mode: "lines", name: "mode shape", line: { color: "#1f5fbf", width: 5 }, hoverinfo: "skip" },
-    ], { margin: { l: 0, r: 0, t: 0, b: 0 }, scene: { aspectmode: "data" }, showlegend: true }, cfg);
+    ], { margin: { l: 0, r: 0, t: 0, b: 0 }, showlegend: true,
+      scene: sceneLayout(g, scale) }, cfg);
     let phase = 0;
     animation = setInterval(() => {
       phase += 0.25;

@@ -7,6 +7,7 @@ const $ = (id) => document.getElementById(id);
 let viewer = null;          // {key, url, mode_url, order} of the published modes, or null
 let viewerAvailable = true; // false after the server said it has no viewer
 let publishing = null;
+let settle = null;
 
 async function publish() {
   if (!viewerAvailable || !state.analysis) return null;
@@ -35,9 +36,13 @@ async function showMode() {
     { x: m.outputs, y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
   ], { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group", yaxis: { title: { text: "shape (largest = 1)" } },
        legend: { orientation: "h", y: 1.15 } }, plotConfig);
-  publishing = publishing || publish().finally(() => { publishing = null; });
-  const v = await publishing;
-  if (v && v.order === state.order) await sendMode(v);
+  // Publishing loads a new viewer page; wait until the order slider has settled so dragging stays fast.
+  clearTimeout(settle);
+  settle = setTimeout(async () => {
+    publishing = publishing || publish().finally(() => { publishing = null; });
+    const v = await publishing;
+    if (v && v.order === state.order && state.selected !== null) await sendMode(v);
+  }, viewer && viewer.order === state.order ? 0 : 500);
 }
 
 async function sendMode(v) {

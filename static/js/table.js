@@ -10,16 +10,6 @@ export function thresholds() {
            contribution: Number($("min-contrib").value) / 100, pairsOnly: $("pairs-only").checked };
 }
 
-// Kept modes by the thresholds: γ ≥, μ ≥, relative contribution ≥, and (by default) complex pairs only.
-export function applyThresholds() {
-  const m = state.modes, t = thresholds();
-  state.kept = new Set();
-  for (let k = 0; k < m.n_modes; k++) {
-    if (m.emac[k] >= t.emac && m.mpc[k] >= t.mpc && m.contribution_relative[k] >= t.contribution &&
-        (!t.pairsOnly || m.is_pair[k])) state.kept.add(k);
-  }
-}
-
 function sortedIndices(m) {
   const col = columns.find((c) => c.key === sortKey) || columns[1];
   const idx = [...Array(m.n_modes).keys()];
@@ -78,12 +68,7 @@ function markSelected() {
 
 export function init() {
   for (const id of ["min-emac", "min-mpc", "min-contrib", "pairs-only"]) {
-    $(id).addEventListener("change", () => {
-      if (!state.modes) return;
-      applyThresholds();
-      render();
-      emit("kept", state.kept);
-    });
+    $(id).addEventListener("change", () => { if (state.modes) emit("thresholds", thresholds()); });
   }
   on("modes", render);
   on("select", markSelected);

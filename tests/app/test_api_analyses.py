@@ -105,11 +105,12 @@ def test_reconstruction_of_kept_modes(tmp_path):
         _, a = analysis(c)
         url = f"/api/analyses/{a['id']}/reconstruction"
         full = c.get(url, params={"order": 10}).json()
-        assert full["fit_percent"] > 99.99 and full["kept"] is None
+        assert full["fit_percent"] > 99.99 and full["kept"] == [0, 1, 2, 3, 4]
         assert len(full["measured"]) == len(full["reconstructed"]) == len(full["time_s"]) == 200
         part = c.get(url, params={"order": 10, "modes": "0,1"}).json()
         assert part["kept"] == [0, 1] and part["fit_percent"] < 90
-        for bad in ({"modes": "a,b"}, {"modes": "7"}, {"output": 1}, {"input": 3}):
+        for bad in ({"modes": "a,b"}, {"modes": "7"}, {"output": 1}, {"input": 3}, {"min_emac": 2},
+                    {"min_contribution": -0.1}):
             r = c.get(url, params={"order": 10, **bad})
             assert r.status_code == 422 and r.json()["error"], bad
 
@@ -137,3 +138,20 @@ def test_custom_shifts_are_used(tmp_path):
         assert a["row_shifts"] == shifts and a["max_order"] == 10
         m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 10}).json()
         np.testing.assert_allclose(m["frequency_hz"], case1_frequencies_hz(), rtol=1e-6)
+
+
+def test_reconstruction_keeps_modes_by_thresholds(tmp_path):
+    with client(tmp_path) as c:
+        _, a = analysis(c)
+        url = f"/api/analyses/{a['id']}/reconstruction"
+        m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 10}).json()
+        rel = np.array(m["contribution_relative"])
+        cut = float(np.sort(rel)[2])  # keeps the three strongest modes
+        r = c.get(url, params={"order": 10, "min_contribution": cut, "min_emac": 0.9, "pairs_only": True}).json()
+        assert r["kept"] == sorted(np.flatnonzero(rel >= cut).tolist()) and len(r["kept"]) == 3
+        # explicit modes win over thresholds
+        r = c.get(url, params={"order": 10, "modes": "1", "min_emac": 0.9, "pairs_only": True}).json()
+        assert r["kept"] == [1]
+        # realistic thresholds keep all five modes of noise-free data
+        r = c.get(url, params={"order": 10, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.01}).json()
+        assert r["kept"] == [0, 1, 2, 3, 4]

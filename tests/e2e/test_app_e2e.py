@@ -1,0 +1,209 @@
+"""The whole web app in a real browser: upload, order slider, pole click, keep/reject, report link, restart,
+the same table from the link (and from the offline HTML download).
+
+Runs `uvicorn app.main:app` in a subprocess on a free 127.0.0.1 port with a temporary ERA_DATA_DIR and drives
+Debian's Chromium (never downloaded). Screenshots go to $APP_SHOTS if set (to look at them), else to tmp_path.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+import era
+import era.paper
+
+pytestmark = pytest.mark.e2e
+
+CHROMIUM = "/usr/bin/chromium"
+REPO = Path(__file__).resolve().parents[2]
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+EVIL = "<img src=x onerror=window.__xss=1>"
+
+if not Path(CHROMIUM).exists():
+    pytest.skip("Debian's chromium is not installed (.ci/run installs it)", allow_module_level=True)
+sync_api = pytest.importorskip("playwright.sync_api")
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Server:
+    """`python3 -m uvicorn app.main:app` on a free port; stop() ends it (and only it)."""
+
+    def __init__(self, data_dir: Path, log: Path):
+        self.port = free_port()
+        self.base = f"http://127.0.0.1:{self.port}"
+        env = dict(os.environ, ERA_DATA_DIR=str(data_dir), ERA_VIEWER=os.environ.get("ERA_VIEWER", "1"))
+        self._log = open(log, "ab")
+        self.proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1",
+                                      "--port", str(self.port)], cwd=REPO, env=env, stdout=self._log,
+                                     stderr=subprocess.STDOUT)
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                with urllib.request.urlopen(self.base + "/api/examples", timeout=2) as r:
+                    if r.status == 200:
+                        return
+            except OSError:
+                pass
+            if self.proc.poll() is not None or time.monotonic() > deadline:
+                self.stop()
+                raise RuntimeError(f"the app did not start; see {log}")
+            time.sleep(0.2)
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(10)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait(5)
+        self._log.close()
+
+
+@pytest.fixture()
+def shots(tmp_path) -> Path:
+    out = Path(os.environ.get("APP_SHOTS", tmp_path / "shots"))
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+@pytest.fixture()
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+def table_rows(page, selector: str) -> list[dict]:
+    """Each body row of a modes table: its mode number, whether it is kept, and the text of every column."""
+    return page.eval_on_selector_all(f"{selector} tbody tr", """rows => rows.map(tr => ({
+        mode: Number(tr.dataset.mode), kept: !tr.classList.contains('rejected'),
+        cells: Object.fromEntries([...tr.querySelectorAll('td[data-key]')].map(td => [td.dataset.key, td.textContent]))
+    }))""")
+
+
+def pole_position(page, order: int):
+    """Page coordinates of a pole of the given order that is stable in frequency, damping and shape."""
+    return page.evaluate("""(order) => {
+        const div = document.getElementById('stab-plot'), fl = div._fullLayout;
+        const t = div.data.find(tr => tr.name.startsWith('stable f'));
+        const k = t.y.findIndex(y => y === order);
+        if (k < 0) return null;
+        const box = div.getBoundingClientRect();
+        return { x: box.left + fl.xaxis._offset + fl.xaxis.l2p(t.x[k]), y: box.top + fl.yaxis._offset + fl.yaxis.l2p(t.y[k]),
+                 order: t.customdata[k][0], index: t.customdata[k][1], frequency: t.x[k] };
+    }""", order)
+
+
+def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
+    data_dir = tmp_path / "data"
+    upload = tmp_path / "case2 <i>italic.npz"
+    case2 = era.paper.case_2(200, mimo=True)
+    era.save_npz(str(upload), era.ResponseData(case2.markov, case2.dt, outputs=(EVIL, "sensor 2"),
+                                               inputs=("IC 1", "IC 2")))
+    server = Server(data_dir, tmp_path / "server1.log")
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.base + "/")
+
+        # 1. upload through the drop zone's file input; the defaults identify at once
+        page.set_input_files("#file", str(upload))
+        page.wait_for_selector("#summary:not([hidden])")
+        page.wait_for_selector("#modes-table tbody tr")
+        summary = page.text_content("#summary")
+        assert EVIL in summary and "case2 <i>italic.npz" in summary  # names shown as text
+        assert page.locator("#summary img, #summary i").count() == 0
+        assert page.evaluate("window.__xss") is None
+        assert page.input_value("#rows") == "90" and page.input_value("#max-order") == "180"
+        assert page.text_content("#order-value") == "10"
+        assert len(table_rows(page, "#modes-table")) == 5
+        page.wait_for_function("document.getElementById('stab-plot').data?.length > 3")
+        page.screenshot(path=str(shots / "app-1-uploaded.png"), full_page=True)
+
+        # 2. move the order slider (keyboard on the range input): table and reconstruction follow
+        page.focus("#order")
+        page.keyboard.press("ArrowLeft")
+        page.keyboard.press("ArrowLeft")
+        page.wait_for_function("document.getElementById('order-value').textContent === '8' && "
+                               "document.querySelectorAll('#modes-table tbody tr').length === 4")
+        page.wait_for_function("window.eraTiming.parts.some(p => p.order === 8)")
+        assert "4 kept modes" in page.text_content("#recon-fit") or "kept modes" in page.text_content("#recon-fit")
+
+        # 3. click a pole of order 10 in the stabilization diagram: order 10 and that mode are selected everywhere
+        page.locator("#stab-plot").scroll_into_view_if_needed()
+        pole = pole_position(page, 10)
+        assert pole is not None, "no stable pole at order 10"
+        page.mouse.move(pole["x"], pole["y"])
+        page.mouse.click(pole["x"], pole["y"])
+        page.wait_for_function("document.getElementById('order-value').textContent === '10'")
+        selected = page.locator("#modes-table tbody tr.selected")
+        selected.wait_for()
+        assert int(selected.get_attribute("data-mode")) == pole["index"]
+        assert f"{pole['frequency']:.4f}" in selected.text_content()
+        assert f"{pole['frequency']:.4f}" in page.text_content("#shape-title")
+        assert page.input_value("#order") == "10"
+
+        # 4. keep/reject: reject the selected mode; the reconstruction is redrawn with one mode fewer
+        fit_before = page.text_content("#recon-fit")
+        box = selected.locator("input[type=checkbox]")
+        assert box.is_checked()
+        box.uncheck()
+        assert "rejected" in selected.get_attribute("class")
+        page.wait_for_function(f"document.getElementById('recon-fit').textContent !== {json.dumps(fit_before)}")
+        assert "4 kept modes" in page.text_content("#recon-fit")
+        app_rows = table_rows(page, "#modes-table")
+        assert sum(r["kept"] for r in app_rows) == 4
+        page.screenshot(path=str(shots / "app-2-pole-selected-mode-rejected.png"), full_page=True)
+
+        # 5. create the report link
+        page.click("#create-report")
+        page.wait_for_selector("#report-link-box:not([hidden])")
+        link = page.get_attribute("#report-link", "href")
+        assert link.startswith("/r/") and len(link) >= 3 + 22
+        assert not errors, errors
+    finally:
+        server.stop()
+
+    # 6. restart the server (new process, new port, same data folder) and open the link
+    server = Server(data_dir, tmp_path / "server2.log")
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.goto(server.base + link)
+        page.wait_for_selector("body[data-ready='1']", timeout=30000)
+        report_rows = table_rows(page, "#report-table")
+        assert [r["cells"] for r in report_rows] == [r["cells"] for r in sorted(app_rows, key=lambda r: r["mode"])]
+        assert [r["kept"] for r in report_rows] == [r["kept"] for r in sorted(app_rows, key=lambda r: r["mode"])]
+        assert EVIL in page.text_content("#report-pair") or EVIL in page.text_content("body")
+        assert page.locator("main img").count() == 0
+        page.screenshot(path=str(shots / "report-after-restart.png"), full_page=True)
+
+        # 7. the offline download shows the same table with no server at all
+        token = link.rsplit("/", 1)[1]
+        html = urllib.request.urlopen(f"{server.base}/api/reports/{token}/report.html", timeout=30).read()
+        offline = tmp_path / "report.html"
+        offline.write_bytes(html)
+    finally:
+        server.stop()
+    page = browser.new_page(viewport={"width": 1400, "height": 1000})
+    page.goto(offline.as_uri())
+    page.wait_for_selector("body[data-ready='1']", timeout=30000)
+    assert [r["cells"] for r in table_rows(page, "#report-table")] == [r["cells"] for r in report_rows]
+    page.screenshot(path=str(shots / "report-offline.png"), full_page=True)
