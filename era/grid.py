@@ -30,6 +30,7 @@ SAMPLE_RATE_HZ = 32.0
 TABLE1_HZ = np.array([0.362, 0.612, 1.425, 2.331, 2.826, 4.936, 5.476, 6.429, 7.047, 9.841])
 BAR = fem.flat_bar(width_m=2 * 0.0254, thickness_m=0.25 * 0.0254, E=68.9e9, nu=0.33, rho=2700.0)
 
+_WEIGHT_PARAMS = ("distributed_mass_kg", "point_mass_kg", "point_mass_at", "elements_per_bar")
 DEFAULTS = dict(gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_length_m=0.51,
                 distributed_mass_kg=0.0, point_mass_kg=0.0, point_mass_at=None, loose_joint_at=None,
                 loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1)
@@ -179,6 +180,7 @@ class GridModel:
 
     _params: dict
     perturbation: GridPerturbation = field(default_factory=GridPerturbation, repr=False)
+    _statics: tuple | None = field(default=None, repr=False)   # (axial force, cable tensions) to reuse
 
     @property
     def params(self) -> dict:
@@ -189,23 +191,33 @@ class GridModel:
     joints_ft = property(lambda self: JOINTS_FT.copy(), doc="(88, 2) joint (x_ft, y_ft), index iy·11 + ix.")
 
     def with_params(self, **changes) -> "GridModel":
-        """A new model with some parameters changed (the perturbation, if any, is kept)."""
-        return GridModel(_check_params({**self._params, **changes}), self.perturbation)
+        """A new model with some parameters changed (the perturbation, if any, is kept).
+
+        When only stiffness-like parameters change, the in-plane self-weight solve is reused: its forces depend
+        on the weights and the mesh only (links are rigid in the plane; a uniform E scale leaves forces as they are).
+        """
+        params = _check_params({**self._params, **changes})
+        same_weights = all(params[k] == self._params[k] for k in _WEIGHT_PARAMS)
+        reuse = self.__dict__["_system"][4] if same_weights and "_system" in self.__dict__ else None
+        return GridModel(params, self.perturbation, reuse)
 
     @cached_property
     def _system(self):
         frame = _build_frame(self._params, self.perturbation)
         cables = [joint_index(c) for c in CABLES_FT]
-        statics = fem.self_weight(frame, [(cables[0], True, True), (cables[1], False, True)])
-        tension = statics.reactions[:, 1]
+        if self._statics is None:
+            statics = fem.self_weight(frame, [(cables[0], True, True), (cables[1], False, True)])
+            axial_force, tension = statics.axial_force, statics.reactions[:, 1]
+        else:
+            axial_force, tension = self._statics
         lengths = self._params["cable_length_m"] * np.asarray(self.perturbation.cable_factor, float)
         springs = np.zeros((frame.n_nodes, 3))
         springs[:NX * NY, 0] = self.perturbation.ground_springs
         springs[cables, 0] += tension / lengths           # pendulum stiffness T/L of each cable
         frame = replace(frame, node_springs=springs)
-        axial = statics.axial_force * float(self._params["gravity"])
+        axial = axial_force * float(self._params["gravity"])
         system = fem.assemble_out_of_plane(frame, axial if self._params["gravity"] else None)
-        return frame, system, tension, system.dofs[:NX * NY, 0]
+        return frame, system, tension, system.dofs[:NX * NY, 0], (axial_force, tension)
 
     @property
     def frame(self) -> fem.Frame:
@@ -226,7 +238,7 @@ class GridModel:
         cache = self.__dict__.setdefault("_mode_cache", {})
         hit = next((v for k, v in cache.items() if k >= n_modes), None)
         if hit is None:
-            _, system, _, w_joint = self._system
+            _, system, _, w_joint, _ = self._system
             f, phi = fem.lowest_modes(system.K, system.M, n_modes)
             # Sign: positive projection on a fixed generic vector (not "largest entry positive", which is a
             # coin toss for the grid's symmetric and antisymmetric modes), so identical models agree exactly.

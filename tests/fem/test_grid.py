@@ -124,6 +124,17 @@ def test_params_with_params_and_geometry(nominal):
     assert nominal.joints_ft.shape == (88, 2)
 
 
+@pytest.mark.parametrize("change", [dict(joint_stiffness=300.0, stiffness_factor=1.05, torsion_factor=0.9),
+                                    dict(loose_joint_at=(0, 3), loose_joint_stiffness=20.0, cable_length_m=0.6),
+                                    dict(point_mass_kg=1.0, point_mass_at=(3, 3)), dict(distributed_mass_kg=1.0)])
+def test_with_params_equals_a_fresh_build(nominal, change):
+    nominal.modes(10)                              # evaluated: stiffness-only variants reuse its statics
+    f_variant, s_variant = nominal.with_params(**change).modes(10)
+    f_fresh, s_fresh = nasa_grid(**change).modes(10)
+    np.testing.assert_allclose(f_variant, f_fresh, rtol=1e-10)
+    np.testing.assert_allclose(s_variant, s_fresh, atol=1e-9)
+
+
 @pytest.mark.parametrize("bad", [
     dict(stiffnes_factor=1.0), dict(point_mass_kg=1.0), dict(point_mass_kg=1.0, point_mass_at=(2.5, 3)),
     dict(loose_joint_at=(1, 1)), dict(joint_stiffness=-5.0), dict(cable_length_m=0.0), dict(elements_per_bar=0),
