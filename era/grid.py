@@ -284,10 +284,15 @@ def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_l
         Length of both cables, m ("cable_length"); each gives a spring T/L on w at its attachment.
     distributed_mass_kg : float
         Extra non-structural mass spread uniformly along all bars, kg ("distributed_mass"); it also weighs.
+        Beware: its frequencies and shapes equal those of stiffness_factor = M/(M + m) to < 0.01 % (mass and
+        weight scale together, so only E/ρ matters); only mass-scaled amplitudes (a calibrated input) tell
+        the two apart.
     point_mass_kg, point_mass_at : float, (x_ft, y_ft)
         A lumped mass on w at one joint ("point_mass").
     loose_joint_at, loose_joint_stiffness : (x_ft, y_ft), float
-        One joint semi-rigid with this rotational stiffness, N·m/rad ("loose_joint").
+        One joint semi-rigid with this rotational stiffness, N·m/rad ("loose_joint"). Its effect saturates
+        below ~50 N·m/rad (a hinge) and is under-resolved by 1-ft elements: fit its stiffness with
+        elements_per_bar=2 (the 1-ft mesh biases it low by up to a factor 2).
     stiffness_factor : float
         Multiplier on E (so on EI, GJ and EA): the global-stiffness nuisance parameter.
     elements_per_bar : int
