@@ -143,3 +143,14 @@ def test_with_params_equals_a_fresh_build(nominal, change):
 def test_bad_parameters_say_what_to_do(nominal, bad):
     with pytest.raises(EraError):
         nominal.with_params(**bad)
+
+
+def test_uniform_added_mass_is_confounded_with_a_global_stiffness_factor(nominal):
+    """Mass and weight scale together, so only E/ρ matters: what era.explain must be told about distributed_mass."""
+    m0 = nominal.total_mass_kg
+    f_mass, s_mass = nasa_grid(distributed_mass_kg=2.0).modes(10)
+    f_e, s_e = nasa_grid(stiffness_factor=m0 / (m0 + 2.0)).modes(10)
+    np.testing.assert_allclose(f_mass, f_e, rtol=1e-4)
+    np.testing.assert_allclose(s_mass / np.linalg.norm(s_mass, axis=0), s_e / np.linalg.norm(s_e, axis=0), atol=1e-3)
+    big = np.abs(s_e) > 0.02                         # only the mass-normalised amplitude differs: √(M/(M+m))
+    np.testing.assert_allclose(s_mass[big] / s_e[big], np.sqrt(m0 / (m0 + 2.0)), rtol=1e-3)
