@@ -321,6 +321,38 @@ def test_bridge_forwards_viser_traffic_with_the_version_subprotocol(served):
         viewer.stop()
 
 
+def test_a_client_through_the_bridge_gets_the_keys_scene_and_animation(served):
+    viewer, client, key = served
+    camera = {"type": "ViewerCameraMessage", "wxyz": [1.0, 0.0, 0.0, 0.0], "position": [0.0, 0.0, 5.0],
+              "fov": 1.0, "near": 0.01, "far": 100.0, "image_height": 500, "image_width": 800,
+              "look_at": [0.0, 0.0, 0.0], "up_direction": [0.0, 0.0, 1.0]}
+    unzip = zstandard.ZstdDecompressor()
+    viewer.start()
+    try:
+        with client.websocket_connect(f"/viser/{key}", subprotocols=["viser-v1.1.1"]) as ws:
+            ws.send_bytes(msgspec.msgpack.encode(camera))    # viser counts a client as connected after its camera
+            seen = []
+            deadline = time.monotonic() + 10
+            while len([m for m in seen if m.get("name") == "/mode/lines" and "updates" in m]) < 5:
+                assert time.monotonic() < deadline, "no animation frames arrived"
+                raw = ws.receive_bytes()
+                size, packed = int.from_bytes(raw[:8], "little"), int.from_bytes(raw[8:16], "little")
+                seen += msgspec.msgpack.decode(unzip.decompress(raw[16:16 + packed], max_output_size=size))["messages"]
+            assert viewer.session_count(key) == 1            # the key came back out of the websocket path
+            created = {m["name"]: m for m in seen if m["type"] == "LineSegmentsMessage"}
+            assert set(created) == {"/undeformed", "/mode/lines"}
+            assert any(m["type"] == "GuiDropdownMessage" for m in seen)
+            ws.close()
+            time.sleep(0.3)
+        for _ in range(20):
+            if viewer.session_count(key) == 0:
+                break
+            time.sleep(0.1)
+        assert viewer.session_count(key) == 0               # closing the browser's socket ends the viser client
+    finally:
+        viewer.stop()
+
+
 def test_share_url_requests_are_ignored():
     from viser import _messages
 
