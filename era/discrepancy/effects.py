@@ -44,6 +44,8 @@ class EffectSpec:
     fixed : keywords always set with this effect (e.g. {"gravity": True}).
     location_keyword : keyword that takes the (x_ft, y_ft) location, for located effects; None otherwise.
     trial : effect parameter values (by name) used to screen locations (one model solve per location).
+    trial_power : how the effect's size scales with its (single) parameter when screening: +1 when the
+        residual change grows with the value (a mass), −1 when it grows with its inverse (a joint's compliance).
     summary : a phrase for descriptions, e.g. "the riveted joints are semi-rigid".
     """
 
@@ -52,6 +54,7 @@ class EffectSpec:
     fixed: dict = field(default_factory=dict)
     location_keyword: str | None = None
     trial: dict = field(default_factory=dict)
+    trial_power: float = 1.0
     summary: str = ""
 
     @property
@@ -59,10 +62,15 @@ class EffectSpec:
         return self.location_keyword is not None
 
 
-def nuisance(model) -> Param:
-    """The global stiffness factor every candidate may adjust (modulus, section and model-form errors): ±3 % (1σ)."""
+def nuisance(model, prior_std: float = 0.015) -> Param:
+    """The global stiffness factor every candidate may adjust: E of the aluminium known to ±1.5 % (1σ).
+
+    A uniform added mass scales the elastic stiffness-to-mass ratio exactly as a lower E does (the geometric and
+    cable stiffnesses grow with the weight, so ω² = [sf K_e / (1 + δ) + K_g + K_c] / M): distributed mass is
+    told from a softer material only through this prior, so its width sets that detection limit.
+    """
     s0 = float(model.params.get("stiffness_factor", 1.0))
-    return Param("stiffness_factor", True, np.log(s0), 0.03, "")
+    return Param("stiffness_factor", True, np.log(s0), prior_std, "")
 
 
 def grid_effects(model) -> tuple:
@@ -91,19 +99,21 @@ def grid_effects(model) -> tuple:
                    location_keyword="point_mass_at", trial={"point_mass_kg": 1.0},
                    summary="a concentrated mass is attached"),
         EffectSpec("loose_joint", (Param("loose_joint_stiffness", True, np.log(300.0), 2.0, "N·m/rad"),),
-                   location_keyword="loose_joint_at", trial={"loose_joint_stiffness": 100.0},
+                   location_keyword="loose_joint_at", trial={"loose_joint_stiffness": 100.0}, trial_power=-1.0,
                    summary="one joint is loose (a rotational spring instead of a rigid connection)"),
     ]
     return tuple(out)
 
 
-def describe(spec: EffectSpec, parameters: dict, location, probability: float) -> str:
-    """A sentence an engineer understands: what is missing, how big, where, and how sure."""
+def describe(spec: EffectSpec, parameters: dict, location, probability: float, uncertainty=None) -> str:
+    """A sentence an engineer understands: what is missing, how big (± 1σ), where, and how sure."""
     shown = []
     for prm in spec.params:
         v = parameters.get(prm.name)
         if v is not None:
-            shown.append(f"{prm.name.replace('_', ' ')} = {v:.4g}{(' ' + prm.unit) if prm.unit else ''}")
+            sd = (uncertainty or {}).get(prm.name)
+            pm = f" ± {sd:.2g}" if sd is not None and np.isfinite(sd) else ""
+            shown.append(f"{prm.name.replace('_', ' ')} = {v:.4g}{pm}{(' ' + prm.unit) if prm.unit else ''}")
     sf = parameters.get("stiffness_factor")
     where = f" at joint (x = {location[0]:g} ft, y = {location[1]:g} ft)" if location is not None else ""
     size = f" ({', '.join(shown)})" if shown else ""

@@ -25,13 +25,18 @@ VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained
 @dataclass(frozen=True)
 class NamedEffect:
     """The effect the data support: name, fitted parameters {keyword: value} (incl. stiffness_factor),
-    location (x_ft, y_ft) or None, posterior probability, and a one-sentence description."""
+    location (x_ft, y_ft) or None, posterior probability, a one-sentence description, the 1σ uncertainty
+    {keyword: value} of each parameter (Laplace posterior), and for located effects the probability of the
+    location given the effect and the other joints still in contention ((x_ft, y_ft), probability)."""
 
     name: str
     parameters: dict
     location: tuple | None
     probability: float
     description: str
+    uncertainty: dict
+    location_probability: float | None = None
+    other_locations: tuple = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,8 +192,15 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     updated = chosen.fit.model
     effect = None
     if named is not None:
-        effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability,
-                             describe(spec_of[named.name], named.parameters, named.location, named.probability))
+        p_loc = named.locations[0][2] if named.locations else None
+        others = tuple((loc, q) for loc, _, q in named.locations[1:] if q >= 0.05)
+        text = describe(spec_of[named.name], named.parameters, named.location, named.probability,
+                        named.fit.uncertainty)
+        if others:
+            text += (f" The joint is not certain ({p_loc:.0%}); also possible: "
+                     + ", ".join(f"({x:g}, {y:g}) ft {q:.0%}" for (x, y), q in others) + ".")
+        effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability, text,
+                             dict(named.fit.uncertainty), p_loc, others)
     t2 = time.perf_counter()
     before = _pair(model, fm, n_model, max_freq_error=1.0)
     after = _pair(updated, fm, n_model, max_freq_error=1.0)

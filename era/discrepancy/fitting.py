@@ -67,6 +67,8 @@ class Fit:
 
     spec : the effect; location : (x_ft, y_ft) or None; params : (k,) the Param records fitted (nuisance first);
     u : (k,) the most probable transformed parameters; parameters : {name: physical value};
+    uncertainty : {name: 1σ of the physical value} from the Laplace posterior covariance H⁻¹ (value × σ_u for
+    log parameters);
     log_evidence : ln p(D|M) up to a constant common to all candidates (Laplace);
     chi2 : data misfit Σ r² at θ̂; chi2_prior; occam : −½ ln det(diag(σ_prior)² H) (≤ 0 when data inform);
     freq_residual : (n,) (f_model − f_measured)/σ_f at θ̂; freq_error_pct : (n,); mac : (n,);
@@ -78,6 +80,7 @@ class Fit:
     params: tuple
     u: np.ndarray
     parameters: dict
+    uncertainty: dict
     log_evidence: float
     chi2: float
     chi2_prior: float
@@ -157,19 +160,21 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
             u0 = best[1]
     u0 = np.clip(np.asarray(u0, dtype=float), lo + 1e-9, hi - 1e-9)
     sol = least_squares(total, u0, bounds=(lo, hi), diff_step=1e-3, x_scale=[p.prior_std for p in params],
-                        max_nfev=max_nfev)
+                        max_nfev=max_nfev, ftol=1e-5, xtol=1e-5)
     u = sol.x
     J = sol.jac
     H = J.T @ J
     prior_sd = np.array([p.prior_std for p in params])
     sign, logdet = np.linalg.slogdet(H * np.outer(prior_sd, prior_sd))
     occam = -0.5 * logdet if sign > 0 else 0.0
+    sd_u = np.sqrt(np.clip(np.diag(np.linalg.pinv(H)), 0.0, None))
+    unc = {p.name: (p.value(x) * s if p.log else s) for p, x, s in zip(params, u, sd_u)}
     model = build_model(nominal, spec, params, u, location)
     r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)
     chi2 = float(np.sum(r**2))
     chi2_prior = float(np.sum(_prior_residuals(params, u) ** 2))
     return Fit(spec=spec, location=None if location is None else tuple(location), params=params, u=u,
-               parameters={p.name: p.value(x) for p, x in zip(params, u)},
+               parameters={p.name: p.value(x) for p, x in zip(params, u)}, uncertainty=unc,
                log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,
                occam=float(occam), freq_residual=r[: measured.n_modes], freq_error_pct=100 * (fa / measured.frequency_hz - 1),
                mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + sol.nfev + 1)

@@ -28,7 +28,8 @@ class RankedEffect:
     probability (posterior, equal prior odds between candidates); log_bayes_factor against "none";
     parameters {name: value} and location of the best fit; chi2 (data misfit at the best fit); adequate (fit
     consistent with the error levels); max_abs_freq_error_pct, min_mac at the best fit; fit (the Fit record);
-    locations : for located effects, the fully fitted joints as ((x_ft, y_ft), log_evidence), best first.
+    locations : for located effects, the fully fitted joints as ((x_ft, y_ft), log_evidence, probability of
+        the location given the effect), best first.
     seconds : wall-clock time spent on this candidate (screening + fits); n_solves : model solves it took.
     """
 
@@ -52,7 +53,7 @@ class RankedEffect:
                 "log_bayes_factor": self.log_bayes_factor, "parameters": dict(self.parameters),
                 "location": self.location, "chi2": self.chi2, "adequate": self.adequate,
                 "max_abs_freq_error_pct": self.max_abs_freq_error_pct, "min_mac": self.min_mac,
-                "locations": [{"location": loc, "log_evidence": le} for loc, le in self.locations],
+                "locations": [{"location": loc, "log_evidence": le, "probability": p} for loc, le, p in self.locations],
                 "seconds": self.seconds, "n_solves": self.n_solves}
 
 
@@ -62,8 +63,9 @@ def is_adequate(fit: Fit, n_data: int, max_sigma: float = 4.0, max_chi2_per_datu
 
 
 def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
-                     w: ModeWeights, n_model: int, locations: np.ndarray) -> np.ndarray:
-    """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location.
+                     w: ModeWeights, n_model: int, locations: np.ndarray) -> tuple:
+    """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
+    and the size a (n_loc,) of the effect, relative to its trial size, that the linearised fit wants.
 
     r(a, b) ≈ r₀ + a Δ_ℓ + b J_sf, with r₀ the residual of the fitted nominal, Δ_ℓ the change the effect makes at
     its trial size at location ℓ, J_sf the sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act
@@ -78,6 +80,7 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     r0 = resid(base.model)
     j_sf = (resid(build_model(nominal, EffectSpec("none"), (nuisance,), [u_sf + 1e-3])) - r0) / 1e-3
     out = np.empty(len(locations))
+    size = np.zeros(len(locations))
     for i, loc in enumerate(locations):
         d = resid(build_model(nominal, spec, (nuisance,) + tuple(spec.params), [u_sf, *trial_u], loc)) - r0
         A = np.column_stack([d, j_sf])
@@ -85,7 +88,15 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
         if coef[0] < 0:  # only the stiffness factor then
             coef = np.array([0.0, -(j_sf @ r0) / max(j_sf @ j_sf, 1e-300)])
         out[i] = float(np.sum((r0 + A @ coef) ** 2))
-    return out
+        size[i] = coef[0]
+    return out, size
+
+
+def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
+    """Start of a located fit from the screening: the trial size scaled by the linearised size a (within ±3σ)."""
+    p = spec.params[0]
+    u = p.u(spec.trial[p.name]) + (spec.trial_power * np.log(max(size, 1e-3)) if p.log else 0.0)
+    return np.array([base.u[0], np.clip(u, p.prior_mean - 3 * p.prior_std, p.prior_mean + 3 * p.prior_std)])
 
 
 def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
@@ -111,13 +122,15 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             f = fit_effect(nominal, spec, nuisance, measured, w, n_model)
             rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals))
         else:
-            chi2 = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, locations)
+            chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, locations)
             top = np.argsort(chi2, kind="stable")[:refine]
-            fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=locations[i])
-                    for i in top]
+            fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=locations[i],
+                               u0=_start(spec, base, size[i])) for i in top]
             fits.sort(key=lambda f: -f.log_evidence)
-            log_ev = float(logsumexp([f.log_evidence for f in fits]) - np.log(len(locations)))
-            rows.append((spec, log_ev, fits[0], tuple((f.location, f.log_evidence) for f in fits),
+            les = np.array([f.log_evidence for f in fits])
+            log_ev = float(logsumexp(les) - np.log(len(locations)))
+            p_loc = np.exp(les - logsumexp(les))
+            rows.append((spec, log_ev, fits[0], tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc)),
                          time.perf_counter() - t, len(locations) + 2 + sum(f.n_evals for f in fits)))
     log_ev = np.array([r[1] for r in rows])
     prob = np.exp(log_ev - logsumexp(log_ev))

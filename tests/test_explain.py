@@ -1,0 +1,127 @@
+"""era.explain on blind simulated tests of the grid: the truth generator (finer mesh, scattered bars, E error,
+effects parametrised differently from the candidates, gains, noise) hides an effect; explain() sees only the
+records and the nominal model. The full matrix (every effect × seeds) is in tests/bench/bench_explain.py."""
+
+import numpy as np
+import pytest
+
+import era
+from era.discrepancy import ErrorLevels, explain, grid_effects, modes_from_arrays
+from era.grid import nasa_grid
+from era.simulate import simulate_grid_test
+
+_CACHE = {}
+
+
+def blind(effect, seed):
+    """(result, truth) of explain() on one simulated test; computed once per session."""
+    key = (str(effect), seed)
+    if key not in _CACHE:
+        data, truth = simulate_grid_test(effect, seed=seed)
+        _CACHE[key] = (explain(data, nasa_grid(**truth["nominal_params"])), truth)
+    return _CACHE[key]
+
+
+def assert_closed_gap(r):
+    assert r.after.max_abs_freq_error_pct < 0.5
+    assert r.after.min_mac > 0.95
+    assert r.before.max_abs_freq_error_pct > 2 * r.after.max_abs_freq_error_pct
+
+
+def test_semi_rigid_joints_are_named_with_their_stiffness_and_the_gap_closes():
+    r, truth = blind("joint_flexibility", 0)
+    k_true = truth["effect"]["parameters"]["joint_stiffness"]
+    assert r.verdict == "explained" and r.effect.name == "joint_flexibility"
+    assert r.effect.parameters["joint_stiffness"] == pytest.approx(k_true, rel=0.10)
+    assert r.effect.probability > 0.9 and r.effect.location is None
+    assert r.candidate("joint_flexibility").log_bayes_factor > np.log(100)
+    assert_closed_gap(r)
+    assert r.updated_model.params["joint_stiffness"] == pytest.approx(r.effect.parameters["joint_stiffness"])
+    assert "semi-rigid" in r.effect.description
+
+
+def test_added_mass_is_named_at_the_right_joint():
+    r, truth = blind("point_mass", 1)
+    assert r.verdict == "explained" and r.effect.name == "point_mass"
+    assert r.effect.location == truth["effect"]["location"]
+    assert r.effect.parameters["point_mass_kg"] == pytest.approx(truth["effect"]["parameters"]["point_mass_kg"],
+                                                                 rel=0.15)
+    assert_closed_gap(r)
+    # the location was marginalised: the best joint's own evidence exceeds the effect's marginal evidence
+    pm = r.candidate("point_mass")
+    assert pm.locations[0][0] == r.effect.location and pm.locations[0][1] > pm.log_evidence
+    assert r.effect.location_probability > 0.9
+
+
+def test_nominal_without_gravity_is_told_it_misses_the_self_weight_stiffening():
+    r, truth = blind("gravity_stiffening", 0)
+    assert truth["nominal_params"] == {"gravity": False}
+    assert r.verdict == "explained" and r.effect.name == "gravity_stiffening"
+    assert r.before.max_abs_freq_error_pct > 50  # the swing mode sits at 0 Hz without gravity
+    assert_closed_gap(r)
+
+
+def test_no_false_alarm_when_nothing_is_missing():
+    for seed in (1, 2):
+        r, _ = blind(None, seed)
+        assert r.verdict == "no_significant_discrepancy" and r.effect is None
+        assert r.ranking[0].name == "none" or r.ranking[0].log_bayes_factor < np.log(100)
+        assert r.after.max_abs_freq_error_pct < 0.5
+
+
+def test_damaged_bar_outside_the_library_gets_no_confident_wrong_name():
+    r, _ = blind("damaged_bar", 0)
+    assert r.effect is None and r.verdict in ("unexplained", "ambiguous")
+    assert r.residual_modes, "the report must say which modes still disagree"
+    assert "outside the library" in r.message or "equally well" in r.message
+
+
+def test_report_holds_paired_modes_mac_and_serep_shapes_for_viewing():
+    r, _ = blind("joint_flexibility", 0)
+    k = r.fit_modes.size
+    assert r.mac_before.shape[0] == k and r.mac_after.shape == r.mac_before.shape
+    assert r.expanded_measured.shape == (88, k) and r.expanded_model.shape == (88, k)
+    assert r.comac_after.shape == (9,) and r.comac_after.min() > 0.9
+    # SEREP reproduces the measured shapes at the sensor joints (least squares in the model's mode space)
+    sensors = [int(y * 11 + x) for x, y in nasa_grid().sensors]
+    fm = r.measured.shapes[:, r.fit_modes]
+    at_sensors = r.expanded_measured[sensors]
+    assert np.all(era.mac(at_sensors, fm).diagonal() > 0.95)
+    assert np.all(np.diff(r.pairing_after.frequency_measured_hz) > 0)
+    assert r.timing_s["total_s"] > r.timing_s["era_s"]
+    d = r.ranking[0].as_dict()
+    assert {"name", "log_evidence", "probability", "parameters", "adequate"} <= set(d)
+
+
+def test_probabilities_sum_to_one_and_the_nominal_is_the_reference():
+    r, _ = blind("joint_flexibility", 0)
+    assert sum(x.probability for x in r.ranking) == pytest.approx(1.0)
+    assert r.candidate("none").log_bayes_factor == 0.0
+    assert {x.name for x in r.ranking} == {s.name for s in grid_effects(nasa_grid())}
+
+
+def test_a_useless_extra_parameter_is_penalised_by_the_occam_factor():
+    """Exact nominal modes: every effect fits as well as the nominal, so each must lose on evidence."""
+    nominal = nasa_grid(stiffness_factor=1.004)
+    f, s = nominal.modes(10)
+    global_effects = tuple(e for e in grid_effects(nasa_grid()) if not e.located)
+    r = explain(modes_from_arrays(f, s), nasa_grid(), effects=global_effects)
+    assert r.verdict == "no_significant_discrepancy"
+    assert r.ranking[0].name == "none"
+    assert all(x.log_bayes_factor < 0 for x in r.ranking if x.name != "none")
+
+
+def test_mismatched_channels_are_a_clear_error():
+    data, _ = simulate_grid_test(None, seed=0, duration_s=10.0)
+    short = era.ResponseData(markov=data.markov[:, :5, :], dt=data.dt)
+    with pytest.raises(era.DataError, match="9 sensors"):
+        explain(short, nasa_grid())
+    with pytest.raises(era.DataError, match="ResponseData"):
+        explain(np.zeros((10, 9)), nasa_grid())
+
+
+def test_error_levels_give_close_modes_no_shape_weight():
+    mm = modes_from_arrays([1.0, 2.0, 2.02], np.eye(9)[:, :3])
+    w = ErrorLevels().weights(mm, np.array([False, True, True]))
+    assert w.sigma_s[0] == pytest.approx(0.015) and np.all(w.sigma_s[1:] >= 0.3)
+    assert w.sigma_f == pytest.approx(0.0015 * np.array([1.0, 2.0, 2.02]))
