@@ -255,11 +255,12 @@ def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Id
     }
 
 
-def modes_json(model: era.ModalModel, data: era.ResponseData) -> dict:
+def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = True) -> dict:
+    """The modes of one order; with_fit adds the fit of all modes to every channel (one full reconstruction)."""
     contrib = np.asarray(model.contribution, dtype=float)
     top = np.max(contrib[np.isfinite(contrib)]) if np.isfinite(contrib).any() and contrib.size else 1.0
     rel = contrib / top if top > 0 else np.zeros_like(contrib)
-    error = model.fit_error(data)
+    error = model.fit_error(data) if with_fit else None
     return {
         "order": model.order, "n_modes": model.n_modes, "outputs": list(data.outputs), "inputs": list(data.inputs),
         "frequency_hz": floats(model.frequency_hz), "natural_frequency_hz": floats(model.natural_frequency_hz),
@@ -268,7 +269,8 @@ def modes_json(model: era.ModalModel, data: era.ResponseData) -> dict:
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],
-        "fit_percent": fit_percent(error), "fit_percent_overall": float(np.nanmean(100 * (1 - np.minimum(error, 1e6)))),
+        "fit_percent": None if error is None else fit_percent(error),
+        "fit_percent_overall": None if error is None else float(np.nanmean(100 * (1 - np.minimum(error, 1e6)))),
     }
 
 

@@ -9,7 +9,7 @@ from fastapi import APIRouter, HTTPException, Query, Request
 from pydantic import BaseModel, Field
 
 from .. import engine as eng
-from .deps import engine, jobs
+from .deps import engine, jobs, progress_key
 
 router = APIRouter(prefix="/api/analyses", tags=["analyses"])
 
@@ -31,21 +31,26 @@ class ViewerRequest(BaseModel):
 async def create(request: Request, body: AnalysisRequest):
     e = engine(request)
     params = body.model_dump()
-    e.summary(body.dataset_id)  # 404 before queueing work
 
     def work():
         analysis_id, ident = e.new_analysis(body.dataset_id, params)
         return eng.analysis_json(analysis_id, body.dataset_id, params, ident)
 
-    return await jobs(request).heavy(work)
+    ds = e.summary(body.dataset_id)
+    shape = f"{body.rows * ds['n_outputs']} × {body.cols * ds['n_inputs']}"
+    return await jobs(request).heavy(work, progress=progress_key(request),
+                                     message=f"Building H(0), H(1) and taking the SVD of H(0) ({shape})")
 
 
 @router.get("/{analysis_id}", summary="An analysis: parameters and singular values")
 async def read(request: Request, analysis_id: str):
     e = engine(request)
     dataset_id, params = e.analysis(analysis_id)
-    runner = jobs(request).quick if e.is_cached(analysis_id) else jobs(request).heavy
-    ident = await runner(e.identification, analysis_id)
+    if e.is_cached(analysis_id):
+        ident = await jobs(request).quick(e.identification, analysis_id)
+    else:
+        ident = await jobs(request).heavy(e.identification, analysis_id, progress=progress_key(request),
+                                          message="Recomputing the SVD of this analysis")
     return eng.analysis_json(analysis_id, dataset_id, params, ident)
 
 
@@ -53,17 +58,19 @@ async def _model(request: Request, analysis_id: str, order: int):
     e = engine(request)
     e.analysis(analysis_id)  # 404
     if not e.is_cached(analysis_id):  # after a restart: recompute the SVD on the heavy pool first
-        await jobs(request).heavy(e.identification, analysis_id)
+        await jobs(request).heavy(e.identification, analysis_id, progress=progress_key(request),
+                                  message="Recomputing the SVD of this analysis (first use since a restart)")
     return await jobs(request).quick(e.model, analysis_id, order)
 
 
 @router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit")
-async def modes(request: Request, analysis_id: str, order: int = Query(ge=1)):
+async def modes(request: Request, analysis_id: str, order: int = Query(ge=1),
+                fit: bool = Query(True, description="add the fit of all modes per channel (costs a reconstruction)")):
     t0 = time.perf_counter()
     e = engine(request)
     model = await _model(request, analysis_id, order)
     data = e.dataset(e.analysis(analysis_id)[0])[0]
-    out = await jobs(request).quick(eng.modes_json, model, data)
+    out = await jobs(request).quick(eng.modes_json, model, data, fit)
     out["compute_ms"] = round((time.perf_counter() - t0) * 1e3, 2)
     return out
 
@@ -98,7 +105,8 @@ async def stabilization(request: Request, analysis_id: str):
         out["spectrum"] = eng.spectrum_json(ident.data, e.settings)
         return out
 
-    return await jobs(request).heavy(work)
+    return await jobs(request).heavy(work, progress=progress_key(request),
+                                     message="Realizing every order and tracking the stable poles")
 
 
 @router.post("/{analysis_id}/viewer", summary="Publish the modes of one order to the viser viewer")

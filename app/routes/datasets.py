@@ -8,7 +8,7 @@ import era
 
 from .. import engine as eng
 from ..loading import load_upload
-from .deps import engine, jobs
+from .deps import engine, jobs, progress_key
 
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
 
@@ -25,7 +25,7 @@ async def upload(request: Request, file: UploadFile):
         data, geometry, source = load_upload(blob, name)
         return engine(request).add_dataset(data, geometry, name, dict(source, file=name, bytes=len(blob)))
 
-    return await jobs(request).heavy(work)
+    return await jobs(request).heavy(work, progress=progress_key(request), message=f"Reading {name}")
 
 
 @router.get("/{dataset_id}", summary="The summary of a stored dataset")

@@ -12,3 +12,8 @@ def engine(request: Request) -> Engine:
 
 def jobs(request: Request) -> Jobs:
     return request.app.state.jobs
+
+
+def progress_key(request: Request) -> str | None:
+    """The client's name for this request's progress (GET /api/jobs/{key}), from the X-Progress-Key header."""
+    return request.headers.get("x-progress-key")

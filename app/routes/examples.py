@@ -6,7 +6,7 @@ from fastapi import APIRouter, Request
 
 from .. import examples as ex
 from ..engine import NotFound
-from .deps import engine, jobs
+from .deps import engine, jobs, progress_key
 
 router = APIRouter(prefix="/api/examples", tags=["examples"])
 
@@ -27,4 +27,4 @@ async def load_example(request: Request, name: str):
         data, geometry = found.build()
         return engine(request).add_dataset(data, geometry, found.title, {"example": name}, found.rows, found.cols)
 
-    return await jobs(request).heavy(work)
+    return await jobs(request).heavy(work, progress=progress_key(request), message=f"Preparing {found.title}")

@@ -10,7 +10,7 @@ from .. import engine as eng
 from .. import reporting
 from ..engine import NotFound
 from ..store import new_token
-from .deps import engine, jobs
+from .deps import engine, jobs, progress_key
 
 router = APIRouter(prefix="/api/reports", tags=["reports"])
 #: Mode-shape recordings for the report's viser playback, at most this many (kept modes first).
@@ -49,7 +49,8 @@ async def create(request: Request, body: ReportRequest):
         e.store.add_report(token, body.analysis_id, report, files)  # on disk before the link is returned
         return token
 
-    token = await jobs(request).heavy(work)
+    token = await jobs(request).heavy(work, progress=progress_key(request),
+                                      message=f"Freezing the report and recording {min(len(body.modes), MAX_RECORDINGS)} mode shapes")
     return {"token": token, "url": f"/r/{token}"}
 
 

@@ -1,16 +1,46 @@
 // Calls to the backend. Errors come back as {error: message}; they are thrown as Error(message).
 
-export async function api(path, { method = "GET", body } = {}) {
+// progress: optional callback(text) called while heavy work is queued or running (GET /api/jobs/{key}).
+export async function api(path, { method = "GET", body, progress } = {}) {
   const opts = { method, headers: {} };
   if (body !== undefined) {
     opts.headers["Content-Type"] = "application/json";
     opts.body = JSON.stringify(body);
   }
-  const res = await fetch(path, opts);
-  let payload = null;
-  try { payload = await res.json(); } catch { /* not JSON */ }
-  if (!res.ok) throw new Error((payload && payload.error) || `${res.status} ${res.statusText}`);
-  return payload;
+  const stop = progress ? watch(opts.headers, progress) : () => {};
+  try {
+    const res = await fetch(path, opts);
+    let payload = null;
+    try { payload = await res.json(); } catch { /* not JSON */ }
+    if (!res.ok) throw new Error((payload && payload.error) || `${res.status} ${res.statusText}`);
+    return payload;
+  } finally {
+    stop();
+  }
+}
+
+export function describe(p) {
+  if (p.state === "queued") {
+    return `Waiting for ${p.queued_ahead + p.running_total} other computation(s) to finish… ${p.seconds.toFixed(1)} s`;
+  }
+  return `${p.message}… ${p.seconds.toFixed(1)} s`;
+}
+
+// Name the request with a random key and poll its progress until stop() is called.
+function watch(headers, callback) {
+  const key = Array.from(crypto.getRandomValues(new Uint8Array(16)), (b) => b.toString(16).padStart(2, "0")).join("");
+  headers["X-Progress-Key"] = key;
+  let active = true;
+  const poll = async () => {
+    if (!active) return;
+    try {
+      const res = await fetch(`/api/jobs/${key}`);
+      if (res.ok && active) callback(describe(await res.json()));
+    } catch { /* progress is best effort */ }
+    if (active) timer = setTimeout(poll, 400);
+  };
+  let timer = setTimeout(poll, 300);
+  return () => { active = false; clearTimeout(timer); };
 }
 
 // Multipart upload with progress (fetch cannot report upload progress; XMLHttpRequest can).

@@ -54,9 +54,9 @@ async function plotRecords(input) {
   const traces = rec.series.map((y, i) => ({ x: rec.time_s, y, name: rec.outputs[i], type: "scatter", mode: "lines",
                                              line: { width: 1 } }));
   Plotly.react("records-plot", traces, {
-    margin: { l: 55, r: 10, t: 10, b: 40 }, xaxis: { title: { text: "time (s)" } },
+    margin: { l: 55, r: 10, t: 10, b: 30 }, xaxis: { title: { text: "time (s)", standoff: 4 } },
     yaxis: { title: { text: ds.output_units ? ds.output_units[0] : "response" } },
-    legend: { orientation: "h", y: -0.2 }, showlegend: rec.series.length <= 12,
+    legend: { orientation: "h", y: -0.25 }, showlegend: rec.series.length <= 12,
   }, plotConfig);
 }
 
@@ -75,7 +75,8 @@ export function init() {
     for (const ex of list) {
       $("examples").append(el("button", {
         class: "secondary", type: "button", title: ex.description, "data-example": ex.name, text: ex.title,
-        onclick: () => loadDataset(api(`/api/examples/${ex.name}`, { method: "POST" }), `Loading ${ex.title}…`),
+        onclick: () => loadDataset(api(`/api/examples/${ex.name}`, { method: "POST", progress: setStatus }),
+                                   `Loading ${ex.title}…`),
       }));
     }
   }).catch((err) => showError("data-error", err));

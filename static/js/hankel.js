@@ -28,7 +28,8 @@ async function identify() {
   const t0 = performance.now();
   $("hankel-status").textContent = "Building H(0), H(1) and taking the SVD…";
   try {
-    const a = await api("/api/analyses", { method: "POST", body });
+    const a = await api("/api/analyses", { method: "POST", body,
+                                           progress: (text) => { $("hankel-status").textContent = text; } });
     $("hankel-status").textContent =
       `H(0) is ${a.hankel_shape[0]} × ${a.hankel_shape[1]} (${a.svd_method} SVD, ${((performance.now() - t0) / 1000).toFixed(2)} s); ` +
       `orders up to ${a.max_order} available.`;

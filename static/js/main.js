@@ -22,7 +22,7 @@ async function pump() {
   busy = true;
   try {
     // Both at once: the modes of this order, and the reconstruction with the modes the thresholds keep.
-    const [modes, rec] = await Promise.all([api(`/api/analyses/${state.analysis.id}/modes?order=${order}`),
+    const [modes, rec] = await Promise.all([api(`/api/analyses/${state.analysis.id}/modes?order=${order}&fit=false`),
                                             reconstruction.fetchFor(order, "thresholds")]);
     const t1 = performance.now();
     if (order === state.order) {

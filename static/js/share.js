@@ -10,7 +10,8 @@ async function createReport() {
   $("share-status").textContent = "Freezing the analysis…";
   try {
     const kept = [...state.kept].sort((a, b) => a - b);
-    const r = await api("/api/reports", { method: "POST", body: { analysis_id: state.analysis.id, order: state.order, modes: kept } });
+    const r = await api("/api/reports", { method: "POST", body: { analysis_id: state.analysis.id, order: state.order, modes: kept },
+                                          progress: (text) => { $("share-status").textContent = text; } });
     const url = new URL(r.url, location.href).href;
     $("report-link").href = r.url;
     $("report-link").textContent = url;

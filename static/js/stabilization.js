@@ -79,9 +79,16 @@ export function init() {
     state.stabilization = null;
     Plotly.purge(PLOT);
     try {
-      state.stabilization = await api(`/api/analyses/${a.id}/stabilization`);
+      const status = document.getElementById("stab-status");
+      status.textContent = "Computing the stabilization diagram…";
+      state.stabilization = await api(`/api/analyses/${a.id}/stabilization`,
+                                      { progress: (text) => { status.textContent = text; } });
+      status.textContent = `${state.stabilization.orders.length} orders (${state.stabilization.orders[0]}–` +
+        `${state.stabilization.orders.at(-1)}), ${state.stabilization.order.length} poles, ` +
+        `${state.stabilization.modes.length} modes stable over ≥ 3 orders.`;
       if (state.analysis && state.analysis.id === a.id) draw();
     } catch (err) {
+      document.getElementById("stab-status").textContent = "";
       document.getElementById(PLOT).textContent = err.message;
     }
   });

@@ -54,8 +54,7 @@ export function render() {
 }
 
 function note() {
-  $("table-note").textContent = `${state.kept.size} of ${state.modes.n_modes} modes kept · overall fit of all modes ` +
-    `${state.modes.fit_percent_overall.toFixed(2)} %`;
+  $("table-note").textContent = `${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
 }
 
 function markSelected() {

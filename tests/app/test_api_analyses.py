@@ -22,6 +22,8 @@ def test_case_1_identifies_five_modes_at_order_10(tmp_path):
         assert min(m["emac"]) > 0.999 and min(m["mpc"]) > 0.999
         assert m["fit_percent"][0][0] > 99.99
         assert len(m["shapes_re"]) == 5 and len(m["shapes_re"][0]) == 1
+        quick = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 10, "fit": False}).json()
+        assert quick["fit_percent"] is None and quick["frequency_hz"] == m["frequency_hz"]
 
 
 def test_lower_order_is_realized_from_the_same_svd(tmp_path):

@@ -96,3 +96,34 @@ def test_store_uses_wal_and_atomic_files(tmp_path):
     assert target.read_bytes() == b"two"
     assert [p.name for p in target.parent.iterdir()] == ["f.bin"]  # no temporary left behind
     store.close()
+
+
+def test_progress_of_a_named_heavy_request(tmp_path):
+    with client(tmp_path) as c:
+        ds = upload(c, case1_npz()).json()
+        key = "k" * 20
+        r = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 90, "cols": 90},
+                   headers={"X-Progress-Key": key})
+        assert r.status_code == 200
+        p = c.get(f"/api/jobs/{key}").json()
+        assert p["state"] == "done" and "SVD of H(0) (90 × 90)" in p["message"] and p["seconds"] >= 0
+        assert c.get("/api/jobs/unknownkey123").status_code == 404
+
+
+def test_progress_says_queued_then_running():
+    async def scenario():
+        jobs = Jobs(heavy_workers=1, heavy_queue=2)
+        first = asyncio.create_task(jobs.heavy(time.sleep, 0.4, progress="first-job", message="Sleeping"))
+        await asyncio.sleep(0.05)
+        second = asyncio.create_task(jobs.heavy(time.sleep, 0.1, progress="second-job", message="Next"))
+        await asyncio.sleep(0.05)
+        during = jobs.progress("first-job"), jobs.progress("second-job")
+        await asyncio.gather(first, second)
+        after = jobs.progress("second-job")
+        jobs.shutdown()
+        return during, after
+
+    (first, second), after = asyncio.run(scenario())
+    assert first["state"] == "running" and first["message"] == "Sleeping"
+    assert second["state"] == "queued" and second["queued_ahead"] == 0 and second["running_total"] == 1
+    assert after["state"] == "done"

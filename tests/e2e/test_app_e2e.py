@@ -145,6 +145,8 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         page.wait_for_function("document.getElementById('order-value').textContent === '8' && "
                                "document.querySelectorAll('#modes-table tbody tr').length === 4")
         page.wait_for_function("window.eraTiming.parts.some(p => p.order === 8)")
+        print("slider updates (ms, slider -> table + poles + reconstruction drawn):",
+              [round(x) for x in page.evaluate("window.eraTiming.order")])
         assert "4 kept modes" in page.text_content("#recon-fit") or "kept modes" in page.text_content("#recon-fit")
 
         # 3. click a pole of order 10 in the stabilization diagram: order 10 and that mode are selected everywhere
