@@ -136,3 +136,21 @@ def test_modes_written_as_uff55_read_back_with_their_geometry(tmp_path, frf_file
     back = era.load(out)
     assert back.data is None and back.geometry.edges.tolist() == [[0, 1], [1, 2], [2, 3]]
     assert back.modes.node_ids.tolist() == [1, 2, 3, 9]
+
+
+def test_universal_2411_nodes_and_content_sniffing_without_a_file_name(tmp_path):
+    import pyuff
+    nodes = pyuff.prepare_2411(node_nums=np.array([10, 20]), def_cs=np.array([1, 1]), disp_cs=np.array([1, 1]),
+                               color=np.array([1, 1]), x=np.array([0.0, 0.5]), y=np.zeros(2), z=np.zeros(2))
+    t = np.arange(2000) * 0.01
+    decay = np.exp(-0.3 * t) * np.sin(2 * np.pi * 4 * t)
+    sets = [nodes, U.record58(decay, 0.0, 0.01, (20, -2), name="tip -Y")]
+    U.write(tmp_path / "model.unv", sets)
+    ds = era.load((tmp_path / "model.unv").read_bytes(), name="upload")  # no extension: sniffed from '    -1'
+    assert ds.source["format"] == "uff" and ds.source["kind"] == "decay"
+    assert ds.data.outputs == ("tip -Y",)
+    assert ds.geometry.node_ids.tolist() == [10, 20] and ds.geometry.channel_nodes.tolist() == [1]
+    np.testing.assert_array_equal(ds.geometry.channel_directions, [[0, -1, 0]])
+    model = era.identify(ds.data, rows=20, cols=20).realize(order=2)
+    assert model.frequency_hz[0] == pytest.approx(4.0, rel=1e-6)  # damped frequency of the record
+    assert model.damping_ratio[0] == pytest.approx(0.3 / np.hypot(0.3, 2 * np.pi * 4), rel=1e-5)
