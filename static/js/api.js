@@ -44,11 +44,16 @@ function watch(headers, callback) {
 }
 
 // Multipart upload with progress (fetch cannot report upload progress; XMLHttpRequest can).
-export function upload(path, file, onProgress) {
+// onProgress(fraction) while the bytes go up; onWork(text) while the server reads the file.
+export function upload(path, file, onProgress, onWork) {
   return new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
     xhr.open("POST", path);
+    const headers = {};
+    const stop = watch(headers, onWork || (() => {}));
+    for (const [k, v] of Object.entries(headers)) xhr.setRequestHeader(k, v);
     xhr.upload.onprogress = (e) => { if (e.lengthComputable) onProgress(e.loaded / e.total); };
+    xhr.onloadend = stop;
     xhr.onload = () => {
       let payload = null;
       try { payload = JSON.parse(xhr.responseText); } catch { /* not JSON */ }

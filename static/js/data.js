@@ -29,7 +29,7 @@ function uploadFile(file) {
   const p = upload("/api/datasets", file, (f) => {
     bar.value = f;
     setStatus(f < 1 ? `Uploading ${file.name}: ${Math.round(100 * f)} %` : `Reading ${file.name}…`);
-  });
+  }, setStatus);
   return loadDataset(p, `Uploading ${file.name}…`);
 }
 
