@@ -13,6 +13,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
+from ..markov._common import uneven_step
 from .records import Records
 
 _TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|sec|seconds)$", re.I)
@@ -100,6 +101,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
         t = None
     if table.shape[1] == 0:
         raise DataError(f"{label}: a time column but no channel columns.")
+    resolution = _printed_resolution([_split(ln, delim)[0] for _, ln in numbered[:200]]) if t is not None else 0.0
     groups = [np.arange(len(table))] if tests is None else [np.flatnonzero(tests == v)
                                                             for v in dict.fromkeys(tests.tolist())]
     values, step, start = [], None, 0.0
@@ -108,13 +110,10 @@ def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
             tg = t[g]
             if len(tg) < 2:
                 raise DataError(f"{label}: record at line {line_of[g[0]]} has a single sample.")
-            steps = np.diff(tg)
-            h = float(np.median(steps))
-            bad = np.flatnonzero(np.abs(steps - h) > 1e-3 * abs(h))
-            if h <= 0 or bad.size:
-                k = int(bad[0]) if bad.size else 0
-                raise DataError(f"{label}, line {line_of[g[k + 1]]}: the time step is {steps[k]:g} s where the typical "
-                                f"step is {h:g} s; samples must be evenly spaced (no gaps, no repeats).")
+            h, k = uneven_step(tg, resolution)
+            if k is not None:
+                raise DataError(f"{label}, line {line_of[g[k + 1]]}: the time step is {tg[k + 1] - tg[k]:g} s where "
+                                f"the typical step is {h:g} s; samples must be evenly spaced (no gaps, no repeats).")
             if step is not None and abs(h - step) > 1e-6 * step:
                 raise DataError(f"{label}, line {line_of[g[0]]}: this record is sampled every {h:g} s, the first "
                                 f"every {step:g} s; every record must share the sampling step.")
@@ -144,6 +143,16 @@ def _first_bad_line(numbered, delim, decimal_comma, numeric, n_cols, label) -> s
             except ValueError:
                 return f"{label}, line {k}, column {c + 1}: {cells[c]!r} is not a number."
     return None
+
+
+def _printed_resolution(cells: list[str]) -> float:
+    """The finest step the time values were printed with: 1e-6 for '0.000391', 1e-9 for '3.906e-06'."""
+    finest = 0.0
+    for cell in cells:
+        m = re.match(r"^[+-]?\d*[.,]?(\d*)(?:[eE]([+-]?\d+))?$", cell.strip())
+        if m:
+            finest = max(finest, 10.0 ** (int(m.group(2) or 0) - len(m.group(1))))
+    return finest
 
 
 def _finite(table: np.ndarray, label: str, line_of: np.ndarray) -> None:

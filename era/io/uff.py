@@ -14,6 +14,7 @@ import pyuff
 
 from ..errors import DataError
 from ..geometry import Geometry
+from ..markov._common import uneven_step
 from .records import Records, check_finite
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
@@ -134,13 +135,11 @@ def _function_record(i: int, line: _Line, d: dict, label: str) -> dict | None:
         x0, dx = float(d["abscissa_min"]), float(d["abscissa_inc"])
     else:  # uneven abscissa: accept it only if it is in fact even
         check_finite(x, where + " abscissa")
-        steps = np.diff(x)
-        dx, x0 = float(np.median(steps)), float(x[0])
-        bad = np.flatnonzero(np.abs(steps - dx) > 1e-6 * abs(dx))
-        if bad.size or dx <= 0:
-            k = int(bad[0]) if bad.size else 0
-            raise DataError(f"{where}: the abscissa is not evenly spaced (step {steps[k]:g} after value {k}, typical "
-                            f"{dx:g}); ERA needs a constant sampling step.")
+        dx, k = uneven_step(x, 1e-5 * np.abs(x).max())  # ASCII 58 writes the abscissa as E13.5
+        x0 = float(x[0])
+        if k is not None:
+            raise DataError(f"{where}: the abscissa is not evenly spaced (step {x[k + 1] - x[k]:g} after value {k}, "
+                            f"typical {dx:g}); ERA needs a constant sampling step.")
     if not (np.isfinite(dx) and dx > 0 and np.isfinite(x0)):
         raise DataError(f"{where}: abscissa increment {dx!r} is not a positive number.")
     num = _QUANTITY.get(int(d.get("ordinate_spec_data_type", 0)), "")

@@ -49,3 +49,26 @@ def positive_int(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise DataError(f"`{name}` must be a positive integer, got {value!r}.")
     return int(value)
+
+
+def uneven_step(x: np.ndarray, resolution: float = 0.0) -> tuple[float, int | None]:
+    """The sampling step of an abscissa (time or frequency) and the index of the first step that breaks it.
+
+    ``resolution`` is how finely the values were written (e.g. 1e-6 s for times printed with 6 decimals): steps may
+    jitter by that much, and by 1e-4 of a step, around the line x0 + k·h. Anything more is a gap, a repeat or a
+    restart. Returns (h, None) for an even abscissa, (typical step, i) when step x[i+1] - x[i] is the first bad one.
+    """
+    steps = np.diff(x)
+    typical = float(np.median(steps))
+    if typical <= 0:
+        return typical, int(np.argmax(steps <= 0))
+    tol = max(1e-4 * typical, float(resolution))
+    # two rounded values make a step, and the median step is rounded too: steps may differ by 2 resolutions
+    bad = np.flatnonzero(np.abs(steps - typical) > 2 * tol)
+    if bad.size:
+        return typical, int(bad[0])
+    h = float(x[-1] - x[0]) / (len(x) - 1)  # the fit through the ends: rounding errors average out
+    drift = np.abs(x - (x[0] + h * np.arange(len(x))))
+    if drift.max() > tol:
+        return typical, max(int(np.argmax(drift)) - 1, 0)
+    return h, None

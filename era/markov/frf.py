@@ -12,6 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
+from ._common import uneven_step
 
 #: Power of iω that turns displacement into each quantity: receptance (x/F), mobility (v/F), accelerance (a/F).
 FRF_TYPES = {"receptance": 0, "mobility": 1, "accelerance": 2}
@@ -50,14 +51,11 @@ def frequency_grid(frequencies_hz, n_lines: int) -> tuple[float, int]:
         raise DataError(f"Only {f.size} frequency lines; an FRF needs many lines (hundreds) to give a pulse response.")
     if not np.isfinite(f).all():
         raise DataError("`frequencies_hz` holds NaN or infinite values.")
-    steps = np.diff(f)
-    df = float(np.median(steps))
-    if df <= 0:
-        raise DataError("`frequencies_hz` must increase.")
-    worst = int(np.argmax(np.abs(steps - df)))
-    if abs(steps[worst] - df) > 1e-6 * df + 1e-9 * abs(f[-1]):
+    df, worst = uneven_step(f, 1e-6 * abs(f[-1]))  # frequencies printed with 7 significant digits or more
+    if worst is not None:
         raise DataError(f"Frequencies are not evenly spaced: the step after line {worst} ({f[worst]:g} Hz) is "
-                        f"{steps[worst]:g} Hz, the typical step {df:g} Hz. Resample the FRF on an even grid first.")
+                        f"{f[worst + 1] - f[worst]:g} Hz, the typical step {df:g} Hz. Resample the FRF on an even "
+                        "grid first.")
     first = f[0] / df
     if f[0] < -1e-9 * df or abs(first - round(first)) > 1e-3:
         raise DataError(f"The first frequency {f[0]:g} Hz is not a whole multiple of the step {df:g} Hz; the inverse "

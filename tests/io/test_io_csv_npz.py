@@ -101,3 +101,16 @@ def test_npz_round_trip_with_labels_and_geometry(tmp_path):
     np.testing.assert_array_equal(ds.geometry.channel_directions, geom.channel_directions)
     era.save_npz(tmp_path / "a.npz", data)
     assert era.load(tmp_path / "a.npz").geometry is None
+
+
+def test_times_printed_with_few_decimals_are_even_but_a_dropped_sample_is_not():
+    t = np.arange(2000) / 25600  # 39.0625 µs, printed as 0.000039, 0.000078, 0.000117, ...
+    y = np.sin(2 * np.pi * 1000 * t) * np.exp(-30 * t)
+    text = "time,a\n" + "".join(f"{a:.6f},{b:.6f}\n" for a, b in zip(t, y))
+    ds = era.load(text.encode(), name="logger.csv", kind="decay")
+    assert ds.data.dt == pytest.approx(1 / 25600, rel=1e-5)
+    assert era.identify(ds.data, 20, 20).realize(order=2).frequency_hz[0] == pytest.approx(1000, rel=1e-5)
+    lines = text.splitlines()
+    del lines[701]  # sample 700 lost
+    with pytest.raises(era.DataError, match="logger.csv, line 702: the time step is 7.8e-05 s where the typical"):
+        era.load("\n".join(lines).encode(), name="logger.csv", kind="decay")
