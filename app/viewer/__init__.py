@@ -60,7 +60,8 @@ class ModeViewer:
     def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None) -> str:
         """Register modes to show; returns a random key (128 bits, URL-safe).
 
-        geometry : era.Geometry, or None for the p sensors in a row (scene.default_geometry)
+        geometry : era.Geometry, or None for the p sensors in a row (scene.geometry_for: also when the geometry
+            places no channel; a channel with unknown direction measures +z)
         frequency_hz : (modes,) Hz; shapes : (p, modes) complex; labels : one string per mode or None
         Raises era.DataError when the sizes do not match."""
         return self.registry.publish(geometry, frequency_hz, shapes, labels)

@@ -70,8 +70,7 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
     interpolate : move unmeasured nodes with the spline through the sensors (scene.py), else they stay put
     """
     psi = np.asarray(shapes, dtype=complex)
-    if geometry is None:
-        geometry = scene.default_geometry(psi.shape[0] if psi.ndim else 0)
+    geometry = scene.geometry_for(geometry, psi.shape[0] if psi.ndim else 0)
     f, psi = scene.check_modes(geometry, frequency_hz, psi)
     if isinstance(mode_index, bool) or int(mode_index) != mode_index or not 0 <= int(mode_index) < f.size:
         raise DataError(f"Mode index {mode_index!r} is out of range: choose 0 to {f.size - 1}.")

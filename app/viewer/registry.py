@@ -94,8 +94,7 @@ class Registry:
 
     def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None) -> str:
         psi = np.asarray(shapes, dtype=complex)
-        if geometry is None:
-            geometry = scene.default_geometry(psi.shape[0] if psi.ndim else 0)
+        geometry = scene.geometry_for(geometry, psi.shape[0] if psi.ndim else 0)
         f, psi = scene.check_modes(geometry, frequency_hz, psi)
         entry = Published(
             geometry=geometry, frequency_hz=f, shapes=psi, labels=scene.mode_labels(f, labels),

@@ -78,6 +78,20 @@ def default_geometry(n_channels: int) -> Geometry:
     )
 
 
+def geometry_for(geometry: Geometry | None, n_channels: int) -> Geometry:
+    """The geometry to draw for p = `n_channels` channels: `geometry` with +z for channels whose direction is unknown
+    (zeros), or `default_geometry(p)` when there is none or it places none of the channels on a node."""
+    if geometry is None or not (geometry.channel_nodes >= 0).any():
+        return default_geometry(n_channels)
+    unknown = ~geometry.channel_directions.any(axis=1)
+    if not unknown.any():
+        return geometry
+    directions = geometry.channel_directions.copy()
+    directions[unknown] = (0.0, 0.0, 1.0)
+    return Geometry(node_ids=geometry.node_ids, coordinates=geometry.coordinates, edges=geometry.edges,
+                    channel_nodes=geometry.channel_nodes, channel_directions=directions, units=geometry.units)
+
+
 def check_modes(geometry: Geometry, frequency_hz, shapes) -> tuple[np.ndarray, np.ndarray]:
     """Validate and return (frequency_hz (modes,) float, shapes (p, modes) complex) for `geometry`.
 

@@ -152,6 +152,18 @@ def test_default_geometry_puts_the_sensors_in_a_row_measuring_z():
     assert one.segments.shape == (0, 2, 3) and one.sensor_points.shape == (1, 3)
 
 
+def test_a_geometry_without_placed_channels_falls_back_and_unknown_directions_measure_z():
+    g = grid()
+    unplaced = Geometry(node_ids=g.node_ids, coordinates=g.coordinates, edges=g.edges,
+                        channel_nodes=np.full(9, -1), channel_directions=np.zeros((9, 3)))
+    assert scene.geometry_for(unplaced, 9).units == "channel" and scene.geometry_for(None, 4).n_nodes == 4
+    undirected = Geometry(node_ids=g.node_ids, coordinates=g.coordinates, edges=g.edges,
+                          channel_nodes=g.channel_nodes, channel_directions=np.zeros((9, 3)))
+    drawn = scene.geometry_for(undirected, 9)
+    assert drawn.n_nodes == 88 and np.all(drawn.channel_directions == [0, 0, 1])
+    assert scene.geometry_for(g, 9) is g
+
+
 def test_mismatched_modes_are_refused_with_a_message():
     g = grid()
     with pytest.raises(DataError, match="8 rows but the geometry places 9 channels"):
