@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 import threading
 from collections import OrderedDict
-from typing import Callable
 
 import numpy as np
 
@@ -347,10 +346,3 @@ def stabilization_json(stab, ident: era.Identification) -> dict:
                    "mpc": mo.mpc, "orders": list(mo.orders)} for mo in stab.modes],
         "nyquist_hz": 0.5 / ident.dt,
     }
-
-
-def timed(fn: Callable, *args):
-    import time
-    t0 = time.perf_counter()
-    out = fn(*args)
-    return out, (time.perf_counter() - t0) * 1e3

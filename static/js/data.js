@@ -1,6 +1,6 @@
 // Panel 1: upload (drag and drop, progress), examples, the dataset summary and the records.
 import { api, upload } from "./api.js";
-import { state, emit, on, el, showError, plotConfig } from "./state.js";
+import { state, emit, on, el, showError, plotConfig, plain } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -51,11 +51,11 @@ function renderSummary(ds) {
 async function plotRecords(input) {
   const ds = state.dataset;
   const rec = await api(`/api/datasets/${ds.id}/records?input=${input}`);
-  const traces = rec.series.map((y, i) => ({ x: rec.time_s, y, name: rec.outputs[i], type: "scatter", mode: "lines",
+  const traces = rec.series.map((y, i) => ({ x: rec.time_s, y, name: plain(rec.outputs[i]), type: "scatter", mode: "lines",
                                              line: { width: 1 } }));
   Plotly.react("records-plot", traces, {
     margin: { l: 55, r: 10, t: 10, b: 30 }, xaxis: { title: { text: "time (s)", standoff: 4 } },
-    yaxis: { title: { text: ds.output_units ? ds.output_units[0] : "response" } },
+    yaxis: { title: { text: plain(ds.output_units ? ds.output_units[0] : "response") } },
     legend: { orientation: "h", y: -0.25 }, showlegend: rec.series.length <= 12,
   }, plotConfig);
 }

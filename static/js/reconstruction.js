@@ -2,7 +2,7 @@
 // The server decides which modes are kept by the thresholds (the same rule for the table), so one request per
 // slider step gives both the kept set and the curves.
 import { api } from "./api.js";
-import { state, on, el, plotConfig } from "./state.js";
+import { state, on, el, plotConfig, plain } from "./state.js";
 import { thresholds } from "./table.js";
 
 const $ = (id) => document.getElementById(id);
@@ -29,7 +29,7 @@ export function draw(r) {
     { x: r.time_s, y: r.reconstructed, name: "reconstructed", type: "scatter", mode: "lines",
       line: { color: "#e4572e", width: 1.5, dash: "dash" } },
   ], { margin: { l: 55, r: 10, t: 10, b: 40 }, xaxis: { title: { text: "time (s)" } },
-       yaxis: { title: { text: `${r.output} / ${r.input}` } }, legend: { orientation: "h", y: 1.12 } }, plotConfig);
+       yaxis: { title: { text: plain(`${r.output} / ${r.input}`) } }, legend: { orientation: "h", y: 1.12 } }, plotConfig);
 }
 
 // Redraw for the current order and kept set (after a keep/reject click or a channel change).

@@ -6,6 +6,8 @@
   const $ = (id) => document.getElementById(id);
   const cfg = { responsive: true, displaylogo: false };
   let animation = null;
+  // Plotly reads a few HTML tags in categories and titles: channel names must show as typed.
+  const plain = (t) => String(t).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
 
   function el(tag, text, attrs) {
     const n = document.createElement(tag);
@@ -158,8 +160,8 @@
     $("report-shape").style.height = g ? "460px" : "300px";  // the viser playback shows it; the plotly view is for the offline file
     if (live) return;
     if (!g) {
-      Plotly.react("report-shape", [{ x: m.outputs, y: re, type: "bar", name: "real" },
-                                    { x: m.outputs, y: m.shapes_im[k], type: "bar", name: "imaginary" }],
+      Plotly.react("report-shape", [{ x: m.outputs.map(plain), y: re, type: "bar", name: "real" },
+                                    { x: m.outputs.map(plain), y: m.shapes_im[k], type: "bar", name: "imaginary" }],
                    { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group" }, cfg);
       return;
     }

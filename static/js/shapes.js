@@ -1,7 +1,7 @@
 // Panel 6: the selected mode shape: animated in the viser viewer (iframe) when the server has it, and its
 // components per channel in a bar chart.
 import { api } from "./api.js";
-import { state, on, el, plotConfig } from "./state.js";
+import { state, on, el, plotConfig, plain } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
 let viewer = null;          // {key, url, mode_url, order} of the published modes, or null
@@ -32,8 +32,8 @@ async function showMode() {
   $("shape-title").textContent = `mode ${k + 1}: ${m.frequency_hz[k].toFixed(4)} Hz, ζ ${(100 * m.damping_ratio[k]).toFixed(3)} %`;
   const re = m.shapes_re[k], im = m.shapes_im[k];
   Plotly.react("shape-plot", [
-    { x: m.outputs, y: re, name: "real", type: "bar", marker: { color: "#1f5fbf" } },
-    { x: m.outputs, y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
+    { x: m.outputs.map(plain), y: re, name: "real", type: "bar", marker: { color: "#1f5fbf" } },
+    { x: m.outputs.map(plain), y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
   ], { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group", yaxis: { title: { text: "shape (largest = 1)" } },
        legend: { orientation: "h", y: 1.15 } }, plotConfig);
   // Publishing loads a new viewer page; wait until the order slider has settled so dragging stays fast.

@@ -28,3 +28,9 @@ export function showError(id, err) {
 }
 
 export const plotConfig = { responsive: true, displaylogo: false };
+
+// Plotly reads a few HTML tags and entities in trace names, titles and categories; channel and file names
+// must show as typed, so escape them (plotly turns the entities back into the characters).
+export function plain(text) {
+  return String(text).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
+}

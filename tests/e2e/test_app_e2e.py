@@ -116,7 +116,7 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
     upload = tmp_path / "case2 <i>italic.npz"
     case2 = era.paper.case_2(200, mimo=True)
     era.save_npz(str(upload), era.ResponseData(case2.markov, case2.dt, outputs=(EVIL, "sensor 2"),
-                                               inputs=("IC 1", "IC 2")))
+                                               inputs=("IC <b>1</b>", "IC 2")))
     server = Server(data_dir, tmp_path / "server1.log")
     try:
         page = browser.new_page(viewport={"width": 1400, "height": 1000})
@@ -132,6 +132,9 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         assert EVIL in summary and "case2 <i>italic.npz" in summary  # names shown as text
         assert page.locator("#summary img, #summary i").count() == 0
         assert page.evaluate("window.__xss") is None
+        page.wait_for_selector("#recon-plot .ytitle")
+        assert "IC <b>1</b>" in page.text_content("#recon-plot .ytitle")  # plotly shows it as typed, not bold
+        assert page.locator("#recon-plot .ytitle b, #recon-plot .ytitle [style*=bold]").count() == 0
         assert page.input_value("#rows") == "90" and page.input_value("#max-order") == "180"
         assert page.text_content("#order-value") == "10"
         assert len(table_rows(page, "#modes-table")) == 5
