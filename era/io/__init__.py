@@ -6,13 +6,15 @@ Readers (uff.py, csv.py, npz.py) return what the file holds; records.py picks th
 from __future__ import annotations
 
 import os
+import struct
 import tempfile
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..data import ResponseData
-from ..errors import DataError
+from ..errors import DataError, EraError
 from ..geometry import Geometry
 from .csv import merge, read_csv
 from .npz import read_npz, save_npz
@@ -117,14 +119,24 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
             raise DataError(f"{lab}: the file is empty.")
     if len(raws) > 1 and fmt != "csv":
         raise DataError("Several files are read together only as CSV (one record each); load UFF and NPZ one by one.")
-    modes, parts, geometry = None, None, None
     if fmt == "npz":
         data, geometry, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
         return Dataset(data, geometry, _source(labels, fmt, "markov", described, data), None)
-    if fmt == "csv":
-        rec = merge([read_csv(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
-    else:
-        rec, parts, modes = _read_uff_bytes(raws[0][0], labels[0], sources[0])
+    try:
+        if fmt == "csv":
+            rec = merge([read_csv(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
+            return _convert(rec, None, None, labels, fmt, kind, options)
+        with _on_disk(raws[0][0], sources[0]) as path:  # messages may count lines in it until the end
+            rec, parts, modes = read_uff(path, labels[0])
+            return _convert(rec, parts, modes, labels, fmt, kind, options)
+    except EraError:
+        raise
+    except (ValueError, TypeError, IndexError, KeyError, OverflowError, struct.error) as exc:
+        # last resort: a malformed file that slipped past the checks must still not surface as a stack trace
+        raise DataError(f"{labels[0]}: cannot be read as {fmt.upper()} ({type(exc).__name__}: {exc}).") from None
+
+
+def _convert(rec, parts, modes, labels, fmt, kind, options) -> Dataset:
     if rec is None:
         if parts is None and modes is None:
             raise DataError(f"{labels[0]}: no function records (UFF 58), nodes (15/2411) or modes (55) in this file.")
@@ -134,20 +146,24 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         data, used = to_response(rec, kind, **options)
     except TypeError as exc:  # an option the conversion does not take
         raise DataError(f"{labels[0]}: {exc}") from None
+    geometry = None
     if rec.nodes is not None:
         keep = ~rec.force if used == "io" and rec.force is not None else np.ones(len(rec.nodes), bool)
         geometry = build_geometry(parts, rec.nodes[keep], rec.directions[keep], labels[0])
     return Dataset(data, geometry, _source(labels, fmt, used, rec.described, data), modes)
 
 
-def _read_uff_bytes(raw: bytes, label: str, src):
+@contextmanager
+def _on_disk(raw: bytes, src):
+    """A path to the file for pyuff: the caller's own, or a temporary copy of uploaded bytes."""
     if isinstance(src, (str, os.PathLike)):
-        return read_uff(os.fspath(src), label)
-    with tempfile.TemporaryDirectory() as tmp:  # pyuff reads from a path
+        yield os.fspath(src)
+        return
+    with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "upload.uff")
         with open(path, "wb") as fh:
             fh.write(raw)
-        return read_uff(path, label)
+        yield path
 
 
 def _source(labels, fmt, kind, described, data) -> dict:

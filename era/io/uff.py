@@ -104,7 +104,7 @@ def read_sets(path: str, label: str) -> list[tuple[int, "_Line", dict]]:
             dset = uff.read_sets(i)
         except Exception as exc:
             raise DataError(f"{label}: data set #{i + 1} (UFF {int(t)}) starting at line {line} is corrupt and "
-                            f"cannot be parsed ({exc}).") from None
+                            f"cannot be parsed (pyuff: {exc}). Export the file again or remove that data set.") from None
         out.append((i, line, dset))
     return out
 
@@ -267,7 +267,11 @@ def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
         else:
             s = complex(d["eig"])
             f, z = abs(s) / 2 / np.pi, (-s.real / abs(s) if s else 0.0)
-        shape = np.stack([np.asarray(d.get(f"r{k}", np.zeros(nodes.size)), dtype=complex) for k in (1, 2, 3)], 1)
+        columns = [np.asarray(d.get(f"r{k}", np.zeros(nodes.size)), dtype=complex).reshape(-1) for k in (1, 2, 3)]
+        if any(c.size != nodes.size for c in columns):
+            raise DataError(f"{where}: {[c.size for c in columns]} x/y/z values for {nodes.size} nodes; the data set is "
+                            "truncated or corrupt.")
+        shape = np.stack(columns, 1)
         check_finite(shape, where, row_name="node row")
         freq.append(f)
         zeta.append(z)
@@ -280,8 +284,12 @@ def _geometry_parts(sets, label: str):
     ids, xyz, traces = [], [], []
     for i, line, d in sets:
         if d.get("type") in (15, 2411):
-            ids.append(np.asarray(d["node_nums"], dtype=int))
-            xyz.append(np.stack([np.asarray(d[k], dtype=float) for k in "xyz"], axis=1))
+            ids.append(np.asarray(d["node_nums"], dtype=int).reshape(-1))
+            cols = [np.asarray(d[k], dtype=float).reshape(-1) for k in "xyz"]
+            if any(c.size != ids[-1].size for c in cols):
+                raise DataError(f"{label}: data set #{i + 1} (UFF {d['type']}, line {line}) lists {ids[-1].size} nodes "
+                                f"but {[c.size for c in cols]} x/y/z coordinates; it is truncated or corrupt.")
+            xyz.append(np.stack(cols, axis=1))
         elif d.get("type") == 82:
             traces.append((i, line, np.asarray(d["nodes"], dtype=int)))
     if not ids:
