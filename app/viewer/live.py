@@ -67,31 +67,35 @@ class Session:
         gui.add_markdown(LEGEND)
 
         # Only a person's change (event.client set) goes to the key's state; programmatic syncs do not echo back.
+        def apply(event, **changes):
+            if event.client is None:
+                return
+            try:
+                viewer.set_mode(key, **changes)
+            except (KeyError, ValueError):                 # the key expired meanwhile: nothing left to steer
+                log.debug("viewer key %s gone", key)
+
         def on_mode(event):
-            if event.client is not None:
-                viewer.set_mode(key, index=entry.labels.index(self.mode.value))
+            apply(event, index=entry.labels.index(self.mode.value))
 
         def on_amplitude(event):
-            if event.client is not None:
-                viewer.set_mode(key, amplitude=self.amplitude.value)
+            apply(event, amplitude=self.amplitude.value)
 
         def on_speed(event):
-            if event.client is not None:
-                viewer.set_mode(key, speed=self.speed.value)
+            apply(event, speed=self.speed.value)
 
         def on_interpolate(event):
-            if event.client is not None:
-                viewer.set_mode(key, interpolate=self.interpolate.value)
+            apply(event, interpolate=self.interpolate.value)
 
         self.interpolate.on_update(on_interpolate)
         self.mode.on_update(on_mode)
         self.amplitude.on_update(on_amplitude)
         self.speed.on_update(on_speed)
 
-    def draw(self, state: ViewState) -> bool:
-        """Show `state`; returns True if a frame was sent."""
-        if self.entry.revision != self.revision:
-            self.revision = self.entry.revision
+    def draw(self, state: ViewState, revision: int) -> bool:
+        """Show `state`, syncing the GUI when its `revision` is new; returns True if a frame was sent."""
+        if revision != self.revision:
+            self.revision = revision
             self.mode.value = self.entry.labels[state.index]
             self.amplitude.value = state.amplitude
             self.speed.value = state.speed
@@ -187,9 +191,9 @@ class LiveViewer:
                 sessions = list(self._sessions.items())
             states = {key: self.registry.advance(key, elapsed) for key in {s.key for _, s in sessions}}
             for client_id, session in sessions:
-                state = states[session.key]
+                current = states[session.key]
                 try:
-                    if state is not None and session.draw(state):
+                    if current is not None and session.draw(*current):
                         self.frames_sent += 1
                 except Exception:                  # a client that vanished mid-frame; viser reports the disconnect
                     log.debug("dropping viewer session %s", client_id, exc_info=True)

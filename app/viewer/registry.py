@@ -123,8 +123,10 @@ class Registry:
             entry.revision += 1
             return entry.state
 
-    def advance(self, key: str, dt_s: float) -> ViewState | None:
-        """Move the key's phase on by speed × dt (one animation tick); None if the key is gone."""
+    def advance(self, key: str, dt_s: float) -> tuple[ViewState, int] | None:
+        """Move the key's phase on by speed × dt (one animation tick); (state, revision), or None if the key is gone.
+
+        Both come from one moment, so a client that follows `revision` never pairs it with an older state."""
         with self._lock:
             entry = self._items.get(key)
             if entry is None:
@@ -132,7 +134,7 @@ class Registry:
             s = entry.state
             if s.speed > 0:
                 entry.state = replace(s, phase=(s.phase + s.speed * dt_s) % 1.0)
-            return entry.state
+            return entry.state, entry.revision
 
     def __contains__(self, key: str) -> bool:
         with self._lock:

@@ -231,10 +231,12 @@ def test_animation_advances_the_phase_by_speed_and_freezes_at_zero():
     reg = Registry()
     key = reg.publish(grid(), [1.0], bending()[:, None])
     reg.set_state(key, speed=0.5)
-    assert reg.advance(key, 0.5).phase == pytest.approx(0.25)
-    assert reg.advance(key, 1.6).phase == pytest.approx(0.05)               # wraps after a full cycle
+    state, revision = reg.advance(key, 0.5)
+    assert state.phase == pytest.approx(0.25) and revision == 1
+    assert reg.advance(key, 1.6)[0].phase == pytest.approx(0.05)            # wraps after a full cycle
     reg.set_state(key, speed=0.0, phase_deg=90)
-    assert reg.advance(key, 10.0).phase == pytest.approx(0.25)
+    state, revision = reg.advance(key, 10.0)
+    assert state.phase == pytest.approx(0.25) and revision == 2             # ticks are not revisions
     assert reg.advance("no-such-key", 0.1) is None
 
 
