@@ -40,7 +40,8 @@ def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.n
             raise DataError(f"{where}: the header promises shape {shape} of {dtype} ({promised} bytes) but the file "
                             f"holds {held} bytes; the file is truncated or corrupt.")
         if promised > MAX_ARRAY_BYTES:
-            raise DataError(f"{where}: {promised / 2**30:.1f} GiB is above the {MAX_ARRAY_BYTES / 2**30:.0f} GiB limit.")
+            raise DataError(f"{where}: {promised / 2**30:.1f} GiB is above the "
+                            f"{MAX_ARRAY_BYTES / 2**30:.0f} GiB limit.")
         buf = fh.read(promised)
     if len(buf) != promised:
         raise DataError(f"{where}: the archive ends after {len(buf)} of {promised} bytes; the file is truncated.")

@@ -104,7 +104,8 @@ def read_sets(path: str, label: str) -> list[tuple[int, "_Line", dict]]:
             dset = uff.read_sets(i)
         except Exception as exc:
             raise DataError(f"{label}: data set #{i + 1} (UFF {int(t)}) starting at line {line} is corrupt and "
-                            f"cannot be parsed (pyuff: {exc}). Export the file again or remove that data set.") from None
+                            f"cannot be parsed (pyuff: {exc}). Export the file again or remove that data set."
+                            ) from None
         out.append((i, line, dset))
     return out
 
@@ -233,7 +234,8 @@ def _channels(recs: list[dict], label: str) -> Records:
                    nodes=np.array([r["rsp"][0] for r in g0]),
                    directions=np.array([direction_vector(r["rsp"][1]) for r in g0]),
                    described=[f"{len(recs)} UFF 58 time records (sets {recs[0]['set']}..{recs[-1]['set']}) as "
-                              f"{len(g0)} channels × {len(groups)} record(s) of {g0[0]['y'].size} samples, Δτ = {g0[0]['dx']:g} s"])
+                              f"{len(g0)} channels × {len(groups)} record(s) of {g0[0]['y'].size} samples, "
+                              f"Δτ = {g0[0]['dx']:g} s"])
 
 
 @dataclass(frozen=True, eq=False)
@@ -269,8 +271,8 @@ def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
             f, z = abs(s) / 2 / np.pi, (-s.real / abs(s) if s else 0.0)
         columns = [np.asarray(d.get(f"r{k}", np.zeros(nodes.size)), dtype=complex).reshape(-1) for k in (1, 2, 3)]
         if any(c.size != nodes.size for c in columns):
-            raise DataError(f"{where}: {[c.size for c in columns]} x/y/z values for {nodes.size} nodes; the data set is "
-                            "truncated or corrupt.")
+            raise DataError(f"{where}: {[c.size for c in columns]} x/y/z values for {nodes.size} nodes; the data "
+                            "set is truncated or corrupt.")
         shape = np.stack(columns, 1)
         check_finite(shape, where, row_name="node row")
         freq.append(f)

@@ -29,7 +29,8 @@ def _as_frf(frf) -> np.ndarray:
     elif h.ndim == 2:
         h = h[:, :, None]
     elif h.ndim != 3:
-        raise DataError(f"`frf` has {h.ndim} dimensions; expected (n_freq, p, m): frequency lines × outputs × inputs.")
+        raise DataError(f"`frf` has {h.ndim} dimensions; expected (n_freq, p, m): frequency lines × outputs × "
+                        "inputs.")
     h = h.astype(complex)
     bad = ~np.isfinite(h)
     if bad.any():

@@ -3,7 +3,8 @@
 With an observer (Kalman filter) gain G, Ā = A + GC is stable and deadbeat enough that the output is a finite
 ARX sum over the past inputs and outputs v(k) = [u(k); y(k)]:
 
-    y(k) = D u(k) + Σ_{j=1..l} Ȳ_j v(k-j),  Ȳ_j = [C Ā^{j-1}(B + GD), -C Ā^{j-1} G] = [Ȳ_j⁽¹⁾, -Ȳ_j⁽²⁾].
+    y(k) = D u(k) + Σ_{j=1..l} Ȳ_j v(k-j),
+    Ȳ_j = [C Ā^{j-1}(B + GD), -C Ā^{j-1} G] = [Ȳ_j⁽¹⁾, -Ȳ_j⁽²⁾].
 
 The observer Markov parameters Ȳ come from one least-squares fit; the system Markov parameters follow from
 

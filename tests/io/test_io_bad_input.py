@@ -2,10 +2,7 @@
 real malformed file."""
 
 import io
-import os
-import sys
 import zipfile
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -65,7 +62,8 @@ def test_corrupt_values_in_a_uff_record_name_the_set_and_line(good_uff, tmp_path
     second = [k for k, ln in enumerate(lines) if ln.rstrip() == "    58"][1]  # the second 58 record's type line
     lines[second + 20] = "   garbage!" + lines[second + 20][11:]
     (tmp_path / "corrupt.uff").write_text("".join(lines))
-    with pytest.raises(era.DataError, match=rf"corrupt.uff: data set #2 \(UFF 58\) starting at line {second} is corrupt"):
+    with pytest.raises(era.DataError,
+                       match=rf"corrupt.uff: data set #2 \(UFF 58\) starting at line {second} is corrupt"):
         era.load(tmp_path / "corrupt.uff")
 
 
@@ -119,10 +117,12 @@ def test_csv_problems_name_the_line(tmp_path):
     good = ["time,a,b"] + [f"{k * 0.01:.2f},{np.sin(k):.5f},{np.cos(k):.5f}" for k in range(200)]
     cases = {
         "ragged.csv": (lambda L: L[:50] + ["0.49,1.0"] + L[51:], r"ragged.csv, line 51: 2 values where the file has 3"),
-        "word.csv": (lambda L: L[:70] + ["0.69,abc,1.0"] + L[71:], r"word.csv, line 71, column 2: 'abc' is not a number"),
+        "word.csv": (lambda L: L[:70] + ["0.69,abc,1.0"] + L[71:],
+                     r"word.csv, line 71, column 2: 'abc' is not a number"),
         "nan.csv": (lambda L: L[:90] + ["0.89,nan,1.0"] + L[91:], r"nan.csv, line 91, column 2: NaN or infinite"),
         "inf.csv": (lambda L: L[:90] + ["0.89,1.0,-inf"] + L[91:], r"inf.csv, line 91, column 3: NaN or infinite"),
-        "gap.csv": (lambda L: L[:120] + L[125:], r"gap.csv, line 121: the time step is 0.06 s where the typical step is 0.01"),
+        "gap.csv": (lambda L: L[:120] + L[125:],
+                    r"gap.csv, line 121: the time step is 0.06 s where the typical step is 0.01"),
         "short.csv": (lambda L: L[:6], r"5 samples; at least 8"),
     }
     for name, (edit, message) in cases.items():

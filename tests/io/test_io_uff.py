@@ -1,5 +1,6 @@
 """UFF in: 58/58b function records into outputs × references, 15/82 into a Geometry, 55 modes both ways."""
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -8,11 +9,11 @@ import pytest
 import era
 import uff_files as U
 
-DATA = Path(__file__).resolve().parents[1] / "data"
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
-import sys
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import chain, continuous_chain, simulate  # noqa: E402
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
 
 
 def chain_accelerance(f):

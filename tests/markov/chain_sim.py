@@ -23,7 +23,7 @@ def continuous_chain():
 
 
 def chain(dt: float = 0.01):
-    """The chain sampled by zero-order hold: (Ad, Bd, C, D, f_hz, zeta), acceleration of every mass out (m/s² per N)."""
+    """The chain sampled by zero-order hold: (Ad, Bd, C, D, f_hz, zeta); acceleration of every mass out, m/s² per N."""
     a, b, f, zeta = continuous_chain()
     c, d = a[3:], b[3:]  # acceleration = the velocity rows of the state equation
     ad, bd, cd, dd, _ = scipy.signal.cont2discrete((a, b, c, d), dt, method="zoh")
