@@ -7,9 +7,15 @@ import io
 import era
 
 
-def load_upload(blob: bytes, filename: str):
+#: What the records are, as the person may say it (era.io.records.to_response); "auto" lets the loader guess.
+KINDS = ("auto", "pulse", "decay", "frf", "io", "ambient")
+
+
+def load_upload(blob: bytes, filename: str, kind: str = "auto"):
     """Parse an uploaded file. Raises an era.EraError (shown to the person as is) for anything malformed."""
-    ds = era.load(io.BytesIO(blob), name=filename)
+    if kind not in KINDS:
+        raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.")
+    ds = era.load(io.BytesIO(blob), name=filename, kind=kind)
     if ds.data is None:
         raise era.DataError(f"{filename}: the file holds geometry or modes but no response records (UFF 58, CSV "
                             "or NPZ data); upload the measured responses.")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Query, Request, UploadFile
+from fastapi import APIRouter, Form, Query, Request, UploadFile
 
 import era
 
@@ -14,15 +14,17 @@ router = APIRouter(prefix="/api/datasets", tags=["datasets"])
 
 
 @router.post("", summary="Upload a file (UFF, CSV, NPZ) of pulse responses or free decays")
-async def upload(request: Request, file: UploadFile):
-    """Multipart field ``file``. Returns the dataset: id, outputs, inputs, dt, n_samples, units, defaults, limits."""
+async def upload(request: Request, file: UploadFile,
+                 kind: str = Form("auto", description="auto, pulse, decay, frf, io or ambient: what the records are")):
+    """Multipart field ``file`` (and optionally ``kind``). Returns the dataset: id, outputs, inputs, dt, n_samples,
+    units, source (format, conversions), defaults, limits."""
     name = (file.filename or "upload").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
     blob = await file.read()
     if not blob:
         raise era.DataError(f"{name!r} is empty: choose a file with pulse responses or free decays.")
 
     def work():
-        data, geometry, source = load_upload(blob, name)
+        data, geometry, source = load_upload(blob, name, kind)
         return engine(request).add_dataset(data, geometry, name, dict(source, file=name, bytes=len(blob)))
 
     return await jobs(request).heavy(work, progress=progress_key(request), message=f"Reading {name}")

@@ -45,7 +45,7 @@ function watch(headers, callback) {
 
 // Multipart upload with progress (fetch cannot report upload progress; XMLHttpRequest can).
 // onProgress(fraction) while the bytes go up; onWork(text) while the server reads the file.
-export function upload(path, file, onProgress, onWork) {
+export function upload(path, file, onProgress, onWork, fields = {}) {
   return new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
     xhr.open("POST", path);
@@ -63,6 +63,7 @@ export function upload(path, file, onProgress, onWork) {
     xhr.onerror = () => reject(new Error("The upload failed: the server could not be reached."));
     const form = new FormData();
     form.append("file", file, file.name);
+    for (const [k, v] of Object.entries(fields)) form.append(k, v);
     xhr.send(form);
   });
 }

@@ -29,7 +29,7 @@ function uploadFile(file) {
   const p = upload("/api/datasets", file, (f) => {
     bar.value = f;
     setStatus(f < 1 ? `Uploading ${file.name}: ${Math.round(100 * f)} %` : `Reading ${file.name}…`);
-  }, setStatus);
+  }, setStatus, { kind: $("kind").value });
   return loadDataset(p, `Uploading ${file.name}…`);
 }
 
@@ -44,6 +44,10 @@ function renderSummary(ds) {
     ["Length", `${ds.n_samples} samples, ${ds.duration_s.toFixed(3)} s`], ["Units", units],
     ["Geometry", ds.geometry ? `${ds.geometry.n_nodes} nodes, ${ds.geometry.n_edges} lines (${ds.geometry.units})` : "none"],
   ];
+  const src = ds.source || {};
+  if (src.format) rows.push(["Read as", `${src.format.toUpperCase()}${src.kind ? `, ${src.kind}` : ""}` +
+                                          (src.records ? `: ${src.records.join("; ")}` : "")]);
+  if (src.conversions && src.conversions.length) rows.push(["Converted", src.conversions.join("; ")]);
   for (const [k, v] of rows) dl.append(el("dt", { text: k }), el("dd", { text: v }));
   dl.hidden = false;
 }

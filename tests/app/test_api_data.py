@@ -136,3 +136,32 @@ def test_grid_example_has_nine_sensors_and_the_geometry(tmp_path):
     with client(tmp_path) as c:
         ds = c.post("/api/examples/grid").json()
     assert ds["n_outputs"] == 9 and ds["geometry"]["n_nodes"] == 88
+
+
+def test_upload_uff_ambient_records_become_correlation_functions(tmp_path):
+    path = REPO / "tests" / "data" / "mpstd_first_8192.uff"
+    if not path.exists():
+        pytest.skip("UFF sample not in tests/data")
+    with client(tmp_path) as c:
+        r = upload(c, path.read_bytes(), path.name)
+        assert r.status_code == 200, r.text
+        ds = r.json()
+        assert (ds["n_outputs"], ds["n_inputs"]) == (4, 4) and ds["dt"] == pytest.approx(1 / 3200)
+        assert ds["source"]["format"] == "uff" and "NExT" in " ".join(ds["source"]["conversions"])
+        assert ds["output_units"] == ["m/s2"] * 4
+        a = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 40, "cols": 40, "max_order": 60})
+        assert a.status_code == 200, a.text
+
+
+def test_upload_csv_of_a_free_decay(tmp_path):
+    data = era.paper.case_1(200)
+    lines = ["time,sensor 1"] + [f"{k * 0.05:.2f},{v:.12g}" for k, v in enumerate(data.markov[:, 0, 0])]
+    with client(tmp_path) as c:
+        blob = "\n".join(lines).encode()
+        r = c.post("/api/datasets", files={"file": ("decay.csv", blob, "text/csv")}, data={"kind": "decay"})
+        assert r.status_code == 200, r.text
+        ds = r.json()
+        assert ds["n_samples"] >= 190 and ds["dt"] == pytest.approx(0.05)
+        assert ds["source"]["format"] == "csv" and ds["source"]["kind"] == "decay"
+        r = c.post("/api/datasets", files={"file": ("decay.csv", blob, "text/csv")}, data={"kind": "guess"})
+        assert r.status_code == 422 and "kind" in r.json()["error"]
