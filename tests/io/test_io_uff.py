@@ -155,3 +155,30 @@ def test_universal_2411_nodes_and_content_sniffing_without_a_file_name(tmp_path)
     model = era.identify(ds.data, rows=20, cols=20).realize(order=2)
     assert model.frequency_hz[0] == pytest.approx(4.0, rel=1e-6)  # damped frequency of the record
     assert model.damping_ratio[0] == pytest.approx(0.3 / np.hypot(0.3, 2 * np.pi * 4), rel=1e-5)
+
+
+def test_normal_modes_of_a_finite_element_program_and_spectra_that_are_not_used(tmp_path):
+    import pyuff
+    shape = np.array([0.5, 1.0, -0.25])
+    fe = [pyuff.prepare_55(model_type=1, id1="FE mode 1", id2="NONE", id3="NONE", id4="NONE", id5="NONE",
+                           analysis_type=2, data_ch=2, spec_data_type=8, data_type=2, n_data_per_node=3,
+                           r1=np.zeros(3), r2=np.zeros(3), r3=shape * k, node_nums=[1, 2, 3], load_case=1,
+                           mode_n=k, modal_m=1.0, freq=10.0 * k, modal_damp_vis=0.01, modal_damp_his=0.0)
+          for k in (1, 2)]
+    U.write(tmp_path / "fe.uff", fe)
+    modes = era.read_modes_uff(tmp_path / "fe.uff")
+    assert modes.names == ("FE mode 1", "FE mode 1") and modes.node_ids.tolist() == [1, 2, 3]
+    np.testing.assert_allclose(modes.frequency_hz, [10.0, 20.0])
+    np.testing.assert_allclose(modes.damping_ratio, [0.01, 0.01])
+    np.testing.assert_allclose(modes.shapes[:, 2, 1].real, 2 * shape, rtol=1e-6)
+    with pytest.raises(era.DataError, match="no UFF 55 mode shapes"):
+        era.read_modes_uff(DATA / "testlab_geometry_15_82.uff")
+    # an FRF export with a coherence record alongside: the coherence is noted and left out
+    f = np.arange(0, 20.0, 0.05)
+    frf = U.record58(1 / (1 - (f / 5) ** 2 + 0.02j * f / 5), 0.0, 0.05, (1, 3), (1, 3), func_type=4,
+                     denominator=U.FORCE, den_unit="N")
+    coherence = dict(U.record58(np.ones(f.size), 0.0, 0.05, (1, 3), (1, 3), func_type=6), abscissa_spec_data_type=18)
+    U.write(tmp_path / "with_coherence.uff", [frf, coherence])
+    ds = era.load(tmp_path / "with_coherence.uff")
+    assert ds.data.markov.shape == (398, 1, 1)
+    assert "1 other UFF 58 record(s) (spectra, coherence, ...) not used" in ds.source["records"]
