@@ -292,17 +292,19 @@ def parse_modes(modes: str | list | None, n_modes: int) -> np.ndarray | None:
 
 
 def kept_by_thresholds(model: era.ModalModel, min_emac: float = 0.0, min_mpc: float = 0.0,
-                       min_contribution: float = 0.0, pairs_only: bool = False) -> np.ndarray:
+                       min_contribution: float = 0.0, physical_only: bool = False) -> np.ndarray:
     """Indices of the modes with γ ≥ min_emac, μ ≥ min_mpc, contribution ≥ min_contribution × the largest
-    (as ModalModel.select), and complex pairs only if asked: the automatic keep/reject of the modes table."""
+    (as ModalModel.select), and if physical_only, complex pairs that decay (0 < ζ < 1): real poles and growing
+    (negative damping) poles are computational. The automatic keep/reject of the modes table."""
     for value, name in ((min_emac, "min_emac"), (min_mpc, "min_mpc"), (min_contribution, "min_contribution")):
         if not 0.0 <= value <= 1.0:
             raise era.EraError(f"`{name}` is a fraction in [0, 1], got {value!r}.")
     contrib = np.asarray(model.contribution, dtype=float)
     top = np.max(contrib[np.isfinite(contrib)]) if np.isfinite(contrib).any() else 0.0
     keep = (model.emac >= min_emac) & (model.mpc >= min_mpc) & (contrib >= min_contribution * top)
-    if pairs_only:
-        keep &= model.is_pair
+    if physical_only:
+        zeta = model.damping_ratio
+        keep &= model.is_pair & (zeta > 0) & (zeta < 1)
     return np.flatnonzero(keep)
 
 

@@ -81,7 +81,7 @@ async def reconstruction(request: Request, analysis_id: str, order: int = Query(
                          min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
                          min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
                          min_contribution: float | None = Query(None, description="fraction of the largest"),
-                         pairs_only: bool = Query(False, description="keep complex pairs only"),
+                         physical_only: bool = Query(False, description="keep decaying complex pairs only (0 < ζ < 1)"),
                          output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
     """The kept modes are ``modes`` if given, else those passing the thresholds (if any given), else all.
     The answer names them in ``kept``, so the page can mark its table from the same rule."""
@@ -89,8 +89,8 @@ async def reconstruction(request: Request, analysis_id: str, order: int = Query(
     model = await _model(request, analysis_id, order)
     data = e.dataset(e.analysis(analysis_id)[0])[0]
     kept = eng.parse_modes(modes, model.n_modes)
-    if kept is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or pairs_only):
-        kept = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0, pairs_only)
+    if kept is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or physical_only):
+        kept = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0, physical_only)
     return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
 
 

@@ -14,7 +14,7 @@ export async function fetchFor(order, kept) {
   if (kept === "thresholds") {
     const t = thresholds();
     q.set("min_emac", t.emac); q.set("min_mpc", t.mpc); q.set("min_contribution", t.contribution);
-    q.set("pairs_only", t.pairsOnly);
+    q.set("physical_only", t.physicalOnly);
   } else {
     q.set("modes", [...kept].sort((a, b) => a - b).join(","));
   }

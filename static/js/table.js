@@ -7,7 +7,7 @@ let sortKey = "frequency_hz", ascending = true;
 
 export function thresholds() {
   return { emac: Number($("min-emac").value), mpc: Number($("min-mpc").value),
-           contribution: Number($("min-contrib").value) / 100, pairsOnly: $("pairs-only").checked };
+           contribution: Number($("min-contrib").value) / 100, physicalOnly: $("physical-only").checked };
 }
 
 function sortedIndices(m) {
@@ -66,7 +66,7 @@ function markSelected() {
 }
 
 export function init() {
-  for (const id of ["min-emac", "min-mpc", "min-contrib", "pairs-only"]) {
+  for (const id of ["min-emac", "min-mpc", "min-contrib", "physical-only"]) {
     $(id).addEventListener("change", () => { if (state.modes) emit("thresholds", thresholds()); });
   }
   on("modes", render);

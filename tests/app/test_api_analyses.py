@@ -149,11 +149,22 @@ def test_reconstruction_keeps_modes_by_thresholds(tmp_path):
         m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 10}).json()
         rel = np.array(m["contribution_relative"])
         cut = float(np.sort(rel)[2])  # keeps the three strongest modes
-        r = c.get(url, params={"order": 10, "min_contribution": cut, "min_emac": 0.9, "pairs_only": True}).json()
+        r = c.get(url, params={"order": 10, "min_contribution": cut, "min_emac": 0.9, "physical_only": True}).json()
         assert r["kept"] == sorted(np.flatnonzero(rel >= cut).tolist()) and len(r["kept"]) == 3
         # explicit modes win over thresholds
-        r = c.get(url, params={"order": 10, "modes": "1", "min_emac": 0.9, "pairs_only": True}).json()
+        r = c.get(url, params={"order": 10, "modes": "1", "min_emac": 0.9, "physical_only": True}).json()
         assert r["kept"] == [1]
         # realistic thresholds keep all five modes of noise-free data
         r = c.get(url, params={"order": 10, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.01}).json()
         assert r["kept"] == [0, 1, 2, 3, 4]
+
+
+def test_physical_only_rejects_growing_and_real_poles():
+    from types import SimpleNamespace
+
+    from app.engine import kept_by_thresholds
+    model = SimpleNamespace(emac=np.ones(4), mpc=np.ones(4), contribution=np.ones(4),
+                            is_pair=np.array([True, True, False, True]),
+                            damping_ratio=np.array([0.02, -0.05, 1.0, 0.3]))
+    assert kept_by_thresholds(model, physical_only=True).tolist() == [0, 3]
+    assert kept_by_thresholds(model).tolist() == [0, 1, 2, 3]

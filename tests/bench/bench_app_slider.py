@@ -33,7 +33,7 @@ def test_slider_step_is_a_fraction_of_the_svd(tmp_path):
             t = time.perf_counter()
             assert c.get(f"/api/analyses/{a['id']}/modes", params={"order": n}).status_code == 200
             r = c.get(f"/api/analyses/{a['id']}/reconstruction",
-                      params={"order": n, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.01, "pairs_only": True})
+                      params={"order": n, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.01, "physical_only": True})
             assert r.status_code == 200
             steps.append(time.perf_counter() - t)
     step, ref = statistics.median(steps), statistics.median(svd)
