@@ -153,7 +153,9 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         path = request.url.path
         if path.startswith("/api/"):
             client = request.client.host if request.client else "unknown"
-            wait = limiter.check(client, heavy=request.method == "POST")
+            # uploads, identifications, examples and reports start heavy work; publishing to the viewer does not
+            heavy = request.method == "POST" and not path.endswith("/viewer")
+            wait = limiter.check(client, heavy=heavy)
             if wait is not None:
                 return _error(429, f"Too many requests from {client}: the limit is "
                                    f"{settings.rate_limit_per_minute} per minute "

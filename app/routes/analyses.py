@@ -111,10 +111,11 @@ async def stabilization(request: Request, analysis_id: str):
 
 @router.post("/{analysis_id}/viewer", summary="Publish the modes of one order to the viser viewer")
 async def publish(request: Request, analysis_id: str, body: ViewerRequest):
+    e = engine(request)
+    e.analysis(analysis_id)  # 404 first
     viewer = request.app.state.viewer
     if viewer is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
-    e = engine(request)
     model = await _model(request, analysis_id, body.order)
     _, geometry, _ = e.dataset(e.analysis(analysis_id)[0])
     labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
