@@ -40,6 +40,7 @@ ISOLATE_CANVAS = """() => {
   for (const el of document.body.querySelectorAll('*'))
     if (el !== canvas && !el.contains(canvas)) el.style.visibility = 'hidden';
 }"""
+SHOW_ALL = "() => { for (const el of document.body.querySelectorAll('*')) el.style.visibility = ''; }"
 
 
 def free_port() -> int:
@@ -154,9 +155,17 @@ def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
     page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
 
     def frozen(name: str, **choice) -> np.ndarray:
+        """Freeze a view and return its pixels once two screenshots in a row agree (the client has drawn it)."""
         post_json(mode_url, {"speed": 0, "phase_deg": 0, "interpolate": False, **choice})
-        time.sleep(1.2)                                      # a few frames for the client to draw the still view
-        return canvas_pixels(page, shots / f"{name}.png")
+        time.sleep(0.5)
+        previous = canvas_pixels(page, shots / f"{name}.png")
+        for _ in range(10):
+            time.sleep(0.3)
+            img = canvas_pixels(page, shots / f"{name}.png")
+            if (np.abs(img - previous).sum(axis=-1) > 60).sum() < 20:
+                return img
+            previous = img
+        pytest.fail(f"the {name} view did not settle")
 
     flat = frozen("still", index=0, amplitude=0.5, phase_deg=90)   # a real mode passes zero a quarter cycle on
     bend = frozen("bending_sensors_only", index=0, amplitude=0.5, interpolate=False)
@@ -231,16 +240,24 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
     assert loaded and "1.1.1" in loaded[0]                   # "File loaded! Saved with Viser version: 1.1.1"
     page.wait_for_timeout(1000)
     page.screenshot(path=str(shots / "playback_page.png"))
-    page.frame(url=lambda u: "/viser/" in u).evaluate(ISOLATE_CANVAS)
-    images = []
-    for k in range(6):                                       # 2 s cycle: sample it every 0.35 s
-        images.append(canvas_pixels(page, shots / f"playback_{k}.png"))
-        time.sleep(0.35)
-    assert all(drawn(img).sum() > 2000 for img in images)   # the grid is there in every frame
-    changes = [(np.abs(a - b).sum(axis=-1) > 60).sum() for a, b in zip(images, images[1:])]
-    assert max(changes) > 500                                # and it moves
-    hot = [warm(img).sum() for img in images]
-    assert max(hot) > 500 and min(hot) < 100                 # from near its peak to through rest
+    # Pause at chosen times through the player's time field: the 2 s cycle starts at the bending peak (t = 0), is at
+    # rest a quarter cycle on (t = 0.5 s) and at the opposite peak half a cycle on (t = 1 s).
+    player = page.frame(url=lambda u: "/viser/" in u)
+    time_field = viewer.locator("input[inputmode=decimal]").first
+    images = {}
+    for t in ("0.5", "1"):
+        player.evaluate(SHOW_ALL)
+        time_field.fill(t)
+        time_field.press("Enter")
+        page.wait_for_timeout(800)
+        player.evaluate(ISOLATE_CANVAS)
+        page.wait_for_timeout(200)
+        images[t] = canvas_pixels(page, shots / f"playback_t{t}.png")
+    rest, peak = images["0.5"], images["1"]
+    assert drawn(rest).sum() > 2000 and drawn(peak).sum() > 2000            # the grid is there
+    assert warm(rest).sum() < 50 and red(rest).sum() == 0                   # at rest: all blue
+    assert warm(peak).sum() > 1000 and red(peak).sum() > 10                 # at the peak: warm, red mid-span
+    assert (np.abs(rest - peak).sum(axis=-1) > 60).sum() > 1000
     assert sockets == []                                     # no live session behind it
     page.close()
 
