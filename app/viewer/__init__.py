@@ -6,6 +6,7 @@
     <iframe src="{viewer.iframe_url(key)}">     # POST /viser/{key}/mode {index, amplitude?, speed?} selects the mode
     data = viewer.record(geometry, frequency_hz, shapes, mode_index)  # .viser bytes for a report
     <iframe src="{viewer.playback_url('/files/mode1.viser')}">      # plays it with no live Python session
+    html = viewer.standalone_html(data)                              # or as one self-contained file, no server
 
 Modules: scene.py (geometry + shape -> lines and colours, pure numpy), registry.py (keys and view state),
 live.py (viser server, per-browser scenes, animation thread), bridge.py (HTTP/websocket routes), record.py (.viser).
@@ -22,7 +23,7 @@ from era.geometry import Geometry
 
 from .bridge import make_router
 from .live import LiveViewer
-from .record import record_mode
+from .record import record_mode, standalone_html
 from .registry import Registry
 
 __all__ = ["ModeViewer"]
@@ -84,6 +85,12 @@ class ModeViewer:
         """One cycle of one mode as .viser bytes (see record.record_mode); needs no running server."""
         return record_mode(geometry, np.asarray(frequency_hz), shapes, mode_index, frames=frames,
                            amplitude=amplitude, period_s=period_s, interpolate=interpolate)
+
+    @staticmethod
+    def standalone_html(recording: bytes) -> str:
+        """One HTML file (about 0.8 MB plus the recording) that plays `record()`'s bytes with no server, e.g. in a
+        downloaded report (as its own file, or in an <iframe srcdoc>)."""
+        return standalone_html(recording)
 
     def playback_url(self, file_url: str) -> str:
         """Page for an <iframe> that plays the .viser file at `file_url` (same origin) in viser's shipped client."""

@@ -7,9 +7,11 @@ throw-away server leaves no stale scene behind for the next recording.
 
 from __future__ import annotations
 
+import base64
 import contextlib
 import io
 import threading
+from pathlib import Path
 
 import numpy as np
 import viser
@@ -103,3 +105,14 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
     finally:
         with quiet():
             server.stop()
+
+
+def standalone_html(recording: bytes) -> str:
+    """A self-contained HTML page (viser's client, about 0.8 MB, with the recording inlined) that plays a .viser
+    recording from `record_mode` with no server at all: for downloadable reports. Same injection as viser's
+    `StateSerializer.as_html`, which needs the live serializer; this takes the stored bytes."""
+    client = (Path(viser.__file__).resolve().parent / "client" / "build" / "index.html").read_text(encoding="utf-8")
+    data = base64.b64encode(recording).decode("ascii")
+    script = f'<script>window.__VISER_EMBED_DATA__="{data}";window.__VISER_EMBED_CONFIG__={{darkMode:false}};</script>'
+    head_end = client.index("</head>")
+    return client[:head_end] + script + client[head_end:]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import base64
 import time
 
 import numpy as np
@@ -255,6 +256,15 @@ def test_record_is_one_cycle_in_the_viser_format():
     assert {"LineSegmentsMessage", "PointCloudMessage", "LabelMessage"} <= kinds
     # every frame after the first updates the moving lines
     assert len({t for t, m in rec["messages"] if t > 0}) == 11
+
+
+def test_standalone_html_inlines_the_recording_into_the_client():
+    data = ModeViewer().record(grid(), [10.0], bending()[:, None], 0, frames=4)
+    html = ModeViewer.standalone_html(data)
+    assert "<title>Viser</title>" in html
+    head = html[:html.index("</head>")]
+    encoded = head.split('window.__VISER_EMBED_DATA__="')[1].split('"')[0]
+    assert base64.b64decode(encoded) == data
 
 
 def test_record_refuses_a_mode_that_does_not_exist():

@@ -262,6 +262,24 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
     page.close()
 
 
+def test_standalone_report_file_plays_with_no_server(base, browser, shots, tmp_path):
+    """The self-contained HTML (for downloaded reports) opened from a file: no HTTP, no websocket."""
+    with urllib.request.urlopen(base + "/test/standalone", timeout=30) as r:
+        path = tmp_path / "mode2.html"
+        path.write_bytes(r.read())
+    page = browser.new_page(viewport={"width": 800, "height": 500})
+    requests = []
+    page.on("request", lambda req: requests.append(req.url) if not req.url.startswith(("file:", "data:", "blob:"))
+            else None)
+    page.goto(path.as_uri())
+    page.wait_for_timeout(2500)
+    page.evaluate(ISOLATE_CANVAS)
+    png = page.screenshot(path=str(shots / "standalone.png"))
+    img = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+    assert drawn(img).sum() > 2000 and requests == []
+    page.close()
+
+
 def test_viewer_page_fetches_nothing_from_another_origin(base, browser):
     """A crafted ?playbackPath= pointing elsewhere is blocked by the page's Content-Security-Policy."""
     page = browser.new_page()

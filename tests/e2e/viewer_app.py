@@ -83,3 +83,8 @@ def playback() -> HTMLResponse:
     return HTMLResponse(f"<!doctype html><title>playback test</title>"
                         f"<iframe id=viewer src='{viewer.playback_url('/test/mode1.viser')}' "
                         f"width=800 height=500></iframe>")
+
+
+@app.get("/test/standalone")
+def standalone() -> HTMLResponse:
+    return HTMLResponse(viewer.standalone_html(viewer.record(GEOMETRY, FREQUENCY_HZ, SHAPES, 1, amplitude=0.3)))
