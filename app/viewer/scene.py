@@ -8,14 +8,14 @@ Conventions
 - The animation shows the real motion u(θ) = Re(ψ e^{iθ}) (p,), θ = 2π·phase, at each channel's node along the
   channel's direction (as `era.Geometry.displaced`). Nodes without a sensor either stay put (`interpolate=False`:
   exactly what was measured; the trace lines to them stretch) or follow a thin-plate spline through the measured
-  nodes (`interpolate=True`, the default: a 9-sensor grid then bends like a plate). The spline (scipy's
+  nodes (`interpolate=True`, the viewer's default: a 9-sensor grid then bends like a plate). The spline (scipy's
   RBFInterpolator, with a linear term) runs in the sensors' own coordinates - a line, a plane or space, whichever
   they span - on each displacement component, real and imaginary parts apart; a component a node does not measure
   counts as zero there. It extrapolates linearly beyond the outermost sensors.
 - Displacement is drawn at `amplitude` × the structure's size (largest bounding-box side), so the same slider value
   looks alike on a 0.3 m beam and a 3 m grid.
-- Colour is the instantaneous |displacement| of each node divided by the largest peak over the cycle (0 = still,
-  1 = the node's largest excursion), through `COLOUR_STOPS` (blue, teal, green, orange, red: all dark enough to read on
+- Colour is the instantaneous |displacement| of each node divided by the largest peak of any node over the cycle
+  (0 = still, 1 = the structure's largest excursion), through `COLOUR_STOPS` (blue, teal, green, orange, red: all dark enough to read on
   viser's white background).
 """
 
