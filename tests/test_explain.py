@@ -6,20 +6,20 @@ import numpy as np
 import pytest
 
 import era
-from era.discrepancy import ErrorLevels, explain, grid_effects, modes_from_arrays
+from era.discrepancy import ErrorLevels, explain, grid_effects, modes_from_arrays, overlay
 from era.grid import nasa_grid
 from era.simulate import simulate_grid_test
 
 _CACHE = {}
 
 
-def blind(effect, seed):
-    """(result, truth) of explain() on one simulated test; computed once per session."""
+def blind(effect, seed, with_data=False):
+    """(result, truth) of explain() on one simulated test (and the data); computed once per session."""
     key = (str(effect), seed)
     if key not in _CACHE:
         data, truth = simulate_grid_test(effect, seed=seed)
-        _CACHE[key] = (explain(data, nasa_grid(**truth["nominal_params"])), truth)
-    return _CACHE[key]
+        _CACHE[key] = (explain(data, nasa_grid(**truth["nominal_params"])), truth, data)
+    return _CACHE[key] if with_data else _CACHE[key][:2]
 
 
 def assert_closed_gap(r):
@@ -125,3 +125,11 @@ def test_error_levels_give_close_modes_no_shape_weight():
     w = ErrorLevels().weights(mm, np.array([False, True, True]))
     assert w.sigma_s[0] == pytest.approx(0.015) and np.all(w.sigma_s[1:] >= 0.3)
     assert w.sigma_f == pytest.approx(0.0015 * np.array([1.0, 2.0, 2.02]))
+
+
+def test_overlay_the_updated_model_tracks_the_record_the_nominal_drifts():
+    r, truth, data = blind("joint_flexibility", 0, with_data=True)
+    o = overlay(r, data)
+    assert o["measured"].shape == o["updated"].shape == o["nominal"].shape == data.markov.shape
+    err_nom, err_upd = np.median(o["fit_error_nominal"]), np.median(o["fit_error_updated"])
+    assert err_upd < 0.3 and err_upd < 0.5 * err_nom

@@ -47,7 +47,7 @@ class Explanation:
     ranking : RankedEffect per candidate, most probable first.
     before, after : Gap of the nominal and of the updated model over the paired modes.
     updated_model : the best-supported model (the named effect fitted, else the nominal with the fitted
-        global stiffness factor).
+        global stiffness factor); nominal_model : the model given.
     measured : every mode ERA found; fit_modes : (k,) indices of those used (paired with some candidate);
     unpaired_measured : indices of measured modes no candidate could pair (set aside).
     pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
@@ -66,6 +66,7 @@ class Explanation:
     before: Gap
     after: Gap
     updated_model: object
+    nominal_model: object
     measured: MeasuredModes
     fit_modes: np.ndarray
     unpaired_measured: tuple
@@ -222,7 +223,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired)
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
-        updated_model=updated, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
+        updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
         pairing_before=before, pairing_after=after, mac_before=before.mac_matrix, mac_after=after.mac_matrix,
         comac_before=comac_b, comac_after=comac_a, residual_modes=tuple(int(i) for i in miss),
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
