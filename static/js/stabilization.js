@@ -69,6 +69,11 @@ function highlight() {
   const m = state.modes, n = state.order, sel = state.selected;
   const shapes = [{ type: "line", xref: "paper", x0: 0, x1: 1, yref: "y", y0: n, y1: n,
                     line: { color: "rgba(179,38,30,0.5)", width: 1, dash: "dot" } }];
+  // suggested modes (stable over ≥ 3 orders) that are also coherent (mean γ·μ ≥ 0.9): faint vertical lines
+  for (const mode of state.stabilization.modes.filter((mo) => mo.emac * mo.mpc >= 0.9)) {
+    shapes.push({ type: "line", xref: "x", x0: mode.frequency_hz, x1: mode.frequency_hz, yref: "paper", y0: 0, y1: 1,
+                  layer: "below", line: { color: "rgba(31,95,191,0.25)", width: 1 } });
+  }
   m.frequency_hz.forEach((f, k) => { if (f !== null) shapes.push(ring(f, n, 6, "#b3261e", 1.5)); });
   if (sel !== null && m.frequency_hz[sel] !== null) shapes.push(ring(m.frequency_hz[sel], n, 11, "#ff8c00", 3));
   Plotly.relayout(PLOT, { shapes });
