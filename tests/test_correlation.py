@@ -82,3 +82,18 @@ def test_serep_reproduces_a_shape_in_the_model_subspace_at_every_node():
     np.testing.assert_allclose(expanded, combo, atol=1e-10)
     with pytest.raises(era.DataError, match="at most as many modes"):
         serep(combo[sensors], phi[sensors, :8], phi[:, :8])
+
+
+def test_subspace_mac_judges_a_nearly_repeated_pair_by_its_plane():
+    """Two model modes 1 % apart: a measured shape mixing them is fine for the pair, not for either mode."""
+    x, f, phi = _beam_modes()
+    sensors = np.array([3, 9, 14, 20, 27, 33, 37])
+    model_f = np.array([1.0, 5.0, 5.05])
+    model_phi = phi[sensors, :3]
+    mixed = model_phi[:, 1] * np.cos(0.6) + model_phi[:, 2] * np.sin(0.6)
+    measured = np.c_[model_phi[:, 0], mixed]
+    p = pair_modes([1.0, 5.02], measured, model_f, model_phi, min_mac=0.3)
+    assert p.n_pairs == 2 and p.mac[1] < 0.9
+    sub = era.subspace_mac(p, measured, model_phi, model_f, close=0.03)
+    assert sub[0] == pytest.approx(p.mac[0]) and sub[1] == pytest.approx(1.0)
+    assert gap(p, sub).min_mac == pytest.approx(1.0)
