@@ -140,7 +140,8 @@ def _verdict(ranking, min_probability, min_log_bayes):
 
 def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None = None,
             errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), min_probability: float = 0.9,
-            min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4) -> Explanation:
+            min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4,
+            extra_model_modes: int = 6) -> Explanation:
     """Find which candidate physical effect, missing from ``model``, the test data support.
 
     Parameters
@@ -153,6 +154,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     min_probability, min_log_bayes : naming thresholds — posterior ≥ 0.9 and Bayes factor ≥ 100 against the
         nominal (+ stiffness factor) by default; the fit must also be adequate.
     refine_locations : located effects get a full fit at this many best-screened joints.
+    extra_model_modes : model modes computed beyond the number measured, so a mode that moved can still pair.
 
     Returns
     -------
@@ -172,14 +174,14 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
         raise DataError(f"explain: `data` must be an era.ResponseData or MeasuredModes, got {type(data).__name__}.")
     timing["era_s"] = time.perf_counter() - t0
     specs = tuple(effects) if effects is not None else grid_effects(model)
-    n_model = measured.n_modes + 6
+    n_model = measured.n_modes + extra_model_modes
     fit_modes = _select_modes(model, specs, measured, n_model)
     if fit_modes.size < 2:
         raise DataError(f"explain: only {fit_modes.size} of the {measured.n_modes} measured modes look like any "
                         "model mode (MAC ≥ 0.5 within 50 % in frequency); check the sensor order and units.")
     unpaired = tuple(int(i) for i in np.setdiff1d(np.arange(measured.n_modes), fit_modes))
     fm = measured.take(fit_modes)
-    n_model = fm.n_modes + 6
+    n_model = fm.n_modes + extra_model_modes
     close = _close_modes(model, fm, n_model, errors.close)
     weights = errors.weights(fm, close)
     t1 = time.perf_counter()
