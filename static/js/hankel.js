@@ -43,6 +43,8 @@ async function identify() {
   }
 }
 
+const isDefault = (shifts) => shifts.every((t, i) => t === i + 1);
+
 function plotSingularValues(a, order) {
   const d = a.singular_values;
   const x = d.map((_, i) => i + 1);
@@ -83,9 +85,14 @@ export function init() {
     $("max-order").max = ds.limits.max_order;
     $("limits").textContent = `Defaults from the data. Limits: ${ds.limits.note}`;
     $("identify").disabled = false;
-    identify();  // a first look with the defaults; change them and press Identify again
+    if (!state.restoring) identify();  // a first look with the defaults; change them and press Identify again
   });
   on("analysis", (a) => {
+    $("rows").value = a.rows;
+    $("cols").value = a.cols;
+    $("max-order").value = a.requested_max_order || a.max_order;
+    $("row-shifts").value = isDefault(a.row_shifts) ? "" : a.row_shifts.join(",");
+    $("col-shifts").value = isDefault(a.col_shifts) ? "" : a.col_shifts.join(",");
     const slider = $("order");
     slider.min = 1;
     slider.max = a.max_order;

@@ -81,4 +81,37 @@ on("thresholds", async () => {
   emit("modes", state.modes);
   reconstruction.draw(rec);
 });
-on("analysis", () => { state.selected = null; state.modes = null; });
+on("analysis", (a) => {
+  state.selected = null;
+  state.modes = null;
+  history.replaceState(null, "", `#analysis=${encodeURIComponent(a.id)}`);
+});
+on("modes", () => {
+  history.replaceState(null, "", `#analysis=${encodeURIComponent(state.analysis.id)}&order=${state.order}`);
+});
+
+// A reload (or a bookmarked address) reopens the analysis in the address: #analysis=ID&order=n.
+async function restore() {
+  const params = new URLSearchParams(location.hash.slice(1));
+  const id = params.get("analysis");
+  if (!id) return;
+  try {
+    state.restoring = true;
+    const a = await api(`/api/analyses/${encodeURIComponent(id)}`, {
+      progress: (text) => { document.getElementById("hankel-status").textContent = text; } });
+    const ds = await api(`/api/datasets/${encodeURIComponent(a.dataset_id)}`);
+    state.dataset = ds;
+    emit("dataset", ds);
+    state.analysis = a;
+    emit("analysis", a);
+    document.getElementById("hankel-status").textContent =
+      `Reopened: H(0) is ${a.hankel_shape[0]} × ${a.hankel_shape[1]} (${a.svd_method} SVD); orders up to ${a.max_order} available.`;
+    const order = Number(params.get("order"));
+    if (order >= 1 && order <= a.max_order) hankel.setOrder(order);
+  } catch (err) {
+    showError("data-error", new Error(`Could not reopen the analysis in the address: ${err.message}`));
+  } finally {
+    state.restoring = false;
+  }
+}
+restore();

@@ -183,6 +183,8 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         page.wait_for_selector("#report-link-box:not([hidden])")
         link = page.get_attribute("#report-link", "href")
         assert link.startswith("/r/") and len(link) >= 3 + 22
+        address = page.evaluate("location.hash")  # #analysis=ID&order=10: a reload reopens the analysis
+        assert address.startswith("#analysis=") and address.endswith("&order=10")
         assert not errors, errors
     finally:
         server.stop()
@@ -199,6 +201,15 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         assert EVIL in page.text_content("#report-pair") or EVIL in page.text_content("body")
         assert page.locator("main img").count() == 0
         page.screenshot(path=str(shots / "report-after-restart.png"), full_page=True)
+
+        # the analysis itself reopens from its address after the restart (the SVD is recomputed from the stored data)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.goto(server.base + "/" + address)
+        page.wait_for_function("document.querySelectorAll('#modes-table tbody tr').length === 5", timeout=30000)
+        assert page.text_content("#order-value") == "10" and page.input_value("#rows") == "90"
+        reopened = table_rows(page, "#modes-table")
+        assert sorted((r["mode"], tuple(r["cells"].items())) for r in reopened) == \
+            sorted((r["mode"], tuple(r["cells"].items())) for r in app_rows)
 
         # 7. the offline download shows the same table with no server at all
         token = link.rsplit("/", 1)[1]
