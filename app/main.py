@@ -141,7 +141,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             app.state.jobs.shutdown()
             store.close()
 
-    app = FastAPI(title="ERA modal analysis", version=_version(), lifespan=lifespan,
+    app = FastAPI(title="ERA modal analysis", version=_version(), lifespan=lifespan, docs_url=None, redoc_url=None,
                   description="Eigensystem Realization Algorithm (Juang & Pappa 1985): upload pulse responses, "
                               "identify modes, judge them with γ and μ, share a report.")
     app.state.settings = settings
@@ -195,9 +195,29 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     if viewer is not None:
         app.include_router(viewer.router)
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+    _api_docs(app)
     # Outermost: refuse oversized bodies before anything reads them.
     app.add_middleware(UploadLimit, limit=settings.max_upload_bytes)
     return app
+
+
+def _api_docs(app: FastAPI) -> None:
+    """/docs (Swagger UI) served from the swagger-ui-bundle package: the page works with no internet."""
+    from fastapi.openapi.docs import get_swagger_ui_html
+    try:
+        from swagger_ui_bundle import swagger_ui_path
+    except ImportError:  # not installed: FastAPI's default page (its assets come from a CDN)
+        swagger_ui_path = None
+    if swagger_ui_path:
+        app.mount("/vendor/swagger", StaticFiles(directory=swagger_ui_path), name="swagger")
+    assets = "/vendor/swagger" if swagger_ui_path else "https://cdn.jsdelivr.net/npm/swagger-ui-dist@5"
+
+    @app.get("/docs", include_in_schema=False)
+    async def docs():
+        return get_swagger_ui_html(openapi_url=app.openapi_url, title=f"{app.title}: API",
+                                   swagger_js_url=f"{assets}/swagger-ui-bundle.js",
+                                   swagger_css_url=f"{assets}/swagger-ui.css",
+                                   swagger_favicon_url="data:,")
 
 
 def _version() -> str:

@@ -67,7 +67,10 @@ def test_pages_and_vendored_plotly(tmp_path):
         assert js.status_code == 200 and "javascript" in js.headers["content-type"] and len(js.content) > 1_000_000
         for path in ("/static/js/main.js", "/static/js/report.js", "/static/css/app.css", "/static/report.html"):
             assert c.get(path).status_code == 200, path
-        assert c.get("/docs").status_code == 200 and "/api/analyses" in c.get("/openapi.json").text
+        docs = c.get("/docs")
+        assert docs.status_code == 200 and "/api/analyses" in c.get("/openapi.json").text
+        assert "cdn." not in docs.text  # Swagger UI from this server: /docs works offline
+        assert c.get("/vendor/swagger/swagger-ui-bundle.js").status_code == 200
 
 
 def test_heavy_pool_is_bounded_and_says_busy():
