@@ -47,6 +47,7 @@ class EffectSpec:
     trial_power : how the effect's size scales with its (single) parameter when screening: +1 when the
         residual change grows with the value (a mass), −1 when it grows with its inverse (a joint's compliance).
     summary : a phrase for descriptions, e.g. "the riveted joints are semi-rigid".
+    caveat : a sentence appended to the description when the effect is named (what the data cannot tell).
     """
 
     name: str
@@ -56,6 +57,7 @@ class EffectSpec:
     trial: dict = field(default_factory=dict)
     trial_power: float = 1.0
     summary: str = ""
+    caveat: str = ""
 
     @property
     def located(self) -> bool:
@@ -95,13 +97,17 @@ def grid_effects(model) -> tuple:
         EffectSpec("cable_length", (Param("cable_length_m", True, np.log(p.get("cable_length_m", 0.51)), 0.2, "m"),),
                    summary="the suspension cables have a different length"),
         EffectSpec("distributed_mass", (Param("distributed_mass_kg", True, np.log(2.0), 1.2, "kg"),),
-                   summary="there is extra mass spread over the grid"),
+                   summary="there is extra mass spread over the grid",
+                   caveat="Spread mass lowers the elastic modes exactly as a softer material would; only the "
+                          "prior on E (±1.5 %) tells them apart, so the amount is uncertain to about ±0.6 kg."),
         EffectSpec("point_mass", (Param("point_mass_kg", True, np.log(1.0), 1.2, "kg"),),
                    location_keyword="point_mass_at", trial={"point_mass_kg": 1.0},
                    summary="a concentrated mass is attached"),
         # a loose joint is well below the bars' own EI/L ≈ 250 N·m/rad: 1σ spans 4-220 N·m/rad
         EffectSpec("loose_joint", (Param("loose_joint_stiffness", True, np.log(30.0), 2.0, "N·m/rad"),),
                    location_keyword="loose_joint_at", trial={"loose_joint_stiffness": 30.0}, trial_power=-1.0,
+                   caveat="Below about 50 N·m/rad the modes change little with the joint's stiffness, so its "
+                          "value is uncertain (see ±) even when the joint is found.",
                    summary="one joint is loose (a rotational spring instead of a rigid connection)"),
     ]
     return tuple(out)
@@ -115,10 +121,11 @@ def describe(spec: EffectSpec, parameters: dict, location, probability: float, u
         if v is not None:
             sd = (uncertainty or {}).get(prm.name)
             pm = f" ± {sd:.2g}" if sd is not None and np.isfinite(sd) else ""
-            shown.append(f"{prm.name.replace('_', ' ')} = {v:.4g}{pm}{(' ' + prm.unit) if prm.unit else ''}")
+            label = prm.name.removesuffix("_kg").removesuffix("_m").replace("_", " ")
+            shown.append(f"{label} = {v:.4g}{pm}{(' ' + prm.unit) if prm.unit else ''}")
     sf = parameters.get("stiffness_factor")
     where = f" at joint (x = {location[0]:g} ft, y = {location[1]:g} ft)" if location is not None else ""
     size = f" ({', '.join(shown)})" if shown else ""
     extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
     return (f"The test data are best explained if {spec.summary}{where}{size}{extra}; "
-            f"posterior probability {probability:.0%}.")
+            f"posterior probability {probability:.0%}." + (f" {spec.caveat}" if spec.caveat else ""))
