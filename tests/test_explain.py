@@ -91,6 +91,13 @@ def test_report_holds_paired_modes_mac_and_serep_shapes_for_viewing():
     assert r.timing_s["total_s"] > r.timing_s["era_s"]
     d = r.ranking[0].as_dict()
     assert {"name", "log_evidence", "probability", "parameters", "adequate"} <= set(d)
+    table = r.mode_table()
+    assert len(table) == k and all(abs(row["updated_error_pct"]) < 0.5 for row in table)
+    assert max(abs(row["nominal_error_pct"]) for row in table) == pytest.approx(r.before.max_abs_freq_error_pct)
+    import json
+    back = json.loads(json.dumps(r.as_dict()))
+    assert back["verdict"] == "explained" and back["effect"]["name"] == "joint_flexibility"
+    assert len(back["expanded_measured"]) == 88
 
 
 def test_probabilities_sum_to_one_and_the_nominal_is_the_reference():

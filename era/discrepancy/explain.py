@@ -52,6 +52,7 @@ class Explanation:
     unpaired_measured : indices of measured modes no candidate could pair (set aside).
     pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
     mac_before, mac_after : their MAC matrices (k, n_model); comac_before, comac_after : (p,) per sensor.
+    close_modes : (k,) bool, nearly repeated modes (their shapes are compared as a plane, not one by one).
     residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9);
     residual_sensors : sensors with COMAC < 0.9 after the update.
     node_xy_ft : (n_nodes, 2); expanded_measured : (n_nodes, k) SEREP expansion of the measured shapes with the
@@ -76,6 +77,7 @@ class Explanation:
     mac_after: np.ndarray
     comac_before: np.ndarray
     comac_after: np.ndarray
+    close_modes: np.ndarray
     residual_modes: tuple
     residual_sensors: tuple
     node_xy_ft: np.ndarray
@@ -84,7 +86,51 @@ class Explanation:
     timing_s: dict
 
     def candidate(self, name: str) -> RankedEffect:
+        """The ranking entry of one candidate, by name."""
         return next(r for r in self.ranking if r.name == name)
+
+    def mode_table(self) -> list:
+        """One row per fitted measured mode: measured f (Hz) and ζ, then the nominal and the updated model's
+        partner (f Hz, error %, MAC; None when unpaired), and whether the mode is nearly repeated."""
+        fm = self.measured.take(self.fit_modes)
+        rows = []
+        for i in range(fm.n_modes):
+            row = {"mode": i + 1, "measured_hz": float(fm.frequency_hz[i]), "damping_ratio": float(fm.damping_ratio[i]),
+                   "nearly_repeated": bool(self.close_modes[i])}
+            for key, pairing in (("nominal", self.pairing_before), ("updated", self.pairing_after)):
+                hit = np.flatnonzero(pairing.measured_index == i)
+                k = int(hit[0]) if hit.size else None
+                row[f"{key}_hz"] = None if k is None else float(pairing.frequency_model_hz[k])
+                row[f"{key}_error_pct"] = None if k is None else float(pairing.frequency_error_pct[k])
+                row[f"{key}_mac"] = None if k is None else float(pairing.mac[k])
+            rows.append(row)
+        return rows
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary for the app and the report (no model objects; arrays as lists)."""
+        e = self.effect
+        return {
+            "verdict": self.verdict, "message": self.message,
+            "effect": None if e is None else {
+                "name": e.name, "parameters": e.parameters, "uncertainty": e.uncertainty,
+                "location": None if e.location is None else [float(v) for v in e.location],
+                "location_probability": e.location_probability,
+                "other_locations": [[[float(v) for v in loc], q] for loc, q in e.other_locations],
+                "probability": e.probability, "description": e.description},
+            "ranking": [r.as_dict() for r in self.ranking],
+            "before": self.before.as_dict(), "after": self.after.as_dict(),
+            "updated_params": {k: (list(v) if isinstance(v, tuple) else v)
+                               for k, v in getattr(self.updated_model, "params", {}).items()},
+            "modes": self.mode_table(),
+            "unpaired_measured_hz": [float(self.measured.frequency_hz[i]) for i in self.unpaired_measured],
+            "mac_before": self.mac_before.tolist(), "mac_after": self.mac_after.tolist(),
+            "comac_before": self.comac_before.tolist(), "comac_after": self.comac_after.tolist(),
+            "residual_modes": list(self.residual_modes), "residual_sensors": list(self.residual_sensors),
+            "node_xy_ft": self.node_xy_ft.tolist(),
+            "expanded_measured": self.expanded_measured.tolist(),
+            "expanded_model": np.where(np.isfinite(self.expanded_model), self.expanded_model, 0.0).tolist(),
+            "timing_s": dict(self.timing_s),
+        }
 
 
 def _pair(model, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
@@ -227,7 +273,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
         updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
         pairing_before=before, pairing_after=after, mac_before=before.mac_matrix, mac_after=after.mac_matrix,
-        comac_before=comac_b, comac_after=comac_a, residual_modes=tuple(int(i) for i in miss),
+        comac_before=comac_b, comac_after=comac_a, close_modes=close, residual_modes=tuple(int(i) for i in miss),
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
         node_xy_ft=np.asarray(model.joints_ft, float), expanded_measured=expanded, expanded_model=model_nodes,
         timing_s=timing)
