@@ -13,7 +13,7 @@ from .deps import engine, jobs, progress_key
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
 
 
-@router.post("", summary="Upload a file (UFF, CSV, NPZ) of pulse responses or free decays")
+@router.post("", summary="Upload a file (UFF, CSV, NPZ): pulse responses, free decays, FRFs, input-output or ambient records")
 async def upload(request: Request, file: UploadFile,
                  kind: str = Form("auto", description="auto, pulse, decay, frf, io or ambient: what the records are")):
     """Multipart field ``file`` (and optionally ``kind``). Returns the dataset: id, outputs, inputs, dt, n_samples,

@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import era
+
 from apiclient import analysis, case1_frequencies_hz, case1_npz, client, upload
 
 
@@ -168,3 +170,19 @@ def test_physical_only_rejects_growing_and_real_poles():
                             damping_ratio=np.array([0.02, -0.05, 1.0, 0.3]))
     assert kept_by_thresholds(model, physical_only=True).tolist() == [0, 3]
     assert kept_by_thresholds(model).tolist() == [0, 1, 2, 3]
+
+
+def test_one_channel_reconstruction_equals_the_full_one(tmp_path):
+    import era.paper  # noqa: F401
+    from app.config import Settings
+    from app.engine import reconstruction_json
+    data = era.paper.case_2(200, mimo=True)
+    model = era.identify(data, 45, 45).realize(10)
+    kept = np.array([0, 2, 3])
+    full = model.select(kept)
+    rebuilt, error = full.reconstruct(200), full.fit_error(data)
+    for o in range(2):
+        for i in range(2):
+            r = reconstruction_json(model, data, kept, o, i, Settings())
+            np.testing.assert_allclose(r["reconstructed"], rebuilt[:, o, i], atol=1e-12)
+            assert r["fit_percent"] == pytest.approx(100 * (1 - error[o, i]), abs=1e-9)

@@ -4,7 +4,7 @@ Run: python3 -m pytest tests/bench/bench_app_slider.py -s
 One slider step = GET /modes?order=n and GET /reconstruction?order=n&thresholds (the page sends both at once).
 Reference: the analysis' own SVD (POST /api/analyses, H(0) 792 × 798), in the same process: a step must
 cost a small fraction of it (the SVD is never recomputed). On an idle 2-core machine a step is ~20-35 ms
-over orders 20-60 and the SVD ~0.4 s; we assert a median step ≤ 0.25 × the SVD and print both in ms.
+over orders 20-60 and the SVD ~0.4 s; we assert a median step ≤ 0.5 × the SVD and print both in ms.
 """
 
 import statistics
@@ -40,4 +40,4 @@ def test_slider_step_is_a_fraction_of_the_svd(tmp_path):
     print(f"\nslider step on the grid (orders 20-60): median {1e3 * step:.1f} ms, "
           f"p90 {1e3 * sorted(steps)[int(0.9 * len(steps))]:.1f} ms; SVD (POST /api/analyses) {1e3 * ref:.0f} ms; "
           f"ratio {step / ref:.3f}")
-    assert step <= 0.25 * ref
+    assert step <= 0.5 * ref
