@@ -49,10 +49,6 @@ class LRU:
                 self._items.popitem(last=False)
         return value
 
-    def clear(self):
-        with self._lock:
-            self._items.clear()
-
 
 # ---- JSON helpers -------------------------------------------------------------------------------------
 def floats(values) -> list:
@@ -124,13 +120,13 @@ def check_hankel(params: dict, n_samples: int, p: int, m: int, settings: Setting
     elements = rows * p * cols * m
     limit = settings.max_hankel_elements
     if elements > limit:
-        side = math.isqrt(limit // (p * m))
-        fit_rows = min(side, rows)
+        what = (f"H(0) would be {rows * p} × {cols * m} = {elements:,} elements (rows·p × cols·m with p = {p} "
+                f"outputs, m = {m} inputs), above this server's limit of {limit:,} (ERA_MAX_HANKEL_ELEMENTS).")
+        if p * m > limit:
+            raise era.HankelError(f"{what} Even rows = cols = 1 is too large: raise the limit or use fewer channels.")
+        fit_rows = max(1, min(math.isqrt(limit // (p * m)), rows))
         fit_cols = max(1, min(cols, limit // (p * m * fit_rows)))
-        raise era.HankelError(
-            f"H(0) would be {rows * p} × {cols * m} = {elements:,} elements (rows·p × cols·m with p = {p} outputs, "
-            f"m = {m} inputs), above this server's limit of {limit:,} (ERA_MAX_HANKEL_ELEMENTS). "
-            f"For example rows = {fit_rows}, cols = {fit_cols} fits.")
+        raise era.HankelError(f"{what} For example rows = {fit_rows}, cols = {fit_cols} fits.")
     max_order = params.get("max_order")
     cap = min(rows * p, cols * m, settings.max_order)
     if max_order is not None and max_order > cap:

@@ -80,6 +80,15 @@ def test_hankel_above_the_server_limit_says_what_fits(tmp_path):
         assert c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": rows, "cols": cols}).status_code == 200
 
 
+def test_hankel_limit_below_one_block(tmp_path):
+    import era.paper
+    from apiclient import npz_bytes
+    with client(tmp_path, max_hankel_elements=3) as c:  # Case II MIMO: one block is 2 × 2 = 4 elements
+        ds = upload(c, npz_bytes(era.paper.case_2(100))).json()
+        r = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 5, "cols": 5})
+        assert r.status_code == 422 and "Even rows = cols = 1" in r.json()["error"]
+
+
 def test_unknown_ids_are_404(tmp_path):
     with client(tmp_path) as c:
         r = c.post("/api/analyses", json={"dataset_id": "nope", "rows": 5, "cols": 5})
