@@ -53,7 +53,8 @@ class Explanation:
     pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
     mac_before, mac_after : their MAC matrices (k, n_model); comac_before, comac_after : (p,) per sensor.
     close_modes : (k,) bool, nearly repeated modes (their shapes are compared as a plane, not one by one).
-    residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9);
+    residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9),
+        worst first;
     residual_sensors : sensors with COMAC < 0.9 after the update.
     node_xy_ft : (n_nodes, 2); expanded_measured : (n_nodes, k) SEREP expansion of the measured shapes with the
     updated model's paired modes; expanded_model : (n_nodes, k) those model modes (NaN columns when unpaired).
@@ -255,7 +256,9 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     after = _pair(updated, fm, n_model, max_freq_error=1.0)
     fa, sa = model.modes(n_model)
     fb, sb = updated.modes(n_model)
+    badness = np.abs(chosen.fit.freq_residual) + np.where(close, 0.0, (1 - chosen.fit.mac) / 0.1 * 3.0)
     miss = np.flatnonzero((np.abs(chosen.fit.freq_residual) > 3.0) | ((chosen.fit.mac < 0.9) & ~close))
+    miss = miss[np.argsort(-badness[miss], kind="stable")]
     comac_b = comac(fm.shapes[:, before.measured_index], sa[:, before.model_index]) if before.n_pairs else np.zeros(0)
     comac_a = comac(fm.shapes[:, after.measured_index], sb[:, after.model_index]) if after.n_pairs else np.zeros(0)
     f_nodes, w_nodes = updated.node_modes(n_model)
@@ -268,7 +271,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     timing["total_s"] = time.perf_counter() - t0
     g_b = gap(before, subspace_mac(before, fm.shapes, sa, fa, errors.close))
     g_a = gap(after, subspace_mac(after, fm.shapes, sb, fb, errors.close))
-    message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired)
+    message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, chosen.fit, comac_a, unpaired)
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
         updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
@@ -279,13 +282,17 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
         timing_s=timing)
 
 
-def _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired) -> str:
-    top = ", ".join(f"{r.name} {r.probability:.0%}" for r in ranking[:3])
+def _message(verdict, effect, ranking, g_b, g_a, miss, fm, fit, comac_a, unpaired) -> str:
+    top = "Ranking: " + ", ".join(f"{r.name} {r.probability:.0%}" for r in ranking[:3])
+    if verdict == "unexplained":
+        top += " (probabilities relative to the library only; none of these fits within the error levels)"
     gaps = (f"Gap before: max |Δf| {g_b.max_abs_freq_error_pct:.2f} %, min MAC {g_b.min_mac:.3f}; after: "
             f"max |Δf| {g_a.max_abs_freq_error_pct:.2f} %, min MAC {g_a.min_mac:.3f}.")
     where = ""
     if len(miss):
-        where = " The residual lives in the modes at " + ", ".join(f"{fm.frequency_hz[i]:.3f} Hz" for i in miss)
+        where = (" The residual lives mostly in the modes at "
+                 + ", ".join(f"{fm.frequency_hz[i]:.3f} Hz (model {fit.freq_error_pct[i]:+.2f} %, MAC {fit.mac[i]:.3f})"
+                             for i in miss[:4]) + (f" and {len(miss) - 4} more" if len(miss) > 4 else ""))
         low = np.flatnonzero(comac_a < 0.9)
         where += (" and at sensors " + ", ".join(str(i + 1) for i in low) if low.size else "") + "."
     aside = f" {len(unpaired)} measured mode(s) had no model partner and were set aside." if unpaired else ""
@@ -298,4 +305,4 @@ def _message(verdict, effect, ranking, g_b, g_a, miss, fm, comac_a, unpaired) ->
         "unexplained": "No candidate effect makes the model agree with the test within its error levels: the "
                        "missing physics is outside the library.",
     }[verdict]
-    return f"{head} Ranking: {top}. {gaps}{where}{aside}"
+    return f"{head} {top}. {gaps}{where}{aside}"
