@@ -180,8 +180,12 @@ class Engine:
         n, p, m = data.markov.shape
         check_hankel(params, n, p, m, self.settings)
         max_order = params.get("max_order") or min(params["rows"] * p, params["cols"] * m, self.settings.max_order)
-        return era.identify(data, params["rows"], params["cols"], params.get("row_shifts"),
-                            params.get("col_shifts"), max_order=max_order)
+        ident = era.identify(data, params["rows"], params["cols"], params.get("row_shifts"),
+                             params.get("col_shifts"), max_order=max_order)
+        if ident.max_order == 0:
+            raise era.DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is "
+                                "nothing to identify. Check the file's channels and scaling.")
+        return ident
 
     def new_analysis(self, dataset_id: str, params: dict) -> tuple[str, era.Identification]:
         data, _, _ = self.dataset(dataset_id)

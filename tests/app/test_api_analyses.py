@@ -195,3 +195,13 @@ def test_one_channel_reconstruction_equals_the_full_one(tmp_path):
             r = reconstruction_json(model, data, kept, o, i, Settings())
             np.testing.assert_allclose(r["reconstructed"], rebuilt[:, o, i], atol=1e-12)
             assert r["fit_percent"] == pytest.approx(100 * (1 - error[o, i]), abs=1e-9)
+
+
+def test_all_zero_records_are_a_422_not_an_empty_analysis(tmp_path):
+    import io
+    buf = io.BytesIO()
+    np.savez(buf, markov=np.zeros((50, 2, 1)), dt=np.array(0.1))
+    with client(tmp_path) as c:
+        ds = upload(c, buf.getvalue(), "zeros.npz").json()
+        r = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 10, "cols": 10})
+    assert r.status_code == 422 and "rank 0" in r.json()["error"]
