@@ -77,7 +77,7 @@ def test_damaged_bar_outside_the_library_gets_no_confident_wrong_name():
 
 
 def test_report_holds_paired_modes_mac_and_serep_shapes_for_viewing():
-    r, _ = blind("joint_flexibility", 0)
+    r, truth = blind("joint_flexibility", 0)
     k = r.fit_modes.size
     assert r.mac_before.shape[0] == k and r.mac_after.shape == r.mac_before.shape
     assert r.expanded_measured.shape == (88, k) and r.expanded_model.shape == (88, k)
@@ -87,6 +87,8 @@ def test_report_holds_paired_modes_mac_and_serep_shapes_for_viewing():
     fm = r.measured.shapes[:, r.fit_modes]
     at_sensors = r.expanded_measured[sensors]
     assert np.all(era.mac(at_sensors, fm).diagonal() > 0.95)
+    # and at all 88 joints they are the truth's own shapes (which explain never saw)
+    assert np.all(era.mac(r.expanded_measured, truth["node_shapes"]).max(axis=1) > 0.98)
     assert np.all(np.diff(r.pairing_after.frequency_measured_hz) > 0)
     assert r.timing_s["total_s"] > r.timing_s["era_s"]
     d = r.ranking[0].as_dict()

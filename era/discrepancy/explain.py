@@ -152,6 +152,20 @@ def _select_modes(nominal, specs, measured: MeasuredModes, n_model: int) -> np.n
     return np.array(sorted(used), dtype=int)
 
 
+def _expand(fm: MeasuredModes, pairing: ModePairing, f_model, s_model, w_nodes) -> np.ndarray:
+    """SEREP expansion of each measured shape with a local basis: its partner and the model modes nearest to it
+    in frequency, p − 2 in all (fewer modes than sensors keeps Φ_s⁺ well conditioned). (n_nodes, k)."""
+    p = fm.shapes.shape[0]
+    n_basis = max(1, min(p - 2, f_model.size))
+    out = np.zeros((w_nodes.shape[0], fm.n_modes))
+    for i in range(fm.n_modes):
+        hit = np.flatnonzero(pairing.measured_index == i)
+        centre = f_model[pairing.model_index[hit[0]]] if hit.size else fm.frequency_hz[i]
+        basis = np.argsort(np.abs(f_model - centre), kind="stable")[:n_basis]
+        out[:, i] = serep(fm.shapes[:, i], s_model[:, basis], w_nodes[:, basis])
+    return out
+
+
 def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
     """(k,) True for measured modes with a neighbour within ``close`` (relative), among the measured modes or
     among the nominal model's modes next to their partner: nearly repeated modes."""
@@ -262,9 +276,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     comac_b = comac(fm.shapes[:, before.measured_index], sa[:, before.model_index]) if before.n_pairs else np.zeros(0)
     comac_a = comac(fm.shapes[:, after.measured_index], sb[:, after.model_index]) if after.n_pairs else np.zeros(0)
     f_nodes, w_nodes = updated.node_modes(n_model)
-    p = fm.shapes.shape[0]
-    keep = after.model_index[np.argsort(-after.mac)][:p]
-    expanded = serep(fm.shapes, sb[:, keep], w_nodes[:, keep])
+    expanded = _expand(fm, after, fb, sb, w_nodes)
     model_nodes = np.full((w_nodes.shape[0], fm.n_modes), np.nan)
     model_nodes[:, after.measured_index] = w_nodes[:, after.model_index]
     timing["report_s"] = time.perf_counter() - t2
