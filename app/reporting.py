@@ -7,6 +7,7 @@ measured and reconstructed records, the geometry for the animation, and the soft
 
 from __future__ import annotations
 
+import base64
 import csv
 import datetime as dt
 import io
@@ -93,16 +94,39 @@ def _cell(text: str) -> str:
     return "'" + text if text[:1] in ("=", "+", "-", "@") else text
 
 
-def standalone_html(report: dict, token: str) -> str:
-    """report.html with plotly.js, the CSS, the page script and the report data inlined: opens offline."""
+#: What the viewer's standalone page holds where a recording goes (ModeViewer.standalone_html of empty bytes).
+_EMBED_MARKER = 'window.__VISER_EMBED_DATA__=""'
+
+
+def offline_viser(viewer, recordings: dict[str, bytes]) -> tuple[str | None, dict[str, str]]:
+    """(viser's standalone player page with an empty recording, {mode: recording as base64}) for the download.
+
+    The page (about 0.8 MB) is stored once; report.js puts one mode's recording into it for an <iframe srcdoc>.
+    (None, {}) when the viewer has no standalone player or its page no longer has the expected marker.
+    """
+    make = getattr(viewer, "standalone_html", None)
+    if make is None or not recordings:
+        return None, {}
+    template = make(b"")
+    if template.count(_EMBED_MARKER) != 1:
+        return None, {}
+    return template, {k: base64.b64encode(v).decode("ascii") for k, v in recordings.items()}
+
+
+def standalone_html(report: dict, token: str, viser_page: str | None = None,
+                    viser_recordings: dict[str, str] | None = None) -> str:
+    """report.html with plotly.js, the CSS, the page script and the report data inlined: opens offline.
+
+    With ``viser_page`` and ``viser_recordings`` (from :func:`offline_viser`) the kept modes also play in viser's
+    own client, with no server; otherwise the page animates them with plotly."""
     import plotly
     plotly_js = (Path(plotly.__file__).parent / "package_data" / "plotly.min.js").read_text(encoding="utf-8")
     page = (STATIC_DIR / "report.html").read_text(encoding="utf-8")
     css = (STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
     script = (STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
     formats = (STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
-    data = json.dumps(dict(report, token=token, standalone=True), separators=(",", ":"))
-    data = data.replace("</", "<\\/").replace("<!--", "<\\!--")  # cannot close the script element early
+    extra = {"offline_recordings": viser_recordings or {}, "viser_marker": _EMBED_MARKER if viser_page else None}
+    data = _script_json(dict(report, token=token, standalone=True, **extra))
 
     def inline(tag: str, body: str) -> str:
         if tag == "script":
@@ -114,13 +138,20 @@ def standalone_html(report: dict, token: str) -> str:
         '<link rel="stylesheet" href="/static/css/app.css">': inline("style", css),
         '<script src="/static/js/format.js"></script>': inline("script", formats),
         '<script src="/static/js/report.js"></script>':
-            f"<script>window.REPORT_DATA = {data};</script>" + inline("script", script),
+            f"<script>window.REPORT_DATA = {data};</script>"
+            + (f"<script>window.VISER_PAGE = {_script_json(viser_page)};</script>" if viser_page else "")
+            + inline("script", script),
     }
     for old, new in replacements.items():
         if old not in page:
             raise RuntimeError(f"static/report.html lost the line {old!r} that the download inlines")
         page = page.replace(old, new)
     return page
+
+
+def _script_json(value) -> str:
+    """JSON to put inside a <script> element: "</" and "<!--" escaped so the element cannot end early."""
+    return json.dumps(value, separators=(",", ":")).replace("</", "<\\/").replace("<!--", "<\\!--")
 
 
 def geometry_from_json(g: dict | None) -> era.Geometry | None:

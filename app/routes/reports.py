@@ -84,7 +84,15 @@ async def file(request: Request, token: str, name: str):
 @router.get("/{token}/report.html", summary="The report as one self-contained HTML file (opens offline)")
 async def download_html(request: Request, token: str):
     report = _report(request, token)
-    html = await jobs(request).quick(reporting.standalone_html, report, token)
+    store = engine(request).store
+
+    def build():
+        recordings = {k: store.report_file(token, name).read_bytes()
+                      for k, name in report.get("recordings", {}).items() if store.report_file(token, name)}
+        page, encoded = reporting.offline_viser(request.app.state.viewer, recordings)
+        return reporting.standalone_html(report, token, page, encoded)
+
+    html = await jobs(request).quick(build)
     return HTMLResponse(html, headers={"Content-Disposition": f'attachment; filename="era-report-{token[:8]}.html"'})
 
 

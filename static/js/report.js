@@ -151,14 +151,22 @@
     if (animation) { clearInterval(animation); animation = null; }
     const box = $("report-viewer");
     box.replaceChildren();
-    if (r.playback && r.playback[String(k)]) {
-      box.append(el("iframe", undefined, { class: "viewer", src: r.playback[String(k)], title: "mode shape (viser playback)" }));
+    const key = String(k);
+    let viser = false;
+    if (!r.standalone && r.playback && r.playback[key]) {  // served: viser's client plays the stored recording
+      box.append(el("iframe", undefined, { class: "viewer", src: r.playback[key], title: "mode shape (viser playback)" }));
+      viser = true;
+    } else if (r.standalone && window.VISER_PAGE && r.offline_recordings && r.offline_recordings[key]) {
+      // downloaded file: viser's standalone player with this mode's recording inlined, no server needed
+      const frame = el("iframe", undefined, { class: "viewer", title: "mode shape (viser playback)" });
+      frame.srcdoc = window.VISER_PAGE.replace(r.viser_marker, () => `window.__VISER_EMBED_DATA__="${r.offline_recordings[key]}"`);
+      box.append(frame);
+      viser = true;
     }
     const re = m.shapes_re[k];
-    const live = r.playback && r.playback[String(k)] && !r.standalone;
-    $("report-shape").hidden = live;
-    $("report-shape").style.height = g ? "460px" : "300px";  // the viser playback shows it; the plotly view is for the offline file
-    if (live) return;
+    $("report-shape").hidden = viser;  // plotly animates the shape only where viser cannot
+    $("report-shape").style.height = g ? "460px" : "300px";
+    if (viser) return;
     if (!g) {
       Plotly.react("report-shape", [{ x: m.outputs.map(plain), y: re, type: "bar", name: "real" },
                                     { x: m.outputs.map(plain), y: m.shapes_im[k], type: "bar", name: "imaginary" }],

@@ -37,3 +37,13 @@ def test_viewer_routes_say_when_the_viewer_is_off(tmp_path):
         assert r.status_code == 503 and "viewer" in r.json()["error"]
         assert c.post(f"/api/analyses/{a['id']}/viewer", json={"order": 0}).status_code == 422
         assert c.post("/api/analyses/nope/viewer", json={"order": 2}).status_code == 404
+
+
+def test_downloaded_report_carries_the_viser_player_once_and_each_recording(tmp_path):
+    with client(tmp_path, viewer=True) as c:
+        _, a = analysis(c)
+        token = c.post("/api/reports", json={"analysis_id": a["id"], "order": 10, "modes": [0, 4]}).json()["token"]
+        html = c.get(f"/api/reports/{token}/report.html").text
+    assert html.count("window.VISER_PAGE = ") == 1
+    assert '"offline_recordings":{"0":"' in html and '"4":"' in html
+    assert '"viser_marker":"window.__VISER_EMBED_DATA__=\\"\\""' in html
