@@ -3,8 +3,9 @@
 Run: python3 -m pytest tests/bench/bench_app_slider.py -s
 One slider step = GET /modes?order=n and GET /reconstruction?order=n&thresholds (the page sends both at once).
 Reference: the analysis' own SVD (POST /api/analyses, H(0) 792 × 798), in the same process: a step must
-cost a small fraction of it (the SVD is never recomputed). On an idle 2-core machine a step is ~20-35 ms
-over orders 20-60 and the SVD ~0.4 s; we assert a median step ≤ 0.5 × the SVD and print both in ms.
+cost a small fraction of it (the SVD is never recomputed). On the 2-core reference machine (lightly loaded) a
+step is 20-35 ms over orders 20-60 and the SVD 0.16-0.7 s; we assert a median step ≤ 0.5 × the SVD and print
+both in ms. The browser adds drawing (table, diagram shapes, reconstruction curve): the e2e test prints it.
 """
 
 import statistics
