@@ -242,10 +242,12 @@ class ModalModel:
         if n_samples < 0:
             raise EraError(f"`n_samples` must be ≥ 0, got {n_samples}.")
         weight = np.where(self.is_pair, 2.0, 1.0)
+        zk = indicators.powers(self.z, np.arange(n_samples)).T * weight  # (N, modes)
+        p, m = self.shapes.shape[0], self.amplitudes.shape[1]
+        residues = np.einsum("pj,jm->jpm", self.shapes, self.amplitudes).reshape(-1, p * m)  # (modes, p m)
         with np.errstate(over="ignore", invalid="ignore"):
-            zk = self.z[None, :] ** np.arange(n_samples)[:, None]  # (N, modes)
-            y = np.einsum("kj,pj,jm->kpm", zk * weight, self.shapes, self.amplitudes, optimize=True)
-        return np.ascontiguousarray(y.real)
+            y = zk.real @ residues.real - zk.imag @ residues.imag  # Re(zk @ residues) as two real products
+        return y.reshape(n_samples, p, m)
 
     def fit_error(self, markov) -> np.ndarray:
         """Normalised RMS error of the reconstruction against measured Y, per channel: shape (p, m).
