@@ -176,5 +176,6 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
     return Fit(spec=spec, location=None if location is None else tuple(location), params=params, u=u,
                parameters={p.name: p.value(x) for p, x in zip(params, u)}, uncertainty=unc,
                log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,
-               occam=float(occam), freq_residual=r[: measured.n_modes], freq_error_pct=100 * (fa / measured.frequency_hz - 1),
-               mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + sol.nfev + 1)
+               occam=float(occam), freq_residual=r[: measured.n_modes],
+               freq_error_pct=100 * (fa / measured.frequency_hz - 1),
+               mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + 1)

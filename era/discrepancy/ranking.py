@@ -4,7 +4,8 @@ Located effects (a point mass, a loose joint) are screened first: one model solv
 size gives the direction in which that effect moves the residuals; a linearised two-parameter least squares
 (effect size ≥ 0 along that direction, plus the global stiffness factor) scores every joint, and only the best
 few are fitted in full. Their evidence is averaged over all joints (uniform location prior), so an effect that
-fits only at one joint pays ln(n_joints) for not knowing where.
+fits only at one joint pays ln(n_joints) for not knowing where; joints not refined count as zero in that average
+(a lower bound, tight when the screening has found the joints that matter).
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
 """era.explain on blind simulated tests: the full matrix (every effect × several seeds) and the time of one case.
 
-Run: python3 -m pytest tests/bench/bench_explain.py -s      (or: python3 tests/bench/bench_explain.py [seeds])
+Run: python3 -m pytest tests/bench/bench_explain.py -s
+ or: python3 tests/bench/bench_explain.py 0,1,2          (the blind matrix for these seeds)
+     python3 tests/bench/bench_explain.py 0,1 limits     (effects set at issue 5's detection limits)
 Prints one row per case: truth, verdict, named effect, parameter error, location, after-gap, seconds; and, for
 one case, where the time goes (ERA, each candidate). Reference for the timing ratio: one nominal grid solve
 (build + modes(16)) in the same process — explain costs a few hundred to a thousand of them.
@@ -61,6 +63,33 @@ def matrix(seeds=(0, 1, 2)):
     return rows
 
 
+LIMITS = (  # the detection limits issue 5 names, and a little beyond
+    {"name": "joint_flexibility", "joint_stiffness": 1000.0},
+    {"name": "torsion_stiffness", "torsion_factor": 0.95},
+    {"name": "torsion_stiffness", "torsion_factor": 1.05},
+    {"name": "cable_length", "cable_length_m": 0.51 * 1.07},
+    {"name": "cable_length", "cable_length_m": 0.51 * 0.93},
+    {"name": "point_mass", "point_mass_kg": 0.5, "point_mass_at": (5.0, 3.0)},
+    {"name": "point_mass", "point_mass_kg": 1.0, "point_mass_at": (8.0, 5.0)},
+    {"name": "distributed_mass", "distributed_mass_kg": 3.0},
+    {"name": "loose_joint", "loose_joint_stiffness": 10.0, "loose_joint_at": (0.0, 4.0)},
+)
+
+
+def limits(seeds=(0, 1)):
+    rows = []
+    for effect in LIMITS:
+        for seed in seeds:
+            c = run_case(effect, seed)
+            rows.append(c)
+            pe = "" if c["param_err_pct"] is None else f"{c['param_err_pct']:+.1f} %"
+            lo = "" if c["location_ok"] is None else ("loc ok" if c["location_ok"] else "LOC WRONG")
+            given = {k: v for k, v in effect.items() if k != "name"}
+            print(f"{c['effect']:18s} {str(given):52s} s{seed} {c['verdict']:27s} {str(c['named']):18s} {pe:9s} {lo:9s}"
+                  f" after {c['after'].max_abs_freq_error_pct:5.2f}% MAC {c['after'].min_mac:.3f}", flush=True)
+    return rows
+
+
 def test_one_blind_case_time():
     model = nasa_grid()
     ts = []
@@ -85,6 +114,15 @@ def test_blind_matrix():
     assert not bad, f"confident wrong names: {[(c['effect'], c['seed'], c['named']) for c in bad]}"
 
 
+def test_detection_limits():
+    rows = limits()
+    bad = [c for c in rows if c["named"] is not None and c["named"] != c["effect"]]
+    assert not bad, f"confident wrong names: {[(c['effect'], c['seed'], c['named']) for c in bad]}"
+
+
 if __name__ == "__main__":
     seeds = tuple(int(s) for s in sys.argv[1].split(",")) if len(sys.argv) > 1 else (0, 1, 2)
-    matrix(seeds)
+    if len(sys.argv) > 2 and sys.argv[2] == "limits":
+        limits(seeds)
+    else:
+        matrix(seeds)
