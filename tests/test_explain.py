@@ -142,3 +142,16 @@ def test_overlay_the_updated_model_tracks_the_record_the_nominal_drifts():
     assert o["measured"].shape == o["updated"].shape == o["nominal"].shape == data.markov.shape
     err_nom, err_upd = np.median(o["fit_error_nominal"]), np.median(o["fit_error_updated"])
     assert err_upd < 0.3 and err_upd < 0.5 * err_nom
+
+
+def test_a_measured_mode_no_model_can_pair_is_set_aside_and_reported():
+    truth = nasa_grid(torsion_factor=0.9)
+    f, s = truth.modes(10)
+    junk = np.array([1, -1, 1, -1, 1, -1, 1, -1, 1.0])  # a sensor-alternating pattern no grid mode has
+    freqs, shapes = np.r_[f, 3.9], np.c_[s, junk]
+    global_effects = tuple(e for e in grid_effects(nasa_grid()) if not e.located)
+    r = explain(modes_from_arrays(freqs, shapes), nasa_grid(), effects=global_effects)
+    assert r.unpaired_measured == (10,) and 10 not in r.fit_modes
+    assert "set aside" in r.message
+    assert r.verdict == "explained" and r.effect.name == "torsion_stiffness"
+    assert r.effect.parameters["torsion_factor"] == pytest.approx(0.9, rel=0.01)
