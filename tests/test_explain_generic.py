@@ -66,3 +66,17 @@ def test_the_chain_as_drawn_raises_no_alarm():
     f, s = Chain().with_params(stiffness_factor=0.995).modes(4)
     r = explain(modes_from_arrays(f, s), Chain(), effects=LIBRARY, extra_model_modes=3)
     assert r.verdict == "no_significant_discrepancy" and r.effect is None
+
+
+def test_two_candidates_the_data_cannot_tell_apart_give_ambiguous_not_a_name():
+    """Two candidates that change the model identically (the same tip mass under two names): both fit, the
+    posterior splits evenly between them, and neither is named."""
+    twin = LIBRARY + (EffectSpec("tip_mass_twin", (Param("tip_mass_kg", True, np.log(0.3), 1.0, "kg"),),
+                                 summary="the tip is heavier (second opinion)"),)
+    truth = Chain().with_params(tip_mass_kg=0.5)
+    f, s = truth.modes(4)
+    r = explain(modes_from_arrays(f, s), Chain(), effects=twin, extra_model_modes=3)
+    assert r.verdict == "ambiguous" and r.effect is None
+    assert {r.ranking[0].name, r.ranking[1].name} == {"tip_mass", "tip_mass_twin"}
+    assert r.ranking[0].probability == pytest.approx(0.5, abs=0.01)
+    assert "equally well" in r.message
