@@ -14,7 +14,7 @@ import numpy as np
 from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subspace_mac
 from ..data import ResponseData
 from ..errors import DataError
-from .effects import EffectSpec, describe, grid_effects, nuisance
+from .effects import describe, grid_effects, nuisance
 from .fitting import ErrorLevels, build_model
 from .measured import MeasuredModes, identify_modes
 from .ranking import RankedEffect, rank_effects

@@ -173,7 +173,8 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
     r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)
     chi2 = float(np.sum(r**2))
     chi2_prior = float(np.sum(_prior_residuals(params, u) ** 2))
-    return Fit(spec=spec, location=None if location is None else tuple(location), params=params, u=u,
+    loc = None if location is None else tuple(float(v) for v in location)
+    return Fit(spec=spec, location=loc, params=params, u=u,
                parameters={p.name: p.value(x) for p, x in zip(params, u)}, uncertainty=unc,
                log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,
                occam=float(occam), freq_residual=r[: measured.n_modes],

@@ -68,8 +68,8 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
     and the size a (n_loc,) of the effect, relative to its trial size, that the linearised fit wants.
 
-    r(a, b) ≈ r₀ + a Δ_ℓ + b J_sf, with r₀ the residual of the fitted nominal, Δ_ℓ the change the effect makes at
-    its trial size at location ℓ, J_sf the sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act
+    r(a, b) ≈ r₀ + a Δ_ℓ + b J_sf, with r₀ the residual of the fitted nominal, Δ_ℓ the change the effect
+    makes at its trial size at location ℓ, J_sf the sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act
     backwards).
     """
     u_sf = base.u[0]
@@ -131,7 +131,8 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(locations)))
             p_loc = np.exp(les - logsumexp(les))
-            rows.append((spec, log_ev, fits[0], tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc)),
+            locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
+            rows.append((spec, log_ev, fits[0], locs,
                          time.perf_counter() - t, len(locations) + 2 + sum(f.n_evals for f in fits)))
     log_ev = np.array([r[1] for r in rows])
     prob = np.exp(log_ev - logsumexp(log_ev))
