@@ -23,7 +23,7 @@ import era
 from . import config
 from .engine import Engine, NotFound
 from .jobs import Jobs
-from .routes import analyses, datasets, examples, pages, reports
+from .routes import analyses, datasets, examples, explain, pages, reports
 from .routes import jobs as job_routes
 from .store import Store
 
@@ -190,7 +190,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         return _error(500, f"Internal error (reference {ref}); it has been logged. Please report it with the "
                            "reference.")
 
-    for module in (datasets, examples, analyses, reports, job_routes, pages):
+    for module in (datasets, examples, analyses, explain, reports, job_routes, pages):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)

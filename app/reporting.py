@@ -21,6 +21,7 @@ import numpy as np
 import era
 
 from . import engine as eng
+from . import explaining
 
 STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
 #: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
@@ -70,6 +71,8 @@ def build(e: eng.Engine, analysis_id: str, order: int, kept: np.ndarray, version
                       for i, j in pairs]},
         "stabilization": stab,
         "geometry": geometry_json(geometry),
+        # simulation vs test, when its panel ran on this analysis (None otherwise)
+        "explanation": explaining.for_report(e.store, analysis_id),
     }
 
 
@@ -125,6 +128,7 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
     css = (STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
     script = (STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
     formats = (STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
+    explain_view = (STATIC_DIR / "js" / "explain_view.js").read_text(encoding="utf-8")
     extra = {"offline_recordings": viser_recordings or {}, "viser_marker": _EMBED_MARKER if viser_page else None}
     data = _script_json(dict(report, token=token, standalone=True, **extra))
 
@@ -137,6 +141,7 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
         '<script src="/vendor/plotly.min.js"></script>': inline("script", plotly_js),
         '<link rel="stylesheet" href="/static/css/app.css">': inline("style", css),
         '<script src="/static/js/format.js"></script>': inline("script", formats),
+        '<script src="/static/js/explain_view.js"></script>': inline("script", explain_view),
         '<script src="/static/js/report.js"></script>':
             f"<script>window.REPORT_DATA = {data};</script>"
             + (f"<script>window.VISER_PAGE = {_script_json(viser_page)};</script>" if viser_page else "")

@@ -9,6 +9,7 @@ import * as table from "./table.js";
 import * as reconstruction from "./reconstruction.js";
 import * as shapes from "./shapes.js";
 import * as share from "./share.js";
+import * as explain from "./explain.js";
 
 // Timing of the last slider updates (ms from the order change to table and reconstruction drawn), for tests.
 window.eraTiming = { order: [], parts: [] };
@@ -68,6 +69,7 @@ table.init();
 reconstruction.init();
 shapes.init();
 share.init();
+explain.init();
 
 on("order", (order) => { wanted = { order, t0: performance.now() }; pump(); });
 on("pole", ({ order, index }) => {

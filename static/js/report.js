@@ -201,6 +201,11 @@
   load().then((r) => {
     window.eraReport = r;
     meta(r); table(r); stabilization(r); singularValues(r); reconstruction(r); shapes(r);
+    if (r.explanation && window.EraExplainView) {  // simulation vs test, when its panel ran before the report
+      $("report-explain-card").hidden = false;
+      try { window.EraExplainView.render($("report-explain"), r.explanation, { id: "report-explain" }); }
+      catch (err) { $("report-explain").textContent = `The simulation-vs-test section cannot be drawn: ${err.message}`; }
+    }
     document.body.dataset.ready = "1";
   }).catch((err) => {
     const box = $("report-error");

@@ -1,0 +1,93 @@
+"""Simulation vs test (issue 5): run era.explain on an analysis's dataset against the NASA grid model, read the
+stored result back, and show the measured (SEREP-expanded) and model shapes in the viewer."""
+
+from __future__ import annotations
+
+import numpy as np
+from fastapi import APIRouter, HTTPException, Query, Request
+from pydantic import BaseModel, Field
+
+import era
+
+from .. import explaining
+from ..engine import NotFound
+from .deps import engine, jobs, progress_key
+
+router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
+
+
+class ExplainRequest(BaseModel):
+    nominal: dict = Field(default_factory=dict,
+                          description="keywords of era.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
+    output: int = Field(0, ge=0, description="output of the response overlay")
+    input: int = Field(0, ge=0, description="input of the response overlay")
+
+
+class ExplainViewerRequest(BaseModel):
+    which: str = Field(pattern="^(measured|model)$",
+                       description="measured: the test shapes expanded to all joints (SEREP); model: the updated model's")
+
+
+def _stored(request: Request, analysis_id: str) -> dict:
+    e = engine(request)
+    e.analysis(analysis_id)  # 404 for an unknown analysis
+    summary = explaining.load(e.store, analysis_id)
+    if summary is None:
+        raise NotFound("Simulation vs test has not run on this analysis yet: press Run in its panel "
+                       f"(POST /api/analyses/{analysis_id}/explain).")
+    return summary
+
+
+@router.post("/{analysis_id}/explain",
+             summary="Simulation vs test: name the effect the grid model is missing, update it, show the gap")
+async def run(request: Request, analysis_id: str, body: ExplainRequest):
+    """Runs era.explain (ERA at several orders, every candidate effect fitted and weighed by its evidence) on the
+    analysis's dataset, which must have the grid's nine sensors in order. Stores the result with the analysis."""
+    e = engine(request)
+    dataset_id, _ = e.analysis(analysis_id)
+    explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+
+    def work():
+        data, geometry, _ = e.dataset(dataset_id)
+        summary, responses = explaining.run(data, geometry, body.nominal)
+        explaining.save(e.store, analysis_id, summary, responses, data.dt)
+        return summary
+
+    summary = await jobs(request).heavy(
+        work, progress=progress_key(request),
+        message="Simulation vs test: ERA at several orders, then fitting and weighing every candidate effect")
+    return dict(summary, overlay=await jobs(request).quick(explaining.overlay_json, e.store, analysis_id,
+                                                           body.output, body.input))
+
+
+@router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis")
+async def read(request: Request, analysis_id: str, output: int = Query(0, ge=0), input: int = Query(0, ge=0),
+               overlay_only: bool = Query(False, description="only the overlay of this output and input")):
+    summary = _stored(request, analysis_id)
+    overlay = await jobs(request).quick(explaining.overlay_json, engine(request).store, analysis_id, output, input)
+    return {"overlay": overlay} if overlay_only else dict(summary, overlay=overlay)
+
+
+@router.post("/{analysis_id}/explain/viewer",
+             summary="Publish the expanded measured shapes, or the updated model's, to the viser viewer")
+async def publish(request: Request, analysis_id: str, body: ExplainViewerRequest):
+    summary = _stored(request, analysis_id)
+    viewer = request.app.state.viewer
+    if viewer is None:
+        raise HTTPException(503, "The mode-shape viewer is not available on this server.")
+    key = "expanded_measured" if body.which == "measured" else "expanded_model"
+    shapes = np.asarray(summary[key], dtype=float)  # (88 joints, k modes)
+    f = np.asarray(summary["measured_hz"] if body.which == "measured" else
+                   [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
+    from era.grid import nasa_grid
+    grid = nasa_grid().geometry()
+    n = grid.coordinates.shape[0]
+    if shapes.shape[0] != n:
+        raise era.DataError(f"The stored shapes have {shapes.shape[0]} joints, the grid {n}.")
+    # every joint is a channel (w along +z), so the viewer moves the whole grid from the expanded shapes
+    every_joint = era.Geometry(node_ids=grid.node_ids, coordinates=grid.coordinates, edges=grid.edges,
+                               channel_nodes=np.arange(n), channel_directions=np.tile([0.0, 0.0, 1.0], (n, 1)),
+                               units=grid.units)
+    labels = [f"{'measured (SEREP)' if body.which == 'measured' else 'updated model'} {fk:.3f} Hz" for fk in f]
+    key_ = await jobs(request).quick(viewer.publish, every_joint, f, shapes.astype(complex), labels)
+    return {"key": key_, "url": viewer.iframe_url(key_), "mode_url": f"/viser/{key_}/mode", "n_modes": int(f.size)}

@@ -1,0 +1,89 @@
+// Panel "Simulation vs test" (issue 5): runs era.explain on the current analysis's dataset against the NASA grid
+// model, then draws the result with explain_view.js. The server stores it with the analysis, so a reload shows it
+// again and a report created afterwards includes it. The 3-D viewers show the measured shapes expanded to all
+// joints (SEREP) and the updated model's, side by side.
+import { api } from "./api.js";
+import { state, on, el, showError } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+let shown = null;    // analysis id whose result is drawn
+let viewers = null;  // [{mode_url}, {mode_url}] when the viser viewer is available
+
+function nominal() {
+  return $("explain-gravity").checked ? {} : { gravity: false };
+}
+
+function overlay(output, input) {
+  const q = new URLSearchParams({ output, input, overlay_only: true });
+  return api(`/api/analyses/${state.analysis.id}/explain?${q}`).then((r) => r.overlay);
+}
+
+async function showViewers(box, k) {
+  viewers = null;
+  try {
+    const made = await Promise.all(["measured", "model"].map((which) =>
+      api(`/api/analyses/${state.analysis.id}/explain/viewer`, { method: "POST", body: { which } })));
+    const frames = made.map((v, n) => el("iframe", { class: "viewer", src: v.url, style: "flex:1 1 420px;min-width:320px;height:360px",
+      title: n === 0 ? "measured shape, SEREP-expanded" : "updated model shape" }));
+    const row = el("div", { style: "display:flex;flex-wrap:wrap;gap:12px" }, ...frames);
+    box.replaceChildren(el("div", { class: "note", text: "Left: measured (expanded); right: updated model. Drag to turn." }), row);
+    viewers = made;
+    setTimeout(() => moveViewers(k), 800);  // the viewer pages connect first
+  } catch (err) {
+    box.replaceChildren(el("div", { class: "note", text: `3-D viewer: ${err.message}` }));
+  }
+}
+
+async function moveViewers(k) {
+  if (!viewers) return;
+  for (const v of viewers) {
+    try { await api(v.mode_url, { method: "POST", body: { index: k, amplitude: 0.15, speed: 0.5 } }); } catch { /* best effort */ }
+  }
+}
+
+function draw(summary) {
+  $("explain-result").hidden = false;
+  const { viewers: box } = window.EraExplainView.render($("explain-result"), summary, { id: "explain", overlay, onShape: moveViewers });
+  shown = state.analysis.id;
+  $("explain-status").textContent = `Done in ${summary.seconds.toFixed(1)} s (ERA ${summary.timing_s.era_s.toFixed(1)} s, ranking ${summary.timing_s.ranking_s.toFixed(1)} s). Stored with this analysis: a report created now includes it.`;
+  showViewers(box, 0);
+}
+
+async function run() {
+  if (!state.analysis) return;
+  showError("explain-error", null);
+  $("explain-run").disabled = true;
+  $("explain-status").textContent = "Starting…";
+  try {
+    const r = await api(`/api/analyses/${state.analysis.id}/explain`, {
+      method: "POST", body: { nominal: nominal() }, progress: (text) => { $("explain-status").textContent = text; } });
+    draw(r);
+  } catch (err) {
+    $("explain-status").textContent = "";
+    showError("explain-error", err);
+  } finally {
+    $("explain-run").disabled = false;
+  }
+}
+
+// A stored result of this analysis (after a reload), if the panel ran on it before.
+async function restore(a) {
+  try {
+    const r = await api(`/api/analyses/${a.id}/explain`);
+    if (state.analysis && state.analysis.id === a.id) draw(r);
+  } catch { /* not run yet */ }
+}
+
+export function init() {
+  $("explain-run").addEventListener("click", run);
+  on("dataset", (ds) => {
+    const grid = ds.n_outputs === 9 && ds.geometry;
+    $("explain-hint").textContent = grid ? "" :
+      "This needs the NASA grid's nine sensors in order, with the grid geometry (open the grid example).";
+  });
+  on("analysis", (a) => {
+    $("explain-run").disabled = false;
+    if (shown !== a.id) { $("explain-result").hidden = true; $("explain-result").replaceChildren(); $("explain-status").textContent = ""; showError("explain-error", null); }
+    restore(a);
+  });
+}

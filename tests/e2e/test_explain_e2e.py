@@ -1,0 +1,58 @@
+"""The simulation-vs-test panel in a real browser: open the grid example, run the panel, read the verdict and the
+gap table, then find the same verdict in the report created afterwards.
+
+Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
+
+pytestmark = pytest.mark.e2e
+pytest.importorskip("era.grid")
+pytest.importorskip("era.simulate")
+
+
+def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, browser, shots):  # noqa: F811
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.base + "/")
+        page.click("#examples button[data-example='grid']")
+        page.wait_for_selector("#modes-table tbody tr", timeout=60000)
+        page.wait_for_function("!document.getElementById('explain-run').disabled")
+        page.click("#explain-run")
+        page.wait_for_selector("#explain-verdict", timeout=120000)
+
+        verdict = page.get_attribute("#explain-verdict", "data-verdict")
+        head = page.text_content("#explain-verdict > div")
+        assert verdict in {"explained", "no_significant_discrepancy", "ambiguous", "unexplained"}
+        words = {"explained": "Explained", "no_significant_discrepancy": "No significant discrepancy",
+                 "ambiguous": "Ambiguous", "unexplained": "Unexplained"}[verdict]
+        assert head.startswith(words) and "Gap before" in page.text_content("#explain-verdict")
+        gap = page.eval_on_selector_all("#explain-gap tbody tr",
+                                        "rows => rows.map(r => [...r.cells].map(c => c.textContent))")
+        assert [r[0] for r in gap] == ["before (nominal model)", "after (updated model)"]
+        assert all(float(v) >= 0 for r in gap for v in r[1:5])
+        assert page.locator("#explain-modes tbody tr").count() >= 5
+        for plot in ("#explain-mac-before", "#explain-mac-after", "#explain-overlay", "#explain-shape-measured"):
+            page.wait_for_selector(f"{plot} .main-svg")
+        page.wait_for_timeout(1500)
+        page.locator("#panel-explain").screenshot(path=str(shots / "explain-panel.png"))
+
+        # a report created now freezes the result; its page draws the same verdict read-only
+        page.click("#create-report")
+        page.wait_for_selector("#report-link-box:not([hidden])", timeout=60000)
+        page.goto(server.base + page.get_attribute("#report-link", "href"))
+        page.wait_for_selector("body[data-ready='1']", timeout=60000)
+        assert page.is_visible("#report-explain-card")
+        assert page.text_content("#report-explain-verdict > div") == head
+        assert page.locator("#report-explain-gap tbody tr").count() == 2
+        page.locator("#report-explain-card").screenshot(path=str(shots / "explain-report.png"))
+        assert errors == [], errors
+    finally:
+        server.stop()
