@@ -88,6 +88,8 @@ async def publish(request: Request, analysis_id: str, body: ExplainViewerRequest
     every_joint = era.Geometry(node_ids=grid.node_ids, coordinates=grid.coordinates, edges=grid.edges,
                                channel_nodes=np.arange(n), channel_directions=np.tile([0.0, 0.0, 1.0], (n, 1)),
                                units=grid.units)
-    labels = [f"{'measured (SEREP)' if body.which == 'measured' else 'updated model'} {fk:.3f} Hz" for fk in f]
+    paired = [body.which == "measured" or r["updated_hz"] is not None for r in summary["modes"]]
+    labels = [f"mode {k + 1}: {'measured (SEREP)' if body.which == 'measured' else 'updated model'} {fk:.3f} Hz"
+              if ok else f"mode {k + 1}: no model partner" for k, (fk, ok) in enumerate(zip(f, paired))]
     key_ = await jobs(request).quick(viewer.publish, every_joint, f, shapes.astype(complex), labels)
     return {"key": key_, "url": viewer.iframe_url(key_), "mode_url": f"/viser/{key_}/mode", "n_modes": int(f.size)}

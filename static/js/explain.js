@@ -23,7 +23,7 @@ async function showViewers(box, k) {
   try {
     const made = await Promise.all(["measured", "model"].map((which) =>
       api(`/api/analyses/${state.analysis.id}/explain/viewer`, { method: "POST", body: { which } })));
-    const frames = made.map((v, n) => el("iframe", { class: "viewer", src: v.url, style: "flex:1 1 420px;min-width:320px;height:360px",
+    const frames = made.map((v, n) => el("iframe", { class: "viewer", src: v.url, style: "flex:1 1 420px;min-width:320px;height:420px",
       title: n === 0 ? "measured shape, SEREP-expanded" : "updated model shape" }));
     const row = el("div", { style: "display:flex;flex-wrap:wrap;gap:12px" }, ...frames);
     box.replaceChildren(el("div", { class: "note", text: "Left: measured (expanded); right: updated model. Drag to turn." }), row);
