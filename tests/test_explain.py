@@ -132,7 +132,7 @@ def test_mismatched_channels_are_a_clear_error():
 def test_error_levels_give_close_modes_no_shape_weight():
     mm = modes_from_arrays([1.0, 2.0, 2.02], np.eye(9)[:, :3])
     w = ErrorLevels().weights(mm, np.array([False, True, True]))
-    assert w.sigma_s[0] == pytest.approx(0.015) and np.all(w.sigma_s[1:] >= 0.3)
+    assert w.sigma_s[0] == pytest.approx(0.015) and np.all(w.sigma_s[1:] >= 0.3)  # modes_from_arrays: EMAC 1
     assert w.sigma_f == pytest.approx(0.0015 * np.array([1.0, 2.0, 2.02]))
 
 
@@ -155,3 +155,14 @@ def test_a_measured_mode_no_model_can_pair_is_set_aside_and_reported():
     assert "set aside" in r.message
     assert r.verdict == "explained" and r.effect.name == "torsion_stiffness"
     assert r.effect.parameters["torsion_factor"] == pytest.approx(0.9, rel=0.01)
+
+
+def test_a_weakly_coherent_mode_counts_less():
+    """ERA's own accuracy indicator: a mode with EMAC 0.77 may be biased beyond its spread across orders."""
+    from era.discrepancy import MeasuredModes
+    f = np.array([5.0, 5.0])
+    mm = MeasuredModes(frequency_hz=f, frequency_std_hz=np.zeros(2), damping_ratio=np.full(2, 0.01),
+                       mpc=np.ones(2), emac=np.array([1.0, 0.77]), shapes=np.eye(9)[:, :2],
+                       n_orders=np.array([10, 10]), shape_std=np.zeros(2))
+    w = ErrorLevels().weights(mm)
+    assert w.sigma_f[1] > 3 * w.sigma_f[0] and w.sigma_s[1] > w.sigma_s[0]

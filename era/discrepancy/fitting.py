@@ -34,6 +34,9 @@ class ErrorLevels:
     freq_floor : relative frequency error floor (0.0015 = 0.15 %), added in quadrature to ERA's spread across orders.
     shape_floor : standard deviation of each component of a unit-norm shape (sensor gains, noise, mesh), added
         in quadrature to ERA's spread of the shape across orders.
+    emac_freq, emac_shape : extra error per unit of (1 − EMAC) (the paper's modal amplitude coherence γ): a
+        weakly excited mode whose history is not a clean decay (γ well below 1) can be biased beyond its spread
+        across orders; relative frequency error emac_freq·(1 − γ), shape component error emac_shape·(1 − γ).
     close : modes closer than this relative frequency to a neighbour (measured or model) form a nearly repeated
         pair whose individual shapes are not defined (any rotation within the pair is as good); their shapes get
         ``close_shape_sigma``, so only their frequencies count.
@@ -41,13 +44,17 @@ class ErrorLevels:
 
     freq_floor: float = 0.0015
     shape_floor: float = 0.015
+    emac_freq: float = 0.02
+    emac_shape: float = 0.1
     close: float = 0.03
     close_shape_sigma: float = 0.3
 
     def weights(self, measured: MeasuredModes, close_mask=None) -> "ModeWeights":
         """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes."""
-        sf = np.hypot(measured.frequency_std_hz, self.freq_floor * measured.frequency_hz)
-        ss = np.hypot(measured.shape_std, self.shape_floor)
+        weak = np.clip(1.0 - measured.emac, 0.0, 1.0)
+        f = measured.frequency_hz
+        sf = np.sqrt(measured.frequency_std_hz**2 + (self.freq_floor * f) ** 2 + (self.emac_freq * weak * f) ** 2)
+        ss = np.sqrt(measured.shape_std**2 + self.shape_floor**2 + (self.emac_shape * weak) ** 2)
         if close_mask is not None:
             ss = np.where(close_mask, np.maximum(ss, self.close_shape_sigma), ss)
         return ModeWeights(sf, ss)
