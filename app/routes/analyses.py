@@ -6,6 +6,7 @@ from __future__ import annotations
 import time
 
 from fastapi import APIRouter, HTTPException, Query, Request
+from fastapi.responses import JSONResponse
 from pydantic import BaseModel, Field
 
 from .. import engine as eng
@@ -88,10 +89,42 @@ async def reconstruction(request: Request, analysis_id: str, order: int = Query(
     e = engine(request)
     model = await _model(request, analysis_id, order)
     data = e.dataset(e.analysis(analysis_id)[0])[0]
+    kept = _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only)
+    return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
+
+
+def _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only):
     kept = eng.parse_modes(modes, model.n_modes)
     if kept is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or physical_only):
         kept = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0, physical_only)
-    return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
+    return kept
+
+
+@router.get("/{analysis_id}/step", summary="One order-slider step: the modes of one order and the reconstruction")
+async def step(request: Request, analysis_id: str, order: int = Query(ge=1),
+               modes: str | None = Query(None, description="kept modes, e.g. 0,2,5 (wins over thresholds)"),
+               min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
+               min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
+               min_contribution: float | None = Query(None, description="fraction of the largest"),
+               physical_only: bool = Query(False, description="keep decaying complex pairs only (0 < ζ < 1)"),
+               output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+    """``{"modes": …, "reconstruction": …}``: what GET /modes?fit=false and GET /reconstruction answer for the
+    same parameters, in one request and one realization. The page sends one per slider step: one round trip
+    instead of two, and the answer goes out as JSON directly (its lists are JSON-safe already), not through
+    FastAPI's generic encoder."""
+    t0 = time.perf_counter()
+    e = engine(request)
+    model = await _model(request, analysis_id, order)
+    data = e.dataset(e.analysis(analysis_id)[0])[0]
+    kept = _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only)
+
+    def work():
+        return {"modes": eng.modes_json(model, data, False),
+                "reconstruction": eng.reconstruction_json(model, data, kept, output, input, e.settings)}
+
+    out = await jobs(request).quick(work)
+    out["modes"]["compute_ms"] = round((time.perf_counter() - t0) * 1e3, 2)
+    return JSONResponse(out)
 
 
 @router.get("/{analysis_id}/stabilization", summary="Poles of every order, their stability, suggested modes")

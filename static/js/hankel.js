@@ -1,6 +1,6 @@
 // Panel 2: Hankel size (defaults and limits from the data), identification, singular values, order slider.
 import { api } from "./api.js";
-import { state, emit, on, showError, plotConfig } from "./state.js";
+import { state, emit, on, el, showError, plotConfig } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -45,18 +45,45 @@ async function identify() {
 
 const isDefault = (shifts) => shifts.every((t, i) => t === i + 1);
 
-function plotSingularValues(a, order) {
+function plotSingularValues(a) {
   const d = a.singular_values;
   const x = d.map((_, i) => i + 1);
-  Plotly.react("sv-plot", [
+  const div = $("sv-plot");
+  Plotly.react(div, [
     { x, y: d, type: "scatter", mode: "lines+markers", marker: { size: 4 }, name: "d_i", hovertemplate: "d_%{x} = %{y:.3e}<extra></extra>" },
   ], {
     margin: { l: 60, r: 10, t: 10, b: 40 }, yaxis: { type: "log", title: { text: "singular value d_i" }, exponentformat: "e" },
     xaxis: { title: { text: "index i" }, range: [0, Math.min(d.length, Math.max(2 * a.max_order, 20)) + 1] },
-    shapes: [{ type: "line", x0: order + 0.5, x1: order + 0.5, yref: "paper", y0: 0, y1: 1, line: { color: "#b3261e", width: 2 } }],
-    annotations: [{ x: order + 0.5, yref: "paper", y: 1, text: `n = ${order}`, showarrow: false, xanchor: "left", font: { color: "#b3261e" } }],
     showlegend: false,
-  }, plotConfig);
+  }, plotConfig).then(() => {
+    if (!div.dataset.hooked) { div.on("plotly_afterplot", placeOrderMark); div.dataset.hooked = "1"; }
+    placeOrderMark();
+  });
+}
+
+// The order line over the singular values is a div over the plot, not a plotly shape: moving a plotly shape or
+// annotation redraws the figure (40-130 ms per slider step in software rendering); moving a div costs nothing.
+// Its scale is read from plotly after each draw (zoom, resize) and kept, so a slider step reads no layout.
+let svArea = null;  // {left, width, x: data -> px} of the plot area, from plotly's last draw
+
+function placeOrderMark() {
+  const fl = $("sv-plot")._fullLayout;
+  if (!fl?.xaxis) return;
+  const xa = fl.xaxis;
+  svArea = { left: fl._size.l, width: fl._size.w, x: (v) => xa.l2p(v) };
+  const mark = $("sv-order");
+  mark.style.top = `${fl._size.t}px`;
+  mark.style.height = `${fl._size.h}px`;
+  markOrder(state.order);
+}
+
+function markOrder(n) {
+  const mark = $("sv-order");
+  const x = svArea && n !== null ? svArea.x(n + 0.5) : -1;
+  mark.hidden = !(x >= 0 && x <= svArea.width);
+  if (mark.hidden) return;
+  mark.style.left = `${svArea.left + x}px`;
+  mark.firstChild.textContent = `n = ${n}`;
 }
 
 export function setOrder(n, { fromSlider = false } = {}) {
@@ -66,12 +93,16 @@ export function setOrder(n, { fromSlider = false } = {}) {
   $("order-value").textContent = String(n);
   if (n === state.order) return;
   state.order = n;
-  Plotly.relayout("sv-plot", { "shapes[0].x0": n + 0.5, "shapes[0].x1": n + 0.5, "annotations[0].x": n + 0.5,
-                               "annotations[0].text": `n = ${n}` });
+  markOrder(n);
   emit("order", n);
 }
 
 export function init() {
+  const plot = $("sv-plot");
+  plot.style.position = "relative";
+  plot.append(el("div", { id: "sv-order", hidden: true, style: "position:absolute; z-index:1; width:0; " +
+                          "border-left:2px solid #b3261e; pointer-events:none" },
+                 el("span", { style: "position:absolute; left:4px; top:0; color:#b3261e; font-size:12px; white-space:nowrap" })));
   $("hankel-form").addEventListener("submit", (e) => { e.preventDefault(); identify(); });
   $("order").addEventListener("input", (e) => setOrder(Number(e.target.value), { fromSlider: true }));
   on("dataset", (ds) => {
@@ -98,7 +129,7 @@ export function init() {
     slider.max = a.max_order;
     slider.disabled = false;
     state.order = null;
-    plotSingularValues(a, a.suggested_order);
+    plotSingularValues(a);
     $("order-note").textContent = `Suggested order ${a.suggested_order} (singular values above the noise floor). ` +
       "Move the slider: poles, table and reconstruction follow; the SVD is not recomputed.";
     setOrder(a.suggested_order);

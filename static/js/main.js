@@ -16,40 +16,47 @@ window.eraTiming = { order: [], parts: [] };
 
 let busy = false, wanted = null, pendingSelect = null;
 
+// One request per slider step (GET /step: the modes and the reconstruction of that order), one at a time: while
+// one is on its way only the latest slider position waits. A fast drag never queues stale steps, and only the
+// latest order is drawn. (Aborting the request of an older order measured worse: the server finishes a
+// realization it has started anyway, and the aborted ones compete with the latest for the CPU.)
 async function pump() {
   if (busy || wanted === null) return;
   const { order, t0 } = wanted;
   wanted = null;
   busy = true;
+  let curve = null, t1, t2, t3;
   try {
-    // Both at once: the modes of this order, and the reconstruction with the modes the thresholds keep.
-    const [modes, rec] = await Promise.all([api(`/api/analyses/${state.analysis.id}/modes?order=${order}&fit=false`),
-                                            reconstruction.fetchFor(order, "thresholds")]);
-    const t1 = performance.now();
-    if (order === state.order) {
-      state.modes = modes;
-      state.kept = new Set(rec.kept);
-      if (pendingSelect !== null && pendingSelect.order === order) {
-        state.selected = pendingSelect.index < modes.n_modes ? pendingSelect.index : null;
-        pendingSelect = null;
-      } else if (state.selected !== null) {
-        state.selected = nearestMode(modes, state.selectedFrequency);
-      }
-      emit("modes", modes);
-      const t2 = performance.now();
-      reconstruction.draw(rec);
-      if (state.selected !== null) emit("select", state.selected);
-      const ms = performance.now() - t0;
-      window.eraTiming.order.push(ms);
-      window.eraTiming.parts.push({ order, fetch: t1 - t0, draw: t2 - t1, reconstruction: performance.now() - t2 });
-      document.getElementById("order-timing").textContent = `order ${order}: updated in ${ms.toFixed(0)} ms`;
+    const { modes, reconstruction: rec } = await reconstruction.fetchStep(order);
+    if (order !== state.order) return;
+    t1 = performance.now();
+    state.modes = modes;
+    state.kept = new Set(rec.kept);
+    if (pendingSelect !== null && pendingSelect.order === order) {
+      state.selected = pendingSelect.index < modes.n_modes ? pendingSelect.index : null;
+      pendingSelect = null;
+    } else if (state.selected !== null) {
+      state.selected = nearestMode(modes, state.selectedFrequency);
     }
+    // plotly first (it measures the page), then the listeners' DOM writes (table): one layout, not several
+    curve = reconstruction.draw(rec);
+    t2 = performance.now();
+    emit("modes", modes);
+    if (state.selected !== null) emit("select", state.selected);
+    t3 = performance.now();
   } catch (err) {
     showError("hankel-error", err);
   } finally {
     busy = false;
     pump();
   }
+  if (curve === null) return;
+  await curve;  // plotly may draw the curve in the next animation frame
+  if (order !== state.order) return;
+  const ms = performance.now() - t0;
+  window.eraTiming.order.push(ms);
+  window.eraTiming.parts.push({ order, fetch: t1 - t0, reconstruction: t2 - t1, draw: t3 - t2, frame: t0 + ms - t3 });
+  document.getElementById("order-timing").textContent = `order ${order}: updated in ${ms.toFixed(0)} ms`;
 }
 
 function nearestMode(m, f) {
@@ -88,8 +95,12 @@ on("analysis", (a) => {
   state.modes = null;
   history.replaceState(null, "", `#analysis=${encodeURIComponent(a.id)}`);
 });
+// The address follows the order once the slider rests: each replaceState costs a style pass (~10 ms).
+let addressTimer = null;
 on("modes", () => {
-  history.replaceState(null, "", `#analysis=${encodeURIComponent(state.analysis.id)}&order=${state.order}`);
+  clearTimeout(addressTimer);
+  addressTimer = setTimeout(() => history.replaceState(null, "",
+    `#analysis=${encodeURIComponent(state.analysis.id)}&order=${state.order}`), 150);
 });
 
 // A reload (or a bookmarked address) reopens the analysis in the address: #analysis=ID&order=n.

@@ -93,7 +93,7 @@ def test_unknown_ids_are_404(tmp_path):
     with client(tmp_path) as c:
         r = c.post("/api/analyses", json={"dataset_id": "nope", "rows": 5, "cols": 5})
         assert r.status_code == 404
-        for path in ("", "/modes?order=2", "/stabilization", "/reconstruction?order=2"):
+        for path in ("", "/modes?order=2", "/stabilization", "/reconstruction?order=2", "/step?order=2"):
             r = c.get(f"/api/analyses/nope{path}")
             assert r.status_code == 404 and "No analysis" in r.json()["error"], path
 
@@ -168,6 +168,30 @@ def test_reconstruction_keeps_modes_by_thresholds(tmp_path):
         # realistic thresholds keep all five modes of noise-free data
         r = c.get(url, params={"order": 10, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.01}).json()
         assert r["kept"] == [0, 1, 2, 3, 4]
+
+
+def test_a_slider_step_is_the_modes_and_the_reconstruction_in_one_answer(tmp_path):
+    with client(tmp_path) as c:
+        _, a = analysis(c)
+        base = f"/api/analyses/{a['id']}"
+        for params in ({"order": 10, "min_emac": 0.9, "min_mpc": 0.9, "min_contribution": 0.3, "physical_only": True},
+                       {"order": 8, "modes": "0,3"}, {"order": 6}):
+            both = c.get(f"{base}/step", params=params)
+            assert both.status_code == 200, both.text
+            both = both.json()
+            modes = c.get(f"{base}/modes", params={"order": params["order"], "fit": False}).json()
+            rec = c.get(f"{base}/reconstruction", params=params).json()
+            for key in ("order", "n_modes", "frequency_hz", "damping_ratio", "emac", "mpc", "contribution_relative",
+                        "shapes_re", "shapes_im", "is_pair"):
+                assert both["modes"][key] == modes[key], key
+            assert both["reconstruction"] == rec
+        assert both["reconstruction"]["kept"] == [0, 1, 2] and both["modes"]["n_modes"] == 3
+        rel = c.get(f"{base}/modes", params={"order": 10, "fit": False}).json()["contribution_relative"]
+        cut = c.get(f"{base}/step", params={"order": 10, "min_contribution": sorted(rel)[2]}).json()
+        assert cut["reconstruction"]["kept"] == sorted(np.argsort(rel)[2:].tolist())  # the weakest two rejected
+        for bad in ({"modes": "7"}, {"output": 1}, {"min_emac": 2}, {"order": 0}):
+            r = c.get(f"{base}/step", params={"order": 10, **bad})
+            assert r.status_code == 422 and r.json()["error"], bad
 
 
 def test_physical_only_rejects_growing_and_real_poles():
