@@ -31,6 +31,12 @@ export async function fetchStep(order) {
 }
 
 let shown = null;  // the channel pair and the time axis that the plot shows: `${output}|${input}|${samples}`
+let moving = null;  // a curve move (Plotly.animate) that plotly draws in the next animation frame, until then
+// A move still queued would overwrite a newer curve drawn at once (restyle, react): drop it first.
+function dropMove(div) {
+  if (moving) Plotly.animate(div, [], { mode: "immediate" });
+  moving = null;
+}
 let insideBefore = false;  // the drawn reconstruction lies within the measured range (the axes are the measured's)
 const sameArray = (a, b) => a.length === b.length && a.every((v, i) => v === b[i]);
 
@@ -50,14 +56,19 @@ export function draw(r) {
     // Only the reconstructed curve changed. Within the measured curve's range (the axes stay as they are), move
     // it with plotly's transition path: no recalculation of the axes, legend and hover (~2x cheaper than
     // restyle). Otherwise restyle it, and the y axis rescales to show it all.
+    // A newer move replaces one plotly has not drawn yet ("immediate"); that one's promise then resolves too.
     const inside = within(r.reconstructed, r.measured);
     if (inside && insideBefore) {
-      return Plotly.animate(div, { data: [{ y: r.reconstructed }], traces: [1] },
-                            { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } });
+      const move = moving = Plotly.animate(div, { data: [{ y: r.reconstructed }], traces: [1] },
+                                           { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } })
+        .catch(() => {}).finally(() => { if (moving === move) moving = null; });
+      return move;
     }
+    dropMove(div);
     insideBefore = inside;
     return Plotly.restyle(div, { y: [r.reconstructed] }, [1]);
   }
+  dropMove(div);
   insideBefore = within(r.reconstructed, r.measured);
   shown = same;
   return Plotly.react(div, [

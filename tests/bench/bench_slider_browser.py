@@ -8,11 +8,11 @@ one step after the other, each to an order not shown before (so the server reali
 
 Per step, timed in the page from the input event's timeStamp (so the wait for the page's main thread counts):
 - ``drawn``: until the DOM shows that order in all three panels: the table (its note), the stabilization diagram
-  (its current-order line) and a new reconstructed curve drawn after those two (MutationObservers, no polling;
+  (its current-order marks) and a new reconstructed curve drawn after those two (MutationObservers, no polling;
   not the page's own record, so any way of drawing is timed the same way);
 - ``painted``: to the end of the next frame after that (requestAnimationFrame, then a task): what the eye sees.
 After each step (outside the timing) the bench checks that the panels show that order: the table note, the order
-line of the diagram, and the drawn reconstruction against the server's own answer for that order.
+marks of the diagram, and the drawn reconstruction against the server's own answer for that order.
 The page's own split (window.eraTiming: fetch, drawing calls, the frame plotly draws the curve in) is printed too.
 
 Reference in the same run: the server-only time of a step (the requests the page sends for one order, over HTTP
@@ -60,7 +60,7 @@ HOOK = """() => {
   window.__watch = (order) => { window.__pending = new Promise((resolve) => {
     let curve = false;
     const table = () => $('table-note').textContent.endsWith(`at order ${order}`);
-    const poles = () => $('stab-plot').layout.shapes?.[0]?.y0 === order;
+    const poles = () => $('stab-marks')?.dataset.order === String(order);
     const watchers = [];
     const check = () => {
       if (!(curve && table() && poles())) return;
@@ -217,8 +217,10 @@ def check_panels(page, base: str, analysis_id: str, order: int) -> None:
     """The table, the diagram's order line and the reconstruction all show ``order`` (the server's answer)."""
     note = page.text_content("#table-note")
     assert note.endswith(f"at order {order}"), note
-    line = page.evaluate("document.getElementById('stab-plot').layout.shapes[0].y0")
-    assert line == order
+    marks = page.evaluate("(() => { const m = document.getElementById('stab-marks');"
+                          " return [Number(m.dataset.order), m.querySelectorAll('circle').length]; })()")
+    n_modes = int(note.split(" of ")[1].split()[0])
+    assert marks == [order, n_modes], (marks, order, n_modes)  # the order line, a ring on each of its poles
     curve = page.evaluate("document.getElementById('recon-plot').data[1].y")
     truth = get(base, f"/api/analyses/{analysis_id}/reconstruction", {"order": order, **THRESHOLDS, "output": 0, "input": 0})
     step = max(1, round(len(truth["reconstructed"]) / len(curve)))
