@@ -194,7 +194,8 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
 
     Returns
     -------
-    data : ResponseData (N, 9, m), dt = 1/32 s, outputs in model.sensors order, w in mm.
+    data : ResponseData (N, 9, m), dt = 1/32 s, outputs in model.sensors order, w in mm;
+        data.meta["input_locations"] : the m input joints (x_ft, y_ft).
     truth : dict with "frequency_hz" (r,), "damping_ratio" (r,), "shapes" (9, r) and "node_shapes" (88, r)
         mass-normalised (1/√kg, no gain errors) for every mode in the band, "effect" {name ("none" when
         no effect), parameters (in the candidate's terms), location, description, in_library (False only for
@@ -237,7 +238,8 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     data = ResponseData(markov=y, dt=dt, outputs=tuple(f"w({x:g},{yy:g}) ft" for x, yy in SENSORS_FT),
                         inputs=labels, output_units=("mm",) * len(SENSORS_FT),
                         input_units=("N·s" if excitation == "impulse" else "N",) * len(labels),
-                        meta={"source": "era.simulate.simulate_grid_test", "seed": seed, "excitation": excitation})
+                        meta={"source": "era.simulate.simulate_grid_test", "seed": seed, "excitation": excitation,
+                              "input_locations": tuple(inputs)})
     truth = {"frequency_hz": f, "damping_ratio": zeta, "shapes": phi_sens, "node_shapes": phi_nodes,
              "effect": {"name": name, "parameters": reported, "location": location, "description": how,
                         "in_library": name not in OUTSIDE_LIBRARY},

@@ -68,8 +68,9 @@ def nuisance(model, prior_std: float = 0.015) -> Param:
     """The global stiffness factor every candidate may adjust: E of the aluminium known to ±1.5 % (1σ).
 
     A uniform added mass scales the elastic stiffness-to-mass ratio exactly as a lower E does (the geometric and
-    cable stiffnesses grow with the weight, so ω² = [sf K_e / (1 + δ) + K_g + K_c] / M): distributed mass is
-    told from a softer material only through this prior, so its width sets that detection limit.
+    cable stiffnesses grow with the weight, so ω² = [sf K_e / (1 + δ) + K_g + K_c] / M): from frequencies and
+    shapes alone distributed mass is told from a softer material only through this prior. Modal constants from
+    known impulse inputs (mass-normalised, see measured.modal_constants) add the absolute mass scale.
     """
     s0 = float(model.params.get("stiffness_factor", 1.0))
     return Param("stiffness_factor", True, np.log(s0), prior_std, "")
@@ -98,8 +99,9 @@ def grid_effects(model) -> tuple:
                    summary="the suspension cables have a different length"),
         EffectSpec("distributed_mass", (Param("distributed_mass_kg", True, np.log(2.0), 1.2, "kg"),),
                    summary="there is extra mass spread over the grid",
-                   caveat="Spread mass lowers the elastic modes exactly as a softer material would; only the "
-                          "prior on E (±1.5 %) tells them apart, so the amount is uncertain to about ±0.6 kg."),
+                   caveat="Spread mass lowers the elastic modes exactly as a softer material would; what tells "
+                          "them apart is the prior on E (±1.5 %) and, with known impulse inputs, the modal "
+                          "constants, whose absolute scale is only as good as the sensors' calibration (see ±)."),
         EffectSpec("point_mass", (Param("point_mass_kg", True, np.log(1.0), 1.2, "kg"),),
                    location_keyword="point_mass_at", trial={"point_mass_kg": 1.0},
                    summary="a concentrated mass is attached"),

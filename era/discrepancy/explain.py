@@ -166,6 +166,21 @@ def _expand(fm: MeasuredModes, pairing: ModePairing, f_model, s_model, w_nodes) 
     return out
 
 
+def _node_rows(model, measured: MeasuredModes):
+    """Rows of model.node_modes at the sensors and at the measured inputs, or None when the modal constants
+    cannot be compared (no known inputs, or an input that is not a model node)."""
+    if measured.modal_constants is None or not hasattr(model, "node_modes"):
+        return None
+    xy = np.asarray(model.joints_ft, float)
+
+    def row(at):
+        d = np.linalg.norm(xy - np.asarray(at, float)[:2], axis=1)
+        return int(np.argmin(d)) if d.min() < 1e-6 else None
+
+    rows = [row(s) for s in model.sensors], [row(a) for a in measured.input_locations]
+    return None if None in rows[0] or None in rows[1] else rows
+
+
 def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
     """(k,) True for measured modes with a neighbour within ``close`` (relative), among the measured modes or
     among the nominal model's modes next to their partner: nearly repeated modes."""
@@ -244,7 +259,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     fm = measured.take(fit_modes)
     n_model = fm.n_modes + extra_model_modes
     close = _close_modes(model, fm, n_model, errors.close)
-    weights = errors.weights(fm, close)
+    weights = errors.weights(fm, close, _node_rows(model, fm))
     t1 = time.perf_counter()
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, np.asarray(model.joints_ft, float),
                            refine=refine_locations)

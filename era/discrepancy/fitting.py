@@ -37,6 +37,10 @@ class ErrorLevels:
     emac_freq, emac_shape : extra error per unit of (1 − EMAC) (the paper's modal amplitude coherence γ): a
         weakly excited mode whose history is not a clean decay (γ well below 1) can be biased beyond its spread
         across orders; relative frequency error emac_freq·(1 − γ), shape component error emac_shape·(1 − γ).
+    scale_floor : relative error of each mode's modal-constant scale (noise, ERA's bias), added in quadrature to
+        its spread across orders; emac_scale : extra relative scale error per unit of (1 − EMAC).
+    gain_std : relative calibration error of each sensor (1σ); its mean over the p sensors is common to every
+        mode's scale (a fully correlated error), and it is what limits the absolute mass scale.
     close : modes closer than this relative frequency to a neighbour (measured or model) form a nearly repeated
         pair whose individual shapes are not defined (any rotation within the pair is as good); their shapes get
         ``close_shape_sigma``, so only their frequencies count.
@@ -46,26 +50,45 @@ class ErrorLevels:
     shape_floor: float = 0.015
     emac_freq: float = 0.02
     emac_shape: float = 0.1
+    scale_floor: float = 0.02
+    emac_scale: float = 2.0
+    gain_std: float = 0.02
     close: float = 0.03
     close_shape_sigma: float = 0.3
 
-    def weights(self, measured: MeasuredModes, close_mask=None) -> "ModeWeights":
-        """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes."""
+    def weights(self, measured: MeasuredModes, close_mask=None, node_rows=None) -> "ModeWeights":
+        """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes.
+
+        node_rows : (sensor rows (p,), input rows (m,)) of the model's node_modes, to compare the measured modal
+        constants (when ``measured`` has them) with the model's mass-normalised shapes; None leaves them out.
+        """
         weak = np.clip(1.0 - measured.emac, 0.0, 1.0)
         f = measured.frequency_hz
         sf = np.sqrt(measured.frequency_std_hz**2 + (self.freq_floor * f) ** 2 + (self.emac_freq * weak * f) ** 2)
         ss = np.sqrt(measured.shape_std**2 + self.shape_floor**2 + (self.emac_shape * weak) ** 2)
         if close_mask is not None:
             ss = np.where(close_mask, np.maximum(ss, self.close_shape_sigma), ss)
-        return ModeWeights(sf, ss)
+        whiten = None
+        if node_rows is not None and measured.modal_constants is not None:
+            sc = np.sqrt(measured.modal_constant_std**2 + self.scale_floor**2 + (self.emac_scale * weak) ** 2)
+            if close_mask is not None:
+                sc = np.where(close_mask, np.maximum(sc, self.close_shape_sigma), sc)
+            common = self.gain_std / np.sqrt(measured.shapes.shape[0])
+            cov = np.diag(sc**2) + common**2
+            whiten = np.linalg.inv(np.linalg.cholesky(cov))
+        return ModeWeights(sf, ss, whiten, None if whiten is None else tuple(np.asarray(r, int) for r in node_rows))
 
 
 @dataclass(frozen=True, eq=False)
 class ModeWeights:
-    """Per-mode error levels: sigma_f (k,) Hz of each frequency, sigma_s (k,) of each unit-norm shape component."""
+    """Per-mode error levels: sigma_f (k,) Hz of each frequency, sigma_s (k,) of each unit-norm shape component;
+    scale_whitener (k, k) L⁻¹ of the covariance of the log modal-constant scales (per-mode errors plus the
+    common gain error), and node_rows (sensor rows, input rows) of the model's node_modes; None without them."""
 
     sigma_f: np.ndarray
     sigma_s: np.ndarray
+    scale_whitener: np.ndarray | None = None
+    node_rows: tuple | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,10 +136,16 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
     """Normalised residuals of a model against the measured modes.
 
     Each measured mode is paired (frequency and MAC together, one assignment, no refusal) with a model mode.
-    Returns r (n + n p,): frequency residuals (f_model − f_meas)/σ_f then shape residuals (ψ̂ − φ̂)/σ_s of
-    unit-norm, sign-aligned shapes; and (f_model (n,), mac (n,), model_index (n,)).
+    Returns r (n + n p [+ n],): frequency residuals (f_model − f_meas)/σ_f, shape residuals (ψ̂ − φ̂)/σ_s of
+    unit-norm, sign-aligned shapes, and, when w has a scale_whitener, the whitened log scales ln s_j of the
+    measured modal constants Q_j against the model's φ_j(sensors) φ_j(inputs)ᵀ = P_j, s_j = ⟨Q_j, P_j⟩/⟨P_j, P_j⟩
+    (1 when the model's mass is right); and (f_model (n,), mac (n,), model_index (n,)).
     """
-    f, shapes = model.modes(n_model)
+    if w.scale_whitener is not None:
+        f, nodes = model.node_modes(n_model)
+        shapes = nodes[w.node_rows[0]]
+    else:
+        f, shapes = model.modes(n_model)
     f = np.clip(np.nan_to_num(np.asarray(f, dtype=float)), 0.0, None)
     cost, m = pairing_cost(measured.frequency_hz, measured.shapes, f, shapes)
     rows, cols = linear_sum_assignment(cost)
@@ -128,7 +157,15 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
     psi = psi * np.where(np.sum(psi * measured.shapes, axis=0) < 0, -1.0, 1.0)[None, :]
     r_f = (fa - measured.frequency_hz) / w.sigma_f
     r_s = ((psi - measured.shapes) / w.sigma_s[None, :]).T.reshape(-1)
-    return np.concatenate([r_f, r_s]), (fa, m[np.arange(measured.n_modes), idx], idx)
+    parts = [r_f, r_s]
+    if w.scale_whitener is not None:
+        P = np.einsum("pk,mk->pmk", nodes[w.node_rows[0]][:, idx], nodes[w.node_rows[1]][:, idx])
+        Q = measured.modal_constants
+        pp = np.maximum(np.einsum("pmk,pmk->k", P, P), 1e-300)
+        # a model shape that does not project onto the measured one at all: a factor 100 off, not a crash
+        s = np.maximum(np.einsum("pmk,pmk->k", Q, P) / pp, 1e-2 * np.sqrt(np.einsum("pmk,pmk->k", Q, Q) / pp))
+        parts.append(w.scale_whitener @ np.log(s))
+    return np.concatenate(parts), (fa, m[np.arange(measured.n_modes), idx], idx)
 
 
 def _prior_residuals(params, u):

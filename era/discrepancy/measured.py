@@ -9,6 +9,7 @@ import numpy as np
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
+from ..modal import build_model
 from ..realization import identify
 from ..stabilization import stabilization
 
@@ -20,6 +21,10 @@ class MeasuredModes:
     frequency_hz, frequency_std_hz, damping_ratio, mpc, emac : (k,) means and frequency spread across orders.
     shapes : (p, k) real shapes (principal phase), unit norm; n_orders : (k,) orders each mode was stable in.
     shape_std : (k,) RMS spread of the unit-norm shape components across those orders.
+    modal_constants : (p, m, k) or None, the modal constants φ_j(sensor) φ_j(input) in 1/kg of a mass-normalised
+        φ, when the data are displacement pulse responses to impulses of known size at known points (see
+        :func:`modal_constants`); modal_constant_std : (k,) their relative spread across orders;
+        input_locations : (m,) the input points, e.g. joints (x_ft, y_ft), matching the model's node coordinates.
     """
 
     frequency_hz: np.ndarray
@@ -30,6 +35,9 @@ class MeasuredModes:
     shapes: np.ndarray
     n_orders: np.ndarray
     shape_std: np.ndarray
+    modal_constants: np.ndarray | None = None
+    modal_constant_std: np.ndarray | None = None
+    input_locations: tuple | None = None
 
     @property
     def n_modes(self) -> int:
@@ -37,9 +45,11 @@ class MeasuredModes:
 
     def take(self, idx) -> "MeasuredModes":
         idx = np.asarray(idx, dtype=int)
+        known = self.modal_constants is not None
         return MeasuredModes(self.frequency_hz[idx], self.frequency_std_hz[idx], self.damping_ratio[idx],
                              self.mpc[idx], self.emac[idx], self.shapes[:, idx], self.n_orders[idx],
-                             self.shape_std[idx])
+                             self.shape_std[idx], self.modal_constants[:, :, idx] if known else None,
+                             self.modal_constant_std[idx] if known else None, self.input_locations)
 
 
 def modes_from_arrays(frequency_hz, shapes, frequency_std_hz=None) -> MeasuredModes:
@@ -52,6 +62,45 @@ def modes_from_arrays(frequency_hz, shapes, frequency_std_hz=None) -> MeasuredMo
     sd = np.zeros_like(f) if frequency_std_hz is None else np.asarray(frequency_std_hz, dtype=float).reshape(-1)
     one = np.ones_like(f)
     return MeasuredModes(f, sd, np.zeros_like(f), one, one, s, one.astype(int), np.zeros_like(f))
+
+
+_TO_METRES = {"m": 1.0, "mm": 1e-3}
+
+
+def _impulse_inputs(data: ResponseData):
+    """(m,) input points and the output-to-metre factor when ``data`` are displacement pulse responses to
+    impulses of known size (input units N·s, outputs m or mm, data.meta["input_locations"]); else None."""
+    where = (data.meta or {}).get("input_locations")
+    if (where is None or len(where) != data.n_inputs or data.input_units is None or data.output_units is None
+            or any(u != "N·s" for u in data.input_units) or any(u not in _TO_METRES for u in data.output_units)
+            or len(set(data.output_units)) != 1):
+        return None
+    return tuple(tuple(float(v) for v in w) for w in where), _TO_METRES[data.output_units[0]]
+
+
+def modal_constants(models: dict, stab, chosen, to_metres: float):
+    """Modal constants of each chosen mode from ERA's residues, averaged over the orders it was stable in.
+
+    A displacement pulse response to a unit impulse is y(t) = Σ_j φ_j(i) φ_j(k) e^{−ζωt} sin(ω_d t)/ω_d for
+    mass-normalised φ, so each pole's residue (eq. 35: Y(k) = Σ c_j z_j^k b_j + c.c.) is c_j b_jᵀ =
+    φ_j φ_jᵀ/(2i ω_d): Re(2i ω_d c_j b_jᵀ) estimates φ_j(sensor) φ_j(input) in 1/kg, an absolute (mass) scale
+    that frequencies and unit-norm shapes lack. Returns (p, m, k) and (k,) relative spread across orders.
+    """
+    first = {int(o): int(np.flatnonzero(stab.order == o)[0]) for o in stab.orders}
+    out, spread = [], []
+    for md in chosen:
+        each = []
+        for pole in md.pole_indices:
+            order = int(stab.order[pole])
+            mdl, k = models[order], pole - first[order]
+            wd = 2 * np.pi * mdl.frequency_hz[k]
+            each.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres)
+        each = np.array(each)
+        mean = each.mean(axis=0)
+        rel = np.einsum("opm,pm->o", each, mean) / max(np.sum(mean**2), 1e-300)
+        out.append(mean)
+        spread.append(float(rel.std()))
+    return np.stack(out, axis=2), np.array(spread)
 
 
 def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | None = None,
@@ -98,9 +147,18 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
         each = each / np.linalg.norm(each, axis=0, keepdims=True)
         each = each * np.where(each.T @ shapes[:, k] < 0, -1.0, 1.0)[None, :]
         spread.append(float(np.sqrt(np.mean(np.var(each, axis=1)))))
+    constants = constant_std = None
+    impulses = _impulse_inputs(data)
+    if impulses is not None:
+        models = {}
+        for order in {int(stab.order[i]) for md in chosen for i in md.pole_indices}:
+            models[order] = build_model(*ident.balanced(order), data.dt, ident.row_shifts, ident.col_shifts)
+        constants, constant_std = modal_constants(models, stab, chosen, impulses[1])
     return MeasuredModes(
         frequency_hz=np.array([md.frequency_hz for md in chosen]),
         frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
         damping_ratio=np.array([md.damping_ratio for md in chosen]),
         mpc=np.array([md.mpc for md in chosen]), emac=np.array([md.emac for md in chosen]),
-        shapes=shapes, n_orders=np.array([len(md.orders) for md in chosen]), shape_std=np.array(spread))
+        shapes=shapes, n_orders=np.array([len(md.orders) for md in chosen]), shape_std=np.array(spread),
+        modal_constants=constants, modal_constant_std=constant_std,
+        input_locations=None if impulses is None else impulses[0])

@@ -111,7 +111,7 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     """
     if not specs or specs[0].name != "none":
         raise ValueError("rank_effects: the first candidate must be 'none' (nominal + stiffness factor).")
-    n_data = measured.n_modes * (1 + measured.shapes.shape[0])
+    n_data = measured.n_modes * (1 + measured.shapes.shape[0] + (w.scale_whitener is not None))
     t0 = time.perf_counter()
     base = fit_effect(nominal, specs[0], nuisance, measured, w, n_model)
     rows = []  # (spec, log_evidence, best fit, locations, seconds, solves)
