@@ -18,6 +18,11 @@ The page's own split (window.eraTiming: fetch, drawing calls, the frame plotly d
 Reference in the same run: the server-only time of a step (the requests the page sends for one order, over HTTP
 from Python, on a second analysis of the same data so no order is cached). Also a fast drag: 15 inputs 5 ms
 apart, then the time until the last order's panels are painted (stale requests must not queue up).
+
+Measured on the 2-core machine (load ~3 from other jobs), three runs each, orders 31-50, input -> painted:
+before (two requests per step, plotly relayouts, newPlot-style redraws): median 109-114 ms, p90 132-160 ms,
+server-only 17-26 ms (GET /modes + GET /reconstruction), fast drag 94-253 ms; after: median 43-49 ms, p90 51-57 ms,
+server-only 9-12 ms (GET /step), fast drag 44-80 ms.
 """
 
 from __future__ import annotations
@@ -204,13 +209,13 @@ def test_slider_in_the_browser(server):
     print(f"\nslider on the grid, orders {orders[0]}-{orders[-1]}, {STEPS} steps in headless Chromium:"
           f"\n  input -> drawn:   {summary(drawn)}"
           f"\n  input -> painted: {summary(painted)}"
-          f"\n  server only (the page's request, GET /step over HTTP): {summary(server_ms)}"
+          f"\n  server only (the page's request for one order over HTTP): {summary(server_ms)}"
           f"\n  ratio painted / server (medians): {statistics.median(painted) / statistics.median(server_ms):.2f}"
           f"\n  the page's own record (window.eraTiming, median ms): "
           + ", ".join(f"{k} {statistics.median(p[k] for p in parts):.1f}" for k in parts[0] if k != "order") +
           f"\n  fast drag, 15 inputs 5 ms apart, last input -> last order painted: "
           f"{', '.join(f'{x:.0f}' for x in drag)} ms")
-    assert statistics.median(painted) < 100  # the issue's requirement (here on a quiet machine: ~50 ms)
+    assert statistics.median(painted) < 100  # the issue's requirement (measured: 43-49 ms, 2 cores at load ~3)
 
 
 def check_panels(page, base: str, analysis_id: str, order: int) -> None:
