@@ -227,6 +227,7 @@ def check_panels(page, base: str, analysis_id: str, order: int) -> None:
     n_modes = int(note.split(" of ")[1].split()[0])
     assert marks == [order, n_modes], (marks, order, n_modes)  # the order line, a ring on each of its poles
     curve = page.evaluate("document.getElementById('recon-plot').data[1].y")
-    truth = get(base, f"/api/analyses/{analysis_id}/reconstruction", {"order": order, **THRESHOLDS, "output": 0, "input": 0})
+    truth = get(base, f"/api/analyses/{analysis_id}/reconstruction",
+                {"order": order, **THRESHOLDS, "output": 0, "input": 0})
     step = max(1, round(len(truth["reconstructed"]) / len(curve)))
     assert curve == truth["reconstructed"][::step][: len(curve)], f"order {order}: reconstruction is not this order's"
