@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import time
 
-from fastapi import APIRouter, HTTPException, Query, Request
+from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel, Field
 
@@ -76,37 +76,34 @@ async def modes(request: Request, analysis_id: str, order: int = Query(ge=1),
     return out
 
 
-@router.get("/{analysis_id}/reconstruction", summary="Measured against reconstructed response for kept modes")
-async def reconstruction(request: Request, analysis_id: str, order: int = Query(ge=1),
-                         modes: str | None = Query(None, description="kept modes, e.g. 0,2,5 (wins over thresholds)"),
-                         min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
-                         min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
-                         min_contribution: float | None = Query(None, description="fraction of the largest"),
-                         physical_only: bool = Query(False, description="keep decaying complex pairs only (0 < ζ < 1)"),
-                         output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
-    """The kept modes are ``modes`` if given, else those passing the thresholds (if any given), else all.
-    The answer names them in ``kept``, so the page can mark its table from the same rule."""
-    e = engine(request)
-    model = await _model(request, analysis_id, order)
-    data = e.dataset(e.analysis(analysis_id)[0])[0]
-    kept = _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only)
-    return await jobs(request).quick(eng.reconstruction_json, model, data, kept, output, input, e.settings)
-
-
-def _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only):
-    kept = eng.parse_modes(modes, model.n_modes)
-    if kept is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or physical_only):
-        kept = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0, physical_only)
+def keep_rule(modes: str | None = Query(None, description="kept modes, e.g. 0,2,5 (wins over thresholds)"),
+              min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
+              min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
+              min_contribution: float | None = Query(None, description="fraction of the largest"),
+              physical_only: bool = Query(False, description="keep decaying complex pairs only (0 < ζ < 1)")):
+    """Which modes a reconstruction keeps: ``modes`` if given, else those passing the thresholds (if any given),
+    else all. Shared by /reconstruction and /step so the table and the curve follow one rule."""
+    def kept(model):
+        chosen = eng.parse_modes(modes, model.n_modes)
+        if chosen is None and ((min_emac, min_mpc, min_contribution) != (None, None, None) or physical_only):
+            chosen = eng.kept_by_thresholds(model, min_emac or 0.0, min_mpc or 0.0, min_contribution or 0.0,
+                                            physical_only)
+        return chosen
     return kept
 
 
+@router.get("/{analysis_id}/reconstruction", summary="Measured against reconstructed response for kept modes")
+async def reconstruction(request: Request, analysis_id: str, order: int = Query(ge=1), kept=Depends(keep_rule),
+                         output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+    """The answer names the kept modes in ``kept``, so the page can mark its table from the same rule."""
+    e = engine(request)
+    model = await _model(request, analysis_id, order)
+    data = e.dataset(e.analysis(analysis_id)[0])[0]
+    return await jobs(request).quick(eng.reconstruction_json, model, data, kept(model), output, input, e.settings)
+
+
 @router.get("/{analysis_id}/step", summary="One order-slider step: the modes of one order and the reconstruction")
-async def step(request: Request, analysis_id: str, order: int = Query(ge=1),
-               modes: str | None = Query(None, description="kept modes, e.g. 0,2,5 (wins over thresholds)"),
-               min_emac: float | None = Query(None, description="keep modes with γ ≥ this"),
-               min_mpc: float | None = Query(None, description="keep modes with μ ≥ this"),
-               min_contribution: float | None = Query(None, description="fraction of the largest"),
-               physical_only: bool = Query(False, description="keep decaying complex pairs only (0 < ζ < 1)"),
+async def step(request: Request, analysis_id: str, order: int = Query(ge=1), kept=Depends(keep_rule),
                output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
     """``{"modes": …, "reconstruction": …}``: what GET /modes?fit=false and GET /reconstruction answer for the
     same parameters, in one request and one realization. The page sends one per slider step: one round trip
@@ -116,11 +113,11 @@ async def step(request: Request, analysis_id: str, order: int = Query(ge=1),
     e = engine(request)
     model = await _model(request, analysis_id, order)
     data = e.dataset(e.analysis(analysis_id)[0])[0]
-    kept = _kept(model, modes, min_emac, min_mpc, min_contribution, physical_only)
+    chosen = kept(model)
 
     def work():
         return {"modes": eng.modes_json(model, data, False),
-                "reconstruction": eng.reconstruction_json(model, data, kept, output, input, e.settings)}
+                "reconstruction": eng.reconstruction_json(model, data, chosen, output, input, e.settings)}
 
     out = await jobs(request).quick(work)
     out["modes"]["compute_ms"] = round((time.perf_counter() - t0) * 1e3, 2)
