@@ -20,6 +20,8 @@ class Param:
     log : True when fitted as u = ln(value) (positive quantities), else u = value.
     prior_mean, prior_std : Gaussian prior of u.
     unit : for reports, e.g. "N·m/rad".
+    model_form : relative 1σ error of the value that the candidate's idealisation itself carries (the data
+        cannot shrink it), added in quadrature to the posterior σ when the uncertainty is reported.
     """
 
     name: str
@@ -27,6 +29,7 @@ class Param:
     prior_mean: float
     prior_std: float
     unit: str = ""
+    model_form: float = 0.0
 
     def value(self, u: float) -> float:
         return float(np.exp(u)) if self.log else float(u)
@@ -102,8 +105,12 @@ def grid_effects(model) -> tuple:
                    caveat="Spread mass lowers the elastic modes exactly as a softer material would; what tells "
                           "them apart is the prior on E (±1.5 %) and, with known impulse inputs, the modal "
                           "constants, whose absolute scale is only as good as the sensors' calibration (see ±)."),
-        EffectSpec("point_mass", (Param("point_mass_kg", True, np.log(1.0), 1.2, "kg"),),
+        # model_form: on blind simulated tests the equivalent point mass reads 2-12 % low (the mass's footprint
+        # ~3 %, scatter of the bars' stiffness the rest), far beyond the posterior's ±3 %
+        EffectSpec("point_mass", (Param("point_mass_kg", True, np.log(1.0), 1.2, "kg", model_form=0.08),),
                    location_keyword="point_mass_at", trial={"point_mass_kg": 1.0},
+                   caveat="The mass is the equivalent point mass at the joint: a mass spread over a few inches "
+                          "around it, or scatter in the stiffness of the bars near it, reads up to ~10 % low.",
                    summary="a concentrated mass is attached"),
         # a loose joint is well below the bars' own EI/L ≈ 250 N·m/rad: 1σ spans 4-220 N·m/rad
         EffectSpec("loose_joint", (Param("loose_joint_stiffness", True, np.log(30.0), 2.0, "N·m/rad"),),

@@ -38,9 +38,11 @@ class ErrorLevels:
         weakly excited mode whose history is not a clean decay (γ well below 1) can be biased beyond its spread
         across orders; relative frequency error emac_freq·(1 − γ), shape component error emac_shape·(1 − γ).
     scale_floor : relative error of each mode's modal-constant scale (noise, ERA's bias), added in quadrature to
-        its spread across orders; emac_scale : extra relative scale error per unit of (1 − EMAC).
-    gain_std : relative calibration error of each sensor (1σ); its mean over the p sensors is common to every
-        mode's scale (a fully correlated error), and it is what limits the absolute mass scale.
+        its spread across orders; emac_scale : extra relative scale error per unit of (1 − EMAC) (weakly coherent
+        modes carry residues biased by several per cent).
+    gain_std : relative calibration error of each sensor (1σ); it enters every mode's scale weighted by that
+        sensor's share of the mode's modal constants, so it is correlated across modes, and its mean over the
+        sensors is what limits the absolute mass scale.
     close : modes closer than this relative frequency to a neighbour (measured or model) form a nearly repeated
         pair whose individual shapes are not defined (any rotation within the pair is as good); their shapes get
         ``close_shape_sigma``, so only their frequencies count.
@@ -50,8 +52,8 @@ class ErrorLevels:
     shape_floor: float = 0.015
     emac_freq: float = 0.02
     emac_shape: float = 0.1
-    scale_floor: float = 0.02
-    emac_scale: float = 2.0
+    scale_floor: float = 0.006
+    emac_scale: float = 3.0
     gain_std: float = 0.02
     close: float = 0.03
     close_shape_sigma: float = 0.3
@@ -73,8 +75,11 @@ class ErrorLevels:
             sc = np.sqrt(measured.modal_constant_std**2 + self.scale_floor**2 + (self.emac_scale * weak) ** 2)
             if close_mask is not None:
                 sc = np.where(close_mask, np.maximum(sc, self.close_shape_sigma), sc)
-            common = self.gain_std / np.sqrt(measured.shapes.shape[0])
-            cov = np.diag(sc**2) + common**2
+            # a sensor's gain error enters mode j's scale with that sensor's share of |Q_j|²: errors shared
+            # between modes (all of them for the mean gain, which no amount of modes can average away)
+            q2 = np.sum(measured.modal_constants**2, axis=1)
+            share = q2 / np.maximum(q2.sum(axis=0, keepdims=True), 1e-300)          # (p, k)
+            cov = np.diag(sc**2) + self.gain_std**2 * share.T @ share
             whiten = np.linalg.inv(np.linalg.cholesky(cov))
         return ModeWeights(sf, ss, whiten, None if whiten is None else tuple(np.asarray(r, int) for r in node_rows))
 
@@ -98,7 +103,7 @@ class Fit:
     spec : the effect; location : (x_ft, y_ft) or None; params : (k,) the Param records fitted (nuisance first);
     u : (k,) the most probable transformed parameters; parameters : {name: physical value};
     uncertainty : {name: 1σ of the physical value} from the Laplace posterior covariance H⁻¹ (value × σ_u for
-    log parameters);
+    log parameters) and the parameter's model-form error (Param.model_form), in quadrature;
     log_evidence : ln p(D|M) up to a constant common to all candidates (Laplace);
     chi2 : data misfit Σ r² at θ̂; chi2_prior; occam : −½ ln det(diag(σ_prior)² H) (≤ 0 when data inform);
     freq_residual : (n,) (f_model − f_measured)/σ_f at θ̂; freq_error_pct : (n,); mac : (n,);
@@ -212,6 +217,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
     sign, logdet = np.linalg.slogdet(H * np.outer(prior_sd, prior_sd))
     occam = -0.5 * logdet if sign > 0 else 0.0
     sd_u = np.sqrt(np.clip(np.diag(np.linalg.pinv(H)), 0.0, None))
+    sd_u = np.hypot(sd_u, [p.model_form * (1.0 if p.log else abs(p.value(x))) for p, x in zip(params, u)])
     unc = {p.name: (p.value(x) * s if p.log else s) for p, x, s in zip(params, u, sd_u)}
     model = build_model(nominal, spec, params, u, location)
     r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)

@@ -3,7 +3,8 @@
 Run: python3 -m pytest tests/bench/bench_explain.py -s
  or: python3 tests/bench/bench_explain.py 0,1,2          (the blind matrix for these seeds)
      python3 tests/bench/bench_explain.py 0,1 limits     (effects set at issue 5's detection limits)
-Prints one row per case: truth, verdict, named effect, parameter error, location, after-gap, seconds; and, for
+Prints one row per case: truth, verdict, named effect, parameter error ± the reported 1σ (both % of the truth),
+location, after-gap, seconds; and, for
 one case, where the time goes (ERA, each candidate). Reference for the timing ratio: one nominal grid solve
 (build + modes(16)) in the same process — explain costs a few hundred to a thousand of them.
 """
@@ -37,14 +38,16 @@ def run_case(effect, seed):
     true_name = truth["effect"]["name"]
     named = r.effect.name if r.effect else None
     perr = loc_ok = None
+    perr_sd = None
     if named is not None and named == true_name and PARAM.get(named):
         key = PARAM[named]
         perr = 100 * (r.effect.parameters[key] / truth["effect"]["parameters"][key] - 1)
+        perr_sd = 100 * r.effect.uncertainty[key] / truth["effect"]["parameters"][key]   # the reported 1σ, %
     if named is not None and truth["effect"]["location"] is not None:
         loc_ok = r.effect.location is not None and tuple(r.effect.location) == tuple(truth["effect"]["location"])
     return dict(effect=true_name, seed=seed, truth=truth["effect"]["parameters"], verdict=r.verdict, named=named,
                 probability=r.effect.probability if r.effect else r.ranking[0].probability,
-                top=r.ranking[0].name, param_err_pct=perr, location_ok=loc_ok,
+                top=r.ranking[0].name, param_err_pct=perr, param_sd_pct=perr_sd, location_ok=loc_ok,
                 before=r.before, after=r.after, seconds=seconds, result=r)
 
 
@@ -54,10 +57,10 @@ def matrix(seeds=(0, 1, 2)):
         for seed in seeds:
             c = run_case(effect, seed)
             rows.append(c)
-            pe = "" if c["param_err_pct"] is None else f"{c['param_err_pct']:+.1f} %"
+            pe = "" if c["param_err_pct"] is None else f"{c['param_err_pct']:+.1f}±{c['param_sd_pct']:.0f} %"
             lo = "" if c["location_ok"] is None else ("loc ok" if c["location_ok"] else "LOC WRONG")
             print(f"{c['effect']:20s} s{seed} {c['verdict']:27s} {str(c['named']):19s} p={c['probability']:.2f} "
-                  f"{pe:9s} {lo:9s} before {c['before'].max_abs_freq_error_pct:6.2f}% "
+                  f"{pe:13s} {lo:9s} before {c['before'].max_abs_freq_error_pct:6.2f}% "
                   f"after {c['after'].max_abs_freq_error_pct:5.2f}% MAC {c['after'].min_mac:.3f}  "
                   f"{c['seconds']:5.1f} s  truth {c['truth']}", flush=True)
     return rows
