@@ -82,6 +82,9 @@ def test_modal_constants_of_known_impulses_are_the_mass_normalised_shapes():
     # free decays from the air jet (forces of unknown phase history): no modal constants, no crash
     dwell, _ = simulate_grid_test(None, seed=0, excitation="dwell", duration_s=20.0)
     assert identify_modes(dwell).modal_constants is None
+    unknown_points = era.ResponseData(markov=data.markov, dt=data.dt, output_units=data.output_units,
+                                      input_units=data.input_units)
+    assert identify_modes(unknown_points).modal_constants is None
 
 
 def test_nominal_without_gravity_is_told_it_misses_the_self_weight_stiffening():

@@ -13,6 +13,10 @@ candidate (same data, same error levels),
 
 the best fit plus the Occam factor (the last term: how much the data shrink the prior volume; every extra
 parameter the data pin down costs about ln(σ_prior/σ_posterior)).
+
+The data D are the paired frequencies and unit-norm shapes and, when the inputs were impulses of known size at
+known points, each mode's modal-constant scale (measured.modal_constants): mass-normalised, so they see the
+absolute mass that frequencies and shapes cannot (only E/ρ moves those).
 """
 
 from __future__ import annotations
