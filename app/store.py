@@ -73,6 +73,9 @@ def dataset_to_npz(data: era.ResponseData, geometry: era.Geometry | None, name: 
                   inputs=_strings(data.inputs), has_output_units=np.array(data.output_units is not None),
                   output_units=_strings(data.output_units), has_input_units=np.array(data.input_units is not None),
                   input_units=_strings(data.input_units), has_geometry=np.array(geometry is not None))
+    where = (data.meta or {}).get("input_locations")
+    if where is not None:  # the input points (e.g. joints in ft): era.explain's residue term needs them
+        arrays["input_locations"] = np.asarray(where, dtype=float)
     if geometry is not None:
         arrays.update(geo_node_ids=geometry.node_ids, geo_coordinates=geometry.coordinates, geo_edges=geometry.edges,
                       geo_channel_nodes=geometry.channel_nodes, geo_channel_directions=geometry.channel_directions,
@@ -88,7 +91,9 @@ def dataset_from_npz(blob: bytes) -> tuple[era.ResponseData, era.Geometry | None
             markov=z["markov"], dt=float(z["dt"]), outputs=tuple(z["outputs"].tolist()),
             inputs=tuple(z["inputs"].tolist()),
             output_units=tuple(z["output_units"].tolist()) if bool(z["has_output_units"]) else None,
-            input_units=tuple(z["input_units"].tolist()) if bool(z["has_input_units"]) else None)
+            input_units=tuple(z["input_units"].tolist()) if bool(z["has_input_units"]) else None,
+            meta={"input_locations": [tuple(x) for x in z["input_locations"].tolist()]}
+            if "input_locations" in z.files else {})
         geometry = None
         if bool(z["has_geometry"]):
             geometry = era.Geometry(node_ids=z["geo_node_ids"], coordinates=z["geo_coordinates"],
