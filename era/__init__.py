@@ -1,8 +1,9 @@
 """ERA: the Eigensystem Realization Algorithm of Juang & Pappa (1985) for modal identification.
 
-Pure numerics (numpy/scipy); no web dependency.
+Pure numerics (numpy/scipy); no web dependency. The public names, nothing else.
 """
 
+# the ERA core (issue 2)
 from .data import ResponseData
 from .errors import DataError, EraError, HankelError, OrderError
 from .geometry import Geometry
@@ -11,25 +12,19 @@ from .modal import ModalModel
 from .realization import Identification, identify
 from .stabilization import StableMode, Stabilization, stabilization
 
-__all__ = [
-    "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode", "ModalModel", "mac",
-    "EraError", "DataError", "HankelError", "OrderError",
-]
-
 # test data in (issue 3): readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
 from .markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
-
-__all__ += [
-    "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
-    "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
-]
 
 # simulation against test (issue 5): correlation of test and model modes, and which effect the model misses
 from .correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes, serep, subspace_mac
 from .discrepancy import Explanation, explain
 
-__all__ += [
+__all__ = [
+    "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
+    "ModalModel", "mac", "EraError", "DataError", "HankelError", "OrderError",
+    "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
+    "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
     "subspace_mac",
 ]
