@@ -44,9 +44,6 @@ class Identification:
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
 
-    #: The projection is computed at least this large at once, so a slider over orders reuses it.
-    MIN_PROJECTION = 160
-
     @property
     def rows(self) -> int:
         return len(self.row_shifts)
@@ -88,14 +85,15 @@ class Identification:
     def projected(self, order: int) -> np.ndarray:
         """P_n^T H(1) Q_n, shape (n, n): the leading block of the projection of H(1) on the singular vectors.
 
-        Computed once for max(n, MIN_PROJECTION) (capped at K) and kept; a larger n extends it (H(1) is
-        rebuilt from the data for that, so it is not held in memory).
+        Computed for the first n asked and kept; a larger n extends it to at least twice its size (capped at
+        K), so a slider moving up costs a few products in all. H(1) is rebuilt from the data for that, so it is
+        not held in memory.
         """
         n = self._check_order(order)
         with self._lock:
             full = self._cache.get("projected")
             if full is None or full.shape[0] < n:
-                k = min(max(n, self.MIN_PROJECTION), self.max_order)
+                k = n if full is None else min(max(n, 2 * full.shape[0]), self.max_order)
                 h1 = hankel.block_hankel(self.data.markov, self.row_shifts, self.col_shifts, 1)
                 full = self.P[:, :k].T @ (h1 @ self.Q[:, :k])
                 self._cache["projected"] = full
@@ -205,13 +203,13 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     method = svd.choose_method(h0.shape, svd_method)
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
-        tol = max(h0.shape) * np.finfo(float).eps * (d[0] if d.size else 0.0)
-        keep = int(np.count_nonzero(d > tol))
-        if max_order is not None:
-            keep = min(keep, max_order)
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
-        keep = int(np.count_nonzero(d > max(h0.shape) * np.finfo(float).eps * d[0])) if d.size else 0
+    # keep the numerical rank (and no more than max_order) of the singular triplets
+    tol = max(h0.shape) * np.finfo(float).eps * (d[0] if d.size else 0.0)
+    keep = int(np.count_nonzero(d > tol))
+    if max_order is not None:
+        keep = min(keep, max_order)
     del h0
     P, Q = np.ascontiguousarray(P[:, :keep]), np.ascontiguousarray(Q[:, :keep])
     return Identification(data=data, row_shifts=js, col_shifts=ts, singular_values=d, P=P, Q=Q, svd_method=method)

@@ -154,9 +154,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         A, B, C, W = ident.balanced(n)
         model = build_model(A, B, C, W, d.dt, ident.row_shifts, ident.col_shifts)
         f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
-        if prev is None:
-            sf = sd = ss = np.zeros(len(f), dtype=bool)
-        elif len(prev[0]) == 0 or len(f) == 0:
+        if prev is None or len(prev[0]) == 0 or len(f) == 0:  # nothing to compare with
             sf = sd = ss = np.zeros(len(f), dtype=bool)
         else:
             df = _relative_change(f, prev[0])

@@ -4,7 +4,6 @@ Run: python3 -m pip install -e '.[bench]' && python3 -m pytest tests/bench/bench
 References: one dense SVD of H(0) (LAPACK gesdd), and python-control's eigensys_realization on the same data.
 """
 
-import time
 import tracemalloc
 
 import numpy as np
@@ -14,6 +13,7 @@ import era
 from era.hankel import block_hankel
 from era.svd import dense_svd
 from era.synthetic import modal_response
+from timing import median_time
 
 ORDERS = range(2, 121, 2)
 CASES = {  # (p, m, N, rows, cols, dt, frequencies)
@@ -22,29 +22,20 @@ CASES = {  # (p, m, N, rows, cols, dt, frequencies)
 }
 
 
-def _median_time(fn, repeat=3):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
-
-
 @pytest.fixture(scope="module", params=list(CASES), ids=list(CASES))
 def case(request):
     p, m, n, rows, cols, dt, f = CASES[request.param]
     data, _ = modal_response(f, 0.01, p, m, n, dt, snr_db=30, seed=0)
     h0 = block_hankel(data.markov, np.arange(rows), np.arange(cols))
-    t_svd = _median_time(lambda: dense_svd(h0))
+    t_svd = median_time(lambda: dense_svd(h0))
     return request.param, data, rows, cols, h0.shape, t_svd
 
 
 def test_stabilization_costs_at_most_one_and_a_half_svds(case):
     name, data, rows, cols, shape, t_svd = case
     ident = era.identify(data, rows, cols)
-    t_ident = _median_time(lambda: era.identify(data, rows, cols), repeat=2)
-    t_stab = _median_time(lambda: era.stabilization(ident, ORDERS))
+    t_ident = median_time(lambda: era.identify(data, rows, cols), repeat=2)
+    t_stab = median_time(lambda: era.stabilization(ident, ORDERS))
     print(f"\n[{name}] H(0) {shape[0]}×{shape[1]}: one SVD {t_svd:.3f} s | identify {t_ident:.3f} s "
           f"({t_ident / t_svd:.2f}× SVD) | stabilization of {len(ORDERS)} orders {t_stab:.3f} s "
           f"({t_stab / t_svd:.2f}× SVD)")
@@ -77,9 +68,9 @@ def test_against_python_control(case):
     def ours_one(order):
         return era.identify(data, rows, cols).realize(order).eigenvalues
 
-    t_peer_one = _median_time(lambda: peer(40), repeat=2)
-    t_ours_one = _median_time(lambda: ours_one(40), repeat=2)
-    t_ours_sweep = _median_time(lambda: era.stabilization(era.identify(data, rows, cols), ORDERS), repeat=2)
+    t_peer_one = median_time(lambda: peer(40), repeat=5)
+    t_ours_one = median_time(lambda: ours_one(40), repeat=5)
+    t_ours_sweep = median_time(lambda: era.stabilization(era.identify(data, rows, cols), ORDERS), repeat=2)
     # python-control recomputes the SVD for every order, so its sweep is len(ORDERS) calls of about equal cost
     t_peer_sweep = t_peer_one * len(ORDERS)
     print(f"\n[{name}] one order: ours {t_ours_one:.3f} s, python-control {t_peer_one:.3f} s "

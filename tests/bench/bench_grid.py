@@ -6,14 +6,13 @@ K and M, in the same process. One build + modes(10) costs about 2× that referen
 2-core machine; the contract with era.explain is "well under 50 ms"); we assert ≤ 5× (≤ 8× on the fine mesh).
 """
 
-import time
 
-import numpy as np
 import pytest
 import scipy.linalg
 
 from era.grid import nasa_grid
 from era.simulate import simulate_grid_test
+from timing import median_time
 
 VARIANTS = {
     "nominal": {},
@@ -24,26 +23,17 @@ VARIANTS = {
 }
 
 
-def _median_time(fn, repeat=15):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
-
-
 @pytest.fixture(scope="module")
 def reference():
     system = nasa_grid()._system[1]
     K, M = system.K.toarray(), system.M.toarray()
-    return _median_time(lambda: scipy.linalg.eigh(K, M, subset_by_index=[0, 9]))
+    return median_time(lambda: scipy.linalg.eigh(K, M, subset_by_index=[0, 9]), repeat=15)
 
 
 @pytest.mark.parametrize("name", list(VARIANTS))
 def test_one_candidate_build_and_modes10(name, reference):
     base = nasa_grid()
-    t = _median_time(lambda: base.with_params(**VARIANTS[name]).modes(10))
+    t = median_time(lambda: base.with_params(**VARIANTS[name]).modes(10), repeat=15)
     print(f"\n[{name}] build + modes(10): {t * 1e3:.1f} ms = {t / reference:.2f}× one dense eigh of the "
           f"nominal ({reference * 1e3:.1f} ms)")
     assert t / reference <= (8.0 if name == "elements_per_bar=2" else 5.0)
@@ -52,8 +42,8 @@ def test_one_candidate_build_and_modes10(name, reference):
 def test_simulated_test_costs_less_than_identifying_it():
     import era
     data, _ = simulate_grid_test("point_mass", seed=0)
-    t_era = _median_time(lambda: era.identify(data, rows=30, cols=500), repeat=3)
-    t = _median_time(lambda: simulate_grid_test("point_mass", seed=0), repeat=5)
+    t_era = median_time(lambda: era.identify(data, rows=30, cols=500), repeat=3)
+    t = median_time(lambda: simulate_grid_test("point_mass", seed=0), repeat=5)
     print(f"\n[simulate_grid_test] 40 s, 9 × 6 records, fine truth mesh: {t * 1e3:.0f} ms "
           f"= {t / t_era:.2f}× one era.identify(rows=30, cols=500) of them ({t_era * 1e3:.0f} ms)")
     assert t <= t_era
