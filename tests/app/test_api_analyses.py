@@ -5,8 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import era
-
 from apiclient import analysis, case1_frequencies_hz, case1_npz, client, upload
 
 

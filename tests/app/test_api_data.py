@@ -132,7 +132,6 @@ def test_examples_list_and_load(tmp_path):
 
 
 def test_grid_example_has_nine_sensors_and_the_geometry(tmp_path):
-    pytest.importorskip("era.simulate")
     with client(tmp_path) as c:
         ds = c.post("/api/examples/grid").json()
     assert ds["n_outputs"] == 9 and ds["geometry"]["n_nodes"] == 88

@@ -10,21 +10,13 @@ import pytest
 
 from apiclient import analysis, client
 
-pytest.importorskip("era.grid")
-pytest.importorskip("era.simulate")
-
-try:
-    import viser  # noqa: F401
-    VIEWER = True
-except ImportError:
-    VIEWER = False
 VERDICTS = {"explained", "no_significant_discrepancy", "ambiguous", "unexplained"}
 
 
 @pytest.fixture(scope="module")
 def grid_run(tmp_path_factory):
     """(client, analysis, POST answer) for the built-in grid example; the client stays open for the module."""
-    with client(tmp_path_factory.mktemp("explain"), viewer=VIEWER) as c:
+    with client(tmp_path_factory.mktemp("explain"), viewer=True) as c:
         ds = c.post("/api/examples/grid")
         assert ds.status_code == 200, ds.text
         ds = ds.json()
@@ -85,7 +77,6 @@ def test_the_result_is_stored_and_read_back_and_goes_into_a_report(grid_run):
     assert "EraExplainView" in html and "/static/js/explain_view.js" not in html  # inlined: opens offline
 
 
-@pytest.mark.skipif(not VIEWER, reason="viser is not installed")
 def test_measured_and_model_shapes_go_to_the_viewer_on_every_joint(grid_run):
     c, a, s = grid_run
     for which in ("measured", "model"):

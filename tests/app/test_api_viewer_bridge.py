@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-import pytest
-
-pytest.importorskip("viser")
-
-from apiclient import analysis, client  # noqa: E402
+from apiclient import analysis, client
 
 
 def test_publish_select_and_record(tmp_path):

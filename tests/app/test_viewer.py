@@ -8,18 +8,16 @@ import time
 import numpy as np
 import pytest
 
-pytest.importorskip("viser")
+import msgspec  # viser's dependencies: the .viser format is zstd-compressed msgpack
+import zstandard
+from fastapi import FastAPI
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
 
-import msgspec  # noqa: E402  (viser dependencies: the .viser format is zstd-compressed msgpack)
-import zstandard  # noqa: E402
-from fastapi import FastAPI  # noqa: E402
-from fastapi.testclient import TestClient  # noqa: E402
-from starlette.websockets import WebSocketDisconnect  # noqa: E402
-
-from app.viewer import ModeViewer, scene  # noqa: E402
-from app.viewer.registry import Registry, ViewState, updated_state  # noqa: E402
-from era.errors import DataError  # noqa: E402
-from era.geometry import Geometry  # noqa: E402
+from app.viewer import ModeViewer, scene
+from app.viewer.registry import Registry, ViewState, updated_state
+from era.errors import DataError
+from era.geometry import Geometry
 
 SENSORS = [(x, y) for y in (1, 4, 6) for x in (1, 5, 9)]
 

@@ -11,8 +11,6 @@ import pytest
 from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
 
 pytestmark = pytest.mark.e2e
-pytest.importorskip("era.grid")
-pytest.importorskip("era.simulate")
 
 
 def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, browser, shots):  # noqa: F811
