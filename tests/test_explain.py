@@ -55,6 +55,28 @@ def test_added_mass_is_named_at_the_right_joint():
     assert r.effect.location_probability > 0.9
 
 
+def test_well_pinned_parameters_get_a_two_sided_interval_around_the_truth():
+    r, truth = blind("joint_flexibility", 0)
+    low, high = r.effect.interval["joint_stiffness"]
+    k_true = truth["effect"]["parameters"]["joint_stiffness"]
+    assert low is not None and high is not None
+    assert low < r.effect.parameters["joint_stiffness"] < high and high / low < 1.5
+    assert 0.9 * low < k_true < 1.1 * high      # the data's interval; the idealisation adds a little
+    assert r.as_dict()["effect"]["interval"] == {"joint_stiffness": [low, high]}
+
+
+def test_a_loose_joint_is_found_and_its_stiffness_given_as_the_bound_the_data_support():
+    """Below ~50 N·m/rad a joint acts as a hinge: the modes tell where, not how loose. The report must say
+    "≤ bound" (and the bound must hold), not a value ± σ the data cannot support."""
+    r, truth = blind({"name": "loose_joint", "loose_joint_stiffness": 6.0, "loose_joint_at": (0.0, 3.0)}, 3)
+    assert r.verdict == "explained" and r.effect.name == "loose_joint"
+    assert r.effect.location == (0.0, 3.0)
+    low, high = r.effect.interval["loose_joint_stiffness"]
+    assert low is None and 6.0 < high < 250.0         # open below, and softer than the bars' own EI/L
+    assert "loose joint stiffness ≤" in r.effect.description
+    assert_closed_gap(r)
+
+
 def test_spread_mass_is_told_from_a_softer_material_by_the_modal_constants():
     """Frequencies and unit shapes see only E/ρ; the residues of known impulses are mass-normalised."""
     r, truth = blind("distributed_mass", 3)

@@ -6,7 +6,7 @@ import pytest
 import era
 from era.errors import EraError
 from era.grid import SENSORS_FT, nasa_grid
-from era.simulate import EFFECTS, simulate_grid_test
+from era.simulate import EFFECTS, LOOSE_JOINT_LIMIT_PCT, loose_joint_signature_pct, simulate_grid_test
 
 
 def matched_errors(f_identified, f_true):
@@ -78,6 +78,12 @@ def test_drawn_parameters_and_the_gravity_case():
     # the mass is a patch, not a point: several mesh nodes carry it
     assert len(truth["model"].perturbation.point_masses) >= 3
     assert sum(m[2] for m in truth["model"].perturbation.point_masses) == pytest.approx(p["point_mass_kg"])
+    for seed in (0, 1):   # a drawn loose joint sits where it moves some mode beyond the detection limit
+        _, truth = simulate_grid_test("loose_joint", seed=seed)
+        p = truth["effect"]["parameters"]
+        assert 3.0 <= p["loose_joint_stiffness"] <= 30.0
+        assert loose_joint_signature_pct(p["loose_joint_at"], p["loose_joint_stiffness"]) >= LOOSE_JOINT_LIMIT_PCT
+    assert loose_joint_signature_pct((5.0, 3.0), 3.0) < 0.25 < 0.6 < loose_joint_signature_pct((0.0, 3.0), 3.0) < 1.0
     _, truth = simulate_grid_test("gravity_stiffening", seed=11)
     assert truth["nominal_params"] == {"gravity": False} and truth["model"].params["gravity"] is True
     f_model = nasa_grid(**truth["nominal_params"]).modes(10)[0]

@@ -7,7 +7,7 @@ ERA modes (several orders) → pairing with the model → every candidate effect
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -15,7 +15,7 @@ from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subsp
 from ..data import ResponseData
 from ..errors import DataError
 from .effects import describe, grid_effects, nuisance
-from .fitting import ErrorLevels, build_model
+from .fitting import ErrorLevels, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes
 from .ranking import RankedEffect, rank_effects
 
@@ -27,7 +27,9 @@ class NamedEffect:
     """The effect the data support: name, fitted parameters {keyword: value} (incl. stiffness_factor),
     location (x_ft, y_ft) or None, posterior probability, a one-sentence description, the 1σ uncertainty
     {keyword: value} of each parameter (Laplace posterior), and for located effects the probability of the
-    location given the effect and the other joints still in contention ((x_ft, y_ft), probability)."""
+    location given the effect and the other joints still in contention ((x_ft, y_ft), probability);
+    interval {keyword: (low, high)}: the effect parameter's 95 % profile-posterior interval, None on a side the
+    data do not bound (then the description gives a bound, not a value)."""
 
     name: str
     parameters: dict
@@ -37,6 +39,7 @@ class NamedEffect:
     uncertainty: dict
     location_probability: float | None = None
     other_locations: tuple = ()
+    interval: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,6 +120,7 @@ class Explanation:
                 "location": None if e.location is None else [float(v) for v in e.location],
                 "location_probability": e.location_probability,
                 "other_locations": [[[float(v) for v in loc], q] for loc, q in e.other_locations],
+                "interval": {k: list(v) for k, v in e.interval.items()},
                 "probability": e.probability, "description": e.description},
             "ranking": [r.as_dict() for r in self.ranking],
             "before": self.before.as_dict(), "after": self.after.as_dict(),
@@ -276,13 +280,15 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     if named is not None:
         p_loc = named.locations[0][2] if named.locations else None
         others = tuple((loc, q) for loc, _, q in named.locations[1:] if q >= 0.05)
+        iv = profile_interval(model, named.fit, fm, weights, n_model)
+        interval = {} if iv is None else {named.fit.params[1].name: iv.as_tuple()}
         text = describe(spec_of[named.name], named.parameters, named.location, named.probability,
-                        named.fit.uncertainty)
+                        named.fit.uncertainty, interval)
         if others:
             text += (f" The joint is not certain ({p_loc:.0%}); also possible: "
                      + ", ".join(f"({x:g}, {y:g}) ft {q:.0%}" for (x, y), q in others) + ".")
         effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability, text,
-                             dict(named.fit.uncertainty), p_loc, others)
+                             dict(named.fit.uncertainty), p_loc, others, interval)
     t2 = time.perf_counter()
     before = _pair(model, fm, n_model, max_freq_error=1.0)
     after = _pair(updated, fm, n_model, max_freq_error=1.0)
