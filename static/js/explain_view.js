@@ -49,10 +49,14 @@
     return `${num(v, digits)}${unit ? " " + unit : ""}`;
   }
 
-  function paramText(params, unc) {
+  // interval: {name: [low, high]} 95 %, null on a side the data do not bound: shown as a bound, not a value
+  function paramText(params, unc, interval) {
     return Object.entries(params || {}).map(([k, v]) => {
       const label = (PARAM[k] || [k])[0];
       if (typeof v !== "number") return `${label} = ${Array.isArray(v) ? `(${v.join(", ")})` : String(v)}`;
+      const [lo, hi] = (interval || {})[k] || [0, 0];
+      if (lo === null && typeof hi === "number") return `${label} ≤ ${value(k, hi)} (95 %; lower values fit as well)`;
+      if (hi === null && typeof lo === "number") return `${label} ≥ ${value(k, lo)} (95 %; higher values fit as well)`;
       const u = unc && typeof unc[k] === "number" ? ` ± ${value(k, unc[k])}` : "";
       return `${label} = ${value(k, v)}${u}`;
     }).join("; ");
@@ -69,7 +73,7 @@
       const e = s.effect, dl = el("dl", null, { class: "summary", id: `${id}-effect` });
       const add = (k, v) => dl.append(el("dt", k), el("dd", v));
       add("Effect", e.name);
-      add("Parameters (± 1σ)", paramText(e.parameters, e.uncertainty));
+      add("Parameters (± 1σ)", paramText(e.parameters, e.uncertainty, e.interval));
       if (e.location) {
         add("Location", `joint (x = ${e.location[0]} ft, y = ${e.location[1]} ft)` +
           (e.location_probability !== null && e.location_probability !== undefined ? `, ${num(100 * e.location_probability, 0)} % certain` : "") +
