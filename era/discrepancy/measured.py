@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -78,14 +78,17 @@ def _impulse_inputs(data: ResponseData):
     return tuple(tuple(float(v) for v in w) for w in where), _TO_METRES[data.output_units[0]]
 
 
-def modal_constants(models: dict, stab, chosen, to_metres: float):
+def modal_constants(models: dict, stab, chosen, to_metres: float, input_weights=None):
     """Modal constants of each chosen mode from ERA's residues, averaged over the orders it was stable in.
 
     A displacement pulse response to a unit impulse is y(t) = Σ_j φ_j(i) φ_j(k) e^{−ζωt} sin(ω_d t)/ω_d for
     mass-normalised φ, so each pole's residue (eq. 35: Y(k) = Σ c_j z_j^k b_j + c.c.) is c_j b_jᵀ =
     φ_j φ_jᵀ/(2i ω_d): Re(2i ω_d c_j b_jᵀ) estimates φ_j(sensor) φ_j(input) in 1/kg, an absolute (mass) scale
     that frequencies and unit-norm shapes lack. Returns (p, m, k) and (k,) relative spread across orders.
+    input_weights : (m,) the factors the records were multiplied by before ERA (see :func:`input_weights`);
+    they scale the columns of B, so the residues are divided by them again.
     """
+    unweight = 1.0 if input_weights is None else 1.0 / np.asarray(input_weights, dtype=float)[None, :]
     first = {int(o): int(np.flatnonzero(stab.order == o)[0]) for o in stab.orders}
     out, spread = [], []
     for md in chosen:
@@ -94,7 +97,7 @@ def modal_constants(models: dict, stab, chosen, to_metres: float):
             order = int(stab.order[pole])
             mdl, k = models[order], pole - first[order]
             wd = 2 * np.pi * mdl.frequency_hz[k]
-            each.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres)
+            each.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres * unweight)
         each = np.array(each)
         mean = each.mean(axis=0)
         rel = np.einsum("opm,pm->o", each, mean) / max(np.sum(mean**2), 1e-300)
@@ -103,8 +106,21 @@ def modal_constants(models: dict, stab, chosen, to_metres: float):
     return np.stack(out, axis=2), np.array(spread)
 
 
+def input_weights(markov: np.ndarray) -> np.ndarray:
+    """(m,) factors 1 / RMS of each input's records (over samples and outputs) for markov (N, p, m).
+
+    Scaling column j of every Y[k] scales column j of B only (Y[k] = C A^k B): poles, shapes and damping are
+    unchanged, but every input's records then weigh alike in the SVD of the Hankel matrix. Without it, decays
+    of very different size (the dwell test: a resonant swing mode at 0.36 Hz is ~500× the 6.5 Hz decay, as
+    the response goes as 1/ω²) share one noise floor set by the largest record's noise, and the small
+    records' modes sink below it. Records that are all zero keep weight 1.
+    """
+    rms = np.sqrt(np.mean(np.asarray(markov, dtype=float) ** 2, axis=(0, 1)))
+    return np.where(rms > 0, 1.0 / np.where(rms > 0, rms, 1.0), 1.0)
+
+
 def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | None = None,
-                   min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.5,
+                   balance_inputs: bool = True, min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.7,
                    max_damping: float = 0.1, min_frequency_hz: float = 0.05) -> MeasuredModes:
     """Run ERA on ``data`` at several orders and keep the modes that stay stable across them.
 
@@ -113,6 +129,11 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     frequency between ``min_frequency_hz`` and 95 % of Nyquist. Its frequency spread across orders is the
     measurement error level of its frequency.
 
+    balance_inputs : scale each input's records to unit RMS first (:func:`input_weights`), so that small
+    decays (e.g. dwells at higher modes) are not buried under the noise of large ones; modal constants are
+    scaled back. Balanced, weak poles (e.g. the lesser of a close pair) also rise above the noise floor; the
+    EMAC floor of 0.7 keeps out those whose amplitude history is inconsistent with their pole (their shapes
+    then pair at MAC ≈ 0.9, not ≥ 0.95).
     rows : block rows r of H(0) (default: enough for the largest order, r p ≥ 2 max order, at most N/3);
     the columns take most of the remaining samples, capped so H(0) stays a few hundred wide.
     """
@@ -123,7 +144,9 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     cols = int(min(max(n - rows - 2, 1), max(4 * rows * p // max(m, 1), 200)))
     if n < rows + cols + 2 or rows < 2:
         raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {orders[-1]}; record longer.")
-    ident = identify(data, rows, cols)
+    weights = input_weights(data.markov) if balance_inputs else np.ones(m)
+    ident = identify(replace(data, markov=data.markov * weights[None, None, :]) if balance_inputs else data,
+                     rows, cols)
     stab = stabilization(ident, orders, min_orders=min_orders)
     nyquist = 0.5 / data.dt
     keep = [md for md in stab.modes
@@ -153,7 +176,7 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
         models = {}
         for order in {int(stab.order[i]) for md in chosen for i in md.pole_indices}:
             models[order] = build_model(*ident.balanced(order), data.dt, ident.row_shifts, ident.col_shifts)
-        constants, constant_std = modal_constants(models, stab, chosen, impulses[1])
+        constants, constant_std = modal_constants(models, stab, chosen, impulses[1], weights)
     return MeasuredModes(
         frequency_hz=np.array([md.frequency_hz for md in chosen]),
         frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
