@@ -272,6 +272,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
                            refine=refine_locations)
     timing["ranking_s"] = time.perf_counter() - t1
     verdict, named = _verdict(ranking, min_probability, min_log_bayes)
+    t2 = time.perf_counter()           # the report: the named parameter's interval, pairings, expansion
     spec_of = {s.name: s for s in specs}
     none = next(r for r in ranking if r.name == "none")
     chosen = named if named is not None else none
@@ -289,7 +290,6 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
                      + ", ".join(f"({x:g}, {y:g}) ft {q:.0%}" for (x, y), q in others) + ".")
         effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability, text,
                              dict(named.fit.uncertainty), p_loc, others, interval)
-    t2 = time.perf_counter()
     before = _pair(model, fm, n_model, max_freq_error=1.0)
     after = _pair(updated, fm, n_model, max_freq_error=1.0)
     fa, sa = model.modes(n_model)
