@@ -282,7 +282,7 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
         p_loc = named.locations[0][2] if named.locations else None
         others = tuple((loc, q) for loc, _, q in named.locations[1:] if q >= 0.05)
         iv = profile_interval(model, named.fit, fm, weights, n_model)
-        interval = {} if iv is None else {named.fit.params[1].name: iv.as_tuple()}
+        interval = {} if iv is None else {named.fit.params[1].name: iv}
         text = describe(spec_of[named.name], named.parameters, named.location, named.probability,
                         named.fit.uncertainty, interval)
         if others:

@@ -236,28 +236,13 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
                mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + 1)
 
 
-@dataclass(frozen=True)
-class Interval:
-    """95 % posterior interval of one effect parameter, from its profile (see :func:`profile_interval`).
-
-    low, high : physical values; None on a side the data do not bound (the likelihood stays within e^{-2} of its
-    best out to the edge of the profile, ±3 prior σ): there only the prior limits the value, so the report
-    gives a one-sided bound (e.g. a loose joint's stiffness: "≤ 40 N·m/rad", a hinge fits as well).
-    grid : (n,) physical values profiled; log_posterior : (n,) at each (up to a constant).
-    """
-
-    low: float | None
-    high: float | None
-    grid: tuple
-    log_posterior: tuple
-
-    def as_tuple(self) -> tuple:
-        return (self.low, self.high)
-
-
 def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights, n_model: int,
-                     n_points: int = 15, span: float = 3.0) -> Interval | None:
-    """The 95 % posterior interval of the effect's own parameter, when it has exactly one.
+                     n_points: int = 15, span: float = 3.0) -> tuple | None:
+    """The 95 % posterior interval (low, high) of the effect's own parameter, when it has exactly one (else None).
+
+    low or high is None on a side the data do not bound: the data misfit stays within 4 (e^{-2} in likelihood)
+    of its best out to the edge of the profile, so only the prior limits the value there and the report gives a
+    one-sided bound (a loose joint's stiffness: "≤ 60 N·m/rad", a hinge fits as well).
 
     The parameter is stepped over its prior mean ± ``span`` prior σ (transformed space u); at each step the
     nuisance stiffness factor is re-optimised by one Gauss-Newton step from its fitted value (its sensitivity
@@ -302,5 +287,4 @@ def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights,
     q_lo, q_hi = np.interp([0.025, 0.975], cdf, grid_u)
     open_lo = chi_data[0] - chi_data.min() < 4.0
     open_hi = chi_data[-1] - chi_data.min() < 4.0
-    return Interval(low=None if open_lo else prm.value(q_lo), high=None if open_hi else prm.value(q_hi),
-                    grid=tuple(prm.value(u) for u in grid_u), log_posterior=tuple(float(v) for v in log_post))
+    return (None if open_lo else prm.value(q_lo), None if open_hi else prm.value(q_hi))

@@ -78,17 +78,17 @@ def _impulse_inputs(data: ResponseData):
     return tuple(tuple(float(v) for v in w) for w in where), _TO_METRES[data.output_units[0]]
 
 
-def modal_constants(models: dict, stab, chosen, to_metres: float, input_weights=None):
+def modal_constants(models: dict, stab, chosen, to_metres: float, weights=None):
     """Modal constants of each chosen mode from ERA's residues, averaged over the orders it was stable in.
 
     A displacement pulse response to a unit impulse is y(t) = Σ_j φ_j(i) φ_j(k) e^{−ζωt} sin(ω_d t)/ω_d for
     mass-normalised φ, so each pole's residue (eq. 35: Y(k) = Σ c_j z_j^k b_j + c.c.) is c_j b_jᵀ =
     φ_j φ_jᵀ/(2i ω_d): Re(2i ω_d c_j b_jᵀ) estimates φ_j(sensor) φ_j(input) in 1/kg, an absolute (mass) scale
     that frequencies and unit-norm shapes lack. Returns (p, m, k) and (k,) relative spread across orders.
-    input_weights : (m,) the factors the records were multiplied by before ERA (see :func:`input_weights`);
-    they scale the columns of B, so the residues are divided by them again.
+    weights : (m,) the factors the records were multiplied by before ERA (see :func:`input_weights`); they
+    scale the columns of B, so the residues are divided by them again.
     """
-    unweight = 1.0 if input_weights is None else 1.0 / np.asarray(input_weights, dtype=float)[None, :]
+    unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
     first = {int(o): int(np.flatnonzero(stab.order == o)[0]) for o in stab.orders}
     out, spread = [], []
     for md in chosen:
@@ -145,8 +145,7 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     if n < rows + cols + 2 or rows < 2:
         raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {orders[-1]}; record longer.")
     weights = input_weights(data.markov) if balance_inputs else np.ones(m)
-    ident = identify(replace(data, markov=data.markov * weights[None, None, :]) if balance_inputs else data,
-                     rows, cols)
+    ident = identify(replace(data, markov=data.markov * weights[None, None, :]), rows, cols)
     stab = stabilization(ident, orders, min_orders=min_orders)
     nyquist = 0.5 / data.dt
     keep = [md for md in stab.modes
