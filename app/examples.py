@@ -7,9 +7,9 @@ from dataclasses import dataclass
 from typing import Callable
 
 import era
-import era.paper
-from era.grid import nasa_grid
-from era.simulate import simulate_grid_test
+import era.examples.paper_cases
+from era.examples.grid import nasa_grid
+from era.examples.grid_simulation import simulate_grid_test
 
 
 @dataclass(frozen=True)
@@ -23,11 +23,11 @@ class Example:
 
 
 def _case_1():
-    return era.paper.case_1(200), None
+    return era.examples.paper_cases.case_1(200), None
 
 
 def _case_2():
-    return era.paper.case_2(200, mimo=True), None
+    return era.examples.paper_cases.case_2(200, mimo=True), None
 
 
 def _grid():

@@ -29,7 +29,7 @@ _NUMBER = (int, float)
 
 
 def _grid():
-    from era.grid import nasa_grid
+    from era.examples.grid import nasa_grid
     return nasa_grid
 
 

@@ -7,8 +7,8 @@ import pytest
 
 import era
 from era.discrepancy import ErrorLevels, explain, grid_effects, modes_from_arrays, overlay
-from era.grid import nasa_grid
-from era.simulate import simulate_grid_test
+from era.examples.grid import nasa_grid
+from era.examples.grid_simulation import simulate_grid_test
 
 _CACHE = {}
 
@@ -89,7 +89,7 @@ def test_spread_mass_is_told_from_a_softer_material_by_the_modal_constants():
 
 def test_modal_constants_of_known_impulses_are_the_mass_normalised_shapes():
     from era.discrepancy import identify_modes
-    from era.grid import SENSORS_FT, joint_index
+    from era.examples.grid import SENSORS_FT, joint_index
     data, truth = simulate_grid_test(None, seed=0)
     mm = identify_modes(data)
     assert mm.input_locations == truth["inputs_ft"]

@@ -8,8 +8,8 @@ import pytest
 
 from era.discrepancy import explain
 from era.discrepancy.measured import identify_modes, input_weights
-from era.grid import nasa_grid
-from era.simulate import simulate_grid_test
+from era.examples.grid import nasa_grid
+from era.examples.grid_simulation import simulate_grid_test
 
 
 @pytest.mark.parametrize("effect, seed", [("torsion_stiffness", 0), ("joint_flexibility", 1)])

@@ -5,8 +5,8 @@ import pytest
 
 import era
 from era.errors import EraError
-from era.grid import SENSORS_FT, nasa_grid
-from era.simulate import EFFECTS, LOOSE_JOINT_LIMIT_PCT, loose_joint_signature_pct, simulate_grid_test
+from era.examples.grid import SENSORS_FT, nasa_grid
+from era.examples.grid_simulation import EFFECTS, LOOSE_JOINT_LIMIT_PCT, loose_joint_signature_pct, simulate_grid_test
 
 
 def matched_errors(f_identified, f_true):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-import era.paper
+import era.examples.paper_cases
 from era.spectrum import cmif
 from era.suggest import hankel_size, order_from_singular_values
 
@@ -24,7 +24,7 @@ def test_hankel_size_respects_samples_and_the_element_limit():
 
 
 def test_order_from_singular_values_finds_the_rank_of_noise_free_data():
-    data = era.paper.case_1()
+    data = era.examples.paper_cases.case_1()
     ident = era.identify(data, 90, 90)
     assert order_from_singular_values(ident.singular_values, ident.max_order) == 10
 
@@ -37,7 +37,7 @@ def test_order_from_singular_values_with_noise_counts_values_above_the_floor():
 
 
 def test_cmif_peaks_at_the_repeated_pair_with_two_curves():
-    data = era.paper.case_2(400, mimo=True)
+    data = era.examples.paper_cases.case_2(400, mimo=True)
     f, values = cmif(data)
     assert values.shape == (2, f.size) and f[-1] == pytest.approx(10.0)
     # the second curve peaks at the repeated root too (two independent copies of the pair), far above its floor

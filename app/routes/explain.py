@@ -18,7 +18,7 @@ router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
 
 class ExplainRequest(BaseModel):
     nominal: dict = Field(default_factory=dict,
-                          description="keywords of era.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
+                          description="keywords of era.examples.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
     output: int = Field(0, ge=0, description="output of the response overlay")
     input: int = Field(0, ge=0, description="input of the response overlay")
 
@@ -79,7 +79,7 @@ async def publish(request: Request, analysis_id: str, body: ExplainViewerRequest
     shapes = np.asarray(summary[key], dtype=float)  # (88 joints, k modes)
     f = np.asarray(summary["measured_hz"] if body.which == "measured" else
                    [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
-    from era.grid import nasa_grid
+    from era.examples.grid import nasa_grid
     grid = nasa_grid().geometry()
     n = grid.coordinates.shape[0]
     if shapes.shape[0] != n:

@@ -80,7 +80,7 @@ def nuisance(model, prior_std: float = 0.015) -> Param:
 
 
 def grid_effects(model) -> tuple:
-    """The candidate effects for the hanging grid (era.grid.nasa_grid), relative to the nominal ``model``.
+    """The candidate effects for the hanging grid (era.examples.grid.nasa_grid), relative to the nominal ``model``.
 
     gravity_stiffening is a candidate only when the nominal leaves gravity out; relative parameters (torsion
     factor, cable length) are centred on the nominal's values with a ±20 % (1σ) prior; stiffnesses and masses

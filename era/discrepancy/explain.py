@@ -228,9 +228,9 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     ----------
     data : era.ResponseData (N, 9, m) in model.sensors order, or MeasuredModes already identified. Pulse
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
-        data.meta["input_locations"] ((x_ft, y_ft) joints, as era.simulate records them) also contribute their
+        data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only.
-    model : the nominal model (e.g. ``era.grid.nasa_grid(...)``): needs .modes(n), .node_modes(n), .params,
+    model : the nominal model (e.g. ``era.examples.grid.nasa_grid(...)``): needs .modes(n), .node_modes(n), .params,
         .with_params(**changes), .joints_ft (candidate locations of located effects).
     effects : candidate EffectSpecs, "none" first (default: :func:`era.discrepancy.effects.grid_effects`).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.

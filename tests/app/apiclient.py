@@ -11,7 +11,7 @@ import numpy as np
 from fastapi.testclient import TestClient
 
 import era
-import era.paper
+import era.examples.paper_cases
 from app.config import Settings
 from app.main import create_app
 
@@ -31,7 +31,7 @@ def npz_bytes(data: era.ResponseData, geometry: era.Geometry | None = None) -> b
 
 
 def case1_npz() -> bytes:
-    return npz_bytes(era.paper.case_1(200))
+    return npz_bytes(era.examples.paper_cases.case_1(200))
 
 
 def upload(c: TestClient, blob: bytes, name: str = "case1.npz"):

@@ -79,10 +79,10 @@ def test_hankel_above_the_server_limit_says_what_fits(tmp_path):
 
 
 def test_hankel_limit_below_one_block(tmp_path):
-    import era.paper
+    import era.examples.paper_cases
     from apiclient import npz_bytes
     with client(tmp_path, max_hankel_elements=3) as c:  # Case II MIMO: one block is 2 × 2 = 4 elements
-        ds = upload(c, npz_bytes(era.paper.case_2(100))).json()
+        ds = upload(c, npz_bytes(era.examples.paper_cases.case_2(100))).json()
         r = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 5, "cols": 5})
         assert r.status_code == 422 and "Even rows = cols = 1" in r.json()["error"]
 
@@ -204,10 +204,10 @@ def test_physical_only_rejects_growing_and_real_poles():
 
 
 def test_one_channel_reconstruction_equals_the_full_one(tmp_path):
-    import era.paper  # noqa: F401
+    import era.examples.paper_cases  # noqa: F401
     from app.config import Settings
     from app.engine import reconstruction_json
-    data = era.paper.case_2(200, mimo=True)
+    data = era.examples.paper_cases.case_2(200, mimo=True)
     model = era.identify(data, 45, 45).realize(10)
     kept = np.array([0, 2, 3])
     full = model.select(kept)

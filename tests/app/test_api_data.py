@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import era
-import era.paper
+import era.examples.paper_cases
 from apiclient import case1_npz, client, npz_bytes, upload
 
 REPO = __import__("pathlib").Path(__file__).resolve().parents[2]
@@ -33,7 +33,7 @@ def test_dataset_ids_are_random_and_not_sequential(tmp_path):
 
 def test_labels_are_stored_verbatim_as_text(tmp_path):
     evil = "<img src=x onerror=alert(1)>"
-    data = era.ResponseData(era.paper.case_1(50).markov, 0.05, outputs=(evil,), inputs=("hammer & <b>",))
+    data = era.ResponseData(era.examples.paper_cases.case_1(50).markov, 0.05, outputs=(evil,), inputs=("hammer & <b>",))
     with client(tmp_path) as c:
         ds = upload(c, npz_bytes(data), name="<script>.npz").json()
         assert ds["outputs"] == [evil] and ds["inputs"] == ["hammer & <b>"]
@@ -63,7 +63,7 @@ def test_npz_without_markov_names_what_is_missing(tmp_path):
 
 
 def test_nan_in_the_data_is_a_422(tmp_path):
-    y = era.paper.case_1(50).markov.copy()
+    y = era.examples.paper_cases.case_1(50).markov.copy()
     import io
     buf = io.BytesIO()
     y[7, 0, 0] = np.nan
@@ -153,7 +153,7 @@ def test_upload_uff_ambient_records_become_correlation_functions(tmp_path):
 
 
 def test_upload_csv_of_a_free_decay(tmp_path):
-    data = era.paper.case_1(200)
+    data = era.examples.paper_cases.case_1(200)
     lines = ["time,sensor 1"] + [f"{k * 0.05:.2f},{v:.12g}" for k, v in enumerate(data.markov[:, 0, 0])]
     with client(tmp_path) as c:
         blob = "\n".join(lines).encode()

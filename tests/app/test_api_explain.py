@@ -126,7 +126,7 @@ def test_unknown_analysis_is_404(tmp_path):
 def test_the_built_in_example_names_its_hidden_point_mass_at_the_right_joint(grid_run):
     """The example hides a point mass (app/examples.py); the stored dataset keeps the input locations, so explain
     also weighs ERA's mass-normalised residues, and the panel names the effect, the joint and the mass."""
-    from era.simulate import simulate_grid_test
+    from era.examples.grid_simulation import simulate_grid_test
 
     _, _, s = grid_run
     _, truth = simulate_grid_test(effect="point_mass", seed=7)

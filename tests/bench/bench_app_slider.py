@@ -17,7 +17,7 @@ import time
 import pytest
 from fastapi.testclient import TestClient
 
-pytest.importorskip("era.simulate")
+pytest.importorskip("era.examples.grid_simulation")
 
 from app.config import Settings  # noqa: E402
 from app.main import create_app  # noqa: E402

@@ -12,7 +12,7 @@ import pytest
 import era
 from era.hankel import block_hankel
 from era.svd import dense_svd
-from era.synthetic import modal_response
+from era.examples.synthetic import modal_response
 from timing import median_time
 
 ORDERS = range(2, 121, 2)

@@ -22,8 +22,8 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 import era  # noqa: E402
-from era.grid import nasa_grid  # noqa: E402
-from era.simulate import EFFECTS, simulate_grid_test  # noqa: E402
+from era.examples.grid import nasa_grid  # noqa: E402
+from era.examples.grid_simulation import EFFECTS, simulate_grid_test  # noqa: E402
 
 PARAM = {"joint_flexibility": "joint_stiffness", "torsion_stiffness": "torsion_factor",
          "cable_length": "cable_length_m", "distributed_mass": "distributed_mass_kg", "point_mass": "point_mass_kg",

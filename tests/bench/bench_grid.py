@@ -10,8 +10,8 @@ K and M, in the same process. One build + modes(10) costs about 2× that referen
 import pytest
 import scipy.linalg
 
-from era.grid import nasa_grid
-from era.simulate import simulate_grid_test
+from era.examples.grid import nasa_grid
+from era.examples.grid_simulation import simulate_grid_test
 from timing import median_time
 
 VARIANTS = {

@@ -5,7 +5,7 @@ import pytest
 
 import era
 from era.hankel import block_hankel, shifts
-from era.paper import case_1, case_1_eigenvalues, case_2
+from era.examples.paper_cases import case_1, case_1_eigenvalues, case_2
 
 
 def test_block_hankel_follows_eq_16_with_arbitrary_shifts():

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-from era.paper import case_1, case_1_eigenvalues, case_2, case_2_eigenvalues
+from era.examples.paper_cases import case_1, case_1_eigenvalues, case_2, case_2_eigenvalues
 
 
 def _match(found, expected):

@@ -5,8 +5,8 @@ import pytest
 
 import era
 from era.modal import build_model
-from era.paper import case_2
-from era.synthetic import modal_response
+from era.examples.paper_cases import case_2
+from era.examples.synthetic import modal_response
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-from era.synthetic import modal_response
+from era.examples.synthetic import modal_response
 
 
 @pytest.fixture(scope="module")

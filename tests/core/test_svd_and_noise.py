@@ -5,7 +5,7 @@ import pytest
 
 import era
 from era.svd import dense_svd, randomized_svd
-from era.synthetic import modal_response
+from era.examples.synthetic import modal_response
 
 
 def test_randomized_svd_agrees_with_the_dense_one_on_a_size_where_both_run():

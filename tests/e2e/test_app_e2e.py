@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 import era
-import era.paper
+import era.examples.paper_cases
 
 pytestmark = pytest.mark.e2e
 
@@ -114,7 +114,7 @@ def pole_position(page, order: int):
 def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
     data_dir = tmp_path / "data"
     upload = tmp_path / "case2 <i>italic.npz"
-    case2 = era.paper.case_2(200, mimo=True)
+    case2 = era.examples.paper_cases.case_2(200, mimo=True)
     era.save_npz(str(upload), era.ResponseData(case2.markov, case2.dt, outputs=(EVIL, "sensor 2"),
                                                inputs=("IC <b>1</b>", "IC 2")))
     server = Server(data_dir, tmp_path / "server1.log")

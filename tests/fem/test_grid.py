@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from era.errors import EraError
-from era.grid import SENSORS_FT, TABLE1_HZ, joint_index, nasa_grid
+from era.examples.grid import SENSORS_FT, TABLE1_HZ, joint_index, nasa_grid
 
 
 @pytest.fixture(scope="module")
