@@ -2,8 +2,12 @@
 
 A file is written to a temporary name, fsynced, and renamed over its final name (then the folder is fsynced),
 so a reader sees the old file or the new one, never half of one. Rows are inserted after their files, so a
-row always points at a complete file. Datasets are stored in a normalised NPZ (not the upload), so an
-analysis can be recomputed after a restart without the loader.
+row always points at a complete file. Datasets are stored in era's own NPZ format (era/io/npz.py, which
+also reads the layout this store wrote before), not as the upload, so an analysis can be recomputed after a
+restart without the loader, and ``era.load`` opens a stored dataset with its geometry and input locations.
+
+Layout of the data folder: ``era.sqlite3``; ``datasets/{id}.npz``; ``reports/{token}/report.json`` and side
+files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal / updated responses) and ``.json``.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ import hashlib
 import io
 import json
 import os
+import re
 import secrets
 import sqlite3
 import tempfile
@@ -22,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import era
+from era.io.npz import npz_bytes, read_arrays, read_npz
 
 #: Random ids and report tokens: 18 bytes = 144 bits, URL-safe (24 characters).
 TOKEN_BYTES = 18
@@ -33,7 +39,13 @@ CREATE TABLE IF NOT EXISTS analyses (
     id TEXT PRIMARY KEY, dataset_id TEXT NOT NULL REFERENCES datasets(id), params TEXT NOT NULL, created REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS reports (
     token TEXT PRIMARY KEY, analysis_id TEXT NOT NULL, created REAL NOT NULL);
+CREATE TABLE IF NOT EXISTS explanations (
+    analysis_id TEXT PRIMARY KEY, created REAL NOT NULL);
 """
+#: The responses an explanation keeps, each (N, p, m) in the dataset's output units.
+EXPLANATION_RESPONSES = ("measured", "nominal", "updated")
+#: What a random id looks like (new_token's alphabet): nothing else becomes a file name.
+_ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
 
 
 def new_token() -> str:
@@ -63,45 +75,6 @@ def write_atomic(path: Path, data: bytes) -> None:
         os.close(dir_fd)
 
 
-def _strings(values) -> np.ndarray:
-    return np.array([] if values is None else [str(v) for v in values], dtype=str)
-
-
-def dataset_to_npz(data: era.ResponseData, geometry: era.Geometry | None, name: str) -> bytes:
-    """The normalised stored form of a dataset: pulse responses, labels, units and the geometry if any."""
-    arrays = dict(markov=data.markov, dt=np.array(data.dt), name=np.array(name), outputs=_strings(data.outputs),
-                  inputs=_strings(data.inputs), has_output_units=np.array(data.output_units is not None),
-                  output_units=_strings(data.output_units), has_input_units=np.array(data.input_units is not None),
-                  input_units=_strings(data.input_units), has_geometry=np.array(geometry is not None))
-    where = (data.meta or {}).get("input_locations")
-    if where is not None:  # the input points (e.g. joints in ft): era.explain's residue term needs them
-        arrays["input_locations"] = np.asarray(where, dtype=float)
-    if geometry is not None:
-        arrays.update(geo_node_ids=geometry.node_ids, geo_coordinates=geometry.coordinates, geo_edges=geometry.edges,
-                      geo_channel_nodes=geometry.channel_nodes, geo_channel_directions=geometry.channel_directions,
-                      geo_units=np.array(geometry.units))
-    buf = io.BytesIO()
-    np.savez(buf, **arrays)
-    return buf.getvalue()
-
-
-def dataset_from_npz(blob: bytes) -> tuple[era.ResponseData, era.Geometry | None, str]:
-    with np.load(io.BytesIO(blob), allow_pickle=False) as z:
-        data = era.ResponseData(
-            markov=z["markov"], dt=float(z["dt"]), outputs=tuple(z["outputs"].tolist()),
-            inputs=tuple(z["inputs"].tolist()),
-            output_units=tuple(z["output_units"].tolist()) if bool(z["has_output_units"]) else None,
-            input_units=tuple(z["input_units"].tolist()) if bool(z["has_input_units"]) else None,
-            meta={"input_locations": [tuple(x) for x in z["input_locations"].tolist()]}
-            if "input_locations" in z.files else {})
-        geometry = None
-        if bool(z["has_geometry"]):
-            geometry = era.Geometry(node_ids=z["geo_node_ids"], coordinates=z["geo_coordinates"],
-                                    edges=z["geo_edges"], channel_nodes=z["geo_channel_nodes"],
-                                    channel_directions=z["geo_channel_directions"], units=str(z["geo_units"]))
-        return data, geometry, str(z["name"])
-
-
 class Store:
     """The SQLite index and the files of one data folder. Thread-safe (one connection behind a lock)."""
 
@@ -109,6 +82,7 @@ class Store:
         self.root = Path(data_dir)
         self.root.mkdir(parents=True, exist_ok=True)
         self._lock = threading.Lock()
+        self._explaining = threading.Lock()  # one explanation written at a time: its two files stay a pair
         self._db = sqlite3.connect(self.root / "era.sqlite3", check_same_thread=False, isolation_level=None)
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute("PRAGMA synchronous=FULL")  # a committed report survives a power cut
@@ -138,7 +112,7 @@ class Store:
 
     def add_dataset(self, data: era.ResponseData, geometry: era.Geometry | None, name: str, summary: dict) -> str:
         """Store a dataset; returns its new random id. ``summary`` is the JSON the API returns for it."""
-        blob = dataset_to_npz(data, geometry, name)
+        blob = npz_bytes(data, geometry, name=name)
         dataset_id = new_token()
         sha = hashlib.sha256(blob).hexdigest()
         summary = dict(summary, id=dataset_id, sha256=sha)
@@ -152,9 +126,13 @@ class Store:
         return None if row is None else json.loads(row[0])
 
     def load_dataset(self, dataset_id: str) -> tuple[era.ResponseData, era.Geometry | None, str] | None:
-        if self._one("SELECT 1 FROM datasets WHERE id = ?", (dataset_id,)) is None:
+        """(data, geometry or None, name) of a stored dataset, or None for an unknown id."""
+        row = self._one("SELECT name FROM datasets WHERE id = ?", (dataset_id,))
+        if row is None:
             return None
-        return dataset_from_npz(self.dataset_path(dataset_id).read_bytes())
+        path = self.dataset_path(dataset_id)
+        data, geometry, name, _ = read_npz(path.read_bytes(), f"stored dataset {path}")
+        return data, geometry, row[0] if name is None else name
 
     # ---- analyses ----------------------------------------------------------------------------------
     def add_analysis(self, dataset_id: str, params: dict) -> str:
@@ -194,3 +172,59 @@ class Store:
             return None
         path = self.report_dir(token) / name
         return path if path.is_file() else None
+
+    # ---- explanations (era.explain on an analysis) ------------------------------------------------------
+    def _explanation_paths(self, analysis_id: str) -> tuple[Path, Path] | None:
+        """(summary .json, responses .npz) of an analysis's explanation; None for a string that is no id."""
+        if not _ID.fullmatch(analysis_id):
+            return None
+        folder = self.root / "explanations"
+        return folder / f"{analysis_id}.json", folder / f"{analysis_id}.npz"
+
+    def _stored_explanation(self, analysis_id: str) -> tuple[Path, Path] | None:
+        """The files of an explanation, or None: indexed, or written before the index existed (files, no row)."""
+        paths = self._explanation_paths(analysis_id)
+        if paths is None:
+            return None
+        if self._one("SELECT 1 FROM explanations WHERE analysis_id = ?", (analysis_id,)) is not None:
+            return paths
+        return paths if paths[0].is_file() and paths[1].is_file() else None
+
+    def add_explanation(self, analysis_id: str, summary: dict, responses: dict[str, np.ndarray], dt: float) -> None:
+        """Keep the result of era.explain on an analysis, replacing an earlier one.
+
+        summary : the JSON the API returns. responses : "measured", "nominal", "updated", each (N, p, m), in the
+        dataset's output units. dt : their sampling interval in s. Responses first, then the summary, then the row:
+        a summary on disk always has its responses.
+        """
+        missing = [k for k in EXPLANATION_RESPONSES if k not in responses]
+        if missing:
+            raise ValueError(f"add_explanation needs the responses {list(EXPLANATION_RESPONSES)}; {missing} missing.")
+        paths = self._explanation_paths(analysis_id)
+        if paths is None:
+            raise ValueError(f"{analysis_id!r} is not an analysis id (letters, digits, '-' and '_' only).")
+        arrays = {k: np.asarray(responses[k], dtype=float) for k in EXPLANATION_RESPONSES}
+        buf = io.BytesIO()
+        np.savez(buf, dt=np.array(float(dt)), **arrays)
+        with self._explaining:
+            write_atomic(paths[1], buf.getvalue())
+            write_atomic(paths[0], json.dumps(summary, separators=(",", ":")).encode())
+            self._insert("INSERT OR REPLACE INTO explanations (analysis_id, created) VALUES (?, ?)",
+                         (analysis_id, time.time()))
+
+    def explanation(self, analysis_id: str) -> dict | None:
+        """The stored explanation summary of an analysis, or None when era.explain has not run on it."""
+        paths = self._stored_explanation(analysis_id)
+        return None if paths is None else json.loads(paths[0].read_bytes())
+
+    def explanation_responses(self, analysis_id: str) -> tuple[dict[str, np.ndarray], float] | None:
+        """({"measured", "nominal", "updated": (N, p, m)}, dt in s) of an analysis's explanation, or None.
+
+        The file is read once per call: ask once, then slice every output and input from the arrays.
+        """
+        paths = self._stored_explanation(analysis_id)
+        if paths is None:
+            return None
+        arrays = read_arrays(paths[1].read_bytes(), f"stored explanation {paths[1]}", ("dt", *EXPLANATION_RESPONSES),
+                             required=("dt", *EXPLANATION_RESPONSES))
+        return {k: arrays[k] for k in EXPLANATION_RESPONSES}, float(arrays["dt"].reshape(-1)[0])

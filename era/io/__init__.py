@@ -17,7 +17,7 @@ from ..data import ResponseData
 from ..errors import DataError, EraError
 from ..geometry import Geometry
 from .csv import merge, read_csv
-from .npz import read_npz, save_npz
+from .npz import npz_bytes, read_npz, save_npz
 from .records import Records, to_response
 from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
 from .uff_write import save_modes_uff
@@ -34,7 +34,8 @@ class Dataset:
     data : ResponseData, or None when the file holds only geometry and/or modes (UFF 15/82/55).
     geometry : Geometry or None; its channels are the outputs of ``data``.
     source : dict with "file", "format", "kind" (conversion used), "records" (what was read), "conversions"
-        (what was done to it, in order), "outputs"/"inputs" with units: for reports.
+        (what was done to it, in order), "outputs"/"inputs" with units: for reports; for NPZ also "name", the
+        dataset name stored in the file (or None).
     modes : ModeSet or None, modes stored in the file (UFF 55), e.g. from a finite-element program.
     """
 
@@ -120,8 +121,8 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     if len(raws) > 1 and fmt != "csv":
         raise DataError("Several files are read together only as CSV (one record each); load UFF and NPZ one by one.")
     if fmt == "npz":
-        data, geometry, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
-        return Dataset(data, geometry, _source(labels, fmt, "markov", described, data), None)
+        data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
+        return Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data), name=stored_name), None)
     try:
         if fmt == "csv":
             rec = merge([read_csv(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
@@ -175,4 +176,5 @@ def _source(labels, fmt, kind, described, data) -> dict:
     return out
 
 
-__all__ = ["load", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "sniff"]
+__all__ = ["load", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes",
+           "sniff"]

@@ -1,4 +1,31 @@
-"""The app's own format: NumPy .npz with `markov` (N, p, m) and `dt`, optional labels and geometry arrays.
+"""era's own format: one NumPy .npz archive per dataset. :func:`save_npz` / :func:`npz_bytes` write it,
+:func:`era.load` (:func:`read_npz`) reads it, and the web app stores its datasets in it.
+
+Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays, never pickles):
+
+========================  =========  =====================================================================
+``markov``                (N, p, m)  float64 pulse responses, ``markov[k] = C A^k B`` (output per input unit)
+``dt``                    ()         sampling interval Δτ in s
+``outputs``               (p,)       output labels; absent: y1..yp
+``inputs``                (m,)       input labels; absent: u1..um
+``output_units``          (p,)       unit of each output (e.g. "mm"); absent: None (no units given)
+``input_units``           (m,)       unit of each input (e.g. "N·s"); absent: None
+``input_locations``       (m, d)     float, the point each input acts at (e.g. grid joints (x_ft, y_ft));
+                                     ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
+``name``                  ()         the dataset's name (e.g. the uploaded file name); optional
+``node_ids``              (n,)       int node labels                                 } the Geometry:
+``coordinates``           (n, 3)     float x, y, z in ``geometry_units``             } all five or none
+``edges``                 (e, 2)     int trace lines, row indices into ``node_ids``  }
+``channel_nodes``         (p,)       int row index of each output's node, -1 unknown }
+``channel_directions``    (p, 3)     float unit vector of each output's direction    }
+``geometry_units``        ()         length unit of ``coordinates``; absent: "m"
+========================  =========  =====================================================================
+
+The web app's store wrote a layout of its own before it used this one; :func:`read_npz` reads it too, so old data
+folders keep working: the same ``markov``, ``dt``, ``name``, ``outputs``, ``inputs`` and ``input_locations``, the
+units always present but meaning None when the 0-d bool ``has_output_units`` / ``has_input_units`` is false, and
+the geometry as ``geo_node_ids``, ``geo_coordinates``, ``geo_edges``, ``geo_channel_nodes``,
+``geo_channel_directions``, ``geo_units`` when the 0-d bool ``has_geometry`` is true.
 
 Read without pickles, and every array's header is checked against the bytes the archive really holds before
 anything is allocated: a header cannot make us reserve memory the file does not back.
@@ -7,6 +34,7 @@ anything is allocated: a header cannot make us reserve memory the file does not 
 from __future__ import annotations
 
 import io
+import os
 import zipfile
 
 import numpy as np
@@ -19,6 +47,11 @@ from ..geometry import Geometry
 MAX_ARRAY_BYTES = 2 << 30
 _LABELS = ("outputs", "inputs", "output_units", "input_units")
 _GEOMETRY = ("node_ids", "coordinates", "edges", "channel_nodes", "channel_directions")
+#: The old store layout's names for the geometry arrays.
+_LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_units"}
+_FLAGS = ("has_output_units", "has_input_units", "has_geometry")
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", *_GEOMETRY, "geometry_units", *_FLAGS,
+          *_LEGACY_GEOMETRY)
 
 
 def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.ndarray:
@@ -49,53 +82,110 @@ def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.n
     return arr.reshape(shape, order="F" if fortran else "C")
 
 
-def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, list[str]]:
-    """(ResponseData, Geometry or None, description) from the bytes of an .npz file."""
+def read_arrays(raw: bytes, label: str, names, required=()) -> dict[str, np.ndarray]:
+    """The arrays ``names`` that the .npz bytes ``raw`` hold (absent ones left out), read safely (see above).
+
+    Other members are not read. Raises DataError naming ``label`` for a bad archive or a missing ``required`` array.
+    """
     try:
         zf = zipfile.ZipFile(io.BytesIO(raw))
         infos = {i.filename[:-4] if i.filename.endswith(".npy") else i.filename: i for i in zf.infolist()}
     except (zipfile.BadZipFile, OSError, ValueError) as exc:
         raise DataError(f"{label}: not a readable .npz archive ({exc}).") from None
-    missing = [k for k in ("markov", "dt") if k not in infos]
+    missing = [k for k in required if k not in infos]
     if missing:
-        raise DataError(f"{label}: the archive has no {' and no '.join(map(repr, missing))} array; an era .npz holds "
-                        f"markov (N, p, m) and dt (found: {sorted(infos)}).")
+        raise DataError(f"{label}: the archive has no {' and no '.join(map(repr, missing))} array; it needs "
+                        f"{' and '.join(required)} (found: {sorted(infos)}).")
     try:
-        arrays = {k: _read_member(zf, infos[k], label) for k in ("markov", "dt", *_LABELS, *_GEOMETRY, "geometry_units")
-                  if k in infos}
+        return {k: _read_member(zf, infos[k], label) for k in names if k in infos}
     except (zipfile.BadZipFile, OSError, EOFError) as exc:  # CRC errors, cut archives
         raise DataError(f"{label}: the archive is corrupt ({exc}).") from None
-    dt = arrays["dt"]
-    if dt.size != 1:
-        raise DataError(f"{label}: `dt` must be one number (seconds), got shape {dt.shape}.")
+
+
+def _one(arrays: dict, key: str, label: str, what: str):
+    value = arrays[key]
+    if value.size != 1:
+        raise DataError(f"{label}: `{key}` must be {what}, got an array of shape {value.shape}.")
+    return value.reshape(-1)[0]
+
+
+def _from_legacy(arrays: dict) -> dict:
+    """The old store layout's arrays under this format's names (units and geometry dropped where flagged absent)."""
+    out = {k: v for k, v in arrays.items() if k not in _FLAGS and k not in _LEGACY_GEOMETRY}
+    for key in ("output_units", "input_units"):
+        if not np.any(arrays.get(f"has_{key}", True)):
+            out.pop(key, None)
+    if np.any(arrays.get("has_geometry", False)):
+        out.update({new: arrays[old] for old, new in _LEGACY_GEOMETRY.items() if old in arrays})
+    return out
+
+
+def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str | None, list[str]]:
+    """(ResponseData, Geometry or None, the stored name or None, description) from the bytes of an .npz file.
+
+    Reads this module's format and the store's old layout (module docstring); ``label`` names the file in errors.
+    """
+    arrays = read_arrays(raw, label, _NAMES, required=("markov", "dt"))
+    if any(k in arrays for k in _FLAGS):
+        arrays = _from_legacy(arrays)
+    dt = _one(arrays, "dt", label, "one number (seconds)")
     labels = {k: [str(x) for x in arrays[k].reshape(-1)] for k in _LABELS if k in arrays}
     try:
-        data = ResponseData(markov=arrays["markov"], dt=float(dt.reshape(-1)[0]), **labels,
-                            meta={"conversions": [], "source": "npz"})
+        data = ResponseData(markov=arrays["markov"], dt=dt, **labels, meta={"conversions": [], "source": "npz"})
     except DataError as exc:
         raise DataError(f"{label}: {exc}") from None
+    if "input_locations" in arrays:
+        where = arrays["input_locations"]
+        if where.ndim != 2 or len(where) != data.n_inputs or not np.issubdtype(where.dtype, np.number):
+            raise DataError(f"{label}: `input_locations` is {where.dtype} of shape {where.shape}; expected numbers of "
+                            f"shape (m, d) = ({data.n_inputs}, d), one point per input.")
+        data.meta["input_locations"] = tuple(tuple(float(v) for v in row) for row in where)
+    name = str(_one(arrays, "name", label, "one string")) if "name" in arrays else None
     geometry = None
     present = [k for k in _GEOMETRY if k in arrays]
     if present:
         if len(present) != len(_GEOMETRY):
             raise DataError(f"{label}: geometry arrays {present} without {sorted(set(_GEOMETRY) - set(present))}; "
                             "give all five or none.")
-        units = str(arrays["geometry_units"].reshape(-1)[0]) if "geometry_units" in arrays else "m"
+        units = str(_one(arrays, "geometry_units", label, "one string")) if "geometry_units" in arrays else "m"
         try:
             geometry = Geometry(*(arrays[k] for k in _GEOMETRY), units=units)
         except DataError as exc:
             raise DataError(f"{label}: {exc}") from None
-    return data, geometry, [f"{label}: markov {data.markov.shape}, dt = {data.dt:g} s"
-                            + (f", geometry of {geometry.n_nodes} nodes" if geometry else "")]
+    return data, geometry, name, [f"{label}: markov {data.markov.shape}, dt = {data.dt:g} s"
+                                  + (f", geometry of {geometry.n_nodes} nodes" if geometry else "")]
 
 
-def save_npz(path, data: ResponseData, geometry: Geometry | None = None) -> None:
-    """Write ResponseData (and geometry) in the format :func:`era.load` reads back. path: str or binary file."""
+def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str | None = None) -> bytes:
+    """The .npz archive (module docstring) of ``data``, its ``geometry`` and ``name``, which :func:`read_npz` reads.
+
+    Units given as None are left out (and read back as None); ``data.meta["input_locations"]``, (m, d) points, is
+    kept. Uncompressed: measured responses hardly compress, and the app reads them back often.
+    """
     arrays = {"markov": data.markov, "dt": np.array(data.dt)}
-    for k in _LABELS:
-        if getattr(data, k) is not None:
-            arrays[k] = np.array(getattr(data, k), dtype=str)
+    arrays.update({k: np.array(getattr(data, k), dtype=str) for k in _LABELS if getattr(data, k) is not None})
+    where = (data.meta or {}).get("input_locations")
+    if where is not None:  # era.explain's residue term needs the input points
+        where = np.asarray(where, dtype=float)
+        if where.ndim != 2 or len(where) != data.n_inputs:
+            raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
+                            f"(m, d) = ({data.n_inputs}, d), or remove it.")
+        arrays["input_locations"] = where
+    if name is not None:
+        arrays["name"] = np.array(str(name))
     if geometry is not None:
         arrays.update({k: getattr(geometry, k) for k in _GEOMETRY})
         arrays["geometry_units"] = np.array(geometry.units)
-    np.savez_compressed(path, **arrays)
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    return buf.getvalue()
+
+
+def save_npz(path, data: ResponseData, geometry: Geometry | None = None, *, name: str | None = None) -> None:
+    """Write :func:`npz_bytes` to ``path`` (str, path or binary file), for :func:`era.load` to read back."""
+    blob = npz_bytes(data, geometry, name=name)
+    if hasattr(path, "write"):
+        path.write(blob)
+        return
+    with open(os.fspath(path), "wb") as fh:
+        fh.write(blob)

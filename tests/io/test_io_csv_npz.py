@@ -1,4 +1,5 @@
-"""CSV in (delimiters, decimal comma, units, several records) and the app's own NPZ format both ways."""
+"""CSV in (delimiters, decimal comma, units, several records) and era's own NPZ format both ways (the store's
+old layout: tests/app/test_store.py)."""
 
 import io
 import sys
@@ -101,6 +102,26 @@ def test_npz_round_trip_with_labels_and_geometry(tmp_path):
     np.testing.assert_array_equal(ds.geometry.channel_directions, geom.channel_directions)
     era.save_npz(tmp_path / "a.npz", data)
     assert era.load(tmp_path / "a.npz").geometry is None
+
+
+def test_npz_keeps_the_name_and_the_input_points_and_units_not_given_stay_none(tmp_path):
+    data = era.ResponseData(np.random.default_rng(1).standard_normal((40, 3, 2)), 0.05,
+                            meta={"input_locations": ((3, 2), (7, 5))})  # hammer hits at grid joints (x_ft, y_ft)
+    era.save_npz(tmp_path / "hits.npz", data, name="hammer test 3")
+    ds = era.load(tmp_path / "hits.npz")
+    assert ds.source["name"] == "hammer test 3"
+    assert ds.data.meta["input_locations"] == ((3.0, 2.0), (7.0, 5.0))
+    assert ds.data.output_units is None and ds.data.input_units is None and ds.data.outputs == ("y1", "y2", "y3")
+    assert ds.data.markov.tobytes() == data.markov.tobytes()
+    era.save_npz(tmp_path / "unnamed.npz", data)
+    assert era.load(tmp_path / "unnamed.npz").source["name"] is None
+    one_point = era.ResponseData(data.markov, 0.05, meta={"input_locations": [(3.0, 2.0)]})
+    with pytest.raises(era.DataError, match=r"input_locations.*shape \(1, 2\); give one point per input"):
+        era.save_npz(io.BytesIO(), one_point)
+    buf = io.BytesIO()
+    np.savez(buf, markov=data.markov, dt=np.array(0.05), input_locations=np.zeros((3, 2)))
+    with pytest.raises(era.DataError, match=r"odd.npz: `input_locations` is float64 of shape \(3, 2\); expected"):
+        era.load(buf.getvalue(), name="odd.npz")
 
 
 def test_times_printed_with_few_decimals_are_even_but_a_dropped_sample_is_not():
