@@ -9,6 +9,7 @@ from .errors import DataError, EraError, HankelError, OrderError
 from .geometry import Geometry
 from .indicators import mac
 from .modal import ModalModel
+from .selection import keep_mask, kept_modes
 from .realization import Identification, identify
 from .stabilization import StableMode, Stabilization, stabilization
 
@@ -22,7 +23,7 @@ from .discrepancy import Explanation, explain
 
 __all__ = [
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
-    "ModalModel", "mac", "EraError", "DataError", "HankelError", "OrderError",
+    "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",

@@ -9,6 +9,7 @@ import scipy.linalg
 
 from . import indicators
 from .errors import EraError
+from .selection import kept_modes
 
 #: |z| below this is treated as this (z = 0 has no logarithm); such a pole decays within one sample.
 _TINY_Z = 1e-300
@@ -168,7 +169,7 @@ class ModalModel:
 
     # ---- model reduction (section III) ---------------------------------------------------------
     def select(self, indices=None, *, min_emac: float | None = None, min_mpc: float | None = None,
-               min_contribution: float | None = None) -> "ModalModel":
+               min_contribution: float | None = None, physical_only: bool = False) -> "ModalModel":
         """The reduced model that keeps some modes (model reduction, section III).
 
         Parameters
@@ -179,39 +180,34 @@ class ModalModel:
             Keep only modes with γ ≥ min_emac and μ ≥ min_mpc.
         min_contribution : float, optional
             Keep only modes whose contribution is at least this fraction of the largest one.
+        physical_only : bool
+            Keep only complex pairs that decay (0 < ζ < 1).
+
+        The rule is :func:`era.selection.kept_modes` (named modes AND thresholds).
 
         Returns
         -------
         ModalModel in real modal form: each pair a 2 × 2 block [[Re z, -Im z], [Im z, Re z]], each real
         pole a 1 × 1 block. Its indicators are those of the kept modes.
         """
-        keep = np.ones(self.n_modes, dtype=bool)
-        if indices is not None:
-            idx = np.asarray(indices)
-            mask = np.zeros(self.n_modes, dtype=bool)
-            if idx.dtype == bool:
-                if idx.shape != (self.n_modes,):
-                    raise EraError(f"A boolean mode mask needs {self.n_modes} entries, got {idx.shape}.")
-                mask = idx.copy()
-            elif idx.size:
-                if not np.issubdtype(idx.dtype, np.integer):
-                    raise EraError(f"Mode indices must be integers, got {indices!r}.")
-                bad = idx[(idx < -self.n_modes) | (idx >= self.n_modes)]
-                if bad.size:
-                    raise EraError(f"Mode index {int(bad[0])} is out of range: this model has {self.n_modes} modes "
-                                   f"(indices 0..{self.n_modes - 1}).")
-                mask[idx] = True
-            keep &= mask
-        for value, name in ((min_emac, "min_emac"), (min_mpc, "min_mpc"), (min_contribution, "min_contribution")):
-            if value is not None and not (0.0 <= float(value) <= 1.0):
-                raise EraError(f"`{name}` is a fraction in [0, 1], got {value!r}.")
-        if min_emac is not None:
-            keep &= self.emac >= min_emac
-        if min_mpc is not None:
-            keep &= self.mpc >= min_mpc
-        if min_contribution is not None and self.n_modes:
-            keep &= self.contribution >= min_contribution * np.max(self.contribution)
-        return self._subset(np.flatnonzero(keep))
+        return self._subset(kept_modes(self, indices, min_emac=min_emac, min_mpc=min_mpc,
+                                       min_contribution=min_contribution, physical_only=physical_only))
+
+    def channel(self, output: int, input: int) -> "ModalModel":
+        """The one-channel view: output ``output`` (0..p-1) for input ``input`` (0..m-1), shape (1, 1).
+
+        C keeps that output's row and B that input's column, shapes and amplitudes likewise, so the view
+        reconstructs exactly that channel of :meth:`reconstruct` (p·m times less work). γ, μ and the
+        contribution stay those of the whole model (they judge a mode, not a channel).
+        """
+        p, m = self.shapes.shape[0], self.amplitudes.shape[1]
+        for value, size, name in ((output, p, "output"), (input, m, "input")):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < size:
+                raise EraError(f"`{name}` must be 0..{size - 1} (this model has {size} {name}s), got {value!r}.")
+        i, j = int(output), int(input)
+        return replace(self, B=self.B[:, j:j + 1], C=self.C[i:i + 1], shapes=self.shapes[i:i + 1],
+                       amplitudes=self.amplitudes[:, j:j + 1], outputs=self.outputs[i:i + 1],
+                       inputs=self.inputs[j:j + 1])
 
     def _subset(self, idx: np.ndarray) -> "ModalModel":
         z, c, b, pair = self.z[idx], self.shapes[:, idx], self.amplitudes[idx], self.is_pair[idx]

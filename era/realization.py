@@ -115,6 +115,13 @@ class Identification:
         C = self.P[:p, :n] * root[None, :]
         return A, W[:, :m].copy(), C, W
 
+    def model(self, order: int) -> ModalModel:
+        """The ERA model of order n (eq. 34 in balanced form) and its modes: the one path every caller takes
+        (the slider, the stabilization diagram, explain). Equal to ``realize(order)``."""
+        d = self.data
+        A, B, C, W = self.balanced(order)
+        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA")
+
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
         """The realization of the given order and its modes.
 
@@ -139,19 +146,18 @@ class Identification:
         method = str(method).upper()
         d = self.data
         if method == "ERA":
-            A, B, C, W = self.balanced(order)
-        elif method in ("A1", "A2"):
-            n = self._check_order(order)
-            h0 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 0)
-            h1 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 1)
-            h_pinv = (self.Q[:, :n] / self.singular_values[:n]) @ self.P[:, :n].T  # (s m, r p), eq. 27
-            p, m = d.n_outputs, d.n_inputs
-            if method == "A1":
-                A, B, C, W = h1 @ h_pinv, h0[:, :m].copy(), np.eye(h0.shape[0])[:p], h0
-            else:
-                A, B, C, W = h_pinv @ h1, np.eye(h0.shape[1])[:, :m], h0[:p].copy(), h_pinv @ h0
-        else:
+            return self.model(order)
+        if method not in ("A1", "A2"):
             raise EraError(f"`method` must be 'ERA', 'A1' or 'A2', got {method!r}.")
+        n = self._check_order(order)
+        h0 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 0)
+        h1 = hankel.block_hankel(d.markov, self.row_shifts, self.col_shifts, 1)
+        h_pinv = (self.Q[:, :n] / self.singular_values[:n]) @ self.P[:, :n].T  # (s m, r p), eq. 27
+        p, m = d.n_outputs, d.n_inputs
+        if method == "A1":
+            A, B, C, W = h1 @ h_pinv, h0[:, :m].copy(), np.eye(h0.shape[0])[:p], h0
+        else:
+            A, B, C, W = h_pinv @ h1, np.eye(h0.shape[1])[:, :m], h0[:p].copy(), h_pinv @ h0
         return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, method)
 
 

@@ -9,8 +9,10 @@ import numpy as np
 
 from .errors import EraError
 from .indicators import mac
-from .modal import build_model
 from .realization import Identification
+
+#: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
+COHERENT_MIN = 0.9
 
 
 @dataclass(frozen=True)
@@ -33,6 +35,11 @@ class StableMode:
     pole_indices: tuple
     shape: np.ndarray
 
+    @property
+    def coherent(self) -> bool:
+        """Mean γ·μ ≥ :data:`COHERENT_MIN`: stable AND coherent, a likely physical mode."""
+        return bool(self.emac * self.mpc >= COHERENT_MIN)
+
 
 @dataclass(frozen=True, eq=False)
 class Stabilization:
@@ -40,6 +47,7 @@ class Stabilization:
 
     orders : (n_orders,) the orders computed (requested orders above ident.max_order are left out).
     order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
+    mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
     stable_frequency, stable_damping, stable_shape : the pole has a partner at the previous computed order
         within freq_tol (relative frequency change), damping_tol (relative damping change) and with
         MAC ≥ mac_min; the first order has no previous one, so all False there.
@@ -49,6 +57,7 @@ class Stabilization:
 
     orders: np.ndarray
     order: np.ndarray
+    mode_index: np.ndarray
     frequency_hz: np.ndarray
     damping_ratio: np.ndarray
     emac: np.ndarray
@@ -151,8 +160,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     cols = []
     prev = None
     for n in done:
-        A, B, C, W = ident.balanced(n)
-        model = build_model(A, B, C, W, d.dt, ident.row_shifts, ident.col_shifts)
+        model = ident.model(n)
         f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
         if prev is None or len(prev[0]) == 0 or len(f) == 0:  # nothing to compare with
             sf = sd = ss = np.zeros(len(f), dtype=bool)
@@ -164,16 +172,17 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             sd = _relative_change(z, prev[1])[rows, near] <= damping_tol
             ss = mac(sh, prev[2])[rows, near] >= mac_min
         prev = (f, z, sh)
-        cols.append((np.full(len(f), n), f, z, model.emac, model.mpc, model.contribution, sf, sd, ss, sh))
+        cols.append((np.full(len(f), n), np.arange(len(f)), f, z, model.emac, model.mpc, model.contribution,
+                     sf, sd, ss, sh))
     p = d.n_outputs
     if cols:
         parts = list(zip(*cols))
         arrays = [np.concatenate(x) for x in parts[:-1]]
         shapes = np.concatenate(parts[-1], axis=1)
     else:
-        arrays = [np.zeros(0, dtype=t) for t in (int, float, float, float, float, float, bool, bool, bool)]
+        arrays = [np.zeros(0, dtype=t) for t in (int, int, float, float, float, float, float, bool, bool, bool)]
         shapes = np.zeros((p, 0), dtype=complex)
-    order, freq, damp, gamma, mu, contrib, sf, sd, ss = arrays
+    order, mode_index, freq, damp, gamma, mu, contrib, sf, sd, ss = arrays
     stable = sf & sd & ss
     modes = []
     for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
@@ -184,6 +193,6 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             emac=float(gamma[c].mean()), mpc=float(mu[c].mean()), orders=tuple(int(x) for x in order[c]),
             pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy()))
     modes.sort(key=lambda m: m.frequency_hz)
-    return Stabilization(orders=np.array(done, dtype=int), order=order, frequency_hz=freq, damping_ratio=damp,
-                         emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf, stable_damping=sd,
-                         stable_shape=ss, shapes=shapes, modes=tuple(modes))
+    return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=mode_index, frequency_hz=freq,
+                         damping_ratio=damp, emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf,
+                         stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes))

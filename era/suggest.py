@@ -19,6 +19,13 @@ class HankelChoice:
     max_order: int
 
 
+def order_cap(rows: int, cols: int, n_outputs: int, n_inputs: int, limit: int | None = None) -> int:
+    """The largest order a Hankel matrix of ``rows`` × ``cols`` blocks can realize, min(r·p, s·m), and at most
+    ``limit`` (e.g. a server's ERA_MAX_ORDER) when given. The rank of H(0) is no larger."""
+    cap = min(int(rows) * int(n_outputs), int(cols) * int(n_inputs))
+    return int(cap if limit is None else min(cap, int(limit)))
+
+
 def hankel_size(n_samples: int, n_outputs: int, n_inputs: int, *, max_side: int = 800,
                 max_elements: int = 25_000_000, max_order: int = 200) -> HankelChoice:
     """Rows and columns that use most of the record without an oversized matrix.
@@ -37,7 +44,7 @@ def hankel_size(n_samples: int, n_outputs: int, n_inputs: int, *, max_side: int 
             rows -= max(1, rows // 10)
         else:
             cols -= max(1, cols // 10)
-    return HankelChoice(rows=rows, cols=cols, max_order=int(min(rows * p, cols * m, max_order)))
+    return HankelChoice(rows=rows, cols=cols, max_order=order_cap(rows, cols, p, m, max_order))
 
 
 def order_from_singular_values(singular_values, max_order: int | None = None, *, noise_factor: float = 10.0) -> int:

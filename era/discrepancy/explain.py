@@ -14,9 +14,10 @@ import numpy as np
 from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subspace_mac
 from ..data import ResponseData
 from ..errors import DataError
+from ..realization import Identification
 from .effects import describe, grid_effects, nuisance
 from .fitting import ErrorLevels, build_model, profile_interval
-from .measured import MeasuredModes, identify_modes
+from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, rank_effects
 
 VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
@@ -218,15 +219,18 @@ def _verdict(ranking, min_probability, min_log_bayes):
     return "ambiguous", None
 
 
-def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None = None,
-            errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), min_probability: float = 0.9,
+def explain(data: ResponseData | Identification | MeasuredModes, model, *, effects: tuple | None = None,
+            errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), kept: tuple | None = None,
+            min_probability: float = 0.9,
             min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4,
             extra_model_modes: int = 6) -> Explanation:
     """Find which candidate physical effect, missing from ``model``, the test data support.
 
     Parameters
     ----------
-    data : era.ResponseData (N, 9, m) in model.sensors order, or MeasuredModes already identified. Pulse
+    data : era.ResponseData (N, p, m) with one output per model sensor, in model.sensors order (ERA then runs on a
+        Hankel matrix chosen by :func:`identify_modes`); or an era.Identification of such data (a person's own
+        Hankel size: its SVD is used as it is); or MeasuredModes already identified. Pulse
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only.
@@ -234,6 +238,9 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
         .with_params(**changes), .joints_ft (candidate locations of located effects).
     effects : candidate EffectSpecs, "none" first (default: :func:`era.discrepancy.effects.grid_effects`).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
+    orders : the model orders ERA's modes are tracked over (their stable tracks and spread).
+    kept : (order, indices) with an Identification: compare exactly the modes a person kept at that order
+        (see :func:`measured_modes`) instead of every stable mode.
     min_probability, min_log_bayes : naming thresholds — posterior ≥ 0.9 and Bayes factor ≥ 100 against the
         nominal (+ stiffness factor) by default; the fit must also be adequate.
     refine_locations : located effects get a full fit at this many best-screened joints.
@@ -245,16 +252,22 @@ def explain(data: ResponseData | MeasuredModes, model, *, effects: tuple | None 
     """
     t0 = time.perf_counter()
     timing = {}
+    if kept is not None and not isinstance(data, Identification):
+        raise DataError("explain: `kept` (order, mode indices) names modes of an identification; pass the "
+                        "era.Identification they were kept from as `data`.")
     if isinstance(data, MeasuredModes):
         measured = data
-    elif isinstance(data, ResponseData):
+    elif isinstance(data, (ResponseData, Identification)):
+        p = data.n_outputs if isinstance(data, ResponseData) else data.data.n_outputs
         sensors = np.asarray(model.sensors)
-        if data.n_outputs != sensors.shape[0]:
-            raise DataError(f"explain: the data have {data.n_outputs} outputs but the model has {sensors.shape[0]} "
+        if p != sensors.shape[0]:
+            raise DataError(f"explain: the data have {p} outputs but the model has {sensors.shape[0]} "
                             "sensors; give one output per model sensor, in model.sensors order.")
-        measured = identify_modes(data, orders=orders)
+        measured = (identify_modes(data, orders=orders) if isinstance(data, ResponseData)
+                    else measured_modes(data, orders, kept=kept))
     else:
-        raise DataError(f"explain: `data` must be an era.ResponseData or MeasuredModes, got {type(data).__name__}.")
+        raise DataError(f"explain: `data` must be an era.ResponseData, Identification or MeasuredModes, got "
+                        f"{type(data).__name__}.")
     timing["era_s"] = time.perf_counter() - t0
     specs = tuple(effects) if effects is not None else grid_effects(model)
     n_model = measured.n_modes + extra_model_modes

@@ -9,9 +9,9 @@ import numpy as np
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
-from ..modal import build_model
-from ..realization import identify
-from ..stabilization import stabilization
+from ..realization import Identification, identify
+from ..selection import keep_mask, kept_modes
+from ..stabilization import StableMode, stabilization
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,24 +78,24 @@ def _impulse_inputs(data: ResponseData):
     return tuple(tuple(float(v) for v in w) for w in where), _TO_METRES[data.output_units[0]]
 
 
-def modal_constants(models: dict, stab, chosen, to_metres: float, weights=None):
+def modal_constants(ident, stab, chosen, to_metres: float, weights=None):
     """Modal constants of each chosen mode from ERA's residues, averaged over the orders it was stable in.
 
     A displacement pulse response to a unit impulse is y(t) = Σ_j φ_j(i) φ_j(k) e^{−ζωt} sin(ω_d t)/ω_d for
     mass-normalised φ, so each pole's residue (eq. 35: Y(k) = Σ c_j z_j^k b_j + c.c.) is c_j b_jᵀ =
     φ_j φ_jᵀ/(2i ω_d): Re(2i ω_d c_j b_jᵀ) estimates φ_j(sensor) φ_j(input) in 1/kg, an absolute (mass) scale
     that frequencies and unit-norm shapes lack. Returns (p, m, k) and (k,) relative spread across orders.
+    ident : the Identification ``stab`` was computed from (each pole's model is ``ident.model(order)``).
     weights : (m,) the factors the records were multiplied by before ERA (see :func:`input_weights`); they
     scale the columns of B, so the residues are divided by them again.
     """
     unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
-    first = {int(o): int(np.flatnonzero(stab.order == o)[0]) for o in stab.orders}
+    models = {o: ident.model(o) for o in sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})}
     out, spread = [], []
     for md in chosen:
         each = []
         for pole in md.pole_indices:
-            order = int(stab.order[pole])
-            mdl, k = models[order], pole - first[order]
+            mdl, k = models[int(stab.order[pole])], int(stab.mode_index[pole])
             wd = 2 * np.pi * mdl.frequency_hz[k]
             each.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres * unweight)
         each = np.array(each)
@@ -120,14 +120,11 @@ def input_weights(markov: np.ndarray) -> np.ndarray:
 
 
 def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | None = None,
-                   balance_inputs: bool = True, min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.7,
-                   max_damping: float = 0.1, min_frequency_hz: float = 0.05) -> MeasuredModes:
+                   balance_inputs: bool = True, **rules) -> MeasuredModes:
     """Run ERA on ``data`` at several orders and keep the modes that stay stable across them.
 
-    One Hankel matrix and one SVD (era.identify), then era.stabilization over ``orders``; a mode is kept when it
-    is stable in at least ``min_orders`` orders, with MPC ≥ min_mpc, EMAC ≥ min_emac, 0 < ζ ≤ max_damping, and a
-    frequency between ``min_frequency_hz`` and 95 % of Nyquist. Its frequency spread across orders is the
-    measurement error level of its frequency.
+    One Hankel matrix and one SVD (era.identify) of a size chosen here, then :func:`measured_modes` over
+    ``orders`` (``rules``: its min_orders, min_mpc, min_emac, max_damping, min_frequency_hz).
 
     balance_inputs : scale each input's records to unit RMS first (:func:`input_weights`), so that small
     decays (e.g. dwells at higher modes) are not buried under the noise of large ones; modal constants are
@@ -138,29 +135,49 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     the columns take most of the remaining samples, capped so H(0) stays a few hundred wide.
     """
     n, p, m = data.markov.shape
-    orders = sorted(int(o) for o in orders)
+    top = max(int(o) for o in orders)
     if rows is None:
-        rows = int(min(max(np.ceil(2 * orders[-1] / p), 8), n // 3))
+        rows = int(min(max(np.ceil(2 * top / p), 8), n // 3))
     cols = int(min(max(n - rows - 2, 1), max(4 * rows * p // max(m, 1), 200)))
     if n < rows + cols + 2 or rows < 2:
-        raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {orders[-1]}; record longer.")
-    weights = input_weights(data.markov) if balance_inputs else np.ones(m)
-    ident = identify(replace(data, markov=data.markov * weights[None, None, :]), rows, cols)
-    stab = stabilization(ident, orders, min_orders=min_orders)
-    nyquist = 0.5 / data.dt
-    keep = [md for md in stab.modes
-            if md.mpc >= min_mpc and md.emac >= min_emac and 0.0 < md.damping_ratio <= max_damping
-            and min_frequency_hz <= md.frequency_hz <= 0.95 * nyquist]
-    # two clusters of one physical mode (order-dependent drift) would pair twice: keep the longer-lived one
-    keep.sort(key=lambda md: -len(md.orders))
-    chosen = []
-    for md in keep:
-        if all(abs(md.frequency_hz - c.frequency_hz) > 0.005 * md.frequency_hz for c in chosen):
-            chosen.append(md)
-    chosen.sort(key=lambda md: md.frequency_hz)
+        raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {top}; record longer.")
+    weights = input_weights(data.markov) if balance_inputs else None
+    weighted = data if weights is None else replace(data, markov=data.markov * weights[None, None, :])
+    return measured_modes(identify(weighted, rows, cols), orders, input_weights=weights, **rules)
+
+
+def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tuple | None = None,
+                   input_weights=None, min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.7,
+                   max_damping: float = 0.1, min_frequency_hz: float = 0.05) -> MeasuredModes:
+    """The measured modes of an identification, with error levels from their spread across ``orders``.
+
+    era.stabilization over ``orders`` (every order from the same SVD). Then either
+
+    - ``kept=None``: every mode stable in at least ``min_orders`` orders that passes the keep rule
+      (:func:`era.selection.keep_mask`: γ ≥ min_emac, μ ≥ min_mpc, decaying pair with ζ ≤ max_damping) and lies
+      between ``min_frequency_hz`` and 95 % of Nyquist; frequency, damping, γ, μ are means over its orders; or
+    - ``kept=(order, indices)``: exactly the modes a person kept at one order (indices into
+      ``ident.model(order)``), with that order's frequency, damping, γ, μ and shape. Their spread is that of the
+      stable track they belong to (0 and one order when the pole is stable nowhere else).
+
+    input_weights : (m,) factors the records were multiplied by before ERA (:func:`input_weights`), undone in the
+    modal constants. Modal constants are computed when the data are impulse responses of known size at known
+    points (see :func:`modal_constants`).
+    """
+    data = ident.data
+    orders = {int(o) for o in orders}
+    if kept is not None:
+        order, indices = int(kept[0]), np.asarray(kept[1], dtype=int).reshape(-1)
+        orders.add(order)
+    stab = stabilization(ident, sorted(orders), min_orders=min_orders)
+    if kept is None:
+        chosen = _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, 0.5 / data.dt)
+    else:
+        chosen = _kept_modes(ident, stab, order, indices)
     if not chosen:
-        raise DataError("identify_modes: ERA found no mode that is stable across orders; check the data "
-                        "(units, sampling, a record long enough to hold several periods of the lowest mode).")
+        raise DataError("ERA found no mode that is stable across orders; check the data (units, sampling, a "
+                        "record long enough to hold several periods of the lowest mode)." if kept is None else
+                        f"No mode was kept at order {kept[0]}: keep at least one mode to compare with the model.")
     shapes = real_shapes(np.stack([md.shape for md in chosen], axis=1))
     shapes = shapes / np.linalg.norm(shapes, axis=0, keepdims=True)
     spread = []
@@ -172,10 +189,7 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     constants = constant_std = None
     impulses = _impulse_inputs(data)
     if impulses is not None:
-        models = {}
-        for order in {int(stab.order[i]) for md in chosen for i in md.pole_indices}:
-            models[order] = build_model(*ident.balanced(order), data.dt, ident.row_shifts, ident.col_shifts)
-        constants, constant_std = modal_constants(models, stab, chosen, impulses[1], weights)
+        constants, constant_std = modal_constants(ident, stab, chosen, impulses[1], input_weights)
     return MeasuredModes(
         frequency_hz=np.array([md.frequency_hz for md in chosen]),
         frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
@@ -184,3 +198,36 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
         shapes=shapes, n_orders=np.array([len(md.orders) for md in chosen]), shape_std=np.array(spread),
         modal_constants=constants, modal_constant_std=constant_std,
         input_locations=None if impulses is None else impulses[0])
+
+
+def _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, nyquist_hz) -> list[StableMode]:
+    """The suggested modes that pass the keep rule and the band; two tracks of one physical mode (drift with
+    order) would pair twice, so of modes within 0.5 % the longer-lived one stays. Sorted by frequency."""
+    modes = stab.modes
+    f = np.array([md.frequency_hz for md in modes])
+    ok = keep_mask([md.emac for md in modes], [md.mpc for md in modes], min_emac=min_emac, min_mpc=min_mpc,
+                   damping_ratio=[md.damping_ratio for md in modes], is_pair=np.ones(len(modes), bool),
+                   physical_only=True, max_damping=max_damping)
+    ok &= (f >= min_frequency_hz) & (f <= 0.95 * nyquist_hz)
+    chosen = []
+    for md in sorted((md for md, good in zip(modes, ok) if good), key=lambda md: -len(md.orders)):
+        if all(abs(md.frequency_hz - c.frequency_hz) > 0.005 * md.frequency_hz for c in chosen):
+            chosen.append(md)
+    return sorted(chosen, key=lambda md: md.frequency_hz)
+
+
+def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode]:
+    """The modes kept at one order, each with the track (stable mode) its pole belongs to, if any."""
+    model = ident.model(order)
+    indices = kept_modes(model, indices)
+    track = {pole: md for md in stab.modes for pole in md.pole_indices}
+    out = []
+    for k in indices.tolist():
+        pole = int(np.flatnonzero((stab.order == order) & (stab.mode_index == k))[0])
+        md = track.get(pole)
+        out.append(StableMode(
+            frequency_hz=float(model.frequency_hz[k]), frequency_std_hz=md.frequency_std_hz if md else 0.0,
+            damping_ratio=float(model.damping_ratio[k]), damping_std=md.damping_std if md else 0.0,
+            emac=float(model.emac[k]), mpc=float(model.mpc[k]), orders=md.orders if md else (order,),
+            pole_indices=md.pole_indices if md else (pole,), shape=model.shapes[:, k].copy()))
+    return out
