@@ -17,7 +17,7 @@ import numpy as np
 
 import era
 
-from . import engine as eng
+from . import payloads
 from .store import Store, write_atomic
 
 #: Points per overlay curve in the JSON (the stored responses keep every sample).
@@ -113,7 +113,7 @@ def run(data: era.ResponseData, geometry: era.Geometry | None, params: dict | No
         grid_shape=[int(np.unique(result.node_xy_ft[:, 0]).size), int(np.unique(result.node_xy_ft[:, 1]).size)],
         sensors_ft=[list(s) for s in model.sensors],
         outputs=list(data.outputs), inputs=list(data.inputs),
-        overlay_fit_percent={k: eng.fit_percent(responses[f"fit_error_{k}"]) for k in ("nominal", "updated")},
+        overlay_fit_percent={k: payloads.fit_percent(responses[f"fit_error_{k}"]) for k in ("nominal", "updated")},
         seconds=seconds)
     return _json(summary), {k: np.asarray(responses[k], float) for k in ("measured", "nominal", "updated")}
 
@@ -151,10 +151,10 @@ def overlay_json(store: Store, analysis_id: str, output: int, input: int,
     if not (0 <= output < p and 0 <= input < m):
         raise era.EraError(f"Choose an output 0..{p - 1} and an input 0..{m - 1}; got output {output}, "
                            f"input {input}.")
-    sl = eng.decimate(n, max_points)
-    return {"output_index": output, "input_index": input, "time_s": eng.floats((np.arange(n) * dt)[sl]),
-            "measured": eng.floats(measured[sl, output, input]), "nominal": eng.floats(nominal[sl, output, input]),
-            "updated": eng.floats(updated[sl, output, input])}
+    sl = payloads.decimate(n, max_points)
+    return {"output_index": output, "input_index": input, "time_s": payloads.floats((np.arange(n) * dt)[sl]),
+            "measured": payloads.floats(measured[sl, output, input]), "nominal": payloads.floats(nominal[sl, output, input]),
+            "updated": payloads.floats(updated[sl, output, input])}
 
 
 def for_report(store: Store, analysis_id: str) -> dict | None:

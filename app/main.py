@@ -1,7 +1,8 @@
 """The FastAPI application: ``app.main:app`` (``uvicorn app.main:app``, or ``python3 -m app``).
 
-create_app() wires settings, the store, the job pools, the viser viewer (when app/viewer.py is installed),
-the limits (upload size, per-client rates) and the error handlers that keep stack traces out of responses.
+create_app() wires settings, the store, the cache service (app/cache.py), the job pools, the viser viewer
+(unless ERA_VIEWER=0), the limits (upload size, per-client rates) and the error handlers that keep stack traces
+out of responses. The JSON of every answer is declared in app/schemas.py (see /docs).
 """
 
 from __future__ import annotations
@@ -21,28 +22,16 @@ from fastapi.staticfiles import StaticFiles
 import era
 
 from . import config
-from .engine import Engine, NotFound
+from .cache import Cache
+from .errors import NotFound
 from .jobs import Jobs
 from .routes import analyses, datasets, examples, explain, pages, reports
 from .routes import jobs as job_routes
 from .store import Store
+from .viewer import ModeViewer
 
 log = logging.getLogger("app")
 STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
-
-
-def _make_viewer(settings: config.Settings):
-    """The app-wide ModeViewer, or None when app/viewer.py is not installed or the viewer is turned off."""
-    if not settings.viewer:
-        return None
-    try:
-        from .viewer import ModeViewer
-    except ImportError:
-        return None
-    except Exception:  # a broken viewer must not take the analysis app down with it
-        log.exception("app.viewer failed to import; mode shapes in viser are off")
-        return None
-    return ModeViewer()
 
 
 def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
@@ -122,13 +111,13 @@ class RateLimit:
 
 def create_app(settings: config.Settings | None = None) -> FastAPI:
     settings = settings or config.from_env()
-    viewer = _make_viewer(settings)
+    viewer = ModeViewer() if settings.viewer else None  # ERA_VIEWER=0: viewer routes answer 503
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         store = Store(settings.data_dir)
         app.state.store = store
-        app.state.engine = Engine(store, settings)
+        app.state.cache = Cache(store, settings)
         app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
         if viewer is not None:
             viewer.start()

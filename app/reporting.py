@@ -20,8 +20,8 @@ import numpy as np
 
 import era
 
-from . import engine as eng
-from . import explaining
+from . import payloads
+from .cache import Analysis
 
 STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
 #: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
@@ -37,42 +37,46 @@ def _software(version: str) -> dict:
 
 
 def geometry_json(geometry: era.Geometry | None) -> dict | None:
+    """The test geometry for the report's animation (schemas.ReportGeometry), or None."""
     if geometry is None:
         return None
-    return {"node_ids": geometry.node_ids.tolist(), "coordinates": eng.floats(geometry.coordinates),
+    return {"node_ids": geometry.node_ids.tolist(), "coordinates": payloads.floats(geometry.coordinates),
             "edges": geometry.edges.tolist(), "channel_nodes": geometry.channel_nodes.tolist(),
-            "channel_directions": eng.floats(geometry.channel_directions), "units": geometry.units}
+            "channel_directions": payloads.floats(geometry.channel_directions), "units": geometry.units}
 
 
-def build(e: eng.Engine, analysis_id: str, order: int, kept: np.ndarray, version: str) -> dict:
-    """The report document of an analysis at one order with the kept modes (blocking: run it on a pool)."""
-    dataset_id, params = e.analysis(analysis_id)
-    ident = e.identification(analysis_id)
-    data, geometry, _ = e.dataset(dataset_id)
-    model = e.model(analysis_id, order)
+def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: np.ndarray,
+          stab: era.Stabilization, *, dataset: dict, explanation: dict | None, recordings: dict[str, str],
+          version: str, plot_points: int) -> dict:
+    """The report document (schemas.ReportDocument) of analysis ``a`` at the order of ``model`` (from ``ident``)
+    with the modes ``kept`` (sorted indices). Blocking (one full reconstruction): run it on a pool.
+
+    dataset : the dataset's stored summary; explanation : the stored simulation-vs-test result with every
+    overlay (explaining.for_report), or None; recordings : {mode index: file name} of the mode-shape recordings;
+    plot_points : points of the stabilization diagram's CMIF curve.
+    """
+    data = a.data
     reduced = model.select(kept)
     rebuilt = reduced.reconstruct(data.n_samples)
-    sl = eng.decimate(data.n_samples, MAX_REPORT_POINTS)
+    sl = payloads.decimate(data.n_samples, MAX_REPORT_POINTS)
     pairs = [(i, j) for j in range(data.n_inputs) for i in range(data.n_outputs)][:MAX_REPORT_PAIRS]
-    stab = eng.stabilization_json(e.stabilization(analysis_id), ident)
-    stab["spectrum"] = eng.spectrum_json(data, e.settings)
     return {
         "created": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
         "software": _software(version),
-        "dataset": e.summary(dataset_id),
-        "analysis": eng.analysis_json(analysis_id, dataset_id, params, ident),
-        "order": int(order), "kept": kept.tolist(),
-        "modes": eng.modes_json(model, data),
-        "kept_fit_percent": eng.fit_percent(reduced.fit_error(data)),
+        "dataset": dataset,
+        "analysis": payloads.analysis_json(a.id, a.dataset_id, a.params, ident),
+        "order": int(model.order), "kept": kept.tolist(),
+        "modes": payloads.modes_json(model, data),
+        "kept_fit_percent": payloads.fit_percent(reduced.fit_error(data)),
         "reconstruction": {
-            "time_s": eng.floats(data.time_s[sl]),
+            "time_s": payloads.floats(data.time_s[sl]),
             "pairs": [{"output": data.outputs[i], "input": data.inputs[j], "output_index": i, "input_index": j,
-                       "measured": eng.floats(data.markov[sl, i, j]), "reconstructed": eng.floats(rebuilt[sl, i, j])}
-                      for i, j in pairs]},
-        "stabilization": stab,
-        "geometry": geometry_json(geometry),
-        # simulation vs test, when its panel ran on this analysis (None otherwise)
-        "explanation": explaining.for_report(e.store, analysis_id),
+                       "measured": payloads.floats(data.markov[sl, i, j]),
+                       "reconstructed": payloads.floats(rebuilt[sl, i, j])} for i, j in pairs]},
+        "stabilization": payloads.stabilization_json(stab, data, plot_points),
+        "geometry": geometry_json(a.geometry),
+        "explanation": explanation,
+        "recordings": dict(recordings),
     }
 
 
@@ -105,12 +109,12 @@ def offline_viser(viewer, recordings: dict[str, bytes]) -> tuple[str | None, dic
     """(viser's standalone player page with an empty recording, {mode: recording as base64}) for the download.
 
     The page (about 0.8 MB) is stored once; report.js puts one mode's recording into it for an <iframe srcdoc>.
-    (None, {}) when the viewer has no standalone player or its page no longer has the expected marker.
+    (None, {}) when the viewer is off, there is nothing recorded, or the player page no longer has the expected
+    marker.
     """
-    make = getattr(viewer, "standalone_html", None)
-    if make is None or not recordings:
+    if viewer is None or not recordings:
         return None, {}
-    template = make(b"")
+    template = viewer.standalone_html(b"")
     if template.count(_EMBED_MARKER) != 1:
         return None, {}
     return template, {k: base64.b64encode(v).decode("ascii") for k, v in recordings.items()}
@@ -118,7 +122,8 @@ def offline_viser(viewer, recordings: dict[str, bytes]) -> tuple[str | None, dic
 
 def standalone_html(report: dict, token: str, viser_page: str | None = None,
                     viser_recordings: dict[str, str] | None = None) -> str:
-    """report.html with plotly.js, the CSS, the page script and the report data inlined: opens offline.
+    """report.html with plotly.js, the CSS, the page script and the report data (schemas.OfflineReport) inlined:
+    opens offline.
 
     With ``viser_page`` and ``viser_recordings`` (from :func:`offline_viser`) the kept modes also play in viser's
     own client, with no server; otherwise the page animates them with plotly."""

@@ -4,14 +4,15 @@ stored result back, and show the measured (SEREP-expanded) and model shapes in t
 from __future__ import annotations
 
 import numpy as np
-from fastapi import APIRouter, HTTPException, Query, Request
+from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from pydantic import BaseModel, Field
 
 import era
 
-from .. import explaining
-from ..engine import NotFound
-from .deps import engine, jobs, progress_key
+from .. import explaining, schemas
+from ..cache import Analysis
+from ..errors import NotFound
+from .deps import analysis, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
 
@@ -29,9 +30,7 @@ class ExplainViewerRequest(BaseModel):
 
 
 def _stored(request: Request, analysis_id: str) -> dict:
-    e = engine(request)
-    e.analysis(analysis_id)  # 404 for an unknown analysis
-    summary = explaining.load(e.store, analysis_id)
+    summary = explaining.load(store(request), analysis_id)
     if summary is None:
         raise NotFound("Simulation vs test has not run on this analysis yet: press Run in its panel "
                        f"(POST /api/analyses/{analysis_id}/explain).")
@@ -39,39 +38,43 @@ def _stored(request: Request, analysis_id: str) -> dict:
 
 
 @router.post("/{analysis_id}/explain",
-             summary="Simulation vs test: name the effect the grid model is missing, update it, show the gap")
-async def run(request: Request, analysis_id: str, body: ExplainRequest):
+             summary="Simulation vs test: name the effect the grid model is missing, update it, show the gap",
+             response_model=schemas.Explanation)
+async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(analysis)):
     """Runs era.explain (ERA at several orders, every candidate effect fitted and weighed by its evidence) on the
     analysis's dataset, which must have the grid's nine sensors in order. Stores the result with the analysis."""
-    e = engine(request)
-    dataset_id, _ = e.analysis(analysis_id)
+    analysis_id, files = a.id, store(request)
     explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
 
     def work():
-        data, geometry, _ = e.dataset(dataset_id)
+        data, geometry = a.data, a.geometry
         summary, responses = explaining.run(data, geometry, body.nominal)
-        explaining.save(e.store, analysis_id, summary, responses, data.dt)
+        explaining.save(files, analysis_id, summary, responses, data.dt)
         return summary
 
     summary = await jobs(request).heavy(
         work, progress=progress_key(request),
         message="Simulation vs test: ERA at several orders, then fitting and weighing every candidate effect")
-    return dict(summary, overlay=await jobs(request).quick(explaining.overlay_json, e.store, analysis_id,
+    return dict(summary, overlay=await jobs(request).quick(explaining.overlay_json, files, analysis_id,
                                                            body.output, body.input))
 
 
-@router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis")
-async def read(request: Request, analysis_id: str, output: int = Query(0, ge=0), input: int = Query(0, ge=0),
+@router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis",
+            response_model=schemas.Explanation | schemas.ExplanationOverlay)
+async def read(request: Request, a: Analysis = Depends(analysis), output: int = Query(0, ge=0),
+               input: int = Query(0, ge=0),
                overlay_only: bool = Query(False, description="only the overlay of this output and input")):
+    analysis_id = a.id
     summary = _stored(request, analysis_id)
-    overlay = await jobs(request).quick(explaining.overlay_json, engine(request).store, analysis_id, output, input)
+    overlay = await jobs(request).quick(explaining.overlay_json, store(request), analysis_id, output, input)
     return {"overlay": overlay} if overlay_only else dict(summary, overlay=overlay)
 
 
 @router.post("/{analysis_id}/explain/viewer",
-             summary="Publish the expanded measured shapes, or the updated model's, to the viser viewer")
-async def publish(request: Request, analysis_id: str, body: ExplainViewerRequest):
-    summary = _stored(request, analysis_id)
+             summary="Publish the expanded measured shapes, or the updated model's, to the viser viewer",
+             response_model=schemas.ViewerLink)
+async def publish(request: Request, body: ExplainViewerRequest, a: Analysis = Depends(analysis)):
+    summary = _stored(request, a.id)
     viewer = request.app.state.viewer
     if viewer is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")

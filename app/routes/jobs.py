@@ -4,13 +4,15 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 
-from ..engine import NotFound
+from .. import schemas
+from ..errors import NotFound
 from .deps import jobs
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
 
-@router.get("/{key}", summary="State of a heavy request: queued (behind how many), running (for how long), done")
+@router.get("/{key}", summary="State of a heavy request: queued (behind how many), running (for how long), done",
+            response_model=schemas.Progress)
 async def progress(request: Request, key: str):
     state = jobs(request).progress(key)
     if state is None:

@@ -8,7 +8,7 @@ import plotly
 from fastapi import APIRouter, Request
 from fastapi.responses import FileResponse, HTMLResponse
 
-from .deps import engine
+from .deps import store
 
 router = APIRouter(include_in_schema=False)
 STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
@@ -22,7 +22,7 @@ async def index():
 
 @router.get("/r/{token}")
 async def report_page(request: Request, token: str):
-    if engine(request).store.report(token) is None:
+    if store(request).report(token) is None:
         return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title>"
                             "<h1>Report not found</h1><p>No report has this link. Check that the whole link was "
                             "copied.</p><p><a href=\"/\">Start a new analysis</a></p>", status_code=404)

@@ -6,11 +6,13 @@ from fastapi import APIRouter, Request
 from fastapi.responses import FileResponse, HTMLResponse, Response
 from pydantic import BaseModel, Field
 
-from .. import engine as eng
-from .. import reporting
-from ..engine import NotFound
+import era
+
+from .. import explaining, reporting, schemas
+from ..errors import NotFound
 from ..store import new_token
-from .deps import engine, jobs, progress_key
+from .analyses import identified
+from .deps import cache, find_analysis, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/reports", tags=["reports"])
 #: Mode-shape recordings for the report's viser playback, at most this many (kept modes first).
@@ -27,26 +29,24 @@ def _recording_name(k: int) -> str:
     return f"mode_{k}.viser"
 
 
-@router.post("", summary="Freeze an analysis into a report; returns its token and link")
+@router.post("", summary="Freeze an analysis into a report; returns its token and link",
+             response_model=schemas.ReportCreated)
 async def create(request: Request, body: ReportRequest):
-    e = engine(request)
-    e.analysis(body.analysis_id)  # 404 first
-    viewer = request.app.state.viewer
-    version = request.app.version
+    a = await find_analysis(request, body.analysis_id)
+    c, viewer, version = cache(request), request.app.state.viewer, request.app.version
+    ident = await identified(request, a)
 
     def work():
-        model = e.model(body.analysis_id, body.order)
-        kept = eng.parse_modes(body.modes, model.n_modes)
-        report = reporting.build(e, body.analysis_id, body.order, kept, version)
-        files = {}
-        geometry = e.dataset(e.analysis(body.analysis_id)[0])[1]
-        if viewer is not None and hasattr(viewer, "record"):
-            for k in kept.tolist()[:MAX_RECORDINGS]:
-                files[_recording_name(k)] = viewer.record(geometry, model.frequency_hz, model.shapes, k)
-        report["recordings"] = {str(k): name for k, name in
-                                ((int(n.split("_")[1].split(".")[0]), n) for n in files)}
+        model = c.model(a, body.order)
+        kept = era.kept_modes(model, body.modes)
+        recorded = kept.tolist()[:MAX_RECORDINGS] if viewer is not None else []
+        files = {_recording_name(k): viewer.record(a.geometry, model.frequency_hz, model.shapes, k) for k in recorded}
+        recordings = {str(k): _recording_name(k) for k in recorded}
+        report = reporting.build(a, ident, model, kept, c.stabilization(a), dataset=c.summary(a.dataset_id),
+                                 explanation=explaining.for_report(c.store, a.id), recordings=recordings,
+                                 version=version, plot_points=c.settings.max_plot_points)
         token = new_token()
-        e.store.add_report(token, body.analysis_id, report, files)  # on disk before the link is returned
+        c.store.add_report(token, a.id, report, files)  # on disk before the link is returned
         return token
 
     token = await jobs(request).heavy(work, progress=progress_key(request),
@@ -55,18 +55,18 @@ async def create(request: Request, body: ReportRequest):
 
 
 def _report(request: Request, token: str) -> dict:
-    report = engine(request).store.report(token)
+    report = store(request).report(token)
     if report is None:
         raise NotFound("No report with this link: check that the whole link was copied.")
     return report
 
 
-@router.get("/{token}", summary="A frozen report as JSON")
+@router.get("/{token}", summary="A frozen report as JSON", response_model=schemas.Report)
 async def read(request: Request, token: str):
     report = dict(_report(request, token), token=token, url=f"/r/{token}")
     viewer = request.app.state.viewer
     playback = {}
-    if viewer is not None and hasattr(viewer, "playback_url"):
+    if viewer is not None:
         for k, name in report.get("recordings", {}).items():
             playback[k] = viewer.playback_url(f"/api/reports/{token}/files/{name}")
     report["playback"] = playback
@@ -75,7 +75,7 @@ async def read(request: Request, token: str):
 
 @router.get("/{token}/files/{name}", summary="A file of a report (mode-shape recordings)")
 async def file(request: Request, token: str, name: str):
-    path = engine(request).store.report_file(token, name)
+    path = store(request).report_file(token, name)
     if path is None or name == "report.json":
         raise NotFound(f"No file {name!r} in this report.")
     return FileResponse(path, media_type="application/octet-stream")
@@ -84,11 +84,11 @@ async def file(request: Request, token: str, name: str):
 @router.get("/{token}/report.html", summary="The report as one self-contained HTML file (opens offline)")
 async def download_html(request: Request, token: str):
     report = _report(request, token)
-    store = engine(request).store
+    files = store(request)
 
     def build():
-        recordings = {k: store.report_file(token, name).read_bytes()
-                      for k, name in report.get("recordings", {}).items() if store.report_file(token, name)}
+        recordings = {k: files.report_file(token, name).read_bytes()
+                      for k, name in report.get("recordings", {}).items() if files.report_file(token, name)}
         page, encoded = reporting.offline_viser(request.app.state.viewer, recordings)
         return reporting.standalone_html(report, token, page, encoded)
 

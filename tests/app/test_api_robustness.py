@@ -33,12 +33,12 @@ def test_overall_rate_limit(tmp_path):
 
 
 def test_unexpected_errors_are_500_json_without_traceback(tmp_path, monkeypatch, caplog):
-    from app import engine
+    from app import payloads
 
     def boom(*args, **kwargs):
         raise RuntimeError("secret internal detail /etc/passwd")
 
-    monkeypatch.setattr(engine, "modes_json", boom)
+    monkeypatch.setattr(payloads, "modes_json", boom)
     with client(tmp_path, raise_errors=False) as c:
         _, a = analysis(c)
         r = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 10})

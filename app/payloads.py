@@ -1,0 +1,174 @@
+"""The JSON the API answers, built from era/ results: plain dicts shaped as the models in app/schemas.py.
+
+Plain dicts, not schema objects: the order slider's /step answer goes out as JSON directly (see
+routes/analyses.py), and the routes with a ``response_model`` have FastAPI validate the dict once. Every float
+list goes through :func:`floats` (NaN and ±inf are not JSON: they become null). Curves are decimated to at most
+``max_points`` samples; fits are computed on every sample.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import era
+from era.spectrum import cmif
+from era.stabilization import COHERENT_MIN
+from era.suggest import hankel_size, order_cap, order_from_singular_values
+
+from .config import Settings
+
+#: The default largest order offered for a new dataset (the person may ask for more, up to ERA_MAX_ORDER).
+DEFAULT_MAX_ORDER = 200
+
+
+def floats(values) -> list:
+    """A float array as a (nested) JSON list: NaN and ±inf (not valid JSON) become null."""
+    a = np.asarray(values, dtype=float)
+    out = a.tolist()
+    if not np.isfinite(a).all():
+        return _nulls(out)
+    return out
+
+
+def _nulls(x):
+    if isinstance(x, list):
+        return [_nulls(v) for v in x]
+    return x if math.isfinite(x) else None
+
+
+def decimate(n_samples: int, max_points: int) -> slice:
+    """Every k-th sample, k chosen so that at most ``max_points`` of ``n_samples`` remain."""
+    return slice(None, None, max(1, math.ceil(n_samples / max_points)))
+
+
+def fit_percent(error) -> list | float | None:
+    """Fit 100 (1 - e) in percent from the normalised RMS error e, (p, m) or a scalar; negative for a bad model."""
+    return floats(100.0 * (1.0 - np.asarray(error, dtype=float)))
+
+
+# ---- datasets -------------------------------------------------------------------------------------------
+def dataset_summary(data: era.ResponseData, geometry: era.Geometry | None, name: str, settings: Settings,
+                    source: dict | None = None, rows: int | None = None, cols: int | None = None) -> dict:
+    """What the API says about a dataset (schemas.Dataset without the id and sha256 the store adds): labels,
+    sampling, the default Hankel size (``rows``/``cols`` override it, e.g. the paper's choice) and the limits."""
+    n, p, m = data.markov.shape
+    top = min(DEFAULT_MAX_ORDER, settings.max_order)
+    if rows and cols:
+        defaults = {"rows": int(rows), "cols": int(cols), "max_order": order_cap(rows, cols, p, m, top)}
+    else:
+        choice = hankel_size(n, p, m, max_elements=settings.max_hankel_elements, max_order=top)
+        defaults = {"rows": choice.rows, "cols": choice.cols, "max_order": choice.max_order}
+    return {
+        "name": name,
+        "outputs": list(data.outputs), "inputs": list(data.inputs),
+        "output_units": list(data.output_units) if data.output_units else None,
+        "input_units": list(data.input_units) if data.input_units else None,
+        "dt": data.dt, "n_samples": n, "n_outputs": p, "n_inputs": m,
+        "duration_s": n * data.dt, "nyquist_hz": 0.5 / data.dt,
+        "geometry": None if geometry is None else {"n_nodes": int(geometry.n_nodes), "units": geometry.units,
+                                                   "n_edges": int(len(geometry.edges))},
+        "source": source or {},
+        "defaults": defaults,
+        "limits": {"rows_plus_cols_max": n, "max_hankel_elements": settings.max_hankel_elements,
+                   "max_order": settings.max_order,
+                   "note": (f"With consecutive shifts rows + cols ≤ {n} (N samples); rows·{p} × cols·{m} ≤ "
+                            f"{settings.max_hankel_elements:,} elements; max order ≤ min(rows·{p}, cols·{m}, "
+                            f"{settings.max_order}).")},
+    }
+
+
+def records_json(data: era.ResponseData, input_index: int, max_points: int) -> dict:
+    """Every output's record for one input (schemas.Records). Raises era.EraError for an input out of range."""
+    if not 0 <= input_index < data.n_inputs:
+        raise era.EraError(f"`input` must be 0..{data.n_inputs - 1} (this dataset has {data.n_inputs} inputs), "
+                           f"got {input_index}.")
+    sl = decimate(data.n_samples, max_points)
+    return {"time_s": floats(data.time_s[sl]), "input": data.inputs[input_index],
+            "outputs": list(data.outputs), "series": [floats(data.markov[sl, i, input_index])
+                                                      for i in range(data.n_outputs)]}
+
+
+def spectrum_json(data: era.ResponseData, max_points: int) -> dict:
+    """The complex mode indicator function of the records (schemas.Spectrum)."""
+    f, values = cmif(data)
+    sl = decimate(f.size, max_points)
+    return {"frequency_hz": floats(f[sl]), "values": [floats(v[sl]) for v in values]}
+
+
+# ---- analyses ---------------------------------------------------------------------------------------------
+def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Identification) -> dict:
+    """An identification: its Hankel parameters, the singular values and the suggested order (schemas.Analysis)."""
+    d = ident.singular_values
+    return {
+        "id": analysis_id, "dataset_id": dataset_id, "rows": ident.rows, "cols": ident.cols,
+        "row_shifts": ident.row_shifts[1:].tolist(), "col_shifts": ident.col_shifts[1:].tolist(),
+        "max_order": ident.max_order, "requested_max_order": params.get("max_order"),
+        "hankel_shape": [int(ident.P.shape[0]), int(ident.Q.shape[0])], "svd_method": ident.svd_method,
+        "singular_values": floats(d[: min(d.size, max(2 * ident.max_order, 50), 2000)]),
+        "suggested_order": order_from_singular_values(d, ident.max_order),
+    }
+
+
+def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = True) -> dict:
+    """The modes of one order (schemas.Modes); with_fit adds the fit of all modes to every channel (one full
+    reconstruction, which the slider skips)."""
+    contrib = np.asarray(model.contribution, dtype=float)
+    finite = contrib[np.isfinite(contrib)]
+    top = finite.max() if finite.size else 0.0
+    rel = contrib / top if top > 0 else np.zeros_like(contrib)
+    return {
+        "order": model.order, "n_modes": model.n_modes, "outputs": list(data.outputs), "inputs": list(data.inputs),
+        "frequency_hz": floats(model.frequency_hz), "natural_frequency_hz": floats(model.natural_frequency_hz),
+        "eigenvalue_re": floats(model.eigenvalues.real), "eigenvalue_im": floats(model.eigenvalues.imag),
+        "damping_ratio": floats(model.damping_ratio), "emac": floats(model.emac), "mpc": floats(model.mpc),
+        "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
+        "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
+        "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],
+        "fit_percent": fit_percent(model.fit_error(data)) if with_fit else None,
+    }
+
+
+def reconstruction_json(model: era.ModalModel, data: era.ResponseData, kept: np.ndarray | None, output: int,
+                        input_: int, max_points: int) -> dict:
+    """Measured against reconstructed response of one channel with the kept modes (None: all), schemas.Reconstruction.
+
+    Only the drawn channel is reconstructed (eq. 35 in modal form, with ``model.channel``): p·m times less work
+    than every channel, which keeps the slider fast. Raises era.EraError for an output or input out of range.
+    """
+    channel = model.channel(output, input_)
+    if kept is not None:
+        channel = channel.select(kept)
+    measured = data.markov[:, output:output + 1, input_:input_ + 1]
+    rebuilt = channel.reconstruct(data.n_samples)[:, 0, 0]
+    error = channel.fit_error(measured)[0, 0]
+    sl = decimate(data.n_samples, max_points)
+    return {
+        "output": data.outputs[output], "input": data.inputs[input_],
+        "kept": list(range(model.n_modes)) if kept is None else kept.tolist(),
+        "time_s": floats(data.time_s[sl]), "measured": floats(measured[sl, 0, 0]),
+        "reconstructed": floats(rebuilt[sl]), "fit_percent": fit_percent(error),
+    }
+
+
+def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
+    """The stabilization diagram (schemas.Stabilization): every pole of every order with its stability flags,
+    the suggested modes (each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN), and the CMIF
+    of the records drawn under it."""
+    return {
+        "orders": np.asarray(stab.orders).tolist(), "order": np.asarray(stab.order).tolist(),
+        "mode_index": np.asarray(stab.mode_index).tolist(),
+        "frequency_hz": floats(stab.frequency_hz), "damping_ratio": floats(stab.damping_ratio),
+        "emac": floats(stab.emac), "mpc": floats(stab.mpc), "contribution": floats(stab.contribution),
+        "stable_frequency": np.asarray(stab.stable_frequency).tolist(),
+        "stable_damping": np.asarray(stab.stable_damping).tolist(),
+        "stable_shape": np.asarray(stab.stable_shape).tolist(), "stable": np.asarray(stab.stable).tolist(),
+        "modes": [{"frequency_hz": floats(mo.frequency_hz), "frequency_std_hz": floats(mo.frequency_std_hz),
+                   "damping_ratio": floats(mo.damping_ratio), "damping_std": floats(mo.damping_std),
+                   "emac": floats(mo.emac), "mpc": floats(mo.mpc), "orders": list(mo.orders),
+                   "coherent": bool(mo.coherent)} for mo in stab.modes],
+        "coherent_min": COHERENT_MIN,
+        "nyquist_hz": 0.5 / data.dt,
+        "spectrum": spectrum_json(data, max_points),
+    }

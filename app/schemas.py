@@ -1,0 +1,374 @@
+"""The JSON contract of the API: one pydantic model per answer, declared on every route (see /docs).
+
+NaN and ±inf are not JSON: every float the server cannot give is sent as null, so float lists are
+``list[float | None]``. Shapes in the descriptions: p outputs, m inputs, k modes, N samples. Answers are built
+as plain dicts in app/payloads.py; tests/app/test_schemas.py checks that they carry exactly these fields.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Floats = list[float | None]
+Matrix = list[list[float | None]]
+
+
+class Schema(BaseModel):
+    """Answers of this server: unknown fields are dropped (a stored report may hold more than it shows)."""
+
+    model_config = ConfigDict(extra="ignore")
+
+
+# ---- datasets ---------------------------------------------------------------------------------------------
+class GeometrySummary(Schema):
+    n_nodes: int = Field(description="nodes of the test geometry")
+    n_edges: int = Field(description="lines between nodes")
+    units: str = Field(description="length unit of the coordinates, e.g. 'in', 'm'")
+
+
+class HankelDefaults(Schema):
+    rows: int = Field(description="r, block rows of H(0) suggested for this dataset")
+    cols: int = Field(description="s, block columns of H(0) suggested for this dataset")
+    max_order: int = Field(description="largest order suggested: min(r·p, s·m, 200, ERA_MAX_ORDER)")
+
+
+class DatasetLimits(Schema):
+    rows_plus_cols_max: int = Field(description="rows + cols ≤ N with consecutive shifts (N samples)")
+    max_hankel_elements: int = Field(description="largest H(0) rows·p × cols·m, elements (ERA_MAX_HANKEL_ELEMENTS)")
+    max_order: int = Field(description="largest order this server realizes (ERA_MAX_ORDER)")
+    note: str = Field(description="the limits in words, for the page")
+
+
+class DatasetSource(Schema):
+    """How the records were read. Keys the loader or an example did not set are absent."""
+
+    model_config = ConfigDict(extra="allow")
+    file: str | list[str] | None = Field(None, description="uploaded file name")
+    bytes: int | None = Field(None, description="size of the upload, bytes")
+    format: str | None = Field(None, description="uff, csv or npz")
+    kind: str | None = Field(None, description="what the records were read as: pulse, decay, frf, io, ambient")
+    records: list[str] | None = Field(None, description="what was read, one line per record group")
+    conversions: list[str] | None = Field(None, description="conversions applied (FRF → pulse response, …)")
+    example: str | None = Field(None, description="name of the built-in example, for examples")
+
+
+class Dataset(Schema):
+    id: str = Field(description="dataset id (144-bit random)")
+    sha256: str = Field(description="SHA-256 of the stored (normalised) dataset")
+    name: str = Field(description="file name or example title")
+    outputs: list[str] = Field(description="(p,) output (sensor) labels")
+    inputs: list[str] = Field(description="(m,) input (excitation or initial condition) labels")
+    output_units: list[str] | None = Field(description="(p,) output units, or null when the file gave none")
+    input_units: list[str] | None = Field(description="(m,) input units, or null")
+    dt: float = Field(description="Δτ, sampling interval, s")
+    n_samples: int = Field(description="N, samples per record")
+    n_outputs: int = Field(description="p")
+    n_inputs: int = Field(description="m")
+    duration_s: float = Field(description="N·Δτ, s")
+    nyquist_hz: float = Field(description="1/(2Δτ), Hz")
+    geometry: GeometrySummary | None = Field(description="the test geometry, or null")
+    source: DatasetSource
+    defaults: HankelDefaults
+    limits: DatasetLimits
+
+
+class Records(Schema):
+    time_s: Floats = Field(description="(N',) time of each plotted sample, s (decimated to ≤ 4000 points)")
+    input: str = Field(description="label of the input these records respond to")
+    outputs: list[str] = Field(description="(p,) output labels, one per series")
+    series: Matrix = Field(description="(p, N') response of each output to this input, in the output's unit")
+
+
+class Spectrum(Schema):
+    frequency_hz: Floats = Field(description="(F,) frequency from 0 to Nyquist, Hz")
+    values: Matrix = Field(description="(min(p, m), F) CMIF: singular values of the FFT of the records × Δτ, "
+                                       "descending at each frequency")
+
+
+class Example(Schema):
+    name: str = Field(description="what to POST to /api/examples/{name}")
+    title: str
+    description: str
+    rows: int | None = Field(description="Hankel rows the example's source uses, or null for the default")
+    cols: int | None = Field(description="Hankel columns the example's source uses, or null")
+
+
+# ---- analyses ---------------------------------------------------------------------------------------------
+class Analysis(Schema):
+    id: str = Field(description="analysis id (144-bit random)")
+    dataset_id: str
+    rows: int = Field(description="r, block rows of H(0) (eq. 16)")
+    cols: int = Field(description="s, block columns of H(0)")
+    row_shifts: list[int] = Field(description="(r-1,) j_1..j_{r-1}, samples")
+    col_shifts: list[int] = Field(description="(s-1,) t_1..t_{s-1}, samples")
+    max_order: int = Field(description="largest order that can be realized from this SVD")
+    requested_max_order: int | None = Field(description="max_order as asked for, or null for the default")
+    hankel_shape: list[int] = Field(description="[r·p, s·m], the size of H(0)")
+    svd_method: str = Field(description="'dense' or 'randomized'")
+    singular_values: Floats = Field(description="d_1 ≥ d_2 ≥ … of H(0) (eqs. 38-39), the leading ones")
+    suggested_order: int = Field(description="singular values clearly above the noise floor, even")
+
+
+class Modes(Schema):
+    order: int = Field(description="n, the model order (state dimension)")
+    n_modes: int = Field(description="k: complex pairs count once, real poles once")
+    outputs: list[str] = Field(description="(p,) output labels: the rows of each shape")
+    inputs: list[str] = Field(description="(m,) input labels")
+    frequency_hz: Floats = Field(description="(k,) damped frequency Im(s)/2π, Hz (eq. 41)")
+    natural_frequency_hz: Floats = Field(description="(k,) |s|/2π, Hz")
+    eigenvalue_re: Floats = Field(description="(k,) Re s, 1/s")
+    eigenvalue_im: Floats = Field(description="(k,) Im s, rad/s")
+    damping_ratio: Floats = Field(description="(k,) ζ = -Re(s)/|s|, fraction (negative: growing)")
+    emac: Floats = Field(description="(k,) γ, modal amplitude coherence (eqs. 42-45), fraction")
+    mpc: Floats = Field(description="(k,) μ, modal phase collinearity (eqs. 46-54), fraction")
+    emac_mpc: Floats = Field(description="(k,) γ·μ, fraction")
+    contribution: Floats = Field(description="(k,) Frobenius norm of the mode in H(0), units of the singular values")
+    contribution_relative: Floats = Field(description="(k,) contribution / the largest, fraction")
+    is_pair: list[bool] = Field(description="(k,) complex-conjugate pair (true) or real pole (false)")
+    shapes_re: Matrix = Field(description="(k, p) real part of each shape, largest component 1")
+    shapes_im: Matrix = Field(description="(k, p) imaginary part of each shape")
+    fit_percent: Matrix | None = Field(description="(p, m) fit 100·(1 - e) of all modes per channel, %; "
+                                                   "null when fit=false")
+
+
+class Reconstruction(Schema):
+    output: str = Field(description="label of the output drawn")
+    input: str = Field(description="label of the input drawn")
+    kept: list[int] = Field(description="indices of the kept modes at this order, ascending")
+    time_s: Floats = Field(description="(N',) s, decimated to ≤ 4000 points")
+    measured: Floats = Field(description="(N',) measured response of this channel")
+    reconstructed: Floats = Field(description="(N',) response of the kept modes (eq. 35)")
+    fit_percent: float | None = Field(description="100·(1 - e) over all N samples, % (negative for a bad model)")
+
+
+class Step(Schema):
+    modes: Modes = Field(description="what GET /modes?fit=false answers")
+    reconstruction: Reconstruction = Field(description="what GET /reconstruction answers for the same parameters")
+
+
+class StableMode(Schema):
+    frequency_hz: float | None = Field(description="mean damped frequency over the orders it is stable in, Hz")
+    frequency_std_hz: float | None = Field(description="its spread over those orders, Hz")
+    damping_ratio: float | None = Field(description="mean ζ, fraction")
+    damping_std: float | None = Field(description="spread of ζ, fraction")
+    emac: float | None = Field(description="mean γ, fraction")
+    mpc: float | None = Field(description="mean μ, fraction")
+    orders: list[int] = Field(description="the orders it is stable in")
+    coherent: bool | None = Field(None, description="mean γ·μ ≥ coherent_min: a likely physical mode "
+                                                    "(absent in reports frozen before it existed)")
+
+
+class Stabilization(Schema):
+    orders: list[int] = Field(description="the orders computed (2, 4, …)")
+    order: list[int] = Field(description="(poles,) each pole's order")
+    mode_index: list[int] = Field(description="(poles,) each pole's index among the modes of its order")
+    frequency_hz: Floats = Field(description="(poles,) damped frequency, Hz")
+    damping_ratio: Floats = Field(description="(poles,) ζ, fraction")
+    emac: Floats = Field(description="(poles,) γ, fraction")
+    mpc: Floats = Field(description="(poles,) μ, fraction")
+    contribution: Floats = Field(description="(poles,) contribution in H(0)")
+    stable_frequency: list[bool] = Field(description="(poles,) frequency within 1 % of the previous order's pole")
+    stable_damping: list[bool] = Field(description="(poles,) damping within 5 %")
+    stable_shape: list[bool] = Field(description="(poles,) MAC ≥ 0.98 with it")
+    stable: list[bool] = Field(description="(poles,) stable in frequency, damping and shape")
+    modes: list[StableMode] = Field(description="suggested modes: poles stable over ≥ 3 orders, by frequency")
+    coherent_min: float | None = Field(None, description="γ·μ a suggested mode needs to be coherent, fraction")
+    nyquist_hz: float = Field(description="1/(2Δτ), Hz: the frequency axis ends there")
+    spectrum: Spectrum = Field(description="CMIF of the records, drawn under the poles")
+
+
+class ViewerLink(Schema):
+    key: str = Field(description="the published modes' key (128-bit random)")
+    url: str = Field(description="viser page for an <iframe>")
+    mode_url: str = Field(description="POST {index, amplitude?, speed?} here to choose the mode shown")
+    n_modes: int = Field(description="modes published")
+
+
+class Progress(Schema):
+    state: str = Field(description="queued, running, done or failed")
+    message: str = Field(description="what the job does")
+    seconds: float = Field(description="queued or running (or ran) for this long, s")
+    queued_ahead: int = Field(description="jobs queued before this one (0 unless queued)")
+    running_total: int = Field(description="jobs running on the server now")
+
+
+# ---- simulation vs test (era.Explanation.as_dict() plus what app/explaining.py adds) ------------------------
+class Explained(Schema):
+    """Parts of the explanation: fields added by era/ or app/explaining.py later pass through as they are."""
+
+    model_config = ConfigDict(extra="allow")
+
+
+class NamedEffect(Explained):
+    name: str = Field(description="the effect the data support, e.g. point_mass")
+    parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value} (incl. "
+                                                            "stiffness_factor), in the keyword's unit")
+    uncertainty: dict[str, float | None] = Field(description="1σ of each parameter, same units")
+    location: list[float] | None = Field(description="(x_ft, y_ft) of a located effect, ft, or null")
+    location_probability: float | None = Field(description="posterior of that location, fraction")
+    other_locations: list[tuple[list[float], float | None]] = Field(description="[(x_ft, y_ft), probability] of "
+                                                                              "locations that tie")
+    interval: dict[str, list[float | None]] = Field(description="{keyword: [low, high]} 95 % interval of the "
+                                                                "effect's parameter; null on an unbounded side")
+    probability: float | None = Field(description="posterior probability of the effect, fraction")
+    description: str = Field(description="the verdict in one sentence")
+
+
+class LocatedEvidence(Explained):
+    location: list[float] | None = Field(description="(x_ft, y_ft), ft")
+    log_evidence: float | None
+    probability: float | None = Field(description="posterior of this location, fraction")
+
+
+class RankedEffect(Explained):
+    name: str
+    log_evidence: float | None = Field(description="ln of the Laplace-approximated evidence")
+    probability: float | None = Field(description="posterior probability among the candidates, fraction")
+    log_bayes_factor: float | None = Field(description="ln Bayes factor against the nominal model")
+    parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value}")
+    location: list[float] | None = Field(description="(x_ft, y_ft) of the best location, ft, or null")
+    chi2: float | None = Field(description="χ² of the fit")
+    adequate: bool = Field(description="the fit is consistent with the error levels")
+    max_abs_freq_error_pct: float | None = Field(description="largest |Δf| after the fit, %")
+    min_mac: float | None = Field(description="smallest MAC after the fit, fraction")
+    locations: list[LocatedEvidence] = Field(description="evidence per location (located effects)")
+    seconds: float | None = Field(description="time the candidate took, s")
+    n_solves: int = Field(description="finite-element solutions it took")
+
+
+class Gap(Explained):
+    max_abs_freq_error_pct: float | None = Field(description="largest |Δf| between paired modes, %")
+    rms_freq_error_pct: float | None = Field(description="rms Δf, %")
+    min_mac: float | None = Field(description="smallest MAC of a pair, fraction")
+    mean_mac: float | None = Field(description="mean MAC, fraction")
+    n_pairs: int = Field(description="paired modes")
+
+
+class ExplainedMode(Explained):
+    mode: int = Field(description="measured mode number, from 1")
+    measured_hz: float | None = Field(description="measured frequency, Hz")
+    damping_ratio: float | None = Field(description="measured ζ, fraction")
+    nearly_repeated: bool
+    nominal_hz: float | None = Field(description="the nominal model's partner, Hz (null: unpaired)")
+    nominal_error_pct: float | None = Field(description="(nominal − measured)/measured, %")
+    nominal_mac: float | None = Field(description="MAC with the nominal partner, fraction")
+    updated_hz: float | None = Field(description="the updated model's partner, Hz")
+    updated_error_pct: float | None = Field(description="(updated − measured)/measured, %")
+    updated_mac: float | None = Field(description="MAC with the updated partner, fraction")
+
+
+class Overlay(Explained):
+    output_index: int
+    input_index: int
+    time_s: Floats = Field(description="(N',) s")
+    measured: Floats = Field(description="(N',) measured response of this output to this input")
+    nominal: Floats = Field(description="(N',) the nominal model's response")
+    updated: Floats = Field(description="(N',) the updated model's response")
+
+
+class Explanation(Explained):
+    """The simulation-vs-test result stored with an analysis (POST/GET /api/analyses/{id}/explain)."""
+
+    verdict: str = Field(description="explained, no_significant_discrepancy, ambiguous or unexplained")
+    message: str = Field(description="the verdict in words")
+    effect: NamedEffect | None = Field(description="the named effect, or null")
+    ranking: list[RankedEffect] = Field(description="every candidate, most probable first")
+    before: Gap = Field(description="test against the nominal model")
+    after: Gap = Field(description="test against the updated model")
+    updated_params: dict[str, Any] = Field(description="nasa_grid keywords of the updated model")
+    modes: list[ExplainedMode] = Field(description="one row per fitted measured mode")
+    unpaired_measured_hz: Floats = Field(description="measured modes with no model partner, Hz")
+    mac_before: Matrix = Field(description="(measured, model) MAC against the nominal model")
+    mac_after: Matrix = Field(description="(measured, model) MAC against the updated model")
+    comac_before: Floats = Field(description="(sensors,) COMAC against the nominal model")
+    comac_after: Floats = Field(description="(sensors,) COMAC against the updated model")
+    residual_modes: list[int] = Field(description="modes the update leaves off")
+    residual_sensors: list[int] = Field(description="sensors the update leaves off")
+    node_xy_ft: Matrix = Field(description="(joints, 2) joint positions, ft")
+    expanded_measured: Matrix = Field(description="(joints, modes) measured shapes expanded by SEREP")
+    expanded_model: Matrix = Field(description="(joints, modes) the updated model's shapes")
+    timing_s: dict[str, float | None] = Field(description="era_s, ranking_s, report_s, total_s, s")
+    nominal_params: dict[str, Any] = Field(description="nasa_grid keywords of the nominal model as asked")
+    model_hz_before: Floats = Field(description="nominal model frequencies, Hz")
+    model_hz_after: Floats = Field(description="updated model frequencies, Hz")
+    measured_hz: Floats = Field(description="frequencies of the fitted measured modes, Hz")
+    grid_shape: list[int] = Field(description="[joints along x, joints along y]")
+    sensors_ft: Matrix = Field(description="(p, 2) sensor positions, ft")
+    outputs: list[str] = Field(description="(p,) output labels")
+    inputs: list[str] = Field(description="(m,) input labels")
+    overlay_fit_percent: dict[str, Matrix] = Field(description="{nominal, updated}: (p, m) fit of the simulated "
+                                                               "responses to the measured ones, %")
+    seconds: float = Field(description="time era.explain took, s")
+    overlay: Overlay | None = Field(None, description="one output's responses (the API's answers)")
+    overlays: list[Overlay] | None = Field(None, description="every output's responses (in a report)")
+
+
+class ExplanationOverlay(Schema):
+    """GET /explain?overlay_only=true: only the responses of one output and input."""
+
+    model_config = ConfigDict(extra="forbid")
+    overlay: Overlay
+
+
+# ---- reports ----------------------------------------------------------------------------------------------
+class ReportCreated(Schema):
+    token: str = Field(description="the report's token (144-bit random)")
+    url: str = Field(description="the read-only report page, /r/{token}")
+
+
+class ReportPair(Schema):
+    output: str
+    input: str
+    output_index: int
+    input_index: int
+    measured: Floats = Field(description="(N',) measured response")
+    reconstructed: Floats = Field(description="(N',) response of the kept modes")
+
+
+class ReportReconstruction(Schema):
+    time_s: Floats = Field(description="(N',) s, decimated to ≤ 1500 points")
+    pairs: list[ReportPair] = Field(description="channels (output, input), at most 36")
+
+
+class ReportGeometry(Schema):
+    node_ids: list[int]
+    coordinates: Matrix = Field(description="(nodes, 3) in units")
+    edges: list[list[int]] = Field(description="(lines, 2) node indices")
+    channel_nodes: list[int] = Field(description="(p,) node index of each output, -1 if none")
+    channel_directions: Matrix = Field(description="(p, 3) unit direction of each output")
+    units: str
+
+
+class ReportDocument(Schema):
+    """The frozen report, as stored: everything its page draws."""
+
+    created: str = Field(description="ISO 8601, UTC")
+    software: dict[str, str] = Field(description="versions of era-modal, python, numpy, scipy")
+    dataset: Dataset
+    analysis: Analysis
+    order: int
+    kept: list[int] = Field(description="kept modes at this order, ascending")
+    modes: Modes = Field(description="every mode of this order, with the fit of all of them")
+    kept_fit_percent: Matrix = Field(description="(p, m) fit of the kept modes per channel, %")
+    reconstruction: ReportReconstruction
+    stabilization: Stabilization
+    geometry: ReportGeometry | None
+    explanation: Explanation | None = Field(description="simulation vs test, when its panel ran before the report")
+    recordings: dict[str, str] = Field(description="{mode index: file} of the mode-shape recordings (.viser)")
+
+
+class Report(ReportDocument):
+    token: str
+    url: str = Field(description="/r/{token}")
+    playback: dict[str, str] = Field(description="{mode index: viser player page for its recording}")
+
+
+class OfflineReport(ReportDocument):
+    """window.REPORT_DATA of the downloaded HTML (reporting.standalone_html): no server behind it."""
+
+    token: str
+    standalone: bool = Field(description="true: the page has no server (no links to downloads)")
+    offline_recordings: dict[str, str] = Field(description="{mode index: .viser recording, base64}")
+    viser_marker: str | None = Field(description="what the player page holds where a recording goes, or null")
