@@ -1,15 +1,15 @@
-"""Simulation against test for one analysis (issue 5): run era.explain on the analysis's dataset, and keep the result.
+"""Simulation against test for one analysis (issue 5): era.explain on the analysis itself, and the result kept.
 
-The result is stored next to the analysis in the data folder (``explanations/{analysis_id}.json`` for the
-summary, ``.npz`` for the full measured / nominal / updated responses), so a reload, a restart or a report shows
-it without running the ranking again. Blocking functions: call them through app.jobs.
+Explain runs on the analysis it is named after: the analysis's own identification (its Hankel size and SVD), its
+modes tracked over a stated set of orders, and, when asked, exactly the modes the person kept at their order. The
+summary says which (``basis``). The result goes through the store (summary JSON and the full measured / nominal /
+updated responses), so a reload, a restart or a report shows it without running the ranking again. Blocking
+functions: call them through app.jobs.
 """
 
 from __future__ import annotations
 
 import inspect
-import io
-import json
 import math
 import time
 
@@ -18,12 +18,14 @@ import numpy as np
 import era
 
 from . import payloads
-from .store import Store, write_atomic
 
 #: Points per overlay curve in the JSON (the stored responses keep every sample).
 MAX_OVERLAY_POINTS = 1500
 #: The same in a report, which keeps every (output, input) pair.
 REPORT_OVERLAY_POINTS = 700
+#: Orders over which the measured modes are tracked by default (their spread is the measurement error level);
+#: orders above the analysis's largest order are left out.
+DEFAULT_ORDERS = tuple(range(20, 61, 4))
 #: Nominal-model keywords a request may set, with the JSON types each accepts.
 _NUMBER = (int, float)
 
@@ -93,19 +95,44 @@ def _json(x):
     return x
 
 
-def run(data: era.ResponseData, geometry: era.Geometry | None, params: dict | None) -> tuple[dict, dict]:
-    """era.explain on a grid dataset: (summary JSON, {"measured", "nominal", "updated": (N, p, m)} responses)."""
+def orders_for(ident: era.Identification, orders=None, order: int | None = None) -> list[int]:
+    """The orders the modes are tracked over: ``orders`` as asked (each ≤ the analysis's largest order), by default
+    DEFAULT_ORDERS up to that largest order (every even order up to it when it is below 20), plus ``order``."""
+    top = ident.max_order
+    if orders:
+        bad = [o for o in orders if not 1 <= int(o) <= top]
+        if bad:
+            raise era.OrderError(f"Order {bad[0]} is outside this analysis (orders 1..{top}); choose orders for the "
+                                 "spread within it.")
+        chosen = {int(o) for o in orders}
+    else:
+        chosen = {o for o in DEFAULT_ORDERS if o <= top} or set(range(2, top + 1, 2)) or {top}
+    if order is not None:
+        chosen.add(int(order))
+    return sorted(chosen)
+
+
+def run(ident: era.Identification, geometry: era.Geometry | None, model, params: dict | None, *,
+        orders=None, kept: tuple | None = None) -> tuple[dict, dict]:
+    """era.explain on the identification of a grid dataset against the nominal ``model`` (nominal_model(params)).
+
+    orders : the orders the modes are tracked over (:func:`orders_for`); kept : (order, mode indices) to compare
+    exactly the modes the person kept at that order, else every mode stable over the orders.
+    Returns (summary JSON, {"measured", "nominal", "updated": (N, p, m)} responses).
+    """
     from era.discrepancy import overlay
 
-    model = nominal_model(params)
+    data = ident.data
     check_grid_dataset(data, geometry, model)
+    tracked = orders_for(ident, orders, None if kept is None else kept[0])
     t0 = time.perf_counter()
-    result = era.explain(data, model)
+    result = era.explain(ident, model, orders=tracked, kept=kept)
     seconds = time.perf_counter() - t0
     summary = result.as_dict()
     n_model = len(summary["mac_before"][0]) if summary["mac_before"] else 0
     responses = overlay(result, data)
     summary.update(
+        basis=basis(ident, tracked, kept),
         nominal_params=_json(params or {}),
         model_hz_before=result.nominal_model.modes(n_model)[0] if n_model else [],
         model_hz_after=result.updated_model.modes(n_model)[0] if n_model else [],
@@ -118,57 +145,47 @@ def run(data: era.ResponseData, geometry: era.Geometry | None, params: dict | No
     return _json(summary), {k: np.asarray(responses[k], float) for k in ("measured", "nominal", "updated")}
 
 
-# ---- storage ----------------------------------------------------------------------------------------
-def _paths(store: Store, analysis_id: str):
-    folder = store.root / "explanations"
-    return folder / f"{analysis_id}.json", folder / f"{analysis_id}.npz"
+def basis(ident: era.Identification, orders: list[int], kept: tuple | None) -> dict:
+    """What the explanation was computed from, for the panel and the report: the analysis's Hankel size, the
+    orders tracked, and which modes ("stable": every mode stable over those orders; "kept": the modes kept at
+    one order)."""
+    rows, cols = int(ident.P.shape[0]), int(ident.Q.shape[0])
+    out = {"hankel_rows": ident.rows, "hankel_cols": ident.cols, "hankel_shape": [rows, cols],
+           "orders": [int(o) for o in orders], "modes": "stable" if kept is None else "kept",
+           "order": None if kept is None else int(kept[0]),
+           "kept": None if kept is None else [int(k) for k in kept[1]]}
+    span = f"orders {orders[0]}-{orders[-1]}" if len(orders) > 1 else f"order {orders[0]}"
+    which = ("every mode stable over " + span if kept is None else
+             f"the {len(kept[1])} mode(s) kept at order {int(kept[0])} (spread over {span})")
+    out["text"] = f"This analysis's H(0) ({rows} × {cols}, r = {ident.rows}, s = {ident.cols}); {which}."
+    return out
 
 
-def save(store: Store, analysis_id: str, summary: dict, responses: dict, dt: float) -> None:
-    """Responses first, then the summary: a summary on disk always has its responses."""
-    js, npz = _paths(store, analysis_id)
-    buf = io.BytesIO()
-    np.savez(buf, dt=np.array(dt), **responses)
-    write_atomic(npz, buf.getvalue())
-    write_atomic(js, json.dumps(summary, separators=(",", ":")).encode())
-
-
-def load(store: Store, analysis_id: str) -> dict | None:
-    """The stored summary of an analysis, or None when the panel has not run on it."""
-    js, npz = _paths(store, analysis_id)
-    if not (js.is_file() and npz.is_file()):
-        return None
-    return json.loads(js.read_bytes())
-
-
-def overlay_json(store: Store, analysis_id: str, output: int, input: int,
+def overlay_json(responses: dict, dt: float, output: int, input: int,
                  max_points: int = MAX_OVERLAY_POINTS) -> dict:
-    """Measured, nominal and updated response of one output for one input, decimated for plotting."""
-    _, npz = _paths(store, analysis_id)
-    with np.load(npz, allow_pickle=False) as z:
-        measured, nominal, updated, dt = z["measured"], z["nominal"], z["updated"], float(z["dt"])
+    """Measured, nominal and updated response (arrays (N, p, m) in ``responses``) of one output for one input,
+    decimated for plotting (schemas.Overlay)."""
+    measured = responses["measured"]
     n, p, m = measured.shape
     if not (0 <= output < p and 0 <= input < m):
         raise era.EraError(f"Choose an output 0..{p - 1} and an input 0..{m - 1}; got output {output}, "
                            f"input {input}.")
     sl = payloads.decimate(n, max_points)
     return {"output_index": output, "input_index": input, "time_s": payloads.floats((np.arange(n) * dt)[sl]),
-            "measured": payloads.floats(measured[sl, output, input]), "nominal": payloads.floats(nominal[sl, output, input]),
-            "updated": payloads.floats(updated[sl, output, input])}
+            **{k: payloads.floats(responses[k][sl, output, input]) for k in ("measured", "nominal", "updated")}}
 
 
-def for_report(store: Store, analysis_id: str) -> dict | None:
-    """The stored explanation with every output's overlay for every input (coarser, 4 significant digits), for
-    a report; None if the panel never ran on this analysis."""
-    summary = load(store, analysis_id)
-    if summary is None:
+def for_report(summary: dict | None, stored: tuple[dict, float] | None) -> dict | None:
+    """The explanation with every output's overlay for every input (coarser, 4 significant digits), for a report;
+    None if the panel never ran. ``stored``: (responses, dt) as Store.explanation_responses gives them."""
+    if summary is None or stored is None:
         return None
-    p, m = len(summary["outputs"]), len(summary["inputs"])
+    responses, dt = stored
     rounded = lambda v: [None if x is None else float(f"{x:.4g}") for x in v]  # noqa: E731
+    n, p, m = responses["measured"].shape
     overlays = []
     for j in range(m):
         for i in range(p):
-            o = overlay_json(store, analysis_id, i, j, REPORT_OVERLAY_POINTS)
+            o = overlay_json(responses, dt, i, j, REPORT_OVERLAY_POINTS)
             overlays.append({k: rounded(v) if isinstance(v, list) else v for k, v in o.items()})
-    summary["overlays"] = overlays
-    return summary
+    return dict(summary, overlays=overlays)

@@ -1,7 +1,10 @@
-"""Simulation vs test (issue 5): run era.explain on an analysis's dataset against the NASA grid model, read the
-stored result back, and show the measured (SEREP-expanded) and model shapes in the viewer."""
+"""Simulation vs test (issue 5): run era.explain on an analysis (its identification, and the modes kept when
+asked) against the NASA grid model, read the stored result back, and show the measured (SEREP-expanded) and
+model shapes in the viewer."""
 
 from __future__ import annotations
+
+from typing import Literal
 
 import numpy as np
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
@@ -12,14 +15,22 @@ import era
 from .. import explaining, schemas
 from ..cache import Analysis
 from ..errors import NotFound
-from .deps import analysis, jobs, progress_key, store
+from .analyses import identified
+from .deps import analysis, cache, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
 
 
 class ExplainRequest(BaseModel):
     nominal: dict = Field(default_factory=dict,
-                          description="keywords of era.examples.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
+                          description="keywords of era.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
+    modes: Literal["stable", "kept"] = Field("stable", description="stable: every mode stable over `orders`; kept: "
+                                                                   "exactly the modes `kept` at `order`")
+    order: int | None = Field(None, ge=1, description="the order the modes were kept at (modes = kept)")
+    kept: list[int] | None = Field(None, description="indices of the kept modes at `order` (modes = kept)")
+    orders: list[int] | None = Field(None, min_length=1, max_length=200,
+                                     description="orders the modes are tracked over (their spread is the "
+                                                 "measurement error); default 20, 24, … 60 within the analysis")
     output: int = Field(0, ge=0, description="output of the response overlay")
     input: int = Field(0, ge=0, description="input of the response overlay")
 
@@ -30,33 +41,49 @@ class ExplainViewerRequest(BaseModel):
 
 
 def _stored(request: Request, analysis_id: str) -> dict:
-    summary = explaining.load(store(request), analysis_id)
+    summary = store(request).explanation(analysis_id)
     if summary is None:
         raise NotFound("Simulation vs test has not run on this analysis yet: press Run in its panel "
                        f"(POST /api/analyses/{analysis_id}/explain).")
     return summary
 
 
+def _overlay(request: Request, analysis_id: str, output: int, input: int) -> dict:
+    stored = store(request).explanation_responses(analysis_id)
+    if stored is None:
+        raise NotFound("The responses of this analysis's simulation vs test are missing: run it again.")
+    return explaining.overlay_json(*stored, output, input)
+
+
 @router.post("/{analysis_id}/explain",
              summary="Simulation vs test: name the effect the grid model is missing, update it, show the gap",
              response_model=schemas.Explanation)
 async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(analysis)):
-    """Runs era.explain (ERA at several orders, every candidate effect fitted and weighed by its evidence) on the
-    analysis's dataset, which must have the grid's nine sensors in order. Stores the result with the analysis."""
-    analysis_id, files = a.id, store(request)
-    explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+    """Runs era.explain on this analysis (its Hankel size and SVD; the modes stable over ``orders``, or the modes
+    kept at ``order``), whose dataset must have the grid's nine sensors in order. Stores the result with the
+    analysis; ``basis`` in the answer says what was used."""
+    model = explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+    kept = None
+    if body.modes == "kept":
+        if body.order is None or body.kept is None:
+            raise era.EraError("modes = kept needs `order` and `kept` (the indices of the modes kept at that "
+                               "order); or send modes = stable.")
+        kept = (body.order, body.kept)
+    c, files = cache(request), store(request)
+    ident = await identified(request, a)
 
     def work():
-        data, geometry = a.data, a.geometry
-        summary, responses = explaining.run(data, geometry, body.nominal)
-        explaining.save(files, analysis_id, summary, responses, data.dt)
-        return summary
+        chosen = kept if kept is None else (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
+        summary, responses = explaining.run(ident, a.geometry, model, body.nominal, orders=body.orders,
+                                            kept=chosen)
+        files.add_explanation(a.id, summary, responses, a.data.dt)
+        return summary, responses
 
-    summary = await jobs(request).heavy(
+    summary, responses = await jobs(request).heavy(
         work, progress=progress_key(request),
-        message="Simulation vs test: ERA at several orders, then fitting and weighing every candidate effect")
-    return dict(summary, overlay=await jobs(request).quick(explaining.overlay_json, files, analysis_id,
-                                                           body.output, body.input))
+        message="Simulation vs test: the analysis's modes over several orders, then fitting and weighing every "
+                "candidate effect")
+    return dict(summary, overlay=explaining.overlay_json(responses, a.data.dt, body.output, body.input))
 
 
 @router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis",
@@ -64,9 +91,8 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 async def read(request: Request, a: Analysis = Depends(analysis), output: int = Query(0, ge=0),
                input: int = Query(0, ge=0),
                overlay_only: bool = Query(False, description="only the overlay of this output and input")):
-    analysis_id = a.id
-    summary = _stored(request, analysis_id)
-    overlay = await jobs(request).quick(explaining.overlay_json, store(request), analysis_id, output, input)
+    summary = None if overlay_only else _stored(request, a.id)
+    overlay = await jobs(request).quick(_overlay, request, a.id, output, input)
     return {"overlay": overlay} if overlay_only else dict(summary, overlay=overlay)
 
 

@@ -173,7 +173,7 @@ def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tupl
     if kept is None:
         chosen = _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, 0.5 / data.dt)
     else:
-        chosen = _kept_modes(ident, stab, order, indices)
+        chosen = _kept_modes(ident, stab, order, indices, min_frequency_hz, 0.5 / data.dt)
     if not chosen:
         raise DataError("ERA found no mode that is stable across orders; check the data (units, sampling, a "
                         "record long enough to hold several periods of the lowest mode)." if kept is None else
@@ -216,10 +216,20 @@ def _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, nyquis
     return sorted(chosen, key=lambda md: md.frequency_hz)
 
 
-def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode]:
-    """The modes kept at one order, each with the track (stable mode) its pole belongs to, if any."""
+def _kept_modes(ident, stab, order: int, indices: np.ndarray, min_frequency_hz: float,
+                nyquist_hz: float) -> list[StableMode]:
+    """The modes kept at one order, each with the track (stable mode) its pole belongs to, if any. Only decaying
+    vibration modes can be compared with a model: a real or growing pole, or one outside the band, is refused."""
     model = ident.model(order)
     indices = kept_modes(model, indices)
+    f = model.frequency_hz[indices]
+    vibrating = keep_mask(model.emac[indices], model.mpc[indices], damping_ratio=model.damping_ratio[indices],
+                          is_pair=model.is_pair[indices], physical_only=True)
+    bad = indices[~vibrating | (f < min_frequency_hz) | (f > 0.95 * nyquist_hz)]
+    if bad.size:
+        raise DataError(f"Mode(s) {', '.join(str(int(k)) for k in bad)} at order {order} are not decaying vibration "
+                        f"modes between {min_frequency_hz:g} Hz and 95 % of Nyquist ({0.95 * nyquist_hz:.3g} Hz): "
+                        "real or growing poles, or at the band's edge. Untick them, or compare the stable modes.")
     track = {pole: md for md in stab.modes for pole in md.pole_indices}
     out = []
     for k in indices.tolist():

@@ -1,5 +1,6 @@
-// Panel "Simulation vs test" (issue 5): runs era.explain on the current analysis's dataset against the NASA grid
-// model, then draws the result with explain_view.js. The server stores it with the analysis, so a reload shows it
+// Panel "Simulation vs test" (issue 5): runs era.explain on the current analysis (its H(0); the modes stable over
+// several orders, or the modes kept in the table at the current order) against the NASA grid model, then draws
+// the result with explain_view.js, which says what was used (basis). The server stores it with the analysis, so a reload shows it
 // again and a report created afterwards includes it. The 3-D viewers show the measured shapes expanded to all
 // joints (SEREP) and the updated model's, side by side.
 import { api } from "./api.js";
@@ -9,8 +10,10 @@ const $ = (id) => document.getElementById(id);
 let shown = null;    // analysis id whose result is drawn
 let viewers = null;  // [{mode_url}, {mode_url}] when the viser viewer is available
 
-function nominal() {
-  return $("explain-gravity").checked ? {} : { gravity: false };
+function request() {
+  const body = { nominal: $("explain-gravity").checked ? {} : { gravity: false }, modes: $("explain-which").value };
+  if (body.modes === "kept") Object.assign(body, { order: state.order, kept: [...state.kept].sort((a, b) => a - b) });
+  return body;
 }
 
 function overlay(output, input) {
@@ -56,7 +59,7 @@ async function run() {
   $("explain-status").textContent = "Starting…";
   try {
     const r = await api(`/api/analyses/${state.analysis.id}/explain`, {
-      method: "POST", body: { nominal: nominal() }, progress: (text) => { $("explain-status").textContent = text; } });
+      method: "POST", body: request(), progress: (text) => { $("explain-status").textContent = text; } });
     draw(r);
   } catch (err) {
     $("explain-status").textContent = "";

@@ -184,6 +184,7 @@
     const pair = (...kids) => { const d = el("div", null, { style: "display:flex;flex-wrap:wrap;gap:12px" }); d.append(...kids); return d; };
 
     root.append(verdictBox(s, id));
+    if (s.basis) root.append(el("p", `Compared: ${s.basis.text}`, { class: "note", id: `${id}-basis` }));
     if (s.nominal_params && Object.keys(s.nominal_params).length) {
       root.append(el("p", `Nominal model: nasa_grid(${Object.entries(s.nominal_params).map(([k, v]) => `${k}=${JSON.stringify(v)}`).join(", ")})`, { class: "note" }));
     }

@@ -136,3 +136,37 @@ def test_the_built_in_example_names_its_hidden_point_mass_at_the_right_joint(gri
     true_kg = hidden["parameters"]["point_mass_kg"]
     assert abs(s["effect"]["parameters"]["point_mass_kg"] - true_kg) / true_kg < 0.15
     assert s["after"]["max_abs_freq_error_pct"] < 0.5 and s["after"]["min_mac"] > 0.95
+
+
+def test_explain_runs_on_the_analysis_and_says_so(grid_run):
+    """The default run uses this analysis's H(0) and its modes stable over orders 20-60, and says so."""
+    _, a, s = grid_run
+    b = s["basis"]
+    assert (b["hankel_rows"], b["hankel_cols"]) == (a["rows"], a["cols"]) and b["hankel_shape"] == a["hankel_shape"]
+    assert b["modes"] == "stable" and b["orders"] == list(range(20, 61, 4)) and b["kept"] is None
+    assert f"{a['hankel_shape'][0]} × {a['hankel_shape'][1]}" in b["text"]
+
+
+def test_explain_compares_exactly_the_modes_kept_at_the_chosen_order(grid_run):
+    c, a, _ = grid_run
+    order = 40
+    modes = c.get(f"/api/analyses/{a['id']}/modes", params={"order": order, "fit": False}).json()
+    kept = [k for k in range(modes["n_modes"]) if modes["emac"][k] >= 0.9 and modes["mpc"][k] >= 0.9
+            and modes["is_pair"][k] and 0 < modes["damping_ratio"][k] < 0.1][:7]  # the seven lowest physical modes
+    r = c.post(f"/api/analyses/{a['id']}/explain", json={"modes": "kept", "order": order, "kept": kept,
+                                                         "orders": [32, 36, 44]})
+    assert r.status_code == 200, r.text
+    s = r.json()
+    b = s["basis"]
+    assert (b["modes"], b["order"], b["kept"], b["orders"]) == ("kept", order, kept, [32, 36, 40, 44])
+    assert f"{len(kept)} mode(s) kept at order {order}" in b["text"]
+    # the measured modes compared are the kept ones, at the chosen order's frequencies (unpaired ones set aside)
+    chosen = sorted(s["measured_hz"] + s["unpaired_measured_hz"])
+    assert chosen == sorted(modes["frequency_hz"][k] for k in kept)
+    assert c.get(f"/api/analyses/{a['id']}/explain").json()["basis"] == b  # stored as run
+    missing = c.post(f"/api/analyses/{a['id']}/explain", json={"modes": "kept", "order": order})
+    assert missing.status_code == 422 and "needs `order` and `kept`" in missing.json()["error"]
+    outside = c.post(f"/api/analyses/{a['id']}/explain", json={"orders": [20, 100000]})
+    assert outside.status_code == 422 and "outside this analysis" in outside.json()["error"]
+    bad = c.post(f"/api/analyses/{a['id']}/explain", json={"modes": "kept", "order": order, "kept": [999]})
+    assert bad.status_code == 422 and "out of range" in bad.json()["error"]

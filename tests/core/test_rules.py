@@ -125,3 +125,13 @@ def test_explain_reads_exactly_the_modes_kept_at_the_chosen_order():
     assert np.all(mm.n_orders >= 1) and mm.shapes.shape == (2, 2)
     with pytest.raises(era.DataError, match="keep at least one mode"):
         measured_modes(ident, range(6, 11, 2), kept=(10, []))
+
+
+def test_a_kept_pole_that_is_not_a_vibration_mode_is_refused_by_name(ident):
+    model = ident.model(40)  # noise at order 40: real or growing computational poles
+    odd = np.flatnonzero(~model.is_pair | (model.damping_ratio <= 0))
+    assert odd.size
+    with pytest.raises(era.DataError, match="not decaying vibration modes") as err:
+        measured_modes(ident, range(30, 41, 2), kept=(40, np.arange(model.n_modes)))
+    named = str(err.value).split(" at order")[0].removeprefix("Mode(s) ").split(", ")
+    assert {str(int(k)) for k in odd} <= set(named)
