@@ -25,6 +25,9 @@ import era  # noqa: E402
 from era.examples.grid import nasa_grid  # noqa: E402
 from era.examples.grid_simulation import EFFECTS, simulate_grid_test  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(__file__))
+from timing import median_time  # noqa: E402
+
 PARAM = {"joint_flexibility": "joint_stiffness", "torsion_stiffness": "torsion_factor",
          "cable_length": "cable_length_m", "distributed_mass": "distributed_mass_kg", "point_mass": "point_mass_kg",
          "loose_joint": "loose_joint_stiffness", "gravity_stiffening": None}
@@ -104,21 +107,22 @@ def limits(seeds=(0, 1)):
 
 
 def test_one_blind_case_time():
+    """One blind case costs a few hundred nominal grid solves (427 measured in session 2; 2.7 s): the ranking's
+    solves dominate. Fails if it costs more than 700 (a regression of the fitting or of the solve itself)."""
     model = nasa_grid()
-    ts = []
-    for k in range(10):
-        t = time.perf_counter()
-        model.with_params(stiffness_factor=1.0 + 1e-4 * (k + 1)).modes(16)
-        ts.append(time.perf_counter() - t)
-    ref = float(np.median(ts))
+    k = iter(range(1, 100))
+    ref = median_time(lambda: model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16), repeat=9)
     c = run_case({"name": "point_mass", "point_mass_kg": 1.0, "point_mass_at": (7.0, 2.0)}, 3)
     r = c["result"]
-    print(f"\none blind case (point_mass, seed 3): {c['seconds']:.1f} s = {c['seconds'] / ref:.0f} × one grid solve "
+    ratio = c["seconds"] / ref
+    print(f"\none blind case (point_mass, seed 3): {c['seconds']:.1f} s = {ratio:.0f} × one grid solve "
           f"({ref * 1e3:.1f} ms); ERA {r.timing_s['era_s']:.2f} s, ranking {r.timing_s['ranking_s']:.1f} s, "
           f"report {r.timing_s['report_s']:.2f} s")
     for x in r.ranking:
         print(f"   {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} solves")
-    assert c["seconds"] < 60.0
+    solves = sum(x.n_solves for x in r.ranking)
+    assert r.timing_s["ranking_s"] / ref < 2.0 * solves  # the ranking is its solves, not overhead around them
+    assert ratio < 700, f"one blind case took {ratio:.0f} grid solves"
 
 
 def test_blind_matrix():
