@@ -21,7 +21,7 @@ from fastapi.staticfiles import StaticFiles
 
 import era
 
-from . import config
+from . import config, schemas
 from .cache import Cache
 from .errors import NotFound
 from .jobs import Jobs
@@ -130,7 +130,10 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             app.state.jobs.shutdown()
             store.close()
 
+    errors = {404: "unknown id", 422: "invalid request or data, with what to change", 429: "rate limit",
+              500: "internal error, with a logged reference"}
     app = FastAPI(title="ERA modal analysis", version=_version(), lifespan=lifespan, docs_url=None, redoc_url=None,
+                  responses={code: {"model": schemas.Error, "description": text} for code, text in errors.items()},
                   description="Eigensystem Realization Algorithm (Juang & Pappa 1985): upload pulse responses, "
                               "identify modes, judge them with γ and μ, share a report.")
     app.state.settings = settings

@@ -7,7 +7,7 @@ as plain dicts in app/payloads.py; tests/app/test_schemas.py checks that they ca
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -19,6 +19,12 @@ class Schema(BaseModel):
     """Answers of this server: unknown fields are dropped (a stored report may hold more than it shows)."""
 
     model_config = ConfigDict(extra="ignore")
+
+
+class Error(Schema):
+    """Every refusal and failure (404, 413, 422, 429, 500, 503): no stack trace, a sentence to act on."""
+
+    error: str = Field(description="what is wrong and what to do about it")
 
 
 # ---- datasets ---------------------------------------------------------------------------------------------
@@ -268,9 +274,25 @@ class Overlay(Explained):
     updated: Floats = Field(description="(N',) the updated model's response")
 
 
+class ExplainBasis(Schema):
+    """What an explanation was computed from: this analysis's identification and which of its modes."""
+
+    hankel_rows: int = Field(description="r, block rows of the analysis's H(0)")
+    hankel_cols: int = Field(description="s, block columns")
+    hankel_shape: list[int] = Field(description="[r·p, s·m] of H(0)")
+    orders: list[int] = Field(description="orders the modes were tracked over (their spread is the measurement error)")
+    modes: Literal["stable", "kept"] = Field(description="stable: every mode stable over the orders; kept: the "
+                                                         "modes kept at one order")
+    order: int | None = Field(description="the order the modes were kept at (modes = kept), else null")
+    kept: list[int] | None = Field(description="their indices at that order (modes = kept), else null")
+    text: str = Field(description="the same in one sentence, as the panel shows it")
+
+
 class Explanation(Explained):
     """The simulation-vs-test result stored with an analysis (POST/GET /api/analyses/{id}/explain)."""
 
+    basis: ExplainBasis | None = Field(None, description="what was compared (null for results stored before it "
+                                                         "was recorded)")
     verdict: str = Field(description="explained, no_significant_discrepancy, ambiguous or unexplained")
     message: str = Field(description="the verdict in words")
     effect: NamedEffect | None = Field(description="the named effect, or null")

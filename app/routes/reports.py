@@ -42,9 +42,10 @@ async def create(request: Request, body: ReportRequest):
         recorded = kept.tolist()[:MAX_RECORDINGS] if viewer is not None else []
         files = {_recording_name(k): viewer.record(a.geometry, model.frequency_hz, model.shapes, k) for k in recorded}
         recordings = {str(k): _recording_name(k) for k in recorded}
+        explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id))
         report = reporting.build(a, ident, model, kept, c.stabilization(a), dataset=c.summary(a.dataset_id),
-                                 explanation=explaining.for_report(c.store, a.id), recordings=recordings,
-                                 version=version, plot_points=c.settings.max_plot_points)
+                                 explanation=explanation, recordings=recordings, version=version,
+                                 plot_points=c.settings.max_plot_points)
         token = new_token()
         c.store.add_report(token, a.id, report, files)  # on disk before the link is returned
         return token
@@ -73,7 +74,8 @@ async def read(request: Request, token: str):
     return report
 
 
-@router.get("/{token}/files/{name}", summary="A file of a report (mode-shape recordings)")
+@router.get("/{token}/files/{name}", summary="A file of a report (mode-shape recordings)", response_class=FileResponse,
+            responses={200: {"content": {"application/octet-stream": {}}, "description": "the file's bytes"}})
 async def file(request: Request, token: str, name: str):
     path = store(request).report_file(token, name)
     if path is None or name == "report.json":
@@ -81,7 +83,8 @@ async def file(request: Request, token: str, name: str):
     return FileResponse(path, media_type="application/octet-stream")
 
 
-@router.get("/{token}/report.html", summary="The report as one self-contained HTML file (opens offline)")
+@router.get("/{token}/report.html", summary="The report as one self-contained HTML file (opens offline)",
+            response_class=HTMLResponse)
 async def download_html(request: Request, token: str):
     report = _report(request, token)
     files = store(request)
@@ -96,14 +99,17 @@ async def download_html(request: Request, token: str):
     return HTMLResponse(html, headers={"Content-Disposition": f'attachment; filename="era-report-{token[:8]}.html"'})
 
 
-@router.get("/{token}/modes.csv", summary="The modes of the report as CSV")
+@router.get("/{token}/modes.csv", summary="The modes of the report as CSV", response_class=Response,
+            responses={200: {"content": {"text/csv": {}}, "description": "one row per mode"}})
 async def download_csv(request: Request, token: str):
     text = reporting.modes_csv(_report(request, token))
     return Response(text, media_type="text/csv; charset=utf-8",
                     headers={"Content-Disposition": f'attachment; filename="era-modes-{token[:8]}.csv"'})
 
 
-@router.get("/{token}/modes.uff", summary="The kept modes as UFF 55, with the geometry as UFF 15/82")
+@router.get("/{token}/modes.uff", summary="The kept modes as UFF 55, with the geometry as UFF 15/82",
+            response_class=Response,
+            responses={200: {"content": {"application/octet-stream": {}}, "description": "a UFF file"}})
 async def download_uff(request: Request, token: str):
     blob = await jobs(request).quick(reporting.modes_uff, _report(request, token))
     return Response(blob, media_type="application/octet-stream",

@@ -15,11 +15,15 @@ function categories(s) {
   return { all, freq, none };
 }
 
+const mark = (ok) => (ok ? "✓" : "✗");
+
 function poleTrace(s, idx, name, marker) {
   return {
     x: idx.map((i) => s.frequency_hz[i]), y: idx.map((i) => s.order[i]), customdata: idx.map((i) => [s.order[i], s.mode_index[i]]),
     text: idx.map((i) => `order ${s.order[i]}, mode ${s.mode_index[i] + 1}<br>f = ${s.frequency_hz[i].toFixed(4)} Hz, ` +
-      `ζ = ${(100 * s.damping_ratio[i]).toFixed(2)} %<br>γ = ${s.emac[i].toFixed(3)}, μ = ${s.mpc[i].toFixed(3)}`),
+      `ζ = ${(100 * s.damping_ratio[i]).toFixed(2)} %<br>γ = ${s.emac[i].toFixed(3)}, μ = ${s.mpc[i].toFixed(3)}<br>` +
+      `against the previous order: f ${mark(s.stable_frequency[i])}, ζ ${mark(s.stable_damping[i])}, ` +
+      `shape ${mark(s.stable_shape[i])}`),
     hovertemplate: "%{text}<extra></extra>", type: "scatter", mode: "markers", name, marker,
   };
 }
@@ -39,8 +43,9 @@ function draw() {
     symbol: "circle", size: 8, color: gm, cmin: 0.5, cmax: 1, colorscale: "Viridis",
     colorbar: { title: { text: "γ·μ" }, x: 1.07, len: 0.8 }, line: { width: 0.5, color: "#222" } }));
   const fmax = s.nyquist_hz;
-  // suggested modes (stable over ≥ 3 orders) that are also coherent (mean γ·μ ≥ 0.9): faint vertical lines
-  const suggested = s.modes.filter((mo) => mo.emac * mo.mpc >= 0.9).map((mode) => ({
+  // suggested modes (stable over ≥ 3 orders) that the server marks coherent (mean γ·μ ≥ s.coherent_min): faint
+  // vertical lines. The page shows the server's rule; it applies no threshold of its own.
+  const suggested = s.modes.filter((mo) => mo.coherent).map((mode) => ({
     type: "line", xref: "x", x0: mode.frequency_hz, x1: mode.frequency_hz, yref: "paper", y0: 0, y1: 1,
     layer: "below", line: { color: "rgba(31,95,191,0.25)", width: 1 } }));
   const div = document.getElementById(PLOT);
@@ -124,7 +129,9 @@ export function init() {
                                       { progress: (text) => { status.textContent = text; } });
       status.textContent = `${state.stabilization.orders.length} orders (${state.stabilization.orders[0]}–` +
         `${state.stabilization.orders.at(-1)}), ${state.stabilization.order.length} poles, ` +
-        `${state.stabilization.modes.length} modes stable over ≥ 3 orders.`;
+        `${state.stabilization.modes.length} modes stable over ≥ 3 orders, ` +
+        `${state.stabilization.modes.filter((mo) => mo.coherent).length} of them coherent ` +
+        `(mean γ·μ ≥ ${state.stabilization.coherent_min}: the faint vertical lines).`;
       if (state.analysis && state.analysis.id === a.id) draw();
     } catch (err) {
       document.getElementById("stab-status").textContent = "";
