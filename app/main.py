@@ -16,8 +16,10 @@ from pathlib import Path
 
 from fastapi import FastAPI, HTTPException, Request
 from fastapi.exceptions import RequestValidationError
+from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+from swagger_ui_bundle import swagger_ui_path
 
 import era
 
@@ -194,21 +196,15 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
 
 
 def _api_docs(app: FastAPI) -> None:
-    """/docs (Swagger UI) served from the swagger-ui-bundle package: the page works with no internet."""
-    from fastapi.openapi.docs import get_swagger_ui_html
-    try:
-        from swagger_ui_bundle import swagger_ui_path
-    except ImportError:  # not installed: FastAPI's default page (its assets come from a CDN)
-        swagger_ui_path = None
-    if swagger_ui_path:
-        app.mount("/vendor/swagger", StaticFiles(directory=swagger_ui_path), name="swagger")
-    assets = "/vendor/swagger" if swagger_ui_path else "https://cdn.jsdelivr.net/npm/swagger-ui-dist@5"
+    """/docs (Swagger UI) served from the swagger-ui-bundle package (a dependency): the page works with no
+    internet. It shows the JSON contract of app/schemas.py."""
+    app.mount("/vendor/swagger", StaticFiles(directory=swagger_ui_path), name="swagger")
 
     @app.get("/docs", include_in_schema=False)
     async def docs():
         return get_swagger_ui_html(openapi_url=app.openapi_url, title=f"{app.title}: API",
-                                   swagger_js_url=f"{assets}/swagger-ui-bundle.js",
-                                   swagger_css_url=f"{assets}/swagger-ui.css",
+                                   swagger_js_url="/vendor/swagger/swagger-ui-bundle.js",
+                                   swagger_css_url="/vendor/swagger/swagger-ui.css",
                                    swagger_favicon_url="data:,")
 
 
