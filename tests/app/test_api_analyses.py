@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import era
+
 from apiclient import analysis, case1_frequencies_hz, case1_npz, client, upload
 
 
@@ -190,6 +192,26 @@ def test_a_slider_step_is_the_modes_and_the_reconstruction_in_one_answer(tmp_pat
         for bad in ({"modes": "7"}, {"output": 1}, {"min_emac": 2}, {"order": 0}):
             r = c.get(f"{base}/step", params={"order": 10, **bad})
             assert r.status_code == 422 and r.json()["error"], bad
+
+
+def test_physical_only_rejects_growing_and_real_poles(tmp_path):
+    from apiclient import npz_bytes
+    dt, k = 0.05, np.arange(200)
+
+    def pair(f_hz, zeta):
+        w = 2 * np.pi * f_hz
+        return np.exp((-zeta * w + 1j * w * np.sqrt(1 - zeta ** 2)) * dt * k).real
+
+    y = pair(1.0, 0.02) + 0.5 * pair(2.0, -0.005) + 0.8 * 0.9 ** k  # decaying pair, growing pair, real pole
+    with client(tmp_path) as c:
+        ds = upload(c, npz_bytes(era.ResponseData(markov=y[:, None, None], dt=dt)), "three.npz").json()
+        a = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 90, "cols": 90}).json()
+        url = f"/api/analyses/{a['id']}/reconstruction"
+        m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 5}).json()
+        physical = c.get(url, params={"order": 5, "physical_only": True}).json()["kept"]
+        every = c.get(url, params={"order": 5}).json()["kept"]
+    assert m["is_pair"] == [False, True, True] and m["damping_ratio"][2] < 0
+    assert physical == [1] and every == [0, 1, 2]
 
 
 def test_one_channel_reconstruction_equals_the_full_one(tmp_path):
