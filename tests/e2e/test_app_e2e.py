@@ -139,6 +139,7 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         assert page.text_content("#order-value") == "10"
         assert len(table_rows(page, "#modes-table")) == 5
         page.wait_for_function("document.getElementById('stab-plot').data?.length > 3")
+        assert "coherent (mean γ·μ ≥ 0.9" in page.text_content("#stab-status")  # the server's rule, shown
         page.screenshot(path=str(shots / "app-1-uploaded.png"), full_page=True)
 
         # 2. move the order slider (keyboard on the range input): table and reconstruction follow
