@@ -48,7 +48,7 @@ class Settings:
     #: Per client (IP address) and minute: requests to /api/ in all, and those that start heavy work.
     rate_limit_per_minute: int = 1200
     rate_limit_heavy_per_minute: int = 60
-    #: Start the viser mode-shape viewer (app/viewer.py) when it is installed.
+    #: Start the viser mode-shape viewer (app/viewer/); ERA_VIEWER=0 turns it off.
     viewer: bool = True
 
     @property
