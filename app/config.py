@@ -11,6 +11,17 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 
+def _static_dir() -> Path:
+    """The browser UI: ``app/static`` inside an installed wheel, else ``static/`` beside ``app/`` in a checkout."""
+    here = Path(__file__).resolve().parent
+    installed = here / "static"
+    return installed if (installed / "index.html").is_file() else here.parent / "static"
+
+
+#: index.html, report.html, js/ and css/ (served at / and /static, and inlined into downloaded reports).
+STATIC_DIR = _static_dir()
+
+
 def _env(name: str, default, cast):
     raw = os.environ.get(name)
     if raw is None or raw.strip() == "":

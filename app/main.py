@@ -12,7 +12,6 @@ import secrets
 import time
 from collections import deque
 from contextlib import asynccontextmanager
-from pathlib import Path
 
 from fastapi import FastAPI, HTTPException, Request
 from fastapi.exceptions import RequestValidationError
@@ -27,13 +26,12 @@ from . import config, schemas
 from .cache import Cache
 from .errors import NotFound
 from .jobs import Jobs
-from .routes import analyses, datasets, examples, explain, pages, reports
+from .routes import analyses, datasets, examples, explain, health, pages, reports
 from .routes import jobs as job_routes
 from .store import Store
 from .viewer import ModeViewer
 
 log = logging.getLogger("app")
-STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
 
 
 def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
@@ -134,7 +132,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
 
     errors = {404: "unknown id", 422: "invalid request or data, with what to change", 429: "rate limit",
               500: "internal error, with a logged reference"}
-    app = FastAPI(title="ERA modal analysis", version=_version(), lifespan=lifespan, docs_url=None, redoc_url=None,
+    app = FastAPI(title="ERA modal analysis", version=era.__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   responses={code: {"model": schemas.Error, "description": text} for code, text in errors.items()},
                   description="Eigensystem Realization Algorithm (Juang & Pappa 1985): upload pulse responses, "
                               "identify modes, judge them with γ and μ, share a report.")
@@ -184,11 +182,11 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         return _error(500, f"Internal error (reference {ref}); it has been logged. Please report it with the "
                            "reference.")
 
-    for module in (datasets, examples, analyses, explain, reports, job_routes, pages):
+    for module in (datasets, examples, analyses, explain, reports, job_routes, health, pages):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)
-    app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+    app.mount("/static", StaticFiles(directory=config.STATIC_DIR), name="static")
     _api_docs(app)
     # Outermost: refuse oversized bodies before anything reads them.
     app.add_middleware(UploadLimit, limit=settings.max_upload_bytes)
@@ -206,14 +204,6 @@ def _api_docs(app: FastAPI) -> None:
                                    swagger_js_url="/vendor/swagger/swagger-ui-bundle.js",
                                    swagger_css_url="/vendor/swagger/swagger-ui.css",
                                    swagger_favicon_url="data:,")
-
-
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-        return version("era-modal")
-    except Exception:  # not installed (running from a checkout)
-        return "0+unknown"
 
 
 app = create_app()

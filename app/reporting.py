@@ -20,10 +20,9 @@ import numpy as np
 
 import era
 
-from . import payloads
+from . import config, payloads
 from .cache import Analysis
 
-STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
 #: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
 MAX_REPORT_PAIRS = 36
 MAX_REPORT_POINTS = 1500
@@ -129,11 +128,11 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
     own client, with no server; otherwise the page animates them with plotly."""
     import plotly
     plotly_js = (Path(plotly.__file__).parent / "package_data" / "plotly.min.js").read_text(encoding="utf-8")
-    page = (STATIC_DIR / "report.html").read_text(encoding="utf-8")
-    css = (STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
-    script = (STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
-    formats = (STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
-    explain_view = (STATIC_DIR / "js" / "explain_view.js").read_text(encoding="utf-8")
+    page = (config.STATIC_DIR / "report.html").read_text(encoding="utf-8")
+    css = (config.STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
+    script = (config.STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
+    formats = (config.STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
+    explain_view = (config.STATIC_DIR / "js" / "explain_view.js").read_text(encoding="utf-8")
     extra = {"offline_recordings": viser_recordings or {}, "viser_marker": _EMBED_MARKER if viser_page else None}
     data = _script_json(dict(report, token=token, standalone=True, **extra))
 

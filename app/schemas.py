@@ -192,6 +192,11 @@ class ViewerLink(Schema):
     n_modes: int = Field(description="modes published")
 
 
+class Health(Schema):
+    status: str = Field(description="ok when the server answers")
+    version: str = Field(description="era-modal version of this server (era.__version__)")
+
+
 class Progress(Schema):
     state: str = Field(description="queued, running, done or failed")
     message: str = Field(description="what the job does")

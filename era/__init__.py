@@ -3,6 +3,8 @@
 Pure numerics (numpy/scipy); no web dependency. The public names, nothing else.
 """
 
+__version__ = "0.2.0"
+
 # the ERA core (issue 2)
 from .data import ResponseData
 from .errors import DataError, EraError, HankelError, OrderError
@@ -22,6 +24,7 @@ from .correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes, 
 from .discrepancy import Explanation, explain
 
 __all__ = [
+    "__version__",
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",

@@ -1,1 +1,1 @@
-"""One router per resource: datasets, examples, analyses, explain (simulation vs test), reports, jobs, pages."""
+"""One router per resource: datasets, examples, analyses, explain (simulation vs test), reports, jobs, health, pages."""

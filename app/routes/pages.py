@@ -8,16 +8,16 @@ import plotly
 from fastapi import APIRouter, Request
 from fastapi.responses import FileResponse, HTMLResponse
 
+from .. import config
 from .deps import store
 
 router = APIRouter(include_in_schema=False)
-STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
 PLOTLY_JS = Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
 
 
 @router.get("/")
 async def index():
-    return FileResponse(STATIC_DIR / "index.html", media_type="text/html")
+    return FileResponse(config.STATIC_DIR / "index.html", media_type="text/html")
 
 
 @router.get("/r/{token}")
@@ -26,7 +26,7 @@ async def report_page(request: Request, token: str):
         return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title>"
                             "<h1>Report not found</h1><p>No report has this link. Check that the whole link was "
                             "copied.</p><p><a href=\"/\">Start a new analysis</a></p>", status_code=404)
-    return FileResponse(STATIC_DIR / "report.html", media_type="text/html")
+    return FileResponse(config.STATIC_DIR / "report.html", media_type="text/html")
 
 
 @router.get("/vendor/plotly.min.js")

@@ -77,6 +77,7 @@ reconstruction.init();
 shapes.init();
 share.init();
 explain.init();
+api("/api/health").then((h) => { document.getElementById("version").textContent = h.version; }).catch(() => {});
 
 on("order", (order) => { wanted = { order, t0: performance.now() }; pump(); });
 on("pole", ({ order, index }) => {
