@@ -1,6 +1,6 @@
 """``era-app`` / ``python3 -m app``: serve the web app (one worker: the viser viewer lives in it).
 
-Options override the environment (ERA_HOST, ERA_PORT, ERA_DATA_DIR); the limits are the ERA_* variables of
+Options override the environment (ERA_HOST, ERA_PORT, ERA_DATA_DIR, ERA_DATABASE_URL); the limits are the ERA_* variables of
 app/config.py. ``era-app --help`` lists them.
 """
 
@@ -25,6 +25,9 @@ def parse(argv=None) -> argparse.Namespace:
     parser.add_argument("--data-dir", default=os.environ.get("ERA_DATA_DIR", "data"),
                         help="folder of the database and the stored datasets, analyses and reports (ERA_DATA_DIR; "
                              "default ./data)")
+    parser.add_argument("--database-url", default=os.environ.get("ERA_DATABASE_URL"),
+                        help="SQLAlchemy URL of the index database, e.g. postgresql+psycopg://era:pw@host/era "
+                             "(ERA_DATABASE_URL; default SQLite in the data folder)")
     parser.add_argument("--version", action="version", version=f"era-modal {era.__version__}")
     return parser.parse_args(argv)
 
@@ -32,6 +35,8 @@ def parse(argv=None) -> argparse.Namespace:
 def main(argv=None) -> None:
     args = parse(argv)
     os.environ["ERA_DATA_DIR"] = args.data_dir  # read by app.config.from_env when app.main builds the app
+    if args.database_url:
+        os.environ["ERA_DATABASE_URL"] = args.database_url
     import uvicorn
 
     print(f"ERA modal analysis {era.__version__}: open http://{args.host}:{args.port}/  (data in "

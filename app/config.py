@@ -38,6 +38,8 @@ class Settings:
 
     #: Folder of the SQLite database (era.sqlite3) and stored files (datasets/, reports/).
     data_dir: Path = field(default_factory=lambda: Path("data"))
+    #: The index database (SQLAlchemy URL, e.g. postgresql+psycopg://era:pw@host/era); None: SQLite in data_dir.
+    database_url: str | None = None
     #: Largest upload accepted by POST /api/datasets, bytes (413 above).
     max_upload_bytes: int = 64 * 1024 * 1024
     #: Largest H(0), in elements (rows·p × cols·m); H(1) is as large. 8 bytes each: 2.5e7 is 200 MB per matrix.
@@ -68,12 +70,13 @@ class Settings:
 
 
 def from_env() -> Settings:
-    """Settings from ERA_DATA_DIR, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
+    """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
     ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS and ERA_VIEWER (0 turns the viser viewer off)."""
     base = Settings()
     return replace(
         base,
         data_dir=Path(_env("ERA_DATA_DIR", str(base.data_dir), str)),
+        database_url=_env("ERA_DATABASE_URL", None, str),
         max_upload_bytes=int(_env("ERA_MAX_UPLOAD_MB", base.max_upload_bytes / 2**20, float) * 2**20),
         max_hankel_elements=_env("ERA_MAX_HANKEL_ELEMENTS", base.max_hankel_elements, int),
         max_order=_env("ERA_MAX_ORDER", base.max_order, int),

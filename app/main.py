@@ -115,13 +115,14 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
-        store = Store(settings.data_dir)
+        store = Store(settings.data_dir, settings.database_url)
         app.state.store = store
         app.state.cache = Cache(store, settings)
         app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
         if viewer is not None:
             viewer.start()
-        log.info("ERA app: data in %s, viewer %s", settings.data_dir.resolve(), "on" if viewer else "off")
+        log.info("ERA app: files in %s, index in %s (revision %s), viewer %s", settings.data_dir.resolve(),
+                 store.backend, store.revision, "on" if viewer else "off")
         try:
             yield
         finally:

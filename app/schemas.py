@@ -195,6 +195,8 @@ class ViewerLink(Schema):
 class Health(Schema):
     status: str = Field(description="ok when the server answers")
     version: str = Field(description="era-modal version of this server (era.__version__)")
+    store: str = Field(description="the index database: sqlite or postgresql")
+    schema_revision: str = Field(description="its migration revision (app/store/migrations)")
 
 
 class Progress(Schema):

@@ -1,4 +1,4 @@
-"""GET /api/health: that the server answers, and which version it is (shown in the page footer)."""
+"""GET /api/health: that the server answers, its version (shown in the page footer) and its store."""
 
 from __future__ import annotations
 
@@ -11,4 +11,5 @@ router = APIRouter(prefix="/api", tags=["health"])
 
 @router.get("/health", summary="The server is up: its version", response_model=schemas.Health)
 async def health(request: Request):
-    return {"status": "ok", "version": request.app.version}
+    store = request.app.state.store
+    return {"status": "ok", "version": request.app.version, "store": store.backend, "schema_revision": store.revision}

@@ -1,13 +1,16 @@
-"""Persistence: SQLite (WAL mode) for the index, and files in the data folder written atomically.
+"""Persistence: one store layer, the only one. An index database (SQLite in the data folder by default, PostgreSQL
+or any SQLAlchemy URL when configured; schema by Alembic migrations) and files in the data folder written
+atomically (files.py).
 
-A file is written to a temporary name, fsynced, and renamed over its final name (then the folder is fsynced),
-so a reader sees the old file or the new one, never half of one. Rows are inserted after their files, so a
-row always points at a complete file. Datasets are stored in era's own NPZ format (era/io/npz.py, which
-also reads the layout this store wrote before), not as the upload, so an analysis can be recomputed after a
-restart without the loader, and ``era.load`` opens a stored dataset with its geometry and input locations.
+Rows are inserted after their files, so a row always points at complete files. Datasets are stored in era's own
+NPZ format (era/io/npz.py, which also reads the layout this store wrote before), not as the upload, so an analysis
+can be recomputed after a restart without the loader, and ``era.load`` opens a stored dataset with its geometry and
+input locations. Nothing a request needs lives only in one process: any app process on the same database and
+data folder can serve any dataset, analysis, report or explanation.
 
-Layout of the data folder: ``era.sqlite3``; ``datasets/{id}.npz``; ``reports/{token}/report.json`` and side
-files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal / updated responses) and ``.json``.
+Layout of the data folder: ``era.sqlite3`` (the default database); ``datasets/{id}.npz``;
+``reports/{token}/report.json`` and side files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal /
+updated responses) and ``.json``.
 """
 
 from __future__ import annotations
@@ -15,33 +18,26 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-import os
 import re
 import secrets
-import sqlite3
-import tempfile
 import threading
 import time
 from pathlib import Path
 
 import numpy as np
+import sqlalchemy as sa
 
 import era
 from era.io.npz import npz_bytes, read_arrays, read_npz
 
+from . import database
+from .files import write_atomic
+from .tables import analyses, datasets, explanations, reports
+
+__all__ = ["Store", "new_token", "write_atomic", "EXPLANATION_RESPONSES", "TOKEN_BYTES"]
+
 #: Random ids and report tokens: 18 bytes = 144 bits, URL-safe (24 characters).
 TOKEN_BYTES = 18
-
-_SCHEMA = """
-CREATE TABLE IF NOT EXISTS datasets (
-    id TEXT PRIMARY KEY, name TEXT NOT NULL, sha256 TEXT NOT NULL, created REAL NOT NULL, summary TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS analyses (
-    id TEXT PRIMARY KEY, dataset_id TEXT NOT NULL REFERENCES datasets(id), params TEXT NOT NULL, created REAL NOT NULL);
-CREATE TABLE IF NOT EXISTS reports (
-    token TEXT PRIMARY KEY, analysis_id TEXT NOT NULL, created REAL NOT NULL);
-CREATE TABLE IF NOT EXISTS explanations (
-    analysis_id TEXT PRIMARY KEY, created REAL NOT NULL);
-"""
 #: The responses an explanation keeps, each (N, p, m) in the dataset's output units.
 EXPLANATION_RESPONSES = ("measured", "nominal", "updated")
 #: What a random id looks like (new_token's alphabet): nothing else becomes a file name.
@@ -52,59 +48,37 @@ def new_token() -> str:
     return secrets.token_urlsafe(TOKEN_BYTES)
 
 
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` so that the file is either absent/old or complete, and durable on return."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    dir_fd = os.open(path.parent, os.O_RDONLY)
-    try:
-        os.fsync(dir_fd)
-    finally:
-        os.close(dir_fd)
-
-
 class Store:
-    """The SQLite index and the files of one data folder. Thread-safe (one connection behind a lock)."""
+    """The index database and the files of one data folder. Thread-safe; several processes may share both.
 
-    def __init__(self, data_dir: Path):
+    data_dir : the folder of the files (and of the default SQLite database).
+    database_url : an SQLAlchemy URL (e.g. ``postgresql+psycopg://user:pw@host/db``); default SQLite in data_dir.
+    The schema is migrated to the newest revision on opening (database.migrate).
+    """
+
+    def __init__(self, data_dir: Path, database_url: str | None = None):
         self.root = Path(data_dir)
         self.root.mkdir(parents=True, exist_ok=True)
-        self._lock = threading.Lock()
-        self._explaining = threading.Lock()  # one explanation written at a time: its two files stay a pair
-        self._db = sqlite3.connect(self.root / "era.sqlite3", check_same_thread=False, isolation_level=None)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute("PRAGMA synchronous=FULL")  # a committed report survives a power cut
-        self._db.executescript(_SCHEMA)
+        self.url = database_url or database.default_url(self.root)
+        self._engine = database.connect(self.url)
+        self.revision = database.migrate(self._engine)
+        self._explaining = threading.Lock()  # one explanation written at a time here: its two files stay a pair
+
+    @property
+    def backend(self) -> str:
+        """"sqlite" or "postgresql" (the SQLAlchemy dialect)."""
+        return self._engine.dialect.name
 
     def close(self) -> None:
-        with self._lock:
-            self._db.close()
+        self._engine.dispose()
 
-    def _one(self, sql: str, args: tuple):
-        with self._lock:
-            return self._db.execute(sql, args).fetchone()
+    def _one(self, query):
+        with self._engine.connect() as conn:
+            return conn.execute(query).first()
 
-    def _insert(self, sql: str, args: tuple) -> None:
-        with self._lock:
-            self._db.execute("BEGIN IMMEDIATE")
-            try:
-                self._db.execute(sql, args)
-                self._db.execute("COMMIT")
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
+    def _insert(self, table: sa.Table, **row) -> None:
+        with self._engine.begin() as conn:
+            conn.execute(table.insert().values(**row))
 
     # ---- datasets ----------------------------------------------------------------------------------
     def dataset_path(self, dataset_id: str) -> Path:
@@ -117,17 +91,16 @@ class Store:
         sha = hashlib.sha256(blob).hexdigest()
         summary = dict(summary, id=dataset_id, sha256=sha)
         write_atomic(self.dataset_path(dataset_id), blob)
-        self._insert("INSERT INTO datasets (id, name, sha256, created, summary) VALUES (?, ?, ?, ?, ?)",
-                     (dataset_id, name, sha, time.time(), json.dumps(summary)))
+        self._insert(datasets, id=dataset_id, name=name, sha256=sha, created=time.time(), summary=json.dumps(summary))
         return dataset_id
 
     def dataset_summary(self, dataset_id: str) -> dict | None:
-        row = self._one("SELECT summary FROM datasets WHERE id = ?", (dataset_id,))
+        row = self._one(sa.select(datasets.c.summary).where(datasets.c.id == dataset_id))
         return None if row is None else json.loads(row[0])
 
     def load_dataset(self, dataset_id: str) -> tuple[era.ResponseData, era.Geometry | None, str] | None:
         """(data, geometry or None, name) of a stored dataset, or None for an unknown id."""
-        row = self._one("SELECT name FROM datasets WHERE id = ?", (dataset_id,))
+        row = self._one(sa.select(datasets.c.name).where(datasets.c.id == dataset_id))
         if row is None:
             return None
         path = self.dataset_path(dataset_id)
@@ -137,13 +110,12 @@ class Store:
     # ---- analyses ----------------------------------------------------------------------------------
     def add_analysis(self, dataset_id: str, params: dict) -> str:
         analysis_id = new_token()
-        self._insert("INSERT INTO analyses (id, dataset_id, params, created) VALUES (?, ?, ?, ?)",
-                     (analysis_id, dataset_id, json.dumps(params), time.time()))
+        self._insert(analyses, id=analysis_id, dataset_id=dataset_id, params=json.dumps(params), created=time.time())
         return analysis_id
 
     def analysis(self, analysis_id: str) -> tuple[str, dict] | None:
         """(dataset_id, params) of an analysis, or None."""
-        row = self._one("SELECT dataset_id, params FROM analyses WHERE id = ?", (analysis_id,))
+        row = self._one(sa.select(analyses.c.dataset_id, analyses.c.params).where(analyses.c.id == analysis_id))
         return None if row is None else (row[0], json.loads(row[1]))
 
     # ---- reports -----------------------------------------------------------------------------------
@@ -156,17 +128,19 @@ class Store:
         for name, blob in files.items():
             write_atomic(folder / name, blob)
         write_atomic(folder / "report.json", json.dumps(payload, separators=(",", ":")).encode())
-        self._insert("INSERT INTO reports (token, analysis_id, created) VALUES (?, ?, ?)",
-                     (token, analysis_id, time.time()))
+        self._insert(reports, token=token, analysis_id=analysis_id, created=time.time())
+
+    def _has_report(self, token: str) -> bool:
+        return self._one(sa.select(reports.c.token).where(reports.c.token == token)) is not None
 
     def report(self, token: str) -> dict | None:
-        if self._one("SELECT 1 FROM reports WHERE token = ?", (token,)) is None:
+        if not self._has_report(token):
             return None
         return json.loads((self.report_dir(token) / "report.json").read_bytes())
 
     def report_file(self, token: str, name: str) -> Path | None:
         """A side file of a report, or None (the name must be one the report wrote: no path tricks)."""
-        if self._one("SELECT 1 FROM reports WHERE token = ?", (token,)) is None:
+        if not self._has_report(token):
             return None
         if not name or "/" in name or "\\" in name or name.startswith("."):
             return None
@@ -186,7 +160,7 @@ class Store:
         paths = self._explanation_paths(analysis_id)
         if paths is None:
             return None
-        if self._one("SELECT 1 FROM explanations WHERE analysis_id = ?", (analysis_id,)) is not None:
+        if self._one(sa.select(explanations.c.analysis_id).where(explanations.c.analysis_id == analysis_id)):
             return paths
         return paths if paths[0].is_file() and paths[1].is_file() else None
 
@@ -209,8 +183,9 @@ class Store:
         with self._explaining:
             write_atomic(paths[1], buf.getvalue())
             write_atomic(paths[0], json.dumps(summary, separators=(",", ":")).encode())
-            self._insert("INSERT OR REPLACE INTO explanations (analysis_id, created) VALUES (?, ?)",
-                         (analysis_id, time.time()))
+            with self._engine.begin() as conn:  # replace an earlier one: delete and insert in one transaction
+                conn.execute(explanations.delete().where(explanations.c.analysis_id == analysis_id))
+                conn.execute(explanations.insert().values(analysis_id=analysis_id, created=time.time()))
 
     def explanation(self, analysis_id: str) -> dict | None:
         """The stored explanation summary of an analysis, or None when era.explain has not run on it."""
