@@ -1,0 +1,307 @@
+"""A 3-D frame as arrays: meshing, assembly, the self-weight solve and the lowest modes (6 DOF per node, SI).
+
+``SpaceFrame`` is what :class:`era.Frame` hands to the numerics: nodes, elements with their section constants and
+orientation, and per-node supports, springs, hanging cables and lumped masses. Its first ``n_user`` nodes are the
+user's nodes; :func:`subdivide` appends the interior nodes of each member. Element matrices: :mod:`era.fem.beam3d`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+
+from ..errors import DataError
+from . import beam3d
+
+DOF_NAMES = ("translation along x", "translation along y", "translation along z",
+             "rotation about x", "rotation about y", "rotation about z")
+_PROPS = ("EA", "GJ", "EIy", "EIz", "m", "rho_ip", "r2")
+# Largest k·h (wavenumber × element length) that keeps an element's frequency error below 0.05 %: Hermite cubic
+# bending (error ≈ (kh)⁴/1480) and linear axial/twist shapes (error ≈ (kh)²/24), both with consistent mass; from
+# the dispersion relation of an infinite chain of elements (tests/fem/test_space_frame.py checks both numbers).
+KH_BENDING, KH_LINEAR = 0.927, 0.1095
+
+
+@dataclass(frozen=True, eq=False)
+class SpaceFrame:
+    """Nodes, elements and node attributes of a 3-D frame (SI units).
+
+    coords (n, 3) m; elements (e, 2) node indices; orientation (e, 3) the direction of each element's local z
+    (see beam3d.element_axes); member (e,) the user's member each element belongs to; EA (N), GJ, EIy, EIz (N·m²),
+    m (kg/m), rho_ip (kg·m), r2 = I_p/A (m²), each (e,); node_mass (n,) kg on the three translations; restrained
+    (n, 6) bool; springs (n, 6) to ground on (x, y, z, rx, ry, rz), N/m and N·m/rad; cable_m (n,) length of a
+    cable the node hangs from (0 = none); the first n_user nodes are the user's, named by ``names``.
+    """
+
+    coords: np.ndarray
+    elements: np.ndarray
+    orientation: np.ndarray
+    member: np.ndarray
+    EA: np.ndarray
+    GJ: np.ndarray
+    EIy: np.ndarray
+    EIz: np.ndarray
+    m: np.ndarray
+    rho_ip: np.ndarray
+    r2: np.ndarray
+    node_mass: np.ndarray
+    restrained: np.ndarray
+    springs: np.ndarray
+    cable_m: np.ndarray
+    n_user: int
+    names: tuple
+
+    @cached_property
+    def axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Element length L (e,) m and rotation R (e, 3, 3)."""
+        return beam3d.element_axes(self.coords[self.elements[:, 0]], self.coords[self.elements[:, 1]],
+                                   self.orientation)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.coords.shape[0]
+
+    @property
+    def supported(self) -> bool:
+        return bool(self.restrained.any() or (self.springs > 0).any() or (self.cable_m > 0).any())
+
+    def edofs(self) -> np.ndarray:
+        """(e, 12) global DOF numbers of each element (node-major, 6 per node)."""
+        n = 6 * self.elements[:, :, None] + np.arange(6)
+        return n.reshape(-1, 12)
+
+
+def subdivide(frame: SpaceFrame, counts: np.ndarray) -> SpaceFrame:
+    """Split element k of ``frame`` (one element per member) into counts[k] equal elements; interior nodes are
+    appended after the existing ones, member by member."""
+    counts = np.asarray(counts, int)
+    a, b = frame.coords[frame.elements[:, 0]], frame.coords[frame.elements[:, 1]]
+    coords, elements, start = [frame.coords], [], frame.n_nodes
+    for k, c in enumerate(counts):
+        t = np.arange(1, c)[:, None] / c
+        coords.append(a[k] + t * (b[k] - a[k]))
+        chain = np.r_[frame.elements[k, 0], start + np.arange(c - 1), frame.elements[k, 1]]
+        elements.append(np.column_stack([chain[:-1], chain[1:]]))
+        start += c - 1
+    n_new = start - frame.n_nodes
+    rep = np.repeat(np.arange(counts.size), counts)
+    pad = lambda x: np.concatenate([x, np.zeros((n_new,) + x.shape[1:], x.dtype)])   # noqa: E731
+    return SpaceFrame(coords=np.concatenate(coords), elements=np.concatenate(elements),
+                      orientation=frame.orientation[rep], member=frame.member[rep],
+                      **{p: getattr(frame, p)[rep] for p in _PROPS},
+                      node_mass=pad(frame.node_mass), restrained=pad(frame.restrained), springs=pad(frame.springs),
+                      cable_m=pad(frame.cable_m), n_user=frame.n_user, names=frame.names)
+
+
+def _scatter(mats: np.ndarray, edofs: np.ndarray, n: int, diag: np.ndarray | None = None) -> scipy.sparse.csc_matrix:
+    rows, cols = np.repeat(edofs, 12, axis=1).ravel(), np.tile(edofs, (1, 12)).ravel()
+    vals = mats.reshape(-1)
+    if diag is not None:
+        rows, cols, vals = np.r_[rows, np.arange(n)], np.r_[cols, np.arange(n)], np.r_[vals, diag]
+    return scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+def stiffness(frame: SpaceFrame, axial_force: np.ndarray | None = None) -> scipy.sparse.csc_matrix:
+    """K (6n, 6n): elastic + springs to ground, plus the geometric stiffness of ``axial_force`` (e,) N if given."""
+    L, R = frame.axes
+    k = beam3d.local_stiffness(L, frame.EA, frame.GJ, frame.EIy, frame.EIz)
+    if axial_force is not None:
+        k = k + beam3d.local_geometric(L, axial_force, frame.r2)
+    return _scatter(beam3d.to_global(k, R), frame.edofs(), 6 * frame.n_nodes, frame.springs.ravel())
+
+
+def mass(frame: SpaceFrame) -> scipy.sparse.csc_matrix:
+    """Consistent M (6n, 6n) plus the lumped masses on each node's translations."""
+    L, R = frame.axes
+    lumped = np.zeros((frame.n_nodes, 6))
+    lumped[:, :3] = frame.node_mass[:, None]
+    me = beam3d.to_global(beam3d.local_mass(L, frame.m, frame.rho_ip), R)
+    return _scatter(me, frame.edofs(), 6 * frame.n_nodes, lumped.ravel())
+
+
+@dataclass(frozen=True, eq=False)
+class Statics:
+    """Linear static solve of the self-weight: axial_force (e,) N (tension > 0); reactions (n, 6) N and N·m on the
+    restrained DOFs (force of the support on the structure); displacement (n, 6) m and rad."""
+
+    axial_force: np.ndarray
+    reactions: np.ndarray
+    displacement: np.ndarray
+
+
+def self_weight(frame: SpaceFrame, gravity: np.ndarray) -> Statics:
+    """Solve K u = f for the consistent weight of the members and the lumped masses under ``gravity`` (3,) m/s².
+
+    Springs and restraints carry the load; hanging cables act as restraints along gravity. Directions in which the
+    structure is a mechanism but carries no load (e.g. out of the plane of a hanging planar grid, held later by
+    the geometric stiffness) are regularised by springs of 1e-11 × diag(K); a load on such a direction is an error.
+    """
+    g = np.asarray(gravity, float)
+    L, R = frame.axes
+    n = 6 * frame.n_nodes
+    fe = beam3d.uniform_load(L, R, np.outer(frame.m, g))
+    f = np.bincount(frame.edofs().ravel(), weights=fe.ravel(), minlength=n)
+    f.reshape(-1, 6)[:, :3] += np.outer(frame.node_mass, g)
+    K = stiffness(frame)
+    free = ~frame.restrained.ravel()
+    kff = K[free][:, free]
+    reg = 1e-11 * np.abs(kff.diagonal())
+    u = np.zeros(n)
+    u[free] = scipy.sparse.linalg.spsolve((kff + scipy.sparse.diags(reg)).tocsc(), f[free])
+    if not np.all(np.isfinite(u)) or np.linalg.norm(reg * u[free]) > 1e-4 * np.linalg.norm(f):
+        moved = np.argmax(np.abs(u.reshape(-1, 6)[:frame.n_user, :3]).max(axis=1))
+        raise DataError(f"Frame: the supports do not carry the self-weight under gravity {tuple(g)}: node "
+                        f"{frame.names[moved]} falls freely; add a support, a spring or a cable along gravity.")
+    reactions = np.where(frame.restrained, (K @ u - f).reshape(-1, 6), 0.0)
+    return Statics(axial_force=beam3d.axial_force(L, R, frame.EA, u[frame.edofs()]),
+                   reactions=reactions, displacement=u.reshape(-1, 6))
+
+
+def cable_springs(frame: SpaceFrame, gravity: np.ndarray, reactions: np.ndarray) -> np.ndarray:
+    """(6n,) pendulum springs T/L on the translations normal to gravity of every node hanging from a cable, with T
+    the cable's tension (the support's reaction against gravity) and L its length."""
+    g = np.asarray(gravity, float)
+    down = g / np.linalg.norm(g)
+    out = np.zeros((frame.n_nodes, 6))
+    for i in np.flatnonzero(frame.cable_m > 0):
+        tension = -reactions[i, :3] @ down
+        if tension <= 0:
+            raise DataError(f"Frame: the cable at node {frame.names[i]} would push (tension {tension:.3g} N): "
+                            "a cable can only hang the structure.")
+        out[i, :3] = tension / frame.cable_m[i] * (1.0 - down**2)   # down is along a global axis
+    return out.ravel()
+
+
+def _eigen(K, M, n_modes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest eigenpairs λ (rad²/s²), φ of K φ = λ M φ: sparse shift-invert Lanczos about -1 above 200 DOFs,
+    dense LAPACK below (as era.fem.lowest_modes, but keeping negative λ for the stability check)."""
+    n = K.shape[0]
+    if n > 200 and n_modes < n // 4:
+        try:
+            return scipy.sparse.linalg.eigsh(K.tocsc(), n_modes, M.tocsc(), sigma=-1.0, which="LM", tol=1e-12,
+                                             v0=1.0 + np.sin(1.7 * np.arange(n) + 0.3))
+        except (scipy.sparse.linalg.ArpackError, RuntimeError):
+            pass
+    return scipy.linalg.eigh(K.toarray(), M.toarray(), subset_by_index=[0, n_modes - 1], check_finite=False)
+
+
+@dataclass(frozen=True, eq=False)
+class SpaceModes:
+    """frequency_hz (k,); shapes (n, 6, k) mass-normalised over all nodes of the mesh (1/√kg per m or rad);
+    axial_force (e,) N of the self-weight (zeros without gravity)."""
+
+    frequency_hz: np.ndarray
+    shapes: np.ndarray
+    axial_force: np.ndarray
+
+
+def rigid_body_modes(coords: np.ndarray) -> np.ndarray:
+    """(6n, 6): unit translations along x, y, z and small rotations about x, y, z through the centroid."""
+    r = coords - coords.mean(axis=0)
+    out = np.zeros((coords.shape[0], 6, 6))
+    for a in range(3):
+        out[:, a, a] = 1.0
+        axis = np.eye(3)[a]
+        out[:, :3, 3 + a] = np.cross(axis, r)
+        out[:, 3 + a, 3 + a] = 1.0
+    return out.reshape(-1, 6)
+
+
+def _mechanism_error(frame: SpaceFrame, zero: np.ndarray, free: np.ndarray) -> DataError:
+    """Name the freest DOF of the zero-stiffness motions (after removing the six rigid motions a free structure may
+    have): the user's node and DOF that moves most within them, rotations weighted by twice the structure's size."""
+    full = np.zeros((6 * frame.n_nodes, zero.shape[1]))
+    full[free] = zero
+    rigid = rigid_body_modes(frame.coords)
+    part = full - rigid @ np.linalg.lstsq(rigid, full, rcond=None)[0]
+    u, sv, _ = np.linalg.svd(part if not frame.supported else full, full_matrices=False)
+    basis = u[:, sv > 1e-6 * sv.max()]
+    size = np.linalg.norm(np.ptp(frame.coords, axis=0))   # |ω × r| ≤ |ω| size: a rigid rotation is named as one
+    freedom = np.linalg.norm(basis, axis=1).reshape(-1, 6)[:frame.n_user] * np.r_[np.ones(3), np.full(3, 2 * size)]
+    node, dof = np.unravel_index(np.argmax(freedom), freedom.shape)
+    rigid_note = (" (the whole structure moves as a rigid body)" if frame.supported
+                  and np.linalg.norm(part) < 1e-6 * np.linalg.norm(full) else "")
+    return DataError(f"Frame is a mechanism: node {frame.names[node]} {DOF_NAMES[dof]} is free: add a support or "
+                     f"a member{rigid_note}; {basis.shape[1]} zero-stiffness motion(s).")
+
+
+def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = None) -> SpaceModes:
+    """The ``n_modes`` lowest modes of the meshed frame, with the geometric stiffness of the self-weight when
+    ``gravity`` (3,) m/s² is given. A free structure (no support, spring or cable) may have its six rigid-body
+    modes at 0 Hz; any other zero-stiffness motion raises a DataError naming a free DOF; a negative eigenvalue
+    (buckling under the self-weight) raises too."""
+    axial = np.zeros(frame.elements.shape[0])
+    K = stiffness(frame)
+    if gravity is not None:
+        statics = self_weight(frame, gravity)
+        axial = statics.axial_force
+        K = stiffness(frame, axial) + scipy.sparse.diags(cable_springs(frame, gravity, statics.reactions))
+    M = mass(frame)
+    free = ~frame.restrained.ravel()
+    kff, mff = K[free][:, free], M[free][:, free]
+    n_free = int(free.sum())
+    if n_modes > n_free:
+        raise DataError(f"Frame: asked for {n_modes} modes of a model with {n_free} free DOFs.")
+    lam, phi = _eigen(kff, mff, n_modes)
+    order = np.argsort(lam)
+    lam, phi = lam[order], phi[:, order]
+    scale = float(np.max(kff.diagonal() / mff.diagonal()))
+    tol = 1e-12 * scale                                   # rigid modes come out at ~1e-16 × scale
+    allowed = 0 if frame.supported or gravity is not None else 6
+    zero = np.abs(lam) < tol
+    if zero.sum() > allowed:
+        raise _mechanism_error(frame, phi[:, zero], free)
+    if lam[0] < -tol:
+        raise DataError(f"Frame buckles under its self-weight (lowest eigenvalue {lam[0]:.3g} rad²/s² < 0): "
+                        "gravity exceeds the buckling load; check the supports, sections and gravity.")
+    phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, mff @ phi))
+    full = np.zeros((6 * frame.n_nodes, n_modes))
+    full[free] = phi
+    return SpaceModes(frequency_hz=np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi),
+                      shapes=full.reshape(frame.n_nodes, 6, n_modes), axial_force=axial)
+
+
+def elements_needed(frame: SpaceFrame, omega: float, axial_force: np.ndarray | None = None) -> np.ndarray:
+    """Elements per member (one element per member in ``frame``) that keep every element's wavenumber at the
+    circular frequency ``omega`` (rad/s) within KH_BENDING and KH_LINEAR. Compression (axial_force < 0, N, one per
+    member) shortens the bending and twist waves: EI k⁴ + N k² = m ω², (GJ + N r²) k² = ρI_p ω²."""
+    L = frame.axes[0]
+    nc = np.minimum(0.0 if axial_force is None else np.asarray(axial_force, float), 0.0) * np.ones_like(L)
+    w2 = omega**2
+    need = np.zeros_like(L)
+    for EI in (frame.EIy, frame.EIz):
+        k2 = (-nc + np.sqrt(nc**2 + 4 * EI * frame.m * w2)) / (2 * EI)
+        need = np.maximum(need, np.sqrt(k2) * L / KH_BENDING)
+    k_axial = omega * np.sqrt(frame.m / frame.EA)
+    k_twist = omega * np.sqrt(frame.rho_ip / np.maximum(frame.GJ + nc * frame.r2, 1e-3 * frame.GJ))
+    need = np.maximum(need, np.maximum(k_axial, k_twist) * L / KH_LINEAR)
+    return np.maximum(1, np.ceil(need - 1e-9)).astype(int)
+
+
+def converged_mesh(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = None,
+                   max_rounds: int = 6) -> tuple[SpaceFrame, SpaceModes]:
+    """Mesh each member so that the lowest ``n_modes`` frequencies are converged to 0.1 %, and its modes.
+
+    Rule: start from a coarse mesh (one element per member, more if the model has too few DOFs), solve, and give
+    each member enough elements that every bending, axial and twist wave at the highest of those frequencies has
+    k·h within the 0.05 % limits (KH_BENDING, KH_LINEAR). Repeat with the refined mesh until no member needs more.
+    A coarse mesh's frequencies lie above the converged ones (Rayleigh-Ritz with consistent mass), so the rule
+    errs on the fine side; the error of a mode is an energy-weighted mean of its elements' errors, so ≤ 0.05 %.
+    """
+    n_members = frame.elements.shape[0]
+    counts = np.full(n_members, max(1, int(np.ceil((3 * n_modes + 12) / (6 * n_members)))))
+    for _ in range(max_rounds):
+        mesh = subdivide(frame, counts)
+        result = solve_modes(mesh, n_modes, gravity)
+        axial = np.full(n_members, np.inf)
+        np.minimum.at(axial, mesh.member, result.axial_force)
+        need = elements_needed(frame, 2 * np.pi * result.frequency_hz[-1], axial)
+        if np.all(need <= counts):
+            return mesh, result
+        counts = np.maximum(counts, need)
+    return mesh, result

@@ -1,0 +1,348 @@
+"""The user's description of a frame-like structure: :class:`Section` and :class:`Frame` (SI units), JSON/TOML in and out.
+
+A Frame is nodes, straight members with a section each, supports, known lumped masses, the sensors in the data's
+channel order and, optionally, gravity. ``Frame.modes(n)`` meshes the members (era.fem.space.converged_mesh) and
+returns the lowest modes at the sensors, mass-normalised, like ``nasa_grid().modes``.
+
+Local axes of a member: x from its first node to its second; z along the member's orientation vector (the optional
+4th item of a member; default global +Z, or +X for a vertical member) made normal to x; y = z × x. So by default a
+horizontal member's local z is vertical and its local y horizontal. ``Section.iy`` is about local y (bending that
+moves the member along z), ``Section.iz`` about local z; a rectangle's ``depth`` runs along local z.
+
+The file format (``Frame.to_dict``, ``Frame.save``: JSON; ``Frame.load`` also reads TOML, by the ``.toml`` suffix)::
+
+    {"format": "era.frame", "version": 1,              # SI units throughout: m, kg, N, Pa, s
+     "nodes": {"1": [0, 0, 0], "2": [0, 0, 0.9]},     # id -> [x, y, z] m
+     "sections": {"col": {"area": 3e-4, "iy": 9e-10, "iz": 6.25e-8, "j": 3.4e-9, "e": 2e11, "g": 7.7e10,
+                          "density": 7850, "ip": 6.3e-8},
+                  "bar": {"shape": "rectangle", "width": 0.05, "depth": 0.006, "material": "steel"}},
+     "members": [["1", "2", "col"], ["2", "3", "bar", [0, 1, 0]]],   # [node i, node j, section(, local z)]
+     "supports": {"1": "fixed", "4": "pinned", "7": {"kz": 2e5, "ry": 1e3, "kx": "fixed"},
+                  "9": {"cable": 0.51}},
+     "masses": {"9": 0.025},                           # kg on the node's three translations
+     "sensors": [["3", "x"], ["7", "-z"], ["8", [0.6, 0.8, 0]]],   # [node, "x"|"-x"|... or a direction vector]
+     "gravity": [0, 0, -9.81],                          # or null / absent
+     "elements_per_member": null}                       # null: automatic (converged to 0.1 %)
+
+A section is given by its constants (``ip``, the polar moment, defaults to iy + iz) or by ``shape`` (rectangle,
+circle, tube, square_tube) with that helper's keywords. A support is "fixed" (all six DOFs), "pinned" (three
+translations) or a table of springs to ground: kx, ky, kz (N/m) and rx, ry, rz (N·m/rad), each a number or
+"fixed"; ``cable``: L (m) hangs the node from a cable of length L along gravity (held along gravity; the pendulum
+stiffness T/L on the two other translations, T the cable's tension from the self-weight; needs gravity along a
+global axis).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from .errors import DataError
+from .fem import space
+
+MATERIALS = {   # nominal handbook values: E (Pa), Poisson's ratio, density (kg/m³)
+    "steel": (200e9, 0.29, 7850.0), "stainless_steel": (193e9, 0.29, 8000.0),
+    "aluminium": (68.9e9, 0.33, 2700.0), "aluminum": (68.9e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0),
+}
+SUPPORT_KEYS = ("kx", "ky", "kz", "rx", "ry", "rz")
+DIRECTIONS = {s + a: (-1.0 if s else 1.0) * np.eye(3)[i] for i, a in enumerate("xyz") for s in ("", "-")}
+UNITS_M = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "ft": 0.3048, "in": 0.0254, "inch": 0.0254, "feet": 0.3048}
+_SIGN_SEED = (1.7, 0.3)
+
+
+def _material(material, e, g, density) -> dict:
+    if material not in MATERIALS:
+        raise DataError(f"Section: unknown material {material!r}; known: {sorted(MATERIALS)} (or give e, g, density).")
+    e0, nu, rho0 = MATERIALS[material]
+    e = e0 if e is None else e
+    return dict(e=e, g=e / (2 * (1 + nu)) if g is None else g, density=rho0 if density is None else density)
+
+
+@dataclass(frozen=True)
+class Section:
+    """Section and material constants of a member, SI units.
+
+    area A (m²); iy, iz second moments about the local y and z axes (m⁴); j St-Venant torsion constant (m⁴);
+    e, g Young's and shear moduli (Pa); density ρ (kg/m³); ip polar moment for the torsional inertia ρ I_p and the
+    Wagner term (m⁴, default iy + iz).
+    """
+
+    area: float
+    iy: float
+    iz: float
+    j: float
+    e: float
+    g: float
+    density: float
+    ip: float | None = None
+
+    def __post_init__(self):
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name == "ip" and v is None:
+                v = float(self.iy) + float(self.iz)
+            try:
+                v = float(v)
+            except (TypeError, ValueError):
+                raise DataError(f"Section: {f.name} must be a number, got {v!r}.") from None
+            if not (math.isfinite(v) and v > 0):
+                raise DataError(f"Section: {f.name} must be positive and finite, got {v!r}.")
+            object.__setattr__(self, f.name, v)
+
+    @property
+    def mass_per_length(self) -> float:
+        """ρ A, kg/m."""
+        return self.density * self.area
+
+    @classmethod
+    def rectangle(cls, width: float, depth: float, material: str = "steel", *, e=None, g=None, density=None):
+        """Solid width (along local y) × depth (along local z), m. J of a solid rectangle from Roark's Formulas for
+        Stress and Strain (torsion table): J = a b³ (1/3 - 0.21 (b/a)(1 - b⁴/(12 a⁴))), a ≥ b the sides, < 0.5 %."""
+        a, b = max(width, depth), min(width, depth)
+        j = a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4)))
+        return cls(area=width * depth, iy=width * depth**3 / 12, iz=depth * width**3 / 12, j=j,
+                   **_material(material, e, g, density))
+
+    @classmethod
+    def circle(cls, diameter: float, material: str = "steel", *, e=None, g=None, density=None):
+        """Solid round bar of this diameter (m): I = π d⁴/64, J = I_p = 2I."""
+        i = math.pi * diameter**4 / 64
+        return cls(area=math.pi * diameter**2 / 4, iy=i, iz=i, j=2 * i, **_material(material, e, g, density))
+
+    @classmethod
+    def tube(cls, diameter: float, wall: float, material: str = "steel", *, e=None, g=None, density=None):
+        """Round tube, outer diameter and wall thickness (m): I = π (D⁴ - d⁴)/64, J = I_p = 2I."""
+        d = diameter - 2 * wall
+        i = math.pi * (diameter**4 - d**4) / 64
+        return cls(area=math.pi * (diameter**2 - d**2) / 4, iy=i, iz=i, j=2 * i, **_material(material, e, g, density))
+
+    @classmethod
+    def square_tube(cls, width: float, wall: float, material: str = "steel", *, e=None, g=None, density=None):
+        """Square hollow section, outer width and wall (m): I = (b⁴ - (b-2t)⁴)/12; J = t (b-t)³ (Bredt, thin wall)."""
+        b, t = width, wall
+        i = (b**4 - (b - 2 * t) ** 4) / 12
+        return cls(area=b**2 - (b - 2 * t) ** 2, iy=i, iz=i, j=t * (b - t) ** 3, **_material(material, e, g, density))
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Section":
+        """From the constants, or from {"shape": "rectangle" | "circle" | "tube" | "square_tube", ...keywords}."""
+        d = dict(d)
+        shape = d.pop("shape", None)
+        try:
+            if shape is None:
+                return cls(**d)
+            if shape not in ("rectangle", "circle", "tube", "square_tube"):
+                raise DataError(f"Section: unknown shape {shape!r}; known: rectangle, circle, tube, square_tube.")
+            return getattr(cls, shape)(**d)
+        except TypeError as exc:
+            raise DataError(f"Section: {exc}") from None
+
+
+def _support(node: str, spec, gravity) -> dict:
+    """Canonical support: {key: stiffness or inf} over SUPPORT_KEYS, plus "cable": length (m)."""
+    if spec == "fixed":
+        return dict.fromkeys(SUPPORT_KEYS, math.inf)
+    if spec == "pinned":
+        return dict.fromkeys(SUPPORT_KEYS[:3], math.inf)
+    if not isinstance(spec, dict) or not spec:
+        raise DataError(f"Frame: support at node {node} must be 'fixed', 'pinned' or a table of springs "
+                        f"{SUPPORT_KEYS} (N/m, N·m/rad; a value may be 'fixed') and/or cable (m), got {spec!r}.")
+    out = {}
+    for key, value in spec.items():
+        if key not in SUPPORT_KEYS + ("cable",):
+            raise DataError(f"Frame: support at node {node}: unknown key {key!r}; use {SUPPORT_KEYS} or cable.")
+        v = math.inf if value == "fixed" and key != "cable" else value
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0 or (key == "cable" and not 0 < v < math.inf):
+            raise DataError(f"Frame: support at node {node}: {key} must be a stiffness ≥ 0 or 'fixed' "
+                            f"(cable: a length > 0 in m), got {value!r}.")
+        out[key] = float(v)
+    if "cable" in out and (gravity is None or np.count_nonzero(gravity) != 1):
+        raise DataError(f"Frame: the cable at node {node} needs gravity along a global axis, e.g. (0, 0, -9.81).")
+    return out
+
+
+def _direction(node: str, d):
+    if isinstance(d, str):
+        if d.strip().lower() not in DIRECTIONS:
+            raise DataError(f"Frame: sensor at node {node}: direction {d!r} is not one of {sorted(DIRECTIONS)}.")
+        return d.strip().lower()
+    v = np.asarray(d, float) if np.size(d) == 3 else np.zeros(3)
+    if not (np.all(np.isfinite(v)) and np.linalg.norm(v) > 0):
+        raise DataError(f"Frame: sensor at node {node}: direction {d!r} is not x, y, z, -x, ... or a 3-vector.")
+    return tuple(float(x) for x in v / np.linalg.norm(v))
+
+
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A 3-D frame of straight Euler-Bernoulli members (see the module docstring for every field's form).
+
+    nodes {id: (x, y, z) m}; members [(node i, node j, section name[, local-z vector])]; sections {name: Section};
+    supports {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}; masses {node: kg};
+    sensors [(node, "x" | "-x" | ... | (dx, dy, dz))] in the data's channel order; gravity (3,) m/s² or None (with
+    it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
+    mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %) or a fixed count.
+    """
+
+    nodes: dict
+    members: list
+    sections: dict
+    supports: dict = field(default_factory=dict)
+    masses: dict = field(default_factory=dict)
+    sensors: list = field(default_factory=list)
+    gravity: tuple | None = None
+    elements_per_member: int | None = None
+
+    def __post_init__(self):
+        put = lambda name, value: object.__setattr__(self, name, value)   # noqa: E731
+        nodes = {}
+        for k, xyz in dict(self.nodes).items():
+            v = np.asarray(xyz, float) if np.size(xyz) == 3 else np.full(3, np.nan)
+            if not np.all(np.isfinite(v)):
+                raise DataError(f"Frame: node {k} must have three finite coordinates (x, y, z) in m, got {xyz!r}.")
+            nodes[str(k)] = tuple(float(x) for x in v)
+        if not nodes:
+            raise DataError("Frame: no nodes.")
+        put("nodes", nodes)
+        sections = {str(k): v if isinstance(v, Section) else Section.from_dict(v) for k, v in dict(self.sections).items()}
+        put("sections", sections)
+        g = None if self.gravity is None else np.asarray(self.gravity, float)
+        if g is not None and not (g.shape == (3,) and np.all(np.isfinite(g)) and np.any(g != 0)):
+            raise DataError(f"Frame: gravity must be None or a non-zero (gx, gy, gz) in m/s², got {self.gravity!r}.")
+        put("gravity", None if g is None else tuple(float(x) for x in g))
+        members, size = [], max(1.0, float(np.abs(np.array(list(nodes.values()))).max()))
+        for k, m in enumerate(self.members):
+            if not isinstance(m, (list, tuple)) or len(m) not in (3, 4):
+                raise DataError(f"Frame: member {k} must be (node i, node j, section[, orientation]), got {m!r}.")
+            i, j, sec = str(m[0]), str(m[1]), str(m[2])
+            for n in (i, j):
+                if n not in nodes:
+                    raise DataError(f"Frame: member {k} ({i}-{j}) goes to node {n}, which is not in nodes.")
+            if sec not in sections:
+                raise DataError(f"Frame: member {k} ({i}-{j}) has unknown section {sec!r}; known: {sorted(sections)}.")
+            axis = np.subtract(nodes[j], nodes[i])
+            length = float(np.linalg.norm(axis))
+            if length <= 1e-9 * size:
+                raise DataError(f"Frame: member {k} ({i}-{j}) has zero length: its nodes coincide.")
+            orient = None if len(m) == 3 or m[3] is None else np.asarray(m[3], float)
+            if orient is not None:
+                if orient.shape != (3,) or not np.all(np.isfinite(orient)) or \
+                        np.linalg.norm(np.cross(orient, axis / length)) < 1e-6 * np.linalg.norm(orient):
+                    raise DataError(f"Frame: member {k} ({i}-{j}): orientation {m[3]!r} must be a 3-vector not "
+                                    "parallel to the member.")
+                orient = tuple(float(x) for x in orient)
+            members.append((i, j, sec, orient))
+        if not members:
+            raise DataError("Frame: no members.")
+        put("members", members)
+        used = {n for m in members for n in m[:2]}
+        if len(used) < len(nodes):
+            lonely = sorted(set(nodes) - used)
+            raise DataError(f"Frame: node {lonely[0]} is on no member: add a member or remove the node "
+                            f"({len(lonely)} such node(s)).")
+        put("supports", {self._known(n, "support"): _support(str(n), s, self.gravity)
+                         for n, s in dict(self.supports).items()})
+        masses = {}
+        for n, kg in dict(self.masses).items():
+            if isinstance(kg, bool) or not isinstance(kg, (int, float)) or not 0 <= kg < math.inf:
+                raise DataError(f"Frame: mass at node {n} must be a number of kg ≥ 0, got {kg!r}.")
+            masses[self._known(n, "mass")] = float(kg)
+        put("masses", masses)
+        sensors = []
+        for s in self.sensors:
+            if not isinstance(s, (list, tuple)) or len(s) != 2:
+                raise DataError(f"Frame: a sensor must be (node, direction), got {s!r}.")
+            sensors.append((self._known(s[0], "sensor"), _direction(str(s[0]), s[1])))
+        put("sensors", sensors)
+        e = self.elements_per_member
+        if e is not None and (isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e < 1):
+            raise DataError(f"Frame: elements_per_member must be None (automatic) or an integer ≥ 1, got {e!r}.")
+
+    def _known(self, node, what: str) -> str:
+        if str(node) not in self.nodes:
+            raise DataError(f"Frame: {what} at node {node}, which is not in nodes.")
+        return str(node)
+
+    @property
+    def node_ids(self) -> tuple:
+        """The node ids in order: the rows of :meth:`node_modes`."""
+        return tuple(self.nodes)
+
+    @property
+    def sensor_directions(self) -> np.ndarray:
+        """(p, 3) unit vector each sensor measures along, global axes."""
+        return np.array([DIRECTIONS[d] if isinstance(d, str) else d for _, d in self.sensors], float).reshape(-1, 3)
+
+    def space_frame(self) -> space.SpaceFrame:
+        """The numerics' arrays, one element per member (era.fem.space.SpaceFrame)."""
+        index = {n: k for k, n in enumerate(self.nodes)}
+        xyz = np.array(list(self.nodes.values()))
+        ends = np.array([[index[m[0]], index[m[1]]] for m in self.members])
+        orient = np.array([m[3] if m[3] is not None else (np.nan,) * 3 for m in self.members])
+        default = np.isnan(orient[:, 0])
+        orient[default] = space.beam3d.default_orientation(xyz[ends[default, 1]] - xyz[ends[default, 0]])
+        secs = [self.sections[m[2]] for m in self.members]
+        prop = lambda f: np.array([f(s) for s in secs])   # noqa: E731
+        n = len(self.nodes)
+        restrained, springs, cable, mass = np.zeros((n, 6), bool), np.zeros((n, 6)), np.zeros(n), np.zeros(n)
+        for node, spec in self.supports.items():
+            k = index[node]
+            for a, key in enumerate(SUPPORT_KEYS):
+                v = spec.get(key, 0.0)
+                restrained[k, a] |= math.isinf(v)
+                springs[k, a] = 0.0 if math.isinf(v) else v
+            if "cable" in spec:
+                cable[k] = spec["cable"]
+                restrained[k, int(np.flatnonzero(self.gravity)[0])] = True
+        for node, kg in self.masses.items():
+            mass[index[node]] = kg
+        return space.SpaceFrame(
+            coords=xyz, elements=ends, orientation=orient, member=np.arange(len(self.members)),
+            EA=prop(lambda s: s.e * s.area), GJ=prop(lambda s: s.g * s.j), EIy=prop(lambda s: s.e * s.iy),
+            EIz=prop(lambda s: s.e * s.iz), m=prop(lambda s: s.mass_per_length), rho_ip=prop(lambda s: s.density * s.ip),
+            r2=prop(lambda s: s.ip / s.area), node_mass=mass, restrained=restrained, springs=springs, cable_m=cable,
+            n_user=n, names=tuple(self.nodes))
+
+    def solution(self, n_modes: int = 10) -> tuple[space.SpaceFrame, space.SpaceModes]:
+        """The mesh and its lowest max(10, n_modes) modes (cached), signs fixed by a generic reference vector."""
+        if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
+            raise DataError(f"Frame: the number of modes must be a positive integer, got {n_modes!r}.")
+        target = max(10, int(n_modes))
+        cache = self.__dict__.setdefault("_solutions", {})
+        if target not in cache:
+            frame = self.space_frame()
+            g = None if self.gravity is None else np.array(self.gravity)
+            if self.elements_per_member is None:
+                mesh, result = space.converged_mesh(frame, target, g)
+            else:
+                mesh = space.subdivide(frame, np.full(len(self.members), self.elements_per_member))
+                result = space.solve_modes(mesh, target, g)
+            u = result.shapes[:frame.n_user, :3]
+            ref = 1.0 + np.sin(_SIGN_SEED[0] * np.arange(u.shape[0] * 3) + _SIGN_SEED[1])
+            sign = np.where(ref @ u.reshape(-1, target) < 0, -1.0, 1.0)
+            cache[target] = (mesh, space.SpaceModes(result.frequency_hz, result.shapes * sign, result.axial_force))
+        return cache[target]
+
+    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
+        ``node_ids`` order, columns x, y, z), 1/√kg."""
+        _, result = self.solution(n_modes)
+        return result.frequency_hz[:n_modes].copy(), result.shapes[:len(self.nodes), :3, :n_modes].copy()
+
+    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor order."""
+        f, u = self.node_modes(n_modes)
+        index = {n: k for k, n in enumerate(self.nodes)}
+        rows = [index[n] for n, _ in self.sensors]
+        return f, np.einsum("sc,scn->sn", self.sensor_directions, u[rows]) if rows else np.zeros((0, n_modes))
+
+    @property
+    def total_mass_kg(self) -> float:
+        """Members plus lumped masses, kg."""
+        lengths = [np.linalg.norm(np.subtract(self.nodes[j], self.nodes[i])) for i, j, *_ in self.members]
+        return float(sum(L * self.sections[m[2]].mass_per_length for L, m in zip(lengths, self.members))
+                     + sum(self.masses.values()))

@@ -1,0 +1,192 @@
+"""era.Frame's modes against closed forms: cantilever, free-free beam, portal frame (exact dynamic stiffness) and a
+3-D two-storey frame against a much finer mesh."""
+
+import numpy as np
+import pytest
+import scipy.optimize
+
+from era.fem import space
+from era.structure import Frame, Section
+
+STEEL_BAR = Section.rectangle(width=0.05, depth=0.006, material="steel")
+CANTILEVER_BL = np.array([1.87510407, 4.69409113, 7.85475744])
+FREE_BL = np.array([4.73004074, 7.85320462, 10.99560784])
+
+
+def bending_hz(beta_l, EI, m, L):
+    return beta_l**2 / (2 * np.pi) * np.sqrt(EI / (m * L**4))
+
+
+def closest(f, targets):
+    """The model frequency closest to each target, and its relative error."""
+    f = np.asarray(f)
+    got = np.array([f[np.argmin(np.abs(f - t))] for t in targets])
+    return got, got / targets - 1
+
+
+def test_cantilever_bending_in_both_planes_torsion_and_axial_within_0p1_percent():
+    """A 0.8 m steel strip 50 × 6 mm along a skew axis, clamped at one end: β_n L of Euler-Bernoulli, the
+    quarter-wave twist √(GJ/ρI_p)/(4L) and axial √(E/ρ)/(4L), the 17th mode."""
+    L = 0.8
+    axis = np.array([0.48, 0.6, 0.64])                       # unit vector
+    s = STEEL_BAR
+    frame = Frame(nodes={"root": (0, 0, 0), "tip": tuple(L * axis)}, members=[("root", "tip", "bar")],
+                  sections={"bar": s}, supports={"root": "fixed"})
+    f, _ = frame.modes(18)
+    m = s.mass_per_length
+    expected = {
+        "bending, depth plane": bending_hz(CANTILEVER_BL, s.e * s.iy, m, L),
+        "bending, width plane": bending_hz(CANTILEVER_BL, s.e * s.iz, m, L),
+        "torsion": [np.sqrt(s.g * s.j / (s.density * s.ip)) / (4 * L)],
+        "axial": [np.sqrt(s.e / s.density) / (4 * L)],
+    }
+    for name, target in expected.items():
+        _, err = closest(f, np.asarray(target))
+        assert np.all(np.abs(err) < 1e-3), (name, err)
+        assert np.all(err > -1e-6), name                     # consistent mass: an upper bound
+
+
+def test_free_free_beam_has_six_rigid_modes_then_the_elastic_pairs():
+    """A round tube in space with no support: six modes at 0 Hz, then β L = 4.730, 7.853, 10.996 (two planes each)."""
+    tube = Section.tube(diameter=0.04, wall=0.003, material="aluminium")
+    a, b = np.array([0.2, -0.1, 0.3]), np.array([1.1, 0.5, 1.2])
+    L = np.linalg.norm(b - a)
+    frame = Frame(nodes={"a": tuple(a), "b": tuple(b)}, members=[("a", "b", "t")], sections={"t": tube})
+    f, _ = frame.modes(12)
+    elastic = bending_hz(FREE_BL, tube.e * tube.iy, tube.mass_per_length, L)
+    assert np.all(f[:6] < 1e-3 * elastic[0])
+    np.testing.assert_allclose(f[6:12], np.repeat(elastic, 2), rtol=1e-3)
+
+
+def _dynamic_stiffness_2d(L, EA, EI, m, omega):
+    """Exact dynamic stiffness (6 × 6) of a uniform Euler-Bernoulli member in its plane, local (u, v, θ) at both
+    ends, from the closed-form solutions of EA u'' + m ω² u = 0 and EI v'''' = m ω² v."""
+    k = omega * np.sqrt(m / EA)
+    beta = (m * omega**2 / EI) ** 0.25
+    out = np.zeros((6, 6))
+    ua = np.array([[1, 0], [np.cos(k * L), np.sin(k * L)]])                 # u(0), u(L) from (a cos, b sin)
+    fa = EA * k * np.array([[0, -1], [-np.sin(k * L), np.cos(k * L)]])       # f1 = -EA u'(0), f2 = EA u'(L)
+    out[np.ix_([0, 3], [0, 3])] = fa @ np.linalg.inv(ua)
+
+    def basis(x, d):
+        bx = beta * x
+        funcs = [(np.cos(bx), -np.sin(bx), -np.cos(bx), np.sin(bx)), (np.sin(bx), np.cos(bx), -np.sin(bx), -np.cos(bx)),
+                 (np.cosh(bx), np.sinh(bx), np.cosh(bx), np.sinh(bx)), (np.sinh(bx), np.cosh(bx), np.sinh(bx), np.cosh(bx))]
+        return np.array([f[d] for f in funcs]) * beta**d
+
+    B = np.array([basis(0, 0), basis(0, 1), basis(L, 0), basis(L, 1)])
+    F = EI * np.array([basis(0, 3), -basis(0, 2), -basis(L, 3), basis(L, 2)])
+    out[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = F @ np.linalg.inv(B)
+    return out
+
+
+def _portal_determinant(omega, h, b, EA, EI, m):
+    """det of the exact dynamic stiffness of a fixed-base portal (columns h, beam b) on the 6 DOFs of its knees."""
+    members = [((0, 0), (0, h)), ((0, h), (b, h)), ((b, h), (b, 0))]
+    index = {(0, h): 0, (b, h): 1}
+    K = np.zeros((6, 6))
+    for p, q in members:
+        d = np.subtract(q, p)
+        c, s = d / np.linalg.norm(d)
+        t3 = np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
+        T = np.kron(np.eye(2), t3)
+        ke = T.T @ _dynamic_stiffness_2d(np.linalg.norm(d), EA, EI, m, omega) @ T
+        for a, na in enumerate((p, q)):
+            for bb, nb in enumerate((p, q)):
+                if na in index and nb in index:
+                    K[3 * index[na]:3 * index[na] + 3, 3 * index[nb]:3 * index[nb] + 3] += ke[3 * a:3 * a + 3, 3 * bb:3 * bb + 3]
+    return np.linalg.det(K / EI)
+
+
+def test_dynamic_stiffness_reference_reproduces_a_cantilever():
+    L, EA, EI, m = 0.9, 1e6, 20.0, 1.5
+    exact = bending_hz(CANTILEVER_BL[:1], EI, m, L)[0] * 2 * np.pi
+    det = lambda w: np.linalg.det(_dynamic_stiffness_2d(L, EA, EI, m, w)[3:, 3:][[1, 2]][:, [1, 2]])   # noqa: E731
+    root = scipy.optimize.brentq(det, exact * 0.99, exact * 1.01)
+    assert root == pytest.approx(exact, rel=1e-8)
+
+
+def test_portal_frame_in_plane_modes_match_the_exact_dynamic_stiffness_solution():
+    """A fixed-base steel portal (columns 1.0 m, beam 1.2 m, 50 × 6 mm strip bending in the frame's plane): its first
+    three in-plane frequencies (sway first) agree with the roots of the exact dynamic-stiffness determinant."""
+    h, b = 1.0, 1.2
+    s = STEEL_BAR
+    frame = Frame(nodes={"A": (0, 0, 0), "B": (0, 0, h), "C": (b, 0, h), "D": (b, 0, 0)},
+                  members=[("A", "B", "bar"), ("B", "C", "bar"), ("C", "D", "bar")], sections={"bar": s},
+                  supports={"A": "fixed", "D": "fixed"}, sensors=[("B", "x"), ("C", "x")])
+    f, u = frame.node_modes(10)
+    in_plane = np.abs(u[:, 1]).max(axis=0) < 1e-6 * np.abs(u).max(axis=(0, 1))
+    f_in = f[in_plane][:3]
+    assert f_in.size == 3 and in_plane[0]                     # the sway is the lowest mode of all
+    _, sway = frame.modes(1)
+    assert sway[0, 0] * sway[1, 0] > 0                        # both knees move the same way
+    EA, EI, m = s.e * s.area, s.e * s.iy, s.mass_per_length
+    for fe in f_in:
+        w = 2 * np.pi * fe
+        root = scipy.optimize.brentq(_portal_determinant, w * (1 - 3e-3), w * (1 + 1e-6), args=(h, b, EA, EI, m))
+        assert fe / (root / (2 * np.pi)) - 1 == pytest.approx(0, abs=1e-3)
+    # the textbook bound: sway between a rigid beam (24 EI/h³ on the whole mass) and the exact value
+    assert f_in[0] < np.sqrt(24 * EI / h**3 / (m * (b + 2 * h * 13 / 35))) / (2 * np.pi)
+
+
+def two_storey_frame(rotation=np.eye(3), elements_per_member=None):
+    """A 3-D two-storey steel frame 1.2 × 0.9 m in plan, 0.8 m storeys: square-tube columns, strip beams turned
+    about their axes (orientation vectors), a diagonal brace, spring and fixed supports, a lumped mass."""
+    col = Section.square_tube(width=0.03, wall=0.002)
+    beam = Section.rectangle(width=0.04, depth=0.008)
+    brace = Section.circle(diameter=0.01)
+    plan = [(0, 0), (1.2, 0), (1.2, 0.9), (0, 0.9)]
+    nodes = {f"{k}{c}": (x, y, 0.8 * k) for k in range(3) for c, (x, y) in zip("abcd", plan)}
+    members = [(f"{k}{c}", f"{k + 1}{c}", "col") for k in range(2) for c in "abcd"]
+    members += [(f"{k}{c}", f"{k}{d}", "beam", (0, 0, 1) if c in "ab" else (0.3, 0.2, 1))
+                for k in (1, 2) for c, d in zip("abcd", "bcda")]
+    members += [("0a", "1b", "brace")]
+    rot = lambda v: tuple(rotation @ np.asarray(v, float))   # noqa: E731
+    return Frame(nodes={n: rot(x) for n, x in nodes.items()},
+                 members=[m if len(m) == 3 else (*m[:3], rot(m[3])) for m in members],
+                 sections={"col": col, "beam": beam, "brace": brace},
+                 supports={"0a": "fixed", "0b": "fixed", "0c": {"kx": 2e5, "ky": 2e5, "kz": "fixed", "rx": 1e3,
+                                                                 "ry": 1e3, "rz": 1e3}, "0d": "pinned"},
+                 masses={"2c": 1.5}, sensors=[("2a", rot((1, 0, 0))), ("2c", rot((0, 1, 0)))],
+                 elements_per_member=elements_per_member)
+
+
+def test_space_frame_automatic_mesh_agrees_with_a_much_finer_mesh_within_0p1_percent():
+    auto = two_storey_frame()
+    f_auto, _ = auto.modes(10)
+    f_fine, _ = two_storey_frame(elements_per_member=24).modes(10)
+    err = f_auto / f_fine - 1
+    assert np.all(err > -1e-6) and np.all(err < 1e-3), err
+    mesh, _ = auto.solution(10)
+    assert mesh.elements.shape[0] < 24 * 17                 # and it needed far fewer elements
+
+
+def test_space_frame_modes_do_not_depend_on_where_the_axes_point():
+    """Turning the whole frame (nodes, orientation vectors, sensor directions) changes neither the frequencies
+    nor the sensor shapes; supports turn only about z, their springs being on global axes."""
+    c, s = np.cos(0.7), np.sin(0.7)
+    turn = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    f0, s0 = two_storey_frame(elements_per_member=4).modes(8)
+    f1, s1 = two_storey_frame(turn, elements_per_member=4).modes(8)
+    # the spring support (2e5 N/m on x and y, equal) is isotropic in the plane, so turning about z keeps the model
+    np.testing.assert_allclose(f1, f0, rtol=1e-9)
+    np.testing.assert_allclose(np.abs(s1), np.abs(s0), rtol=1e-6, atol=1e-9 * np.abs(s0).max())
+
+
+def test_mass_normalised_shapes_and_node_modes_agree():
+    frame = two_storey_frame(elements_per_member=3)
+    mesh, result = frame.solution(10)
+    M = space.mass(mesh)
+    phi = result.shapes.reshape(-1, 10)
+    np.testing.assert_allclose(phi.T @ (M @ phi), np.eye(10), atol=1e-8)
+    f, shapes = frame.modes(10)
+    _, u = frame.node_modes(10)
+    ids = frame.node_ids
+    np.testing.assert_allclose(shapes[0], u[ids.index("2a"), 0])
+    np.testing.assert_allclose(shapes[1], u[ids.index("2c"), 1])
+    f5, s5 = frame.modes(5)                                   # same mesh: a prefix of modes(10)
+    np.testing.assert_allclose(f5, f[:5])
+    np.testing.assert_allclose(s5, shapes[:, :5])
+    along_x = np.zeros((mesh.n_nodes, 6))
+    along_x[:, 0] = 1.0
+    assert along_x.ravel() @ (M @ along_x.ravel()) == pytest.approx(frame.total_mass_kg, rel=1e-12)
