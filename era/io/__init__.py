@@ -1,6 +1,8 @@
-"""Reading test data: ``era.load`` turns a UFF, CSV or NPZ file into Markov parameters, geometry and provenance.
+"""Reading test data: ``era.load`` turns a file (or several) into Markov parameters, geometry and provenance.
 
-Readers (uff.py, csv.py, npz.py) return what the file holds; records.py picks the conversion (era.markov).
+This module only recognises the format (:func:`sniff`: content first, then the extension) and dispatches. One
+module per format returns what the file holds as :class:`Records` (uff.py, csv.py, lvm.py, ...; npz.py reads era's
+own format straight into ResponseData); records.py picks the conversion (era.markov).
 """
 
 from __future__ import annotations
@@ -16,15 +18,20 @@ import numpy as np
 from ..data import ResponseData
 from ..errors import DataError, EraError
 from ..geometry import Geometry
-from .csv import merge, read_csv
+from .csv import read_csv
+from .lvm import read_lvm
 from .npz import npz_bytes, read_npz, save_npz
-from .records import Records, to_response
+from .records import Records, merge, to_response
 from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
 from .uff_write import save_modes_uff
 
-FORMATS = ("uff", "csv", "npz")
+FORMATS = ("uff", "csv", "npz", "lvm")
 _EXTENSIONS = {".uff": "uff", ".unv": "uff", ".uf": "uff", ".csv": "csv", ".txt": "csv", ".tsv": "csv",
-               ".dat": "csv", ".npz": "npz"}
+               ".dat": "csv", ".npz": "npz", ".lvm": "lvm"}
+#: Content that names its format, looked for at the start of the file (after a UTF-8 byte-order mark).
+_MAGIC = ((b"PK\x03\x04", "npz"), (b"LabVIEW Measurement", "lvm"))
+#: Readers of time records from one file's bytes: (raw, label, dt) -> Records.
+_TIME_READERS = {"csv": read_csv, "lvm": read_lvm}
 
 
 @dataclass(frozen=True, eq=False)
@@ -74,11 +81,13 @@ def _whole(raw: bytes, src) -> bytes:
 
 
 def sniff(raw: bytes, name: str) -> str:
-    """The format from the content, then the file name: 'uff', 'csv' or 'npz'."""
+    """The format from the content (magic bytes, the UFF delimiter), then the file name's extension."""
     if not raw.strip():
         raise DataError(f"{name}: the file is empty.")
-    if raw[:4] == b"PK\x03\x04":
-        return "npz"
+    head = raw[3:] if raw.startswith(b"\xef\xbb\xbf") else raw
+    for magic, fmt in _MAGIC:
+        if head.startswith(magic):
+            return fmt
     head = raw.lstrip(b"\r\n\t ")[:8]
     if head.startswith(b"-1") and raw.lstrip(b"\r\n")[:6] == b"    -1":
         return "uff"
@@ -87,8 +96,8 @@ def sniff(raw: bytes, name: str) -> str:
         return _EXTENSIONS[ext]
     sample = raw[:4096]
     if b"\x00" in sample or sum(b < 9 or 13 < b < 32 for b in sample) > 0.01 * len(sample):
-        raise DataError(f"{name}: binary content that is neither an .npz archive nor a UFF file; the formats read are "
-                        "UFF (58/58b, 15, 82, 55), CSV/text and NPZ.")
+        raise DataError(f"{name}: binary content that is none of the formats read: UFF (58/58b, 15, 82, 55), CSV/text, "
+                        "LabVIEW LVM and NPZ.")
     return "csv"
 
 
@@ -99,10 +108,12 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     Parameters
     ----------
     source : path, bytes or binary file object, or a list of them (several CSV files = several records)
-    format : "uff", "csv", "npz" or None (sniffed from the content, then the extension of ``name``/the path)
+    format : one of FORMATS ("uff", "csv", "npz", "lvm") or None (sniffed from the content, then the extension
+        of ``name``/the path)
     name : the original file name of an upload (for sniffing and messages)
     kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
-    dt : sampling interval in s for CSV files without a time column
+    dt : sampling interval in s, used only when a file carries none (a CSV without a time column, an LVM file
+        without X_Value column or Delta_X)
     options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
 
     Raises DataError naming the file, record or line and what is wrong.
@@ -118,14 +129,16 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     for raw, lab in raws:
         if not raw.strip():
             raise DataError(f"{lab}: the file is empty.")
-    if len(raws) > 1 and fmt != "csv":
-        raise DataError("Several files are read together only as CSV (one record each); load UFF and NPZ one by one.")
+    if len(raws) > 1 and fmt not in _TIME_READERS:
+        raise DataError(f"Several files are read together only as {'/'.join(_TIME_READERS).upper()} (one record "
+                        "each); load UFF and NPZ one by one.")
     if fmt == "npz":
         data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
         return Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data), name=stored_name), None)
     try:
-        if fmt == "csv":
-            rec = merge([read_csv(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
+        if fmt in _TIME_READERS:
+            read = _TIME_READERS[fmt]
+            rec = merge([read(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
             return _convert(rec, None, None, labels, fmt, kind, options)
         with _on_disk(raws[0][0], sources[0]) as path:  # messages may count lines in it until the end
             rec, parts, modes = read_uff(path, labels[0])

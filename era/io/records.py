@@ -144,3 +144,17 @@ def check_finite(values: np.ndarray, where: str, row_offset: int = 0, row_name: 
         col = f", column {first[1] + 1}" if values.ndim > 1 else ""
         raise DataError(f"{where}: {int(bad.sum())} NaN or infinite value(s), the first at {row_name} "
                         f"{int(first[0]) + row_offset}{col}. Remove or interpolate them, then load again.")
+
+
+def merge(records: list[Records], labels: list[str]) -> Records:
+    """Several files of the same channels as several records (one per file)."""
+    first = records[0]
+    for r, lab in zip(records[1:], labels[1:]):
+        if r.outputs != first.outputs:
+            raise DataError(f"{lab}: channels {list(r.outputs)} differ from those of {labels[0]} "
+                            f"{list(first.outputs)}; every file must hold the same channels.")
+        if abs(r.step - first.step) > 1e-6 * first.step:
+            raise DataError(f"{lab}: sampled every {r.step:g} s but {labels[0]} every {first.step:g} s.")
+    return Records(domain="time", values=[v for r in records for v in r.values], step=first.step,
+                   start=first.start, outputs=first.outputs, output_units=first.output_units, force=first.force,
+                   described=[d for r in records for d in r.described])

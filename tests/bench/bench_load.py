@@ -15,6 +15,7 @@ import pytest
 import pyuff
 
 import era
+import era.io.lvm
 from era.io.uff import read_uff
 
 ROUNDS = 3
@@ -99,3 +100,46 @@ def test_loading_a_100_mb_uff_is_dominated_by_pyuff_parsing(tmp_path, make, monk
           f"{t_load / p_load:.3f}x pyuff")
     assert t_read / p_read < 1.25, "our checks and assembly must stay a small fraction of pyuff's parse"
     assert t_load / p_load < 1.5, "the conversion must not outweigh the parse"
+
+
+# --- every other format: era's reader against the library (or numpy parse) that reads the same bytes ----------------
+# A file of each format is written here; for text formats the reference is numpy's own parse of the same data block
+# (np.loadtxt), for binary ones the library's read of the arrays. The ratio is era's reader / the reference, the best
+# of ROUNDS in CPU seconds.
+
+def _best(fn) -> float:
+    times = []
+    for _ in range(ROUNDS):
+        t0 = time.process_time()
+        fn()
+        times.append(time.process_time() - t0)
+    return min(times)
+
+
+def lvm_file(path):
+    """8 channels × 400 000 samples at 2048 Hz, LabVIEW's tab-separated layout with one X column: ~45 MB."""
+    n, dt = 400_000, 1 / 2048
+    y = np.random.default_rng(1).standard_normal((n, 8))
+    head = ("LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\nDecimal_Separator\t.\n"
+            "Multi_Headings\tYes\nX_Columns\tOne\nTime_Pref\tRelative\n***End_of_Header***\t\n\t\nChannels\t8\n"
+            f"Samples{chr(9) * 1}{chr(9).join(['400000'] * 8)}\nY_Unit_Label\t{chr(9).join(['g'] * 8)}\n"
+            f"X_Dimension\t{chr(9).join(['Time'] * 8)}\nX0\t{chr(9).join(['0.0'] * 8)}\n"
+            f"Delta_X\t{chr(9).join([f'{dt:.6f}'] * 8)}\n***End_of_Header***\n"
+            "X_Value\t" + "\t".join(f"ch{k}" for k in range(8)) + "\tComment\n")
+    with open(path, "w") as fh:
+        fh.write(head)
+        np.savetxt(fh, np.column_stack([np.arange(n) * dt, y]), fmt="%.6f", delimiter="\t")
+    skip = head.count("\n")
+    return (lambda: era.io.lvm.read_lvm(path.read_bytes(), path.name),
+            lambda: np.loadtxt(path, skiprows=skip, delimiter="\t"))
+
+
+@pytest.mark.parametrize("make", [lvm_file], ids=["LabVIEW LVM"])
+def test_each_format_reads_close_to_its_library(tmp_path, make):
+    path = tmp_path / f"big.{make.__name__.split('_')[0]}"
+    ours, reference = make(path)
+    path.read_bytes()  # warm the page cache
+    t_ours, t_ref = _best(ours), _best(reference)
+    print(f"\n[{make.__name__}] {path.stat().st_size / 1e6:.0f} MB: era {t_ours:.2f} s, reference {t_ref:.2f} s -> "
+          f"{t_ours / t_ref:.2f}x")
+    assert t_ours / t_ref < 2.0, "checking and assembling must not cost more than the parse itself"
