@@ -25,13 +25,15 @@ from .records import Records, merge, to_response
 from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
 from .uff_write import save_modes_uff
 
-FORMATS = ("uff", "csv", "npz", "lvm")
+FORMATS = ("uff", "csv", "text", "npz", "lvm")
 _EXTENSIONS = {".uff": "uff", ".unv": "uff", ".uf": "uff", ".csv": "csv", ".txt": "csv", ".tsv": "csv",
                ".dat": "csv", ".npz": "npz", ".lvm": "lvm"}
 #: Content that names its format, looked for at the start of the file (after a UTF-8 byte-order mark).
 _MAGIC = ((b"PK\x03\x04", "npz"), (b"LabVIEW Measurement", "lvm"))
 #: Readers of time records from one file's bytes: (raw, label, dt) -> Records.
-_TIME_READERS = {"csv": read_csv, "lvm": read_lvm}
+_TIME_READERS = {"csv": read_csv, "text": read_csv, "lvm": read_lvm}
+#: Options that say how to read a file (the others go to the conversion), and the formats that take each.
+_READER_OPTIONS = {"orientation": ("csv", "text")}
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,8 +114,10 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         of ``name``/the path)
     name : the original file name of an upload (for sniffing and messages)
     kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
-    dt : sampling interval in s, used only when a file carries none (a CSV without a time column, an LVM file
+    dt : sampling interval in s, used only when a file carries none (text without a time column, an LVM file
         without X_Value column or Delta_X)
+    orientation : "rows" or "columns": where the channels are in a text file without a header (default: from the
+        shape, the longer side is time)
     options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
 
     Raises DataError naming the file, record or line and what is wrong.
@@ -129,6 +133,11 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     for raw, lab in raws:
         if not raw.strip():
             raise DataError(f"{lab}: the file is empty.")
+    how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
+    for k in how:
+        if fmt not in _READER_OPTIONS[k]:
+            raise DataError(f"{labels[0]}: `{k}` applies to {'/'.join(_READER_OPTIONS[k]).upper()} files, not to "
+                            f"{fmt.upper()}; leave it out.")
     if len(raws) > 1 and fmt not in _TIME_READERS:
         raise DataError(f"Several files are read together only as {'/'.join(_TIME_READERS).upper()} (one record "
                         "each); load UFF and NPZ one by one.")
@@ -138,7 +147,7 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     try:
         if fmt in _TIME_READERS:
             read = _TIME_READERS[fmt]
-            rec = merge([read(_whole(raw, src), lab, dt) for (raw, lab), src in zip(raws, sources)], labels)
+            rec = merge([read(_whole(raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)], labels)
             return _convert(rec, None, None, labels, fmt, kind, options)
         with _on_disk(raws[0][0], sources[0]) as path:  # messages may count lines in it until the end
             rec, parts, modes = read_uff(path, labels[0])

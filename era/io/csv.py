@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import DataError
 from ..markov._common import uneven_step
 from .records import Records
+from .text import read_headerless
 
 _TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|sec|seconds)$", re.I)
 _TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
@@ -40,6 +41,7 @@ def _split(line: str, delim: str | None) -> list[str]:
 
 def _is_data(cells: list[str]) -> bool:
     """A data line is mostly numbers (a test-name column may hold words); header lines are mostly words."""
+    cells = cells[:200]  # a bare matrix of channels in rows has lines of a million values
     return sum(bool(_NUMBER.match(c)) for c in cells) > len(cells) / 2
 
 
@@ -51,8 +53,12 @@ def _sniff_delimiter(lines: list[str]) -> str | None:
     return None
 
 
-def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
-    """Records ("time" domain) from the bytes of one delimited text file."""
+def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str | None = None) -> Records:
+    """Records ("time" domain) from the bytes of one delimited text file.
+
+    dt : s, used only when the file has no time column. orientation : "rows" or "columns" for a file without a
+    header (era.io.text; default: from its shape).
+    """
     text = _decode(raw, label)
     lines = text.splitlines()
     numbered = [(k + 1, ln) for k, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
@@ -60,10 +66,19 @@ def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
         raise DataError(f"{label}: the file is empty (no data lines).")
     delim = _sniff_delimiter([ln for _, ln in numbered[-20:]] if len(numbered) > 2 else [numbered[-1][1]])
     header = []
-    while numbered and not _is_data(_split(numbered[0][1], delim)):
+    while numbered and not _is_data(_split(numbered[0][1][:8000], delim)):
         header.append(_split(numbered.pop(0)[1], delim))
     if not numbered:
         raise DataError(f"{label}: a header but no numeric data lines.")
+    if not header:
+        body = "\n".join(ln for _, ln in numbered)
+        comma = delim != "," and "," in body and re.search(r"\d,\d", body) is not None
+        notes = (", decimal comma" if comma else "") + (f", delimiter {delim!r}" if delim else ", blank-separated")
+        return read_headerless(numbered, lambda ln: _split(ln.replace(",", ".") if comma else ln, delim),
+                               body.replace(",", ".") if comma else body, delim, label, dt, orientation, notes)
+    if orientation is not None:
+        raise DataError(f"{label}: `orientation` is for text without a header; this file has a header line, so its "
+                        "columns are the channels. Leave orientation out.")
     first_line = numbered[0][0]
     n_cols = len(_split(numbered[0][1], delim))
     names = header[0] if header else [f"c{i + 1}" for i in range(n_cols)]
@@ -76,7 +91,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None) -> Records:
             names[i], units[i] = m.group(1).strip(), m.group(2).strip()
     test_col = next((i for i, nm in enumerate(names) if nm.lower() in _TEST_NAMES), None)
     body = "\n".join(ln for _, ln in numbered)
-    decimal_comma = delim != "," and re.search(r"\d,\d", body) is not None
+    decimal_comma = delim != "," and "," in body and re.search(r"\d,\d", body) is not None
     if decimal_comma:
         body = body.replace(",", ".")
     numeric = [i for i in range(n_cols) if i != test_col]
