@@ -1,0 +1,18 @@
+"""Campaigns: the same analysis over many records (hourly monitoring, test series), each record a task on a Dask
+cluster or on local processes, and every mode followed through time.
+
+``run_campaign(sources, ...)`` → :class:`CampaignResult` with ``table`` (a pandas.DataFrame, one row per record and
+tracked mode), ``modes`` (the tracked modes) and ``failed`` (records that could not be analysed, with the reason).
+Needs the ``campaign`` extra (``pip install 'era-modal[campaign]'``: dask[distributed], pandas, threadpoolctl).
+
+record.py  one record → its modes (the task); tracking.py  modes matched through the records; runner.py  the
+tasks and the cache; result.py  the table; simulated.py  a simulated monitored structure for tests and demos.
+"""
+
+from .record import RecordFailure, RecordModes, Settings, analyse_record, select_modes, time_from_name
+from .result import COLUMNS, CampaignResult
+from .runner import run_campaign
+from .tracking import TrackedMode, Tracking, track_modes
+
+__all__ = ["run_campaign", "CampaignResult", "COLUMNS", "RecordModes", "RecordFailure", "Settings", "analyse_record",
+           "select_modes", "time_from_name", "track_modes", "Tracking", "TrackedMode"]

@@ -1,0 +1,183 @@
+"""Following modes through a campaign: each record's modes matched to the tracked modes by frequency and MAC.
+
+One optimal assignment per record (scipy.optimize.linear_sum_assignment, the cost of era.correlation.pairing_cost:
+1 − MAC plus the relative frequency error), so no mode is used twice and two modes that cross in frequency keep
+their identities: the shape decides, not the frequency order. The rules:
+
+- the frequency compared is the tracked mode's latest one (modes drift with temperature), the shape is its
+  reference shape (identity does not drift); a pair is refused when MAC < ``min_mac`` or the frequency moved more
+  than ``max_freq_error`` (relative);
+- a tracked mode a record does not show is missing there (NaN in the table) and stays tracked: it is matched again
+  whenever a later record shows it (it reappears);
+- a record's mode that no tracked mode takes is a candidate; candidates are matched across records the same way,
+  and one found in ``new_mode_records`` records, with gaps of at most ``new_mode_gap`` records between them,
+  becomes a new tracked mode (from the record where it was first seen); others are forgotten.
+
+Pure functions of the records' modes; no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ..correlation import pairing_cost
+from ..errors import DataError
+from ..indicators import mac
+from .record import RecordFailure, RecordModes
+
+
+@dataclass(frozen=True, eq=False)
+class TrackedMode:
+    """A mode followed through the campaign.
+
+    mode : its number (the table's ``mode``): reference modes first, by frequency, then new modes in the order
+        they were confirmed. reference_frequency_hz, reference_damping_ratio : where it was defined;
+    shape : (p,) complex reference shape; origin : "reference" or "new"; first_record : position (in the
+    tracked order) of the record that defined it, -1 for a given ModalModel; n_found : records that found it.
+    """
+
+    mode: int
+    reference_frequency_hz: float
+    reference_damping_ratio: float
+    shape: np.ndarray
+    origin: str
+    first_record: int
+    n_found: int
+
+
+@dataclass(frozen=True, eq=False)
+class Tracking:
+    """The result of :func:`track_modes` for n records and k tracked modes.
+
+    records : the RecordModes tracked, in order; modes : the k TrackedModes;
+    assignment : (n, k) int, the index of the record's mode assigned to each tracked mode, −1 where missing;
+    mac_to_reference : (n, k) MAC of that mode with the tracked mode's shape (NaN where missing);
+    refused : RecordFailures of records that cannot be compared (other channels than the reference).
+    """
+
+    records: tuple
+    modes: tuple
+    assignment: np.ndarray
+    mac_to_reference: np.ndarray
+    refused: tuple
+
+
+@dataclass
+class _Track:
+    frequency_hz: float  # the latest found
+    shape: np.ndarray  # the reference shape
+    hits: list  # (record position, mode index)
+    origin: str
+    reference: tuple  # (frequency_hz, damping_ratio, first record)
+
+
+def reference_from_model(model) -> tuple:
+    """(frequency_hz (k,), damping_ratio (k,), shapes (p, k)) of the decaying complex pairs of an era.ModalModel."""
+    keep = np.asarray(model.is_pair, bool) & (model.damping_ratio > 0) & (model.damping_ratio < 1)
+    order = np.argsort(model.frequency_hz[keep])
+    return (np.asarray(model.frequency_hz)[keep][order], np.asarray(model.damping_ratio)[keep][order],
+            np.asarray(model.shapes)[:, keep][:, order])
+
+
+def _assign(f, shapes, tracks, *, freq_scale, min_mac, max_freq_error) -> list:
+    """[(record mode i, track j)] of the optimal assignment that passes the gates."""
+    if not len(f) or not tracks:
+        return []
+    ft = np.array([t.frequency_hz for t in tracks])
+    st = np.stack([t.shape for t in tracks], axis=1)
+    cost, m = pairing_cost(f, shapes, ft, st, freq_scale=freq_scale)
+    rows, cols = linear_sum_assignment(cost)
+    rel = np.abs(ft[cols] - f[rows]) / np.maximum(np.abs(f[rows]), 1e-12)
+    ok = (m[rows, cols] >= min_mac) & (rel <= max_freq_error)
+    return [(int(i), int(j)) for i, j in zip(rows[ok], cols[ok])]
+
+
+def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: float = 0.8,
+                max_freq_error: float = 0.05, new_mode_records: int = 3, new_mode_gap: int = 3) -> Tracking:
+    """Follow the modes of ``records`` (RecordModes, in time order) from a reference.
+
+    Parameters
+    ----------
+    records : sequence of RecordModes
+    reference : None (the modes of the first record that has any), an era.ModalModel (its decaying pairs) or a
+        tuple (frequency_hz (k,), damping_ratio (k,), shapes (p, k)).
+    freq_scale : relative frequency error that costs as much as a MAC loss of 0.1 (1 %).
+    min_mac, max_freq_error : gates of a pair (0.8 and 5 %).
+    new_mode_records, new_mode_gap : how a candidate becomes a new tracked mode (see the module).
+
+    Returns
+    -------
+    Tracking
+
+    Raises era.DataError when a given reference has no modes.
+    """
+    records = tuple(records)
+    tracks: list[_Track] = []
+    if reference is not None:
+        f0, z0, s0 = reference_from_model(reference) if hasattr(reference, "is_pair") else reference
+        f0, z0, s0 = np.asarray(f0, float), np.asarray(z0, float), np.asarray(s0)
+        if not f0.size:
+            raise DataError("The reference has no decaying modes to track; give a model with modes or "
+                            "reference=None to start from the first record's modes.")
+        tracks = [_Track(float(f0[j]), s0[:, j].astype(complex), [], "reference", (float(f0[j]), float(z0[j]), -1))
+                  for j in range(f0.size)]
+    gates = dict(freq_scale=freq_scale, min_mac=min_mac, max_freq_error=max_freq_error)
+    candidates: list[_Track] = []
+    refused, kept = [], []
+    for rec in records:
+        pos = len(kept)
+        if not tracks and rec.n_modes:  # the first record with modes defines the reference
+            tracks = [_Track(float(rec.frequency_hz[i]), rec.shapes[:, i].copy(), [], "reference",
+                             (float(rec.frequency_hz[i]), float(rec.damping_ratio[i]), pos))
+                      for i in range(rec.n_modes)]
+        p = tracks[0].shape.size if tracks else rec.shapes.shape[0]
+        if rec.shapes.shape[0] != p:
+            refused.append(RecordFailure(rec.index, rec.name, f"{rec.name}: {rec.shapes.shape[0]} channels where the "
+                                         f"reference has {p}; every record of a campaign must hold the same "
+                                         "sensors in the same order."))
+            continue
+        kept.append(rec)
+        f, shapes = rec.frequency_hz, rec.shapes
+        taken = set()
+        for i, j in _assign(f, shapes, tracks, **gates):
+            tracks[j].hits.append((pos, i))
+            tracks[j].frequency_hz = float(f[i])
+            taken.add(i)
+        free = [i for i in range(rec.n_modes) if i not in taken]
+        candidates = [c for c in candidates if pos - c.hits[-1][0] <= new_mode_gap + 1]
+        matched = set()
+        for a, j in _assign(f[free], shapes[:, free], candidates, **gates):
+            i = free[a]
+            candidates[j].hits.append((pos, i))
+            candidates[j].frequency_hz = float(f[i])
+            matched.add(i)
+        for i in free:
+            if i not in matched:
+                candidates.append(_Track(float(f[i]), shapes[:, i].copy(), [(pos, i)], "new",
+                                         (float(f[i]), float(rec.damping_ratio[i]), pos)))
+        for c in [c for c in candidates if len(c.hits) >= new_mode_records]:
+            candidates.remove(c)
+            tracks.append(c)
+    return _tracking(kept, tracks, refused)
+
+
+def _tracking(records, tracks, refused) -> Tracking:
+    n, k = len(records), len(tracks)
+    order = sorted(range(k), key=lambda j: (tracks[j].origin != "reference", tracks[j].reference[2]
+                                            if tracks[j].origin == "new" else 0, tracks[j].reference[0]))
+    assignment = np.full((n, k), -1, dtype=int)
+    mac_ref = np.full((n, k), np.nan)
+    modes = []
+    for col, j in enumerate(order):
+        t = tracks[j]
+        for pos, i in t.hits:
+            assignment[pos, col] = i
+            mac_ref[pos, col] = mac(records[pos].shapes[:, i:i + 1], t.shape[:, None])[0, 0]
+        modes.append(TrackedMode(mode=col, reference_frequency_hz=t.reference[0],
+                                 reference_damping_ratio=t.reference[1], shape=t.shape, origin=t.origin,
+                                 first_record=t.reference[2], n_found=len(t.hits)))
+    return Tracking(records=tuple(records), modes=tuple(modes), assignment=assignment, mac_to_reference=mac_ref,
+                    refused=tuple(refused))

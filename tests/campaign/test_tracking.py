@@ -1,0 +1,103 @@
+"""Tracking rules on hand-made records: crossing, vanishing, reappearing, new modes, one pairing per mode."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import era
+from era.campaign import RecordModes, run_campaign, time_from_name, track_modes
+from era.examples.synthetic import modal_response
+
+SHAPES = np.linalg.qr(np.random.default_rng(3).standard_normal((6, 5)))[0]  # five orthonormal shapes at 6 sensors
+
+
+def record(index, freqs, which, *, p=6, noise=0.0):
+    """RecordModes holding the modes ``which`` (columns of SHAPES) at frequencies ``freqs``."""
+    rng = np.random.default_rng(index)
+    shapes = SHAPES[:p, which].astype(complex) + noise * rng.standard_normal((p, len(which)))
+    order = np.argsort(freqs)
+    k = len(freqs)
+    return RecordModes(index=index, name=f"record {index}", time=None, frequency_hz=np.asarray(freqs, float)[order],
+                       frequency_std_hz=np.zeros(k), damping_ratio=np.full(k, 0.01), emac=np.ones(k), mpc=np.ones(k),
+                       n_orders=np.full(k, 30), shapes=shapes[:, order], outputs=tuple(f"a{i}" for i in range(p)),
+                       kind="ambient", rows=100, cols=100, n_samples=2048)
+
+
+def frequencies(trk, mode):
+    out = []
+    for pos, rec in enumerate(trk.records):
+        i = trk.assignment[pos, mode]
+        out.append(rec.frequency_hz[i] if i >= 0 else np.nan)
+    return np.array(out)
+
+
+def test_two_crossing_modes_keep_their_identities_because_the_shape_decides():
+    recs = [record(r, [4.0 - 0.02 * r, 3.9 + 0.02 * r], [0, 1], noise=0.05) for r in range(10)]  # cross at r = 2.5
+    trk = track_modes(recs)
+    rising, falling = (0, 1) if trk.modes[0].reference_frequency_hz < 3.95 else (1, 0)
+    np.testing.assert_allclose(frequencies(trk, rising), 3.9 + 0.02 * np.arange(10))
+    np.testing.assert_allclose(frequencies(trk, falling), 4.0 - 0.02 * np.arange(10))
+
+
+def test_a_mode_that_vanishes_is_missing_then_found_again():
+    recs = [record(r, [2.0, 5.0] if r not in (3, 4, 5) else [2.0], [0, 1] if r not in (3, 4, 5) else [0])
+            for r in range(9)]
+    trk = track_modes(recs)
+    f = frequencies(trk, 1)
+    assert np.isnan(f[3:6]).all() and np.all(f[[0, 1, 2, 6, 7, 8]] == 5.0)
+    assert trk.modes[1].n_found == 6 and len(trk.modes) == 2
+
+
+def test_a_new_mode_that_persists_is_reported_and_a_one_off_is_not():
+    recs = [record(0, [2.0], [0])] + [record(r, [2.0, 7.0], [0, 2]) for r in (1, 2, 3, 4)]
+    recs += [record(5, [2.0, 3.3], [0, 3]), record(6, [2.0], [0])]  # 3.3 Hz once: noise
+    trk = track_modes(recs)
+    assert [m.origin for m in trk.modes] == ["reference", "new"]
+    new = trk.modes[1]
+    assert new.first_record == 1 and new.n_found == 4 and new.reference_frequency_hz == 7.0
+    np.testing.assert_array_equal(frequencies(trk, 1)[1:5], 7.0)  # found from its first record on, not only from
+    assert np.isnan(frequencies(trk, 1)[[0, 5, 6]]).all()         # the record that confirmed it
+
+
+def test_no_record_mode_is_used_twice_and_a_far_mode_is_not_forced():
+    recs = [record(0, [2.0, 5.0], [0, 1]), record(1, [2.01, 2.02], [0, 0]), record(2, [2.0, 5.6], [0, 1])]
+    trk = track_modes(recs)
+    assert trk.assignment[1, 0] >= 0 and trk.assignment[1, 1] == -1  # 2.02 Hz has mode 0's shape: not mode 1
+    assert trk.assignment[2, 1] == -1  # 12 % away: beyond the 5 % gate, missing rather than wrong
+
+
+def test_a_reference_model_and_records_with_other_sensors():
+    data, truth = modal_response([1.5, 4.0], [0.01, 0.02], 6, 1, 400, 0.02, shapes=SHAPES[:, :2], seed=2)
+    model = era.identify(data, 150, 150).model(4)
+    recs = [record(0, [1.5, 4.0], [0, 1]), record(1, [1.5], [0], p=5), record(2, [4.02, 1.49], [1, 0])]
+    trk = track_modes(recs, model)
+    np.testing.assert_allclose([m.reference_frequency_hz for m in trk.modes], [1.5, 4.0], rtol=1e-3)
+    assert [r.name for r in trk.refused] == ["record 1"] and "channels" in trk.refused[0].reason
+    np.testing.assert_allclose(frequencies(trk, 1), [4.0, 4.02])
+    with pytest.raises(era.DataError, match="no decaying modes"):
+        track_modes(recs, (np.zeros(0), np.zeros(0), np.zeros((6, 0))))
+
+
+@pytest.mark.parametrize("name, expected", [
+    ("rec_2026-03-02T05-00.csv", "2026-03-02T05:00:00"), ("bridge_20260302_051530.uff", "2026-03-02T05:15:30"),
+    ("2026-03-02 05:00:00.csv", "2026-03-02T05:00:00"), ("run7.csv", None)])
+def test_times_are_read_from_file_names(name, expected):
+    t = time_from_name(name)
+    assert (t is None and expected is None) or t == np.datetime64(expected)
+
+
+def test_a_bad_file_is_a_failure_with_its_reason_and_bad_arguments_are_refused(tmp_path):
+    good = tmp_path / "a.csv"
+    t = np.arange(4000) * 0.05
+    y = np.sin(2 * np.pi * 1.3 * t)[:, None] * [1, -0.5] + 0.1 * np.random.default_rng(0).standard_normal((4000, 2))
+    good.write_text("time,a1,a2\n" + "\n".join(f"{a:.2f},{b:.5f},{c:.5f}" for a, (b, c) in zip(t, y)))
+    result = run_campaign([good, b"\x00\x01 not a record"], kind="ambient", workers=0, times=[0.0, 1.0])
+    assert [f.name for f in result.failed] == ["record 1"] and "binary" in result.failed[0].reason
+    assert list(result.table["time"].unique()) == [0.0]
+    with pytest.raises(era.EraError, match="one per record"):
+        run_campaign([good], times=[1, 2])
+    with pytest.raises(era.EraError, match="orders"):
+        run_campaign([good], orders=[0, 2])
+    with pytest.raises(era.EraError, match="No records"):
+        run_campaign([])
