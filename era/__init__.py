@@ -23,6 +23,9 @@ from .markov import markov_from_ambient, markov_from_decay, markov_from_frf, mar
 from .correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes, serep, subspace_mac
 from .discrepancy import Explanation, explain
 
+# the engineer's own structure (issue 9): a 3-D frame model described in SI units, JSON/TOML in and out
+from .structure import Frame, Section
+
 __all__ = [
     "__version__",
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
@@ -30,5 +33,5 @@ __all__ = [
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
-    "subspace_mac",
+    "subspace_mac", "Frame", "Section",
 ]

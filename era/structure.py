@@ -346,3 +346,91 @@ class Frame:
         lengths = [np.linalg.norm(np.subtract(self.nodes[j], self.nodes[i])) for i, j, *_ in self.members]
         return float(sum(L * self.sections[m[2]].mass_per_length for L, m in zip(lengths, self.members))
                      + sum(self.masses.values()))
+
+    def to_dict(self) -> dict:
+        """The file format of the module docstring (JSON-ready: no inf, no numpy types)."""
+        def support(spec):
+            if spec == dict.fromkeys(SUPPORT_KEYS, math.inf):
+                return "fixed"
+            if spec == dict.fromkeys(SUPPORT_KEYS[:3], math.inf):
+                return "pinned"
+            return {k: "fixed" if math.isinf(v) else v for k, v in spec.items()}
+        return {"format": "era.frame", "version": 1,
+                "nodes": {k: list(v) for k, v in self.nodes.items()},
+                "sections": {k: asdict(s) for k, s in self.sections.items()},
+                "members": [[i, j, s] + ([] if o is None else [list(o)]) for i, j, s, o in self.members],
+                "supports": {k: support(v) for k, v in self.supports.items()},
+                "masses": dict(self.masses),
+                "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in self.sensors],
+                "gravity": None if self.gravity is None else list(self.gravity),
+                "elements_per_member": self.elements_per_member}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Frame":
+        """A Frame from the file format (as read from JSON or TOML); unknown keys are refused."""
+        if not isinstance(d, dict):
+            raise DataError(f"Frame: a model must be a table of nodes, sections, members, ..., got {type(d).__name__}.")
+        if d.get("format", "era.frame") != "era.frame" or d.get("version", 1) != 1:
+            raise DataError(f"Frame: not an era.frame model of version 1 (format {d.get('format')!r}, "
+                            f"version {d.get('version')!r}).")
+        known = {f.name for f in fields(cls)}
+        unknown = set(d) - known - {"format", "version"}
+        if unknown:
+            raise DataError(f"Frame: unknown key(s) {sorted(unknown)}; known: {sorted(known)}.")
+        missing = {"nodes", "members", "sections"} - set(d)
+        if missing:
+            raise DataError(f"Frame: the model lacks {sorted(missing)}.")
+        sections = d["sections"]
+        if not isinstance(sections, dict) or not all(isinstance(s, dict) for s in sections.values()):
+            raise DataError("Frame: sections must be a table of section tables.")
+        return cls(**{k: v for k, v in d.items() if k in known})
+
+    def save(self, path) -> None:
+        """Write the model as JSON (the module docstring's format)."""
+        Path(path).write_text(json.dumps(self.to_dict(), indent=1) + "\n", encoding="utf-8")
+
+    @classmethod
+    def load(cls, path) -> "Frame":
+        """Read a model from JSON, or from TOML when the name ends in .toml."""
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+            d = tomllib.loads(text) if path.suffix.lower() == ".toml" else json.loads(text)
+        except (OSError, UnicodeDecodeError, ValueError) as exc:    # JSONDecodeError and TOMLDecodeError too
+            raise DataError(f"{path.name}: not a readable model file: {exc}") from None
+        try:
+            return cls.from_dict(d)
+        except DataError as exc:
+            raise DataError(f"{path.name}: {exc}") from None
+
+    @classmethod
+    def from_geometry(cls, geometry, section: Section, supports: dict | None = None, masses: dict | None = None,
+                      gravity=None, elements_per_member: int | None = None) -> "Frame":
+        """Members from an era.Geometry's trace lines, all of ``section``; sensors from its channels.
+
+        Node ids are the geometry's labels as strings; coordinates are converted to metres from ``units`` (m, mm,
+        cm, ft, in); repeated trace lines count once and nodes on no trace line are left out. Each channel becomes
+        a sensor at its node along its direction ("x", "-z", ... when along an axis); a channel with no node or
+        direction, or at a node on no trace line, is an error: the sensors must follow the data's channels.
+        """
+        scale = UNITS_M.get(str(geometry.units).strip().lower())
+        if scale is None:
+            raise DataError(f"Frame.from_geometry: unknown length unit {geometry.units!r}; known: {sorted(UNITS_M)}.")
+        ids = [str(i) for i in geometry.node_ids]
+        edges = {tuple(sorted(map(int, e))) for e in geometry.edges if e[0] != e[1]}
+        if not edges:
+            raise DataError("Frame.from_geometry: the geometry has no trace lines to make members of.")
+        used = sorted({i for e in edges for i in e})
+        nodes = {ids[i]: tuple(float(x) * scale for x in geometry.coordinates[i]) for i in used}
+        sensors = []
+        for ch, (node, direction) in enumerate(zip(geometry.channel_nodes, geometry.channel_directions)):
+            if node < 0 or not np.any(direction):
+                raise DataError(f"Frame.from_geometry: channel {ch + 1} has no node or direction in the geometry.")
+            if ids[node] not in nodes:
+                raise DataError(f"Frame.from_geometry: channel {ch + 1} measures node {ids[node]}, which is on no "
+                                "trace line.")
+            axis = [k for k, v in DIRECTIONS.items() if np.allclose(v, direction, atol=1e-9)]
+            sensors.append((ids[node], axis[0] if axis else tuple(direction)))
+        return cls(nodes=nodes, members=[(ids[a], ids[b], "section") for a, b in sorted(edges)],
+                   sections={"section": section}, supports=supports or {}, masses=masses or {}, sensors=sensors,
+                   gravity=gravity, elements_per_member=elements_per_member)
