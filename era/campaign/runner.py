@@ -2,9 +2,12 @@
 
 Where the tasks run:
 
-- ``client`` given (a ``dask.distributed.Client``): one task per record with ``client.map`` (``retries=`` so a
-  worker lost mid-campaign costs only a re-run of its records), answers collected with ``as_completed``. Paths
-  must be readable by the workers (a shared file system); bytes travel with the task.
+- ``client`` given (a ``dask.distributed.Client``): one task per record with ``client.map``, answers collected
+  with ``as_completed``. A worker lost mid-campaign costs only a re-run of its records: the scheduler runs them
+  again elsewhere (up to its ``distributed.scheduler.allowed-failures`` lost workers per task, then the record is
+  in ``failed``), and ``retries=`` re-runs a task that raised on the worker outside the record's own analysis
+  (e.g. a source that could not be unpickled there). Paths must be readable by the workers (a shared file
+  system); bytes travel with the task.
 - ``client=None``: a ``concurrent.futures.ProcessPoolExecutor`` (spawned processes, ``workers`` of them, default
   one per core). Chosen over a ``distributed.LocalCluster`` for the default because it starts in a fraction of
   a second, opens no ports and no dashboard, and needs only the standard library; the task is the same, so
@@ -104,7 +107,8 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     cache_dir : folder where each analysed record's modes are stored (atomically) and found again by a later run
         with the same settings: an interrupted campaign resumes where it stopped.
     workers : local processes when client is None (default: one per core; 0: in this process).
-    retries : times a record is run again when its worker is lost (Dask's ``retries=``, or a broken local pool).
+    retries : times a record is run again when its task fails outside the analysis (Dask's ``retries=``) or its
+        local worker process dies (a broken pool); Dask re-runs the tasks of a lost worker by itself.
     min_stable_fraction : see era.campaign.Settings (the campaign's rule against short-lived noise poles).
     load_options : more keywords for era.load, e.g. {"references": [0, 1]} for NExT.
     tracking : keywords of era.campaign.track_modes (min_mac, max_freq_error, freq_scale, new_mode_records, …).

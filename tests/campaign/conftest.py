@@ -9,7 +9,9 @@ damaged records. A 17th file, cut off in the middle of a line, is the corrupt re
 
 from __future__ import annotations
 
+import multiprocessing
 import os
+import signal
 
 import pytest
 
@@ -36,20 +38,43 @@ def campaign_dir(tmp_path_factory, truth):
     return folder
 
 
+def kill_once(kill):
+    """A progress callback that records its calls and, at the second record done, kills a worker once."""
+    calls = []
+
+    def progress(done, total):
+        calls.append((done, total))
+        if len(calls) == 2:
+            kill()
+    return progress, calls
+
+
 @pytest.fixture(scope="session")
 def on_processes(campaign_dir):
-    """The campaign on two local processes, every record cached in campaign_dir/cache."""
-    calls = []
+    """The campaign on two local processes, every record cached in campaign_dir/cache; one worker process is
+    killed mid-campaign (SIGKILL, as the out-of-memory killer would): its records are run again."""
+    def kill():
+        busy = [p for p in multiprocessing.active_children() if p.is_alive()]
+        os.kill(busy[0].pid, signal.SIGKILL)
+
+    progress, calls = kill_once(kill)
     result = run_campaign(campaign_dir / "records", kind="ambient", workers=2, cache_dir=campaign_dir / "cache",
-                          progress=lambda done, total: calls.append((done, total)))
+                          progress=progress)
     return result, calls
 
 
 @pytest.fixture(scope="session")
 def on_cluster(campaign_dir):
-    """The same campaign on a distributed.LocalCluster of two single-threaded worker processes."""
+    """The same campaign on a distributed.LocalCluster of two single-threaded worker processes, one of which is
+    lost mid-campaign (its process is killed; the nanny starts a new one and the scheduler runs its tasks again)."""
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
                                   silence_logs=40) as cluster, distributed.Client(cluster) as client:
-        return run_campaign(sorted(os.path.join(campaign_dir / "records", n)
-                                   for n in os.listdir(campaign_dir / "records")), kind="ambient", client=client)
+        def kill():
+            busy = [w for w, keys in client.processing().items() if keys]
+            pid = client.run(os.getpid, workers=busy[:1])[busy[0]]
+            os.kill(pid, signal.SIGKILL)
+
+        progress, calls = kill_once(kill)
+        paths = sorted(os.path.join(campaign_dir / "records", n) for n in os.listdir(campaign_dir / "records"))
+        return run_campaign(paths, kind="ambient", client=client, progress=progress), calls
