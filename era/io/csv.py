@@ -13,11 +13,15 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from ..markov._common import uneven_step
 from .records import Records
 from .text import read_headerless
+from .timebase import even_step_printed
 
-_TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|sec|seconds)$", re.I)
+_TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|tempo|sec|seconds|x_value|elapsed time)$", re.I)
+#: Time units in s; a time column's unit comes from (...)/[...], a units row or a suffix such as time_ms.
+_TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "msec": 1e-3,
+               "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "usec": 1e-6, "ns": 1e-9, "min": 60.0}
+_SUFFIX_UNIT = re.compile(r"^(.*?)[_ ](s|sec|ms|msec|us|µs|μs|ns)$", re.I)
 _TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
 _FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
 _UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
@@ -107,42 +111,69 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     _finite(table, label, line_of)
     names = [names[i] for i in numeric]
     units = [units[i] for i in numeric]
-    if _TIME_NAMES.match(names[0]) or (units[0].lower() == "s" and dt is None):
-        t, table, names, units = table[:, 0], table[:, 1:], names[1:], units[1:]
-    elif dt is None:
-        raise DataError(f"{label}: no time column (the first column is {names[0]!r}); name it 'time' or pass the "
-                        "sampling interval dt.")
-    else:
-        t = None
+    tc, scale = _time_column(names, units, label)
+    if tc is None and units[0].lower() in _TIME_UNITS and dt is None:  # unnamed, but its unit says time
+        tc, scale = 0, _TIME_UNITS[units[0].lower()]
+    if tc is None and dt is None:
+        raise DataError(f"no sampling interval in {label}: no time column (the columns are {names[:6]}"
+                        f"{'…' if len(names) > 6 else ''}); name one 'time', 't', 'time_s', 'Time (s)' or 't [ms]', "
+                        "or give the sample rate (dt=...).")
+    t = table[:, tc] * scale if tc is not None else None
+    if tc is not None:
+        keep = [i for i in range(len(names)) if i != tc]
+        time_name = names[tc]
+        table, names, units = table[:, keep], [names[i] for i in keep], [units[i] for i in keep]
     if table.shape[1] == 0:
         raise DataError(f"{label}: a time column but no channel columns.")
-    resolution = _printed_resolution([_split(ln, delim)[0] for _, ln in numbered[:200]]) if t is not None else 0.0
     groups = [np.arange(len(table))] if tests is None else [np.flatnonzero(tests == v)
                                                             for v in dict.fromkeys(tests.tolist())]
     values, step, start = [], None, 0.0
     for g in groups:
         if t is not None:
-            tg = t[g]
-            if len(tg) < 2:
+            if len(g) < 2:
                 raise DataError(f"{label}: record at line {line_of[g[0]]} has a single sample.")
-            h, k = uneven_step(tg, resolution)
-            if k is not None:
-                raise DataError(f"{label}, line {line_of[g[k + 1]]}: the time step is {tg[k + 1] - tg[k]:g} s where "
-                                f"the typical step is {h:g} s; samples must be evenly spaced (no gaps, no repeats).")
+            column = numeric[tc] if tc is not None else 0
+
+            def cells(rows, column=column):
+                return [_split(numbered[r][1], delim)[column] for r in rows]
+
+            h = even_step_printed(t[g], cells(np.r_[g[:200], g[-200:]]), lambda: cells(g), label, line_of[g])
+            h_unit = h / scale
             if step is not None and abs(h - step) > 1e-6 * step:
                 raise DataError(f"{label}, line {line_of[g[0]]}: this record is sampled every {h:g} s, the first "
                                 f"every {step:g} s; every record must share the sampling step.")
-            step, start = (h, float(tg[0])) if step is None else (step, start)
+            step, start = (h, float(t[g][0])) if step is None else (step, start)
         values.append(table[g])
     if step is None:
         step = float(dt)
+        timing = f", Δt = {step:.9g} s given"
+    else:
+        timing = f", time column {time_name!r}" + (f" in units of {scale:g} s" if scale != 1 else "") + \
+            f", Δt = {step:.9g} s" + (f" ({h_unit:.9g} in the file's unit)" if scale != 1 else "")
     force = np.array([u.lower() in _FORCE_UNITS or "force" in n.lower() for n, u in zip(names, units)])
     return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units), force=force, nodes=None, directions=None,
                    described=[f"{label}: {len(table)} lines × {len(names)} channels"
                               + (f" in {len(values)} records (column {tests is not None and 'test'})" if len(values) > 1
-                                 else "") + (", decimal comma" if decimal_comma else "")
+                                 else "") + timing + (", decimal comma" if decimal_comma else "")
                               + (f", delimiter {delim!r}" if delim else ", blank-separated")])
+
+
+def _time_column(names: list[str], units: list[str], label: str) -> tuple[int | None, float]:
+    """The index of the time column among ``names`` and its unit in s: 'time', 't', 'Zeit', 'time_s', 'Time (s)'
+    (units already split off into ``units``), 't [ms]', 'time_ms', ...; (None, 1.0) when there is none."""
+    for i, (nm, unit) in enumerate(zip(names, units)):
+        base, suffix = nm.strip(), ""
+        m = _SUFFIX_UNIT.match(base)
+        if not _TIME_NAMES.match(base) and m and _TIME_NAMES.match(m.group(1).strip(" _")):
+            base, suffix = m.group(1).strip(" _"), m.group(2)
+        if _TIME_NAMES.match(base):
+            unit = (unit or suffix or "s").strip().lower()
+            if unit not in _TIME_UNITS:
+                raise DataError(f"{label}: the time column {nm!r} is in {unit!r}; give times in s, ms, µs or ns "
+                                "(clock times such as hh:mm:ss cannot give a sampling step).")
+            return i, _TIME_UNITS[unit]
+    return None, 1.0
 
 
 def _first_bad_line(numbered, delim, decimal_comma, numeric, n_cols, label) -> str | None:
@@ -158,16 +189,6 @@ def _first_bad_line(numbered, delim, decimal_comma, numeric, n_cols, label) -> s
             except ValueError:
                 return f"{label}, line {k}, column {c + 1}: {cells[c]!r} is not a number."
     return None
-
-
-def _printed_resolution(cells: list[str]) -> float:
-    """The finest step the time values were printed with: 1e-6 for '0.000391', 1e-9 for '3.906e-06'."""
-    finest = 0.0
-    for cell in cells:
-        m = re.match(r"^[+-]?\d*[.,]?(\d*)(?:[eE]([+-]?\d+))?$", cell.strip())
-        if m:
-            finest = max(finest, 10.0 ** (int(m.group(2) or 0) - len(m.group(1))))
-    return finest
 
 
 def _finite(table: np.ndarray, label: str, line_of: np.ndarray) -> None:

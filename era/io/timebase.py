@@ -21,7 +21,8 @@ _RELATIVE = 1e-6
 def printed_resolution(cells) -> np.ndarray:
     """(n,) the last printed digit of each time value, in its unit: 1e-6 for '0.000391', 1e-9 for '3.906e-06'.
 
-    Values with fewer digits than both neighbours (dropped trailing zeros) take the finer neighbour's digit.
+    Printers that drop trailing zeros (%g, shortest repr) print '2.99' for 2.99000: a value is taken to be as
+    precise as the finest value of its decade (1 ≤ |t| < 10, ...), and a zero as precise as its neighbours.
     """
     text = np.char.lower(np.char.strip(np.asarray(cells, dtype=str)))
     if text.size == 0:
@@ -32,15 +33,23 @@ def printed_resolution(cells) -> np.ndarray:
     decimals = np.where(dot < 0, 0, np.char.str_len(mantissa) - dot - 1)
     power = np.zeros(len(text))
     given = np.char.str_len(exponent) > 0
-    if given.any():
-        try:
-            power[given] = exponent[given].astype(float)
-        except ValueError:
-            power[given] = 0.0  # not a number at all: the parse of the values reports it
+    try:
+        power[given] = exponent[given].astype(float)
+        value = np.char.replace(mantissa, ",", ".").astype(float) * 10.0 ** power
+    except ValueError:  # not numbers at all: the parse of the values reports them
+        return 10.0 ** (power - decimals)
     res = 10.0 ** (power - decimals)
-    if len(res) > 2:
-        neighbours = np.maximum(np.r_[res[1], res[:-1]], np.r_[res[1:], res[-2]])
-        res = np.minimum(res, neighbours)
+    with np.errstate(divide="ignore"):
+        decade = np.floor(np.log10(np.abs(value)))
+    for d in np.unique(decade[np.isfinite(decade)]):
+        members = decade == d
+        res[members] = res[members].min()
+    zero = ~np.isfinite(decade)
+    if zero.any() and len(res) > 1:
+        finite = np.flatnonzero(~zero)
+        if finite.size:
+            nearest = finite[np.clip(np.searchsorted(finite, np.flatnonzero(zero)), 0, finite.size - 1)]
+            res[zero] = np.minimum(res[zero], res[nearest])
     return res
 
 
@@ -56,8 +65,8 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
 
     resolution : scalar or (n,) rounding of each value (see :func:`printed_resolution`, :func:`binary_resolution`).
     where : the file (and column) for messages; lines : (n,) line number of each value in the file, or None
-    (samples are then counted from 0). Returns the step of the straight line through the first and last values
-    (exact to the rounding divided by n - 1).
+    (samples are then counted from 0). Returns the least-squares step through all values (the rounding of the
+    printed digits averages out).
 
     Rounded to a digit r, the steps of an even column take at most two values one digit apart, so every step must
     lie within r of the median step (and within half a step: a column printed more coarsely than half its step
@@ -93,13 +102,15 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
                         "spaced (no gaps, no repeats, one sampling rate). Resample the record, or load the part "
                         "before that line.")
     h = float(t[-1] - t[0]) / (n - 1)
+    k = np.arange(n) - (n - 1) / 2
+    fitted = float(k @ (t - t.mean()) / (k @ k))  # least squares: the rounding averages out over all samples
     drift = np.abs(t - (t[0] + h * np.arange(n)))
     allowed = (res / 2 + (res[0] + res[-1]) / 2) * (1 + 1e-9) + 2 * _RELATIVE * h
     if np.any(drift > allowed):
         k = max(int(np.argmax(drift - allowed)) - 1, 0)
         raise DataError(f"{where}, {place(k)}: the samples drift {drift[k + 1]:.3g} {unit} off an even step of "
                         f"{h:.6g} {unit}: the sampling rate changes within the record. Resample it first.")
-    return h
+    return fitted
 
 
 def even_step_printed(t: np.ndarray, sample_cells: list[str], all_cells, where: str, lines=None) -> float:
