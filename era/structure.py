@@ -1,4 +1,4 @@
-"""The user's description of a frame-like structure: :class:`Section` and :class:`Frame` (SI units), JSON/TOML in and out.
+"""The user's description of a frame-like structure: :class:`Section`, :class:`Frame` (SI units), JSON/TOML in and out.
 
 A Frame is nodes, straight members with a section each, supports, known lumped masses, the sensors in the data's
 channel order and, optionally, gravity. ``Frame.modes(n)`` meshes the members (era.fem.space.converged_mesh) and
@@ -36,9 +36,12 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import tomllib
 from dataclasses import asdict, dataclass, field, fields
+from collections.abc import Mapping
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -102,7 +105,8 @@ class Section:
     @classmethod
     def rectangle(cls, width: float, depth: float, material: str = "steel", *, e=None, g=None, density=None):
         """Solid width (along local y) × depth (along local z), m. J of a solid rectangle from Roark's Formulas for
-        Stress and Strain (torsion table): J = a b³ (1/3 - 0.21 (b/a)(1 - b⁴/(12 a⁴))), a ≥ b the sides, < 0.5 %."""
+        Stress and Strain (torsion table): J = a b³ (1/3 - 0.21 (b/a)(1 - b⁴/(12 a⁴))), a ≥ b the sides, within
+        0.5 %."""
         a, b = max(width, depth), min(width, depth)
         j = a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4)))
         return cls(area=width * depth, iy=width * depth**3 / 12, iz=depth * width**3 / 12, j=j,
@@ -123,7 +127,8 @@ class Section:
 
     @classmethod
     def square_tube(cls, width: float, wall: float, material: str = "steel", *, e=None, g=None, density=None):
-        """Square hollow section, outer width and wall (m): I = (b⁴ - (b-2t)⁴)/12; J = t (b-t)³ (Bredt, thin wall)."""
+        """Square hollow section, outer width and wall (m): I = (b⁴ - (b-2t)⁴)/12; J = t (b-t)³ (Bredt, thin
+        wall)."""
         b, t = width, wall
         i = (b**4 - (b - 2 * t) ** 4) / 12
         return cls(area=b**2 - (b - 2 * t) ** 2, iy=i, iz=i, j=t * (b - t) ** 3, **_material(material, e, g, density))
@@ -149,7 +154,7 @@ def _support(node: str, spec, gravity) -> dict:
         return dict.fromkeys(SUPPORT_KEYS, math.inf)
     if spec == "pinned":
         return dict.fromkeys(SUPPORT_KEYS[:3], math.inf)
-    if not isinstance(spec, dict) or not spec:
+    if not isinstance(spec, Mapping) or not spec:
         raise DataError(f"Frame: support at node {node} must be 'fixed', 'pinned' or a table of springs "
                         f"{SUPPORT_KEYS} (N/m, N·m/rad; a value may be 'fixed') and/or cable (m), got {spec!r}.")
     out = {}
@@ -157,7 +162,8 @@ def _support(node: str, spec, gravity) -> dict:
         if key not in SUPPORT_KEYS + ("cable",):
             raise DataError(f"Frame: support at node {node}: unknown key {key!r}; use {SUPPORT_KEYS} or cable.")
         v = math.inf if value == "fixed" and key != "cable" else value
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0 or (key == "cable" and not 0 < v < math.inf):
+        ok = isinstance(v, numbers.Real) and not isinstance(v, bool) and v >= 0
+        if not ok or (key == "cable" and not 0 < v < math.inf):
             raise DataError(f"Frame: support at node {node}: {key} must be a stiffness ≥ 0 or 'fixed' "
                             f"(cable: a length > 0 in m), got {value!r}.")
         out[key] = float(v)
@@ -188,12 +194,12 @@ class Frame:
     mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %) or a fixed count.
     """
 
-    nodes: dict
-    members: list
-    sections: dict
-    supports: dict = field(default_factory=dict)
-    masses: dict = field(default_factory=dict)
-    sensors: list = field(default_factory=list)
+    nodes: Mapping
+    members: tuple
+    sections: Mapping
+    supports: Mapping = field(default_factory=dict)
+    masses: Mapping = field(default_factory=dict)
+    sensors: tuple = ()
     gravity: tuple | None = None
     elements_per_member: int | None = None
 
@@ -207,9 +213,10 @@ class Frame:
             nodes[str(k)] = tuple(float(x) for x in v)
         if not nodes:
             raise DataError("Frame: no nodes.")
-        put("nodes", nodes)
-        sections = {str(k): v if isinstance(v, Section) else Section.from_dict(v) for k, v in dict(self.sections).items()}
-        put("sections", sections)
+        put("nodes", MappingProxyType(nodes))
+        sections = {str(k): v if isinstance(v, Section) else Section.from_dict(v)
+                    for k, v in dict(self.sections).items()}
+        put("sections", MappingProxyType(sections))
         g = None if self.gravity is None else np.asarray(self.gravity, float)
         if g is not None and not (g.shape == (3,) and np.all(np.isfinite(g)) and np.any(g != 0)):
             raise DataError(f"Frame: gravity must be None or a non-zero (gx, gy, gz) in m/s², got {self.gravity!r}.")
@@ -238,26 +245,27 @@ class Frame:
             members.append((i, j, sec, orient))
         if not members:
             raise DataError("Frame: no members.")
-        put("members", members)
+        put("members", tuple(members))
         used = {n for m in members for n in m[:2]}
         if len(used) < len(nodes):
             lonely = sorted(set(nodes) - used)
             raise DataError(f"Frame: node {lonely[0]} is on no member: add a member or remove the node "
                             f"({len(lonely)} such node(s)).")
-        put("supports", {self._known(n, "support"): _support(str(n), s, self.gravity)
-                         for n, s in dict(self.supports).items()})
+        supports = {self._known(n, "support"): MappingProxyType(_support(str(n), s, self.gravity))
+                    for n, s in dict(self.supports).items()}
+        put("supports", MappingProxyType(supports))
         masses = {}
         for n, kg in dict(self.masses).items():
-            if isinstance(kg, bool) or not isinstance(kg, (int, float)) or not 0 <= kg < math.inf:
+            if isinstance(kg, bool) or not isinstance(kg, numbers.Real) or not 0 <= kg < math.inf:
                 raise DataError(f"Frame: mass at node {n} must be a number of kg ≥ 0, got {kg!r}.")
             masses[self._known(n, "mass")] = float(kg)
-        put("masses", masses)
+        put("masses", MappingProxyType(masses))
         sensors = []
         for s in self.sensors:
             if not isinstance(s, (list, tuple)) or len(s) != 2:
                 raise DataError(f"Frame: a sensor must be (node, direction), got {s!r}.")
             sensors.append((self._known(s[0], "sensor"), _direction(str(s[0]), s[1])))
-        put("sensors", sensors)
+        put("sensors", tuple(sensors))
         e = self.elements_per_member
         if e is not None and (isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e < 1):
             raise DataError(f"Frame: elements_per_member must be None (automatic) or an integer ≥ 1, got {e!r}.")
@@ -303,16 +311,23 @@ class Frame:
         return space.SpaceFrame(
             coords=xyz, elements=ends, orientation=orient, member=np.arange(len(self.members)),
             EA=prop(lambda s: s.e * s.area), GJ=prop(lambda s: s.g * s.j), EIy=prop(lambda s: s.e * s.iy),
-            EIz=prop(lambda s: s.e * s.iz), m=prop(lambda s: s.mass_per_length), rho_ip=prop(lambda s: s.density * s.ip),
+            EIz=prop(lambda s: s.e * s.iz), m=prop(lambda s: s.mass_per_length),
+            rho_ip=prop(lambda s: s.density * s.ip),
             r2=prop(lambda s: s.ip / s.area), node_mass=mass, restrained=restrained, springs=springs, cable_m=cable,
             n_user=n, names=tuple(self.nodes))
 
     def solution(self, n_modes: int = 10) -> tuple[space.SpaceFrame, space.SpaceModes]:
-        """The mesh and its lowest max(10, n_modes) modes (cached), signs fixed by a generic reference vector."""
+        """The mesh and its lowest modes (cached; at least n_modes), signs fixed by a generic reference vector.
+
+        The automatic mesh is chosen for the lowest max(10, n_modes) modes, so modes(3) is a prefix of modes(10);
+        a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve)."""
         if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
             raise DataError(f"Frame: the number of modes must be a positive integer, got {n_modes!r}.")
-        target = max(10, int(n_modes))
         cache = self.__dict__.setdefault("_solutions", {})
+        if self.elements_per_member is None:
+            target = max(10, int(n_modes))
+        else:
+            target = min((k for k in cache if k >= n_modes), default=int(n_modes))
         if target not in cache:
             frame = self.space_frame()
             g = None if self.gravity is None else np.array(self.gravity)
@@ -334,7 +349,8 @@ class Frame:
         return result.frequency_hz[:n_modes].copy(), result.shapes[:len(self.nodes), :3, :n_modes].copy()
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor order."""
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor
+        order (each sensor's node translation along its direction)."""
         f, u = self.node_modes(n_modes)
         index = {n: k for k, n in enumerate(self.nodes)}
         rows = [index[n] for n, _ in self.sensors]

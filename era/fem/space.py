@@ -320,8 +320,8 @@ def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = No
 def elements_needed(frame: SpaceFrame, omega: float, axial_force: np.ndarray | None = None) -> np.ndarray:
     """Elements per member (one element per member in ``frame``) that keep every element's wavenumber at the
     circular frequency ``omega`` (rad/s) within KH_BENDING and KH_LINEAR, the waves of EI k⁴ - N k² = ∓m ω² and
-    (GJ + N r²) k² = ρI_p ω² with the member's axial force N (N, tension > 0, one per member). In bending the larger
-    root counts: the travelling wave in compression, the evanescent one in tension (the boundary layer of length
+    (GJ + N r²) k² = ρI_p ω² with the member's axial force N (N, tension > 0, one per member). In bending the
+    larger root counts: the travelling wave in compression, the evanescent one in tension (the boundary layer of length
     √(EI/N) at a clamp or a joint of a tensioned member); with N = 0 both are (m ω²/EI)^¼."""
     L = frame.axes[0]
     n = (0.0 if axial_force is None else np.asarray(axial_force, float)) * np.ones_like(L)

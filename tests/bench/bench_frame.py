@@ -3,8 +3,10 @@
 Run: python3 -m pytest tests/bench/bench_frame.py -s
 The frame: a steel building 5 × 5 bays of 1.2 m in plan, 8 levels of 0.9 m (200 nodes, 455 members, fixed bases,
 1 kg on each floor node). Reference: one sparse factorization of the stiffness on the free DOFs of the mesh that
-modes(10) chooses (era.fem.space.factor: SuperLU, minimum degree, symmetric mode), in the same process. A fresh Frame's modes(10) (the automatic mesh: two solves,
-each a static self-weight solve when gravity is on and a shift-invert Lanczos run) is timed as a ratio to it.
+modes(10) chooses (era.fem.space.factor: SuperLU, minimum degree, symmetric mode), in the same process. A fresh
+Frame's modes(10) (the automatic mesh: two solves, each a static self-weight solve when gravity is on and a
+shift-invert Lanczos run) is timed as a ratio to it. Measured: 14× (17× with gravity), 0.15 s; the Lanczos solves
+and the four factorizations dominate, then the meshing.
 """
 
 import numpy as np

@@ -9,7 +9,8 @@ from era.fem import space
 from era.fem.statics import G_STANDARD
 from era.structure import Frame, Section
 
-THREAD = Section(area=1e-4, iy=1e-16, iz=1e-16, j=1e-16, e=2e11, g=8e10, density=7850)   # EI/(m g L³) ≈ 8e-7: a chain
+# a chain: EI/(m g L³) ≈ 8e-7
+THREAD = Section(area=1e-4, iy=1e-16, iz=1e-16, j=1e-16, e=2e11, g=8e10, density=7850)
 
 
 def test_self_weight_reactions_carry_the_whole_weight():

@@ -121,8 +121,8 @@ def test_from_geometry_converts_units_skips_loose_nodes_and_keeps_skew_channels(
                         channel_directions=[[0.6, 0.8, 0], [-1, 0, 0]], units="mm")
     frame = Frame.from_geometry(geometry, section=Section.circle(0.01), supports={"10": "fixed"})
     assert frame.nodes == {"10": (0.0, 0.0, 0.0), "20": (0.0, 0.0, 0.5), "30": (0.4, 0.0, 0.5)}
-    assert frame.members == [("10", "20", "section", None), ("20", "30", "section", None)]
-    assert frame.sensors == [("30", (0.6, 0.8, 0.0)), ("20", "-x")]
+    assert frame.members == (("10", "20", "section", None), ("20", "30", "section", None))
+    assert frame.sensors == (("30", (0.6, 0.8, 0.0)), ("20", "-x"))
     f, u = frame.node_modes(4)
     _, shapes = frame.modes(4)
     np.testing.assert_allclose(shapes[0], u[2].T @ [0.6, 0.8, 0])

@@ -71,7 +71,8 @@ def _dynamic_stiffness_2d(L, EA, EI, m, omega):
     def basis(x, d):
         bx = beta * x
         funcs = [(np.cos(bx), -np.sin(bx), -np.cos(bx), np.sin(bx)), (np.sin(bx), np.cos(bx), -np.sin(bx), -np.cos(bx)),
-                 (np.cosh(bx), np.sinh(bx), np.cosh(bx), np.sinh(bx)), (np.sinh(bx), np.cosh(bx), np.sinh(bx), np.cosh(bx))]
+                 (np.cosh(bx), np.sinh(bx), np.cosh(bx), np.sinh(bx)),
+                 (np.sinh(bx), np.cosh(bx), np.sinh(bx), np.cosh(bx))]
         return np.array([f[d] for f in funcs]) * beta**d
 
     B = np.array([basis(0, 0), basis(0, 1), basis(L, 0), basis(L, 1)])
@@ -94,7 +95,8 @@ def _portal_determinant(omega, h, b, EA, EI, m):
         for a, na in enumerate((p, q)):
             for bb, nb in enumerate((p, q)):
                 if na in index and nb in index:
-                    K[3 * index[na]:3 * index[na] + 3, 3 * index[nb]:3 * index[nb] + 3] += ke[3 * a:3 * a + 3, 3 * bb:3 * bb + 3]
+                    ra, rb = 3 * index[na], 3 * index[nb]
+                    K[ra:ra + 3, rb:rb + 3] += ke[3 * a:3 * a + 3, 3 * bb:3 * bb + 3]
     return np.linalg.det(K / EI)
 
 
@@ -210,3 +212,28 @@ def test_sparse_and_dense_solvers_agree_and_a_free_structure_keeps_its_six_rigid
         np.testing.assert_allclose(np.sqrt(np.clip(lam, 0, None)) / (2 * np.pi), f, rtol=1e-8, atol=1e-5 * f[6])
         residual = K @ phi - (M @ phi) * (2 * np.pi * f) ** 2
         assert np.abs(residual).max() < 1e-6 * np.abs(K @ phi).max()
+
+
+def test_the_orientation_vector_turns_the_section():
+    """A strip cantilever along x: by default its depth (6 mm) is vertical and the weak bending moves it along z;
+    with the orientation (0, 1, 0) the depth lies along y and the weak bending moves it along y."""
+    def strip(*orientation):
+        return Frame(nodes={"0": (0, 0, 0), "1": (0.5, 0, 0)}, members=[("0", "1", "s", *orientation)],
+                     sections={"s": STEEL_BAR}, supports={"0": "fixed"}, sensors=[("1", "y"), ("1", "z")])
+    weak = bending_hz(CANTILEVER_BL[:1], STEEL_BAR.e * STEEL_BAR.iy, STEEL_BAR.mass_per_length, 0.5)[0]
+    for frame, moving in ((strip(), 1), (strip((0, 1, 0)), 0), (strip((0, 1, 1e-3)), 0)):
+        f, shapes = frame.modes(1)
+        assert f[0] == pytest.approx(weak, rel=1e-3)
+        assert abs(shapes[1 - moving, 0]) < 2e-3 * abs(shapes[moving, 0])        # the last one tilts 1e-3 rad
+
+
+def test_frames_are_immutable_and_replace_revalidates():
+    from dataclasses import replace
+    frame = two_storey_frame(elements_per_member=2)
+    with pytest.raises(TypeError):
+        frame.nodes["9x"] = (0, 0, 0)
+    with pytest.raises(TypeError):
+        frame.supports["0a"]["kx"] = 1.0
+    heavier = replace(frame, masses={**frame.masses, "2a": 3.0})
+    assert heavier.modes(1)[0][0] < frame.modes(1)[0][0]
+    assert replace(frame).to_dict() == frame.to_dict()
