@@ -22,7 +22,7 @@ The file format (``Frame.to_dict``, ``Frame.save``: JSON; ``Frame.load`` also re
      "masses": {"9": 0.025},                           # kg on the node's three translations
      "sensors": [["3", "x"], ["7", "-z"], ["8", [0.6, 0.8, 0]]],   # [node, "x"|"-x"|... or a direction vector]
      "gravity": [0, 0, -9.81],                          # or null / absent
-     "elements_per_member": null}                       # null: automatic (converged to 0.1 %)
+     "elements_per_member": null}                       # null: automatic (converged to 0.1 %), n, or [n, ...]
 
 A section is given by its constants (``ip``, the polar moment, defaults to iy + iz) or by ``shape`` (rectangle,
 circle, tube, square_tube) with that helper's keywords. A support is "fixed" (all six DOFs), "pinned" (three
@@ -191,7 +191,8 @@ class Frame:
     supports {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}; masses {node: kg};
     sensors [(node, "x" | "-x" | ... | (dx, dy, dz))] in the data's channel order; gravity (3,) m/s² or None (with
     it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
-    mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %) or a fixed count.
+    mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %), a count for every
+    member, or one count per member (e.g. ``element_counts()`` of a nominal model, to keep its mesh in variants).
     """
 
     nodes: Mapping
@@ -201,7 +202,7 @@ class Frame:
     masses: Mapping = field(default_factory=dict)
     sensors: tuple = ()
     gravity: tuple | None = None
-    elements_per_member: int | None = None
+    elements_per_member: int | tuple | None = None
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)   # noqa: E731
@@ -267,8 +268,14 @@ class Frame:
             sensors.append((self._known(s[0], "sensor"), _direction(str(s[0]), s[1])))
         put("sensors", tuple(sensors))
         e = self.elements_per_member
-        if e is not None and (isinstance(e, bool) or not isinstance(e, (int, np.integer)) or e < 1):
-            raise DataError(f"Frame: elements_per_member must be None (automatic) or an integer ≥ 1, got {e!r}.")
+        if e is not None:
+            single = isinstance(e, (int, np.integer)) and not isinstance(e, bool)
+            counts = [e] if single else list(e) if isinstance(e, (list, tuple)) else []
+            valid = all(isinstance(c, (int, np.integer)) and not isinstance(c, bool) and c >= 1 for c in counts)
+            if not (counts and valid and (single or len(counts) == len(members))):
+                raise DataError(f"Frame: elements_per_member must be None (automatic), an integer ≥ 1 or one such "
+                                f"integer per member ({len(members)}), got {e!r}.")
+            put("elements_per_member", int(e) if single else tuple(int(c) for c in counts))
 
     def _known(self, node, what: str) -> str:
         if str(node) not in self.nodes:
@@ -334,13 +341,18 @@ class Frame:
             if self.elements_per_member is None:
                 mesh, result = space.converged_mesh(frame, target, g)
             else:
-                mesh = space.subdivide(frame, np.full(len(self.members), self.elements_per_member))
+                mesh = space.subdivide(frame, np.broadcast_to(self.elements_per_member, len(self.members)))
                 result = space.solve_modes(mesh, target, g)
             u = result.shapes[:frame.n_user, :3]
             ref = 1.0 + np.sin(_SIGN_SEED[0] * np.arange(u.shape[0] * 3) + _SIGN_SEED[1])
             sign = np.where(ref @ u.reshape(-1, target) < 0, -1.0, 1.0)
             cache[target] = (mesh, space.SpaceModes(result.frequency_hz, result.shapes * sign, result.axial_force))
         return cache[target]
+
+    def element_counts(self, n_modes: int = 10) -> tuple:
+        """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order."""
+        mesh, _ = self.solution(n_modes)
+        return tuple(int(c) for c in np.bincount(mesh.member, minlength=len(self.members)))
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
@@ -379,7 +391,8 @@ class Frame:
                 "masses": dict(self.masses),
                 "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in self.sensors],
                 "gravity": None if self.gravity is None else list(self.gravity),
-                "elements_per_member": self.elements_per_member}
+                "elements_per_member": (list(self.elements_per_member) if isinstance(self.elements_per_member, tuple)
+                                        else self.elements_per_member)}
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":

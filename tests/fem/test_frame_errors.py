@@ -36,6 +36,8 @@ def portal(**changes):
     (dict(masses={"12": 1.0}), ["mass at node 12"]),
     (dict(gravity=(0, 0)), ["gravity"]),
     (dict(elements_per_member=0), ["elements_per_member"]),
+    (dict(elements_per_member=(2, 2)), ["one such integer per member (3)"]),
+    (dict(elements_per_member=(2, 2, 0)), ["elements_per_member"]),
 ])
 def test_a_bad_description_is_refused_by_name(changes, words):
     with pytest.raises(DataError) as info:

@@ -237,3 +237,14 @@ def test_frames_are_immutable_and_replace_revalidates():
     heavier = replace(frame, masses={**frame.masses, "2a": 3.0})
     assert heavier.modes(1)[0][0] < frame.modes(1)[0][0]
     assert replace(frame).to_dict() == frame.to_dict()
+
+
+def test_a_variant_can_keep_the_nominal_mesh():
+    """element_counts() of the automatic mesh, given back as elements_per_member, reproduces the same modes."""
+    from dataclasses import replace
+    frame = two_storey_frame()
+    counts = frame.element_counts(10)
+    assert len(counts) == len(frame.members) and max(counts) > 1
+    fixed = replace(frame, elements_per_member=counts)
+    np.testing.assert_array_equal(fixed.modes(10)[0], frame.modes(10)[0])
+    assert Frame.from_dict(fixed.to_dict()).elements_per_member == counts
