@@ -54,23 +54,12 @@ def _parser() -> argparse.ArgumentParser:
 def campaign(args) -> int:
     from .campaign import run_campaign
 
-    client = None
-    if args.scheduler:
-        from distributed import Client
-
-        client = Client(args.scheduler)
-
     def progress(done, total):
         if not args.quiet:
             print(f"\r{done}/{total} records", end="" if done < total else "\n", file=sys.stderr, flush=True)
 
-    try:
-        result = run_campaign(args.files, kind=args.kind, dt=args.dt, rows=args.rows, cols=args.cols,
-                              orders=args.orders, client=client, progress=progress, cache_dir=args.cache_dir,
-                              workers=args.workers)
-    finally:
-        if client is not None:
-            client.close()
+    result = run_campaign(args.files, kind=args.kind, dt=args.dt, rows=args.rows, cols=args.cols, orders=args.orders,
+                          client=args.scheduler, progress=progress, cache_dir=args.cache_dir, workers=args.workers)
     result.table.to_csv(args.out, index=False)
     if args.modes_out:
         result.modes_frame().to_csv(args.modes_out, index=False)

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import EraError
+
 #: The table's columns, in order (see :class:`CampaignResult`).
 COLUMNS = ("record", "name", "time", "mode", "found", "frequency_hz", "damping_ratio", "mac_to_reference", "emac",
            "mpc", "n_orders", "frequency_std_hz")
@@ -43,11 +45,19 @@ class CampaignResult:
     def modes_frame(self):
         """pandas.DataFrame of the tracked modes (without shapes): mode, reference_frequency_hz,
         reference_damping_ratio, origin, first_record, n_found."""
-        import pandas as pd
-
-        return pd.DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
+        return pandas().DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
                               "reference_damping_ratio": m.reference_damping_ratio, "origin": m.origin,
                               "first_record": m.first_record, "n_found": m.n_found} for m in self.modes])
+
+
+def pandas():
+    """The pandas module, or an EraError saying how to install it."""
+    try:
+        import pandas as pd
+    except ImportError:
+        raise EraError("Campaign tables are pandas DataFrames: install the campaign extra, "
+                       "python3 -m pip install 'era-modal[campaign]' (or pandas).") from None
+    return pd
 
 
 def record_times(records) -> list:
@@ -64,8 +74,7 @@ def record_times(records) -> list:
 
 def build_table(tracking):
     """The campaign table (pandas.DataFrame, columns :data:`COLUMNS`) from an era.campaign.Tracking."""
-    import pandas as pd
-
+    pd = pandas()
     rows = {c: [] for c in COLUMNS}
     times = record_times(tracking.records)
     for pos, rec in enumerate(tracking.records):

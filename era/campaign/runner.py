@@ -35,7 +35,7 @@ import numpy as np
 from ..errors import EraError
 from . import cache
 from .record import RecordFailure, RecordModes, Settings, analyse_record, record_name
-from .result import CampaignResult, build_table
+from .result import CampaignResult, build_table, pandas
 from .tracking import track_modes
 
 
@@ -100,7 +100,8 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     orders : model orders of each record's stabilization diagram (default 2, 4, … 80).
     reference : None (the modes of the first record that has any) or an era.ModalModel whose decaying modes are
         tracked (its outputs must be the records' sensors, in order).
-    client : a dask.distributed.Client to run the records on, or None for local processes (see the module).
+    client : a dask.distributed.Client to run the records on, a scheduler's address ("tcp://host:8786", connected
+        for this campaign only), or None for local processes (see the module).
     progress : callable(done, total) called in this process as records finish (cached ones count as done).
     times : one time per source (datetimes, ISO text or numbers), overriding the times read from file names;
         without either, a record's time is its position in ``sources``.
@@ -120,6 +121,7 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     Raises era.EraError for bad arguments (never for a bad record: those are in ``result.failed``).
     """
     srcs = _sources(sources)
+    pandas()  # before any work: the table needs it
     settings = _settings(kind, dt, rows, cols, orders, min_stable_fraction, load_options)
     if times is not None:
         times = list(times)
@@ -140,15 +142,22 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     todo = [i for i in range(total) if i not in results]
     if progress is not None and results:
         progress(len(results), total)
-    if todo:
-        run = _on_client(client, srcs, names, todo, settings, retries) if client is not None else \
-            _on_processes(srcs, names, todo, settings, workers, retries)
-        for res in run:
-            results[res.index] = res
-            if keys is not None and isinstance(res, RecordModes):
-                cache.store_entry(cache_dir, keys[res.index], res)
-            if progress is not None:
-                progress(len(results), total)
+    own_client = None
+    if todo and isinstance(client, str):  # a scheduler's address: connect for this campaign only
+        own_client = client = _connect(client)
+    try:
+        if todo:
+            run = _on_client(client, srcs, names, todo, settings, retries) if client is not None else \
+                _on_processes(srcs, names, todo, settings, workers, retries)
+            for res in run:
+                results[res.index] = res
+                if keys is not None and isinstance(res, RecordModes):
+                    cache.store_entry(cache_dir, keys[res.index], res)
+                if progress is not None:
+                    progress(len(results), total)
+    finally:
+        if own_client is not None:
+            own_client.close()
     return _result(results, total, times, reference, settings, tracking or {})
 
 
@@ -168,9 +177,26 @@ def _result(results, total, times, reference, settings, tracking) -> CampaignRes
                           settings=settings)
 
 
+def _connect(address: str):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise EraError("A Dask scheduler needs the distributed package: python3 -m pip install "
+                       "'era-modal[campaign]'.") from None
+    try:
+        return Client(address, timeout=30)
+    except (OSError, TimeoutError) as exc:
+        raise EraError(f"No Dask scheduler answers at {address!r} ({exc}); start one (dask scheduler) or give "
+                       "client=None to run on local processes.") from None
+
+
 def _on_client(client, srcs, names, todo, settings, retries):
     """Yield each record's answer as it arrives from the Dask cluster."""
-    from distributed import as_completed as dask_completed
+    try:
+        from distributed import as_completed as dask_completed
+    except ImportError:
+        raise EraError("A Dask client needs the distributed package: python3 -m pip install 'era-modal[campaign]'.") \
+            from None
 
     run = uuid.uuid4().hex[:12]
     keys = [f"era-campaign-{run}-record-{i}" for i in todo]

@@ -101,3 +101,14 @@ def test_a_bad_file_is_a_failure_with_its_reason_and_bad_arguments_are_refused(t
         run_campaign([good], orders=[0, 2])
     with pytest.raises(era.EraError, match="No records"):
         run_campaign([])
+
+
+def test_the_command_line_says_what_failed(tmp_path):
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "era", "campaign", str(tmp_path / "missing.csv"), "--out",
+                          str(tmp_path / "t.csv"), "--workers", "0"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 1 and "failed: missing.csv" in run.stderr and "no such file" in run.stderr
+    helped = subprocess.run([sys.executable, "-m", "era", "campaign", "--help"], capture_output=True, text=True)
+    assert helped.returncode == 0 and "--scheduler" in helped.stdout and "--cache-dir" in helped.stdout
