@@ -35,8 +35,9 @@ class TrackedMode:
 
     mode : its number (the table's ``mode``): reference modes first, by frequency, then new modes in the order
         they were confirmed. reference_frequency_hz, reference_damping_ratio : where it was defined;
-    shape : (p,) complex reference shape; origin : "reference" or "new"; first_record : position (in the
-    tracked order) of the record that defined it, -1 for a given ModalModel; n_found : records that found it.
+    shape : (p,) complex reference shape; origin : "reference" or "new"; first_record : the record (its
+    position in the campaign's sources, the table's ``record``) that defined it, -1 for a given reference;
+    n_found : how many records found it.
     """
 
     mode: int
@@ -178,6 +179,7 @@ def _tracking(records, tracks, refused) -> Tracking:
             mac_ref[pos, col] = mac(records[pos].shapes[:, i:i + 1], t.shape[:, None])[0, 0]
         modes.append(TrackedMode(mode=col, reference_frequency_hz=t.reference[0],
                                  reference_damping_ratio=t.reference[1], shape=t.shape, origin=t.origin,
-                                 first_record=t.reference[2], n_found=len(t.hits)))
+                                 first_record=records[t.reference[2]].index if t.reference[2] >= 0 else -1,
+                                 n_found=len(t.hits)))
     return Tracking(records=tuple(records), modes=tuple(modes), assignment=assignment, mac_to_reference=mac_ref,
                     refused=tuple(refused))
