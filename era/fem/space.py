@@ -23,7 +23,7 @@ DOF_NAMES = ("translation along x", "translation along y", "translation along z"
 _PROPS = ("EA", "GJ", "EIy", "EIz", "m", "rho_ip", "r2")
 # Largest k·h (wavenumber × element length) that keeps an element's frequency error below 0.05 %: Hermite cubic
 # bending (error ≈ (kh)⁴/1480) and linear axial/twist shapes (error ≈ (kh)²/24), both with consistent mass; from
-# the dispersion relation of an infinite chain of elements (tests/fem/test_space_frame.py checks both numbers).
+# the dispersion relation of an infinite chain of elements (tests/fem/test_beam3d.py checks both numbers).
 KH_BENDING, KH_LINEAR = 0.927, 0.1095
 
 
@@ -188,6 +188,11 @@ def cable_springs(frame: SpaceFrame, gravity: np.ndarray, reactions: np.ndarray)
     return out.ravel()
 
 
+def _buckling_error(value: str) -> DataError:
+    return DataError(f"Frame buckles under its self-weight (lowest eigenvalue {value} rad²/s², < 0): gravity "
+                     "exceeds the buckling load; check the supports, sections and gravity.")
+
+
 def _eigen(K, M, n_modes: int, rigid: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Lowest eigenpairs λ (rad²/s²), φ of K φ = λ M φ, both solved shift-inverted about σ = -1 so that small λ
     keep their relative accuracy next to stiff elements (plain dense eigh loses ~1e-4 on a fine mesh): sparse
@@ -204,6 +209,8 @@ def _eigen(K, M, n_modes: int, rigid: np.ndarray | None = None) -> tuple[np.ndar
     if n > 200 and n_modes < n // 4:
         try:
             lu = factor(K + M)
+            if np.any(lu.U.diagonal() < 0):     # inertia of K + M = LDLᵀ (symmetric mode): some λ < -1
+                raise _buckling_error("below -1")
             solve = lu.solve
             if U is not None:
                 au = lu.solve(U)
@@ -305,8 +312,7 @@ def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = No
         if zero.any():
             raise _mechanism_error(frame, phi[:, zero], free)
         if lam[0] < -tol:
-            raise DataError(f"Frame buckles under its self-weight (lowest eigenvalue {lam[0]:.3g} rad²/s² < 0): "
-                            "gravity exceeds the buckling load; check the supports, sections and gravity.")
+            raise _buckling_error(f"{lam[0]:.3g}")
     if rigid is not None:
         lam = np.r_[np.zeros(6), lam][:n_modes]
         phi = np.column_stack([rigid, phi])[:, :n_modes]

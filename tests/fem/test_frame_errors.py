@@ -111,3 +111,13 @@ def test_bad_mode_counts_are_refused():
         portal().modes(0)
     with pytest.raises(DataError, match="free DOFs"):
         portal(elements_per_member=1).modes(30)
+
+
+def test_buckling_is_caught_on_the_sparse_path_too():
+    """A clamped column meshed finely (over 200 DOFs, the Lanczos path) under 1.5× its Greenhill load."""
+    s = Section.circle(diameter=0.004, material="steel")
+    L = 1.5 ** (1 / 3) * (7.837 * s.e * s.iy / (s.mass_per_length * 9.81)) ** (1 / 3)
+    column = Frame(nodes={"base": (0, 0, 0), "top": (0, 0, L)}, members=[("base", "top", "s")], sections={"s": s},
+                   supports={"base": "fixed"}, gravity=(0, 0, -9.81), elements_per_member=60)
+    with pytest.raises(DataError, match="buckles under its self-weight"):
+        column.modes(3)
