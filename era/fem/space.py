@@ -209,7 +209,8 @@ def _eigen(K, M, n_modes: int, rigid: np.ndarray | None = None) -> tuple[np.ndar
     if n > 200 and n_modes < n // 4:
         try:
             lu = factor(K + M)
-            if np.any(lu.U.diagonal() < 0):     # inertia of K + M = LDLᵀ (symmetric mode): some λ < -1
+            symmetric = np.array_equal(lu.perm_r, lu.perm_c)    # no row pivots: U's diagonal is D of LDLᵀ
+            if symmetric and np.any(lu.U.diagonal() < 0):       # so its signs are K + M's inertia: some λ < -1
                 raise _buckling_error("below -1")
             solve = lu.solve
             if U is not None:
