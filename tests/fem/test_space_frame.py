@@ -248,3 +248,20 @@ def test_a_variant_can_keep_the_nominal_mesh():
     fixed = replace(frame, elements_per_member=counts)
     np.testing.assert_array_equal(fixed.modes(10)[0], frame.modes(10)[0])
     assert Frame.from_dict(fixed.to_dict()).elements_per_member == counts
+
+
+def test_portal_with_a_rigid_heavy_beam_sways_at_the_textbook_frequency():
+    """Shear building: two fixed-fixed columns (12 EI/h³ each) carrying a rigid beam and 2 × 40 kg; the columns' own
+    mass enters with its Rayleigh share 13/35. f = √(24 EI/h³ / M) / 2π."""
+    h, b = 0.9, 1.2
+    col = STEEL_BAR
+    beam = Section(area=1e-2, iy=1e-4, iz=1e-4, j=1e-4, e=2e11, g=8e10, density=100.0)   # 1 kg/m, rigid
+    frame = Frame(nodes={"A": (0, 0, 0), "B": (0, 0, h), "C": (b, 0, h), "D": (b, 0, 0)},
+                  members=[("A", "B", "col"), ("B", "C", "beam"), ("C", "D", "col")],
+                  sections={"col": col, "beam": beam}, supports={"A": "fixed", "D": "fixed"},
+                  masses={"B": 40.0, "C": 40.0}, sensors=[("B", "x")])
+    f, u = frame.node_modes(4)
+    sway = next(k for k in range(4) if abs(u[1, 0, k]) > 10 * abs(u[1, 1, k]))
+    mass = 80.0 + beam.mass_per_length * b + 2 * 13 / 35 * col.mass_per_length * h
+    textbook = np.sqrt(24 * col.e * col.iy / h**3 / mass) / (2 * np.pi)
+    assert f[sway] == pytest.approx(textbook, rel=1e-3)
