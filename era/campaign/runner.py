@@ -203,15 +203,18 @@ def _on_client(client, srcs, names, todo, settings, retries):
     futures = client.map(analyse_record, [srcs[i] for i in todo], todo, settings=settings, key=keys, pure=False,
                          retries=retries)
     index_of = {k: i for k, i in zip(keys, todo)}
-    for fut in dask_completed(futures):
-        i = index_of[fut.key]
-        try:
-            res = fut.result()
-        except Exception as exc:  # the task itself never raises: the worker or the cluster failed
-            res = RecordFailure(i, names[i], f"lost on the cluster after {retries} retries ({type(exc).__name__}: "
-                                             f"{exc}); run the campaign again with cache_dir= to resume.")
-        fut.release()
-        yield res
+    try:
+        for fut in dask_completed(futures):
+            i = index_of[fut.key]
+            try:
+                res = fut.result()
+            except Exception as exc:  # the task itself never raises: the worker or the cluster failed
+                res = RecordFailure(i, names[i], f"lost on the cluster ({type(exc).__name__}: {exc}); run the "
+                                                 "campaign again with cache_dir= to resume.")
+            fut.release()
+            yield res
+    finally:  # interrupted (Ctrl-C, a progress callback that raised): leave nothing running on the cluster
+        client.cancel([f for f in futures if not f.done()])
 
 
 def _on_processes(srcs, names, todo, settings, workers, retries):
@@ -226,8 +229,9 @@ def _on_processes(srcs, names, todo, settings, workers, retries):
     pending = list(todo)
     while pending:
         lost = []
-        with ProcessPoolExecutor(max_workers=max(1, min(n, len(pending))),
-                                 mp_context=multiprocessing.get_context("spawn")) as pool:
+        pool = ProcessPoolExecutor(max_workers=max(1, min(n, len(pending))),
+                                   mp_context=multiprocessing.get_context("spawn"))
+        try:
             futures = {pool.submit(analyse_record, srcs[i], i, settings): i for i in pending}
             for fut in as_completed(futures):
                 i = futures[fut]
@@ -237,6 +241,8 @@ def _on_processes(srcs, names, todo, settings, workers, retries):
                     lost.append(i)
                 except Exception as exc:  # e.g. the source could not be sent to the process
                     yield RecordFailure(i, names[i], f"could not run ({type(exc).__name__}: {exc}).")
+        finally:  # interrupted: drop the records not started instead of running them all first
+            pool.shutdown(wait=True, cancel_futures=True)
         pending = []
         for i in sorted(lost):
             attempts[i] += 1

@@ -112,3 +112,26 @@ def test_the_command_line_says_what_failed(tmp_path):
     assert run.returncode == 1 and "failed: missing.csv" in run.stderr and "no such file" in run.stderr
     helped = subprocess.run([sys.executable, "-m", "era", "campaign", "--help"], capture_output=True, text=True)
     assert helped.returncode == 0 and "--scheduler" in helped.stdout and "--cache-dir" in helped.stdout
+
+
+def test_an_interrupted_campaign_resumes_from_its_cache(tmp_path):
+    """A progress callback that raises stands for Ctrl-C: what finished is kept, the rest is not waited for."""
+    t = np.arange(3000) * 0.05
+    rng = np.random.default_rng(1)
+    paths = []
+    for r in range(3):
+        y = np.sin(2 * np.pi * (1.3 + 0.01 * r) * t)[:, None] * [1, -0.5] + 0.1 * rng.standard_normal((3000, 2))
+        paths.append(tmp_path / f"r{r}.csv")
+        paths[-1].write_text("time,a1,a2\n" + "\n".join(f"{a:.2f},{b:.5f},{c:.5f}" for a, (b, c) in zip(t, y)))
+
+    def stop(done, total):
+        if done == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_campaign(paths, kind="ambient", workers=0, cache_dir=tmp_path / "cache", progress=stop)
+    assert len(list((tmp_path / "cache").glob("*.json"))) == 1
+    calls = []
+    result = run_campaign(paths, kind="ambient", workers=0, cache_dir=tmp_path / "cache",
+                          progress=lambda done, total: calls.append(done))
+    assert calls == [1, 2, 3] and len(result.records) == 3
