@@ -172,12 +172,21 @@ def _support(node: str, spec, gravity) -> dict:
     return out
 
 
+def _vector(x) -> np.ndarray:
+    """x as a finite (3,) float array, or NaNs when it is not three numbers."""
+    try:
+        v = np.asarray(x, float)
+    except (TypeError, ValueError):
+        return np.full(3, np.nan)
+    return v if v.shape == (3,) else np.full(3, np.nan)
+
+
 def _direction(node: str, d):
     if isinstance(d, str):
         if d.strip().lower() not in DIRECTIONS:
             raise DataError(f"Frame: sensor at node {node}: direction {d!r} is not one of {sorted(DIRECTIONS)}.")
         return d.strip().lower()
-    v = np.asarray(d, float) if np.size(d) == 3 else np.zeros(3)
+    v = _vector(d)
     if not (np.all(np.isfinite(v)) and np.linalg.norm(v) > 0):
         raise DataError(f"Frame: sensor at node {node}: direction {d!r} is not x, y, z, -x, ... or a 3-vector.")
     return tuple(float(x) for x in v / np.linalg.norm(v))
@@ -208,7 +217,7 @@ class Frame:
         put = lambda name, value: object.__setattr__(self, name, value)   # noqa: E731
         nodes = {}
         for k, xyz in dict(self.nodes).items():
-            v = np.asarray(xyz, float) if np.size(xyz) == 3 else np.full(3, np.nan)
+            v = _vector(xyz)
             if not np.all(np.isfinite(v)):
                 raise DataError(f"Frame: node {k} must have three finite coordinates (x, y, z) in m, got {xyz!r}.")
             nodes[str(k)] = tuple(float(x) for x in v)
@@ -236,9 +245,9 @@ class Frame:
             length = float(np.linalg.norm(axis))
             if length <= 1e-9 * size:
                 raise DataError(f"Frame: member {k} ({i}-{j}) has zero length: its nodes coincide.")
-            orient = None if len(m) == 3 or m[3] is None else np.asarray(m[3], float)
+            orient = None if len(m) == 3 or m[3] is None else _vector(m[3])
             if orient is not None:
-                if orient.shape != (3,) or not np.all(np.isfinite(orient)) or \
+                if not np.all(np.isfinite(orient)) or \
                         np.linalg.norm(np.cross(orient, axis / length)) < 1e-6 * np.linalg.norm(orient):
                     raise DataError(f"Frame: member {k} ({i}-{j}): orientation {m[3]!r} must be a 3-vector not "
                                     "parallel to the member.")
