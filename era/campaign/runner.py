@@ -23,6 +23,7 @@ Every task catches its own errors (:func:`era.campaign.record.analyse_record`), 
 
 from __future__ import annotations
 
+import inspect
 import multiprocessing
 import os
 import uuid
@@ -122,6 +123,11 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     """
     srcs = _sources(sources)
     pandas()  # before any work: the table needs it
+    try:
+        inspect.signature(track_modes).bind_partial(None, **(tracking or {}))
+    except TypeError:
+        raise EraError(f"`tracking` takes keywords of era.campaign.track_modes (freq_scale, min_mac, max_freq_error, "
+                       f"new_mode_records, new_mode_gap), got {sorted(tracking)}.") from None
     settings = _settings(kind, dt, rows, cols, orders, min_stable_fraction, load_options)
     if times is not None:
         times = list(times)
@@ -142,7 +148,7 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     todo = [i for i in range(total) if i not in results]
     if progress is not None and results:
         progress(len(results), total)
-    own_client = None
+    own_client = run = None
     if todo and isinstance(client, str):  # a scheduler's address: connect for this campaign only
         own_client = client = _connect(client)
     try:
@@ -156,6 +162,8 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
                 if progress is not None:
                     progress(len(results), total)
     finally:
+        if run is not None:
+            run.close()  # now, not when the traceback is freed: cancels what has not started
         if own_client is not None:
             own_client.close()
     return _result(results, total, times, reference, settings, tracking or {})
@@ -167,10 +175,8 @@ def _result(results, total, times, reference, settings, tracking) -> CampaignRes
         done = [replace(r, time=times[r.index]) if isinstance(r, RecordModes) else r for r in done]
     good = [r for r in done if isinstance(r, RecordModes)]
     failed = [r for r in done if isinstance(r, RecordFailure)]
-    if good and all(isinstance(r.time, np.datetime64) for r in good):
-        good.sort(key=lambda r: (r.time, r.index))
-    elif good and all(isinstance(r.time, float) for r in good):
-        good.sort(key=lambda r: (r.time, r.index))
+    if all(isinstance(r.time, np.datetime64) for r in good) or all(isinstance(r.time, float) for r in good):
+        good.sort(key=lambda r: (r.time, r.index))  # time order; otherwise the order of the sources
     trk = track_modes(good, reference, **tracking)
     failed = sorted(failed + list(trk.refused), key=lambda f: f.index)
     return CampaignResult(table=build_table(trk), modes=trk.modes, failed=tuple(failed), records=trk.records,
