@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import era
 
-from . import limits
+from . import compute, limits
 from .config import Settings
 from .errors import NotFound
 from .store import Store
@@ -136,7 +136,7 @@ class Cache:
 
     def new_analysis(self, dataset: Dataset, params: dict) -> tuple[Analysis, era.Identification]:
         """Identify a dataset (one SVD, within the server's limits), then store the analysis and cache its result."""
-        ident = limits.identify(dataset.data, params, self.settings)
+        ident = self._compute(limits.identify, dataset.data, params, self.settings)
         analysis_id = self.store.add_analysis(dataset.id, params)
         a = Analysis(analysis_id, dataset.id, params, dataset.data, dataset.geometry, dataset.name)
         return a, self._idents.put(analysis_id, ident)
@@ -150,7 +150,7 @@ class Cache:
         hit = self._idents.get(a.id)
         if hit is not None:
             return hit
-        return self._once(self._idents, a.id, lambda: limits.identify(a.data, a.params, self.settings))
+        return self._once(self._idents, a.id, lambda: self._compute(limits.identify, a.data, a.params, self.settings))
 
     def model(self, a: Analysis, order: int) -> era.ModalModel:
         """The model of one order (era.OrderError above the identification's max_order)."""
@@ -164,15 +164,20 @@ class Cache:
         """The stabilization diagram over orders 2, 4, … up to min(max_order, the diagram's limit)."""
         hit = self._stabs.get(a.id)
         if hit is None:
-            def compute():
+            def diagram():
                 ident = self.identification(a)
                 top = min(ident.max_order, self.settings.max_stabilization_order)
                 orders = range(2, top + 1, 2) if top >= 2 else range(1, top + 1)
-                return era.stabilization(ident, orders)
-            hit = self._once(self._stabs, a.id, compute)
+                return self._compute(era.stabilization, ident, orders)
+            hit = self._once(self._stabs, a.id, diagram)
         return hit
 
-    def _once(self, cache: LRU, key, compute):
+    def _compute(self, fn, *args):
+        """CPU-bound work in a worker process (app/compute.py): it holds neither this process's GIL nor its
+        cores' priority against the slider."""
+        return compute.run(fn, *args, workers=self.settings.heavy_workers)
+
+    def _once(self, cache: LRU, key, make):
         """cache[key], computed by one thread while others asking for the same key wait for it. (The lock is
         per cache and key: the stabilization of an analysis may wait for its identification.)"""
         slot = (id(cache), key)
@@ -182,7 +187,7 @@ class Cache:
             with lock:
                 hit = cache.get(key)
                 if hit is None:
-                    hit = cache.put(key, compute())
+                    hit = cache.put(key, make())
                 return hit
         finally:
             with self._inflight_lock:

@@ -52,10 +52,13 @@ class Settings:
     max_plot_points: int = 4000
     #: Heavy jobs (file parsing, SVD, stabilization) running at once; more wait in a queue.
     heavy_workers: int = 2
-    #: Heavy jobs waiting at most; beyond it a request gets 503 "busy, retry".
-    heavy_queue: int = 8
-    #: Identifications kept in memory (LRU); an evicted one is recomputed from the stored dataset.
-    cache_identifications: int = 8
+    #: Heavy jobs waiting at most; beyond it a request gets 503 with Retry-After (the page retries by itself).
+    heavy_queue: int = 64
+    #: Uploads up to this size are read on the quick threads (never queued behind SVDs), bytes.
+    small_upload_bytes: int = 4 * 1024 * 1024
+    #: Identifications kept in memory (LRU; a 800 × 800 H(0) keeps ~3 MB of singular vectors); an evicted one is
+    #: recomputed from the stored dataset.
+    cache_identifications: int = 64
     #: Realized models (analysis, order) kept in memory for the order slider.
     cache_models: int = 128
     #: Per client (IP address) and minute: requests to /api/ in all, and those that start heavy work.
@@ -71,7 +74,7 @@ class Settings:
 
 def from_env() -> Settings:
     """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
-    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS and ERA_VIEWER (0 turns the viser viewer off)."""
+    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE and ERA_VIEWER (0 turns the viser viewer off)."""
     base = Settings()
     return replace(
         base,
@@ -83,5 +86,6 @@ def from_env() -> Settings:
         rate_limit_per_minute=_env("ERA_RATE_LIMIT", base.rate_limit_per_minute, int),
         rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, int),
         heavy_workers=_env("ERA_HEAVY_WORKERS", base.heavy_workers, int),
+        heavy_queue=_env("ERA_HEAVY_QUEUE", base.heavy_queue, int),
         viewer=_env("ERA_VIEWER", 1, int) != 0,
     )

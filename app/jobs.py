@@ -1,9 +1,10 @@
 """Work off the event loop: a small bounded pool for heavy jobs, a separate one for quick ones, and progress.
 
-Heavy jobs (parsing an upload, the SVD, the stabilization diagram, a report) run at most ``heavy_workers`` at a
-time and at most ``heavy_queue`` more may wait; beyond that the request fails fast with 503 instead of piling
-up. Quick jobs (realizing one order for the slider, a reconstruction) have their own threads, so a running SVD
-never makes the slider wait.
+Heavy jobs (parsing a large upload, the SVD, the stabilization diagram, a report) run at most ``heavy_workers``
+at a time and at most ``heavy_queue`` more may wait; beyond that the request fails fast with 503 and a
+Retry-After instead of piling up. Quick jobs (realizing one order for the slider, a reconstruction, a small upload)
+have their own threads and are never refused. Heavy threads run at a lower CPU priority (nice +10, per thread on
+Linux), so on a loaded server the kernel gives the slider's threads the cores first.
 
 Progress: a request may name itself with a random key (header ``X-Progress-Key``); while it waits or runs,
 ``GET /api/jobs/{key}`` says whether it is queued (and behind how many), what it is doing, and for how long.
@@ -12,6 +13,7 @@ Progress: a request may name itself with a random key (header ``X-Progress-Key``
 from __future__ import annotations
 
 import asyncio
+import os
 import functools
 import itertools
 import re
@@ -28,11 +30,25 @@ _KEY = re.compile(r"^[A-Za-z0-9_-]{8,64}$")
 _FINISHED_KEPT = 256  # finished jobs remembered for late polls
 
 
+#: CPU priority of the heavy threads (Linux nice value, per thread): behind the quick threads at 0.
+HEAVY_NICE = 10
+
+
+def _lower_priority() -> None:
+    """Run this (heavy) thread at nice HEAVY_NICE; best effort where threads have no priority of their own."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), HEAVY_NICE)
+    except (AttributeError, OSError):
+        pass
+
+
 class Jobs:
     def __init__(self, heavy_workers: int, heavy_queue: int, quick_workers: int = 4):
-        self._heavy = ThreadPoolExecutor(max_workers=heavy_workers, thread_name_prefix="era-heavy")
+        self._heavy = ThreadPoolExecutor(max_workers=heavy_workers, thread_name_prefix="era-heavy",
+                                         initializer=_lower_priority)
         self._quick = ThreadPoolExecutor(max_workers=quick_workers, thread_name_prefix="era-quick")
         self._capacity = heavy_workers + heavy_queue
+        self._workers = heavy_workers
         self._pending = 0
         self._lock = threading.Lock()
         self._order = itertools.count()
@@ -48,8 +64,10 @@ class Jobs:
         key = progress if progress and _KEY.match(progress) else None
         with self._lock:
             if self._pending >= self._capacity:
-                raise HTTPException(503, f"The server is busy with {self._pending} computations; "
-                                         "try again in a few seconds.")
+                wait = max(2, min(60, self._pending // max(1, self._workers)))
+                raise HTTPException(503, f"The server is busy: {self._pending} computations are running or queued, "
+                                         f"its limit (ERA_HEAVY_QUEUE). The page retries by itself in {wait} s.",
+                                    headers={"Retry-After": str(wait)})
             self._pending += 1
             job = {"state": "queued", "message": message, "seq": next(self._order), "queued_at": time.monotonic(),
                    "started_at": None, "finished_at": None}

@@ -44,6 +44,15 @@ class Identification:
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
 
+    def __getstate__(self) -> dict:
+        """Pickled without its lock and its projection cache (rebuilt on demand): an identification can go to
+        and come from another process."""
+        state = {k: v for k, v in self.__dict__.items() if k not in ("_cache", "_lock")}
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state, _cache={}, _lock=threading.Lock())
+
     @property
     def rows(self) -> int:
         return len(self.row_shifts)

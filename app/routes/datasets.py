@@ -31,6 +31,8 @@ async def upload(request: Request, file: UploadFile,
         summary = payloads.dataset_summary(data, geometry, name, c.settings, dict(source, file=name, bytes=len(blob)))
         return c.add_dataset(data, geometry, name, summary)
 
+    if len(blob) <= cache(request).settings.small_upload_bytes:  # cheap: never queued behind SVDs
+        return await jobs(request).quick(work)
     return await jobs(request).heavy(work, progress=progress_key(request), message=f"Reading {name}")
 
 

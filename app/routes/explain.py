@@ -12,7 +12,7 @@ from pydantic import BaseModel, Field
 
 import era
 
-from .. import explaining, schemas
+from .. import compute, explaining, schemas
 from ..cache import Analysis
 from ..errors import NotFound
 from .analyses import identified
@@ -74,8 +74,8 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 
     def work():
         chosen = kept if kept is None else (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
-        summary, responses = explaining.run(ident, a.geometry, model, body.nominal, orders=body.orders,
-                                            kept=chosen)
+        summary, responses = compute.run(explaining.run, ident, a.geometry, model, body.nominal, orders=body.orders,
+                                         kept=chosen, workers=c.settings.heavy_workers)
         files.add_explanation(a.id, summary, responses, a.data.dt)
         return summary, responses
 

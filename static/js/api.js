@@ -1,5 +1,11 @@
 // Calls to the backend. Errors come back as {error: message}; they are thrown as Error(message).
 
+// A busy server (503) or a rate limit (429) says when to come back (Retry-After): the page waits and sends the
+// request again by itself, at most RETRIES times, saying so through `progress`.
+const RETRIES = 10;
+const retryAfter = (res) => Math.min(60, Math.max(1, Number(res.headers.get("Retry-After")) || 2));
+const sleep = (s) => new Promise((resolve) => setTimeout(resolve, 1000 * s));
+
 // progress: optional callback(text) called while heavy work is queued or running (GET /api/jobs/{key}).
 export async function api(path, { method = "GET", body, progress } = {}) {
   const opts = { method, headers: {} };
@@ -9,11 +15,19 @@ export async function api(path, { method = "GET", body, progress } = {}) {
   }
   const stop = progress ? watch(opts.headers, progress) : () => {};
   try {
-    const res = await fetch(path, opts);
-    let payload = null;
-    try { payload = await res.json(); } catch { /* not JSON */ }
-    if (!res.ok) throw new Error((payload && payload.error) || `${res.status} ${res.statusText}`);
-    return payload;
+    for (let attempt = 0; ; attempt++) {
+      const res = await fetch(path, opts);
+      let payload = null;
+      try { payload = await res.json(); } catch { /* not JSON */ }
+      if ((res.status === 503 || res.status === 429) && attempt < RETRIES) {
+        const wait = retryAfter(res);
+        if (progress) progress(`The server is busy; trying again in ${wait} s…`);
+        await sleep(wait);
+        continue;
+      }
+      if (!res.ok) throw new Error((payload && payload.error) || `${res.status} ${res.statusText}`);
+      return payload;
+    }
   } finally {
     stop();
   }
@@ -45,7 +59,19 @@ function watch(headers, callback) {
 
 // Multipart upload with progress (fetch cannot report upload progress; XMLHttpRequest can).
 // onProgress(fraction) while the bytes go up; onWork(text) while the server reads the file.
-export function upload(path, file, onProgress, onWork, fields = {}) {
+export async function upload(path, file, onProgress, onWork, fields = {}) {
+  for (let attempt = 0; ; attempt++) {
+    try {
+      return await uploadOnce(path, file, onProgress, onWork, fields);
+    } catch (err) {
+      if (!err.retryAfter || attempt >= RETRIES) throw err;
+      if (onWork) onWork(`The server is busy; trying again in ${err.retryAfter} s…`);
+      await sleep(err.retryAfter);
+    }
+  }
+}
+
+function uploadOnce(path, file, onProgress, onWork, fields) {
   return new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
     xhr.open("POST", path);
@@ -57,8 +83,12 @@ export function upload(path, file, onProgress, onWork, fields = {}) {
     xhr.onload = () => {
       let payload = null;
       try { payload = JSON.parse(xhr.responseText); } catch { /* not JSON */ }
-      if (xhr.status >= 200 && xhr.status < 300) resolve(payload);
-      else reject(new Error((payload && payload.error) || `${xhr.status} ${xhr.statusText}`));
+      if (xhr.status >= 200 && xhr.status < 300) { resolve(payload); return; }
+      const err = new Error((payload && payload.error) || `${xhr.status} ${xhr.statusText}`);
+      if (xhr.status === 503 || xhr.status === 429) {
+        err.retryAfter = Math.min(60, Math.max(1, Number(xhr.getResponseHeader("Retry-After")) || 2));
+      }
+      reject(err);
     };
     xhr.onerror = () => reject(new Error("The upload failed: the server could not be reached."));
     const form = new FormData();
