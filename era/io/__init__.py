@@ -19,21 +19,32 @@ from ..data import ResponseData
 from ..errors import DataError, EraError
 from ..geometry import Geometry
 from .csv import read_csv
+from .hdf5 import read_hdf5
 from .lvm import read_lvm
+from .mat import read_mat
+from .npy import read_npy
 from .npz import npz_bytes, read_npz, save_npz
 from .records import Records, merge, to_response
+from .tdms import read_tdms
 from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
 from .uff_write import save_modes_uff
 
-FORMATS = ("uff", "csv", "text", "npz", "lvm")
+FORMATS = ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms")
 _EXTENSIONS = {".uff": "uff", ".unv": "uff", ".uf": "uff", ".csv": "csv", ".txt": "csv", ".tsv": "csv",
-               ".dat": "csv", ".npz": "npz", ".lvm": "lvm"}
+               ".dat": "csv", ".npz": "npz", ".lvm": "lvm", ".npy": "npy", ".mat": "mat", ".h5": "hdf5",
+               ".hdf5": "hdf5", ".hdf": "hdf5", ".he5": "hdf5", ".tdms": "tdms"}
 #: Content that names its format, looked for at the start of the file (after a UTF-8 byte-order mark).
-_MAGIC = ((b"PK\x03\x04", "npz"), (b"LabVIEW Measurement", "lvm"))
-#: Readers of time records from one file's bytes: (raw, label, dt) -> Records.
-_TIME_READERS = {"csv": read_csv, "text": read_csv, "lvm": read_lvm}
+_MAGIC = ((b"PK\x03\x04", "npz"), (b"LabVIEW Measurement", "lvm"), (b"\x89HDF\r\n\x1a\n", "hdf5"),
+          (b"MATLAB 5.0 MAT-file", "mat"), (b"MATLAB 7.3 MAT-file", "mat"), (b"TDSm", "tdms"),
+          (b"\x93NUMPY", "npy"))
+#: Readers of time records from one file's bytes: (raw, label, dt, **how) -> Records.
+_TIME_READERS = {"csv": read_csv, "text": read_csv, "lvm": read_lvm, "npy": read_npy, "mat": read_mat,
+                 "hdf5": read_hdf5, "tdms": read_tdms}
+#: Readers that take a path on disk themselves (a large binary file is then not copied into memory first).
+_PATH_READERS = ("npy", "hdf5", "tdms")
 #: Options that say how to read a file (the others go to the conversion), and the formats that take each.
-_READER_OPTIONS = {"orientation": ("csv", "text")}
+_READER_OPTIONS = {"orientation": ("csv", "text", "npy", "mat", "hdf5"), "variable": ("mat", "hdf5"),
+                   "group": ("tdms",)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,7 +110,7 @@ def sniff(raw: bytes, name: str) -> str:
     sample = raw[:4096]
     if b"\x00" in sample or sum(b < 9 or 13 < b < 32 for b in sample) > 0.01 * len(sample):
         raise DataError(f"{name}: binary content that is none of the formats read: UFF (58/58b, 15, 82, 55), CSV/text, "
-                        "LabVIEW LVM and NPZ.")
+                        "LabVIEW LVM, NumPy .npy/.npz, MATLAB .mat, HDF5 and NI TDMS.")
     return "csv"
 
 
@@ -110,14 +121,16 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     Parameters
     ----------
     source : path, bytes or binary file object, or a list of them (several CSV files = several records)
-    format : one of FORMATS ("uff", "csv", "npz", "lvm") or None (sniffed from the content, then the extension
-        of ``name``/the path)
+    format : one of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms") or None (sniffed
+        from the content, then the extension of ``name``/the path)
     name : the original file name of an upload (for sniffing and messages)
     kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
     dt : sampling interval in s, used only when a file carries none (text without a time column, an LVM file
-        without X_Value column or Delta_X)
-    orientation : "rows" or "columns": where the channels are in a text file without a header (default: from the
-        shape, the longer side is time)
+        without X_Value column or Delta_X, .npy, .mat/HDF5 without fs/dt/time, TDMS without wf_increment)
+    orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
+        (default: from the shape, the longer side is time)
+    variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
+    group : the TDMS group to read, when groups hold different channels
     options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
 
     Raises DataError naming the file, record or line and what is wrong.
@@ -147,14 +160,18 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     try:
         if fmt in _TIME_READERS:
             read = _TIME_READERS[fmt]
-            rec = merge([read(_whole(raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)], labels)
+            rec = merge([read(_payload(fmt, raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)],
+                        labels)
             return _convert(rec, None, None, labels, fmt, kind, options)
         with _on_disk(raws[0][0], sources[0]) as path:  # messages may count lines in it until the end
             rec, parts, modes = read_uff(path, labels[0])
             return _convert(rec, parts, modes, labels, fmt, kind, options)
     except EraError:
         raise
-    except (ValueError, TypeError, IndexError, KeyError, OverflowError, struct.error) as exc:
+    except MemoryError:
+        raise DataError(f"{labels[0]}: too large to read into memory; load a part of it.") from None
+    except (ValueError, TypeError, IndexError, KeyError, OverflowError, struct.error, OSError, EOFError,
+            RuntimeError) as exc:
         # last resort: a malformed file that slipped past the checks must still not surface as a stack trace
         raise DataError(f"{labels[0]}: cannot be read as {fmt.upper()} ({type(exc).__name__}: {exc}).") from None
 
@@ -174,6 +191,13 @@ def _convert(rec, parts, modes, labels, fmt, kind, options) -> Dataset:
         keep = ~rec.force if used == "io" and rec.force is not None else np.ones(len(rec.nodes), bool)
         geometry = build_geometry(parts, rec.nodes[keep], rec.directions[keep], labels[0])
     return Dataset(data, geometry, _source(labels, fmt, used, rec.described, data), modes)
+
+
+def _payload(fmt: str, raw: bytes, src):
+    """What a reader gets: the path of a file on disk for the readers that open it themselves, else all its bytes."""
+    if fmt in _PATH_READERS and isinstance(src, (str, os.PathLike)):
+        return os.fspath(src)
+    return _whole(raw, src)
 
 
 @contextmanager
