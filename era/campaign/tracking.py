@@ -26,7 +26,7 @@ from scipy.optimize import linear_sum_assignment
 from ..correlation import pairing_cost
 from ..errors import DataError
 from ..indicators import mac
-from .record import RecordFailure, RecordModes
+from .record import RecordFailure
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,7 +102,7 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
 
     Parameters
     ----------
-    records : sequence of RecordModes
+    records : sequence of era.campaign.RecordModes
     reference : None (the modes of the first record that has any), an era.ModalModel (its decaying pairs) or a
         tuple (frequency_hz (k,), damping_ratio (k,), shapes (p, k)).
     freq_scale : relative frequency error that costs as much as a MAC loss of 0.1 (1 %).
