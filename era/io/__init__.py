@@ -120,7 +120,9 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
 
     Parameters
     ----------
-    source : path, bytes or binary file object, or a list of them (several CSV files = several records)
+    source : path, bytes or binary file object, or a list of them read as one dataset: UFF files (one per hammer
+        hit or shaker reference) assembled into outputs × references by node and direction; time files (CSV, LVM,
+        MAT, TDMS, ...) as one record each (several initial conditions or runs)
     format : one of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms") or None (sniffed
         from the content, then the extension of ``name``/the path)
     name : the original file name of an upload (for sniffing and messages)
@@ -151,9 +153,14 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         if fmt not in _READER_OPTIONS[k]:
             raise DataError(f"{labels[0]}: `{k}` applies to {'/'.join(_READER_OPTIONS[k]).upper()} files, not to "
                             f"{fmt.upper()}; leave it out.")
-    if len(raws) > 1 and fmt not in _TIME_READERS:
-        raise DataError(f"Several files are read together only as {'/'.join(_TIME_READERS).upper()} (one record "
-                        "each); load UFF and NPZ one by one.")
+    if len(raws) > 1 and fmt == "npz":
+        raise DataError(f"{', '.join(labels)}: NPZ files hold a whole dataset each; load them one by one.")
+    if len(raws) > 1 and format is None:
+        for raw, lab in raws[1:]:
+            other = sniff(raw, lab)
+            if other != fmt and {other, fmt} != {"csv", "text"}:
+                raise DataError(f"{lab} is {other.upper()} but {labels[0]} is {fmt.upper()}; the files of one "
+                                "dataset must share one format.")
     if fmt == "npz":
         data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
         return Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data), name=stored_name), None)
@@ -163,8 +170,9 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
             rec = merge([read(_payload(fmt, raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)],
                         labels)
             return _convert(rec, None, None, labels, fmt, kind, options)
-        with _on_disk(raws[0][0], sources[0]) as path:  # messages may count lines in it until the end
-            rec, parts, modes = read_uff(path, labels[0])
+        with _on_disk([r for r, _ in raws], sources) as paths:  # messages may count lines until the end
+            rec, parts, modes = read_uff(paths if len(paths) > 1 else paths[0],
+                                         labels if len(paths) > 1 else labels[0])
             return _convert(rec, parts, modes, labels, fmt, kind, options)
     except EraError:
         raise
@@ -201,16 +209,18 @@ def _payload(fmt: str, raw: bytes, src):
 
 
 @contextmanager
-def _on_disk(raw: bytes, src):
-    """A path to the file for pyuff: the caller's own, or a temporary copy of uploaded bytes."""
-    if isinstance(src, (str, os.PathLike)):
-        yield os.fspath(src)
-        return
+def _on_disk(raws: list[bytes], sources: list):
+    """Paths to the files for pyuff: the caller's own, or temporary copies of uploaded bytes."""
     with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "upload.uff")
-        with open(path, "wb") as fh:
-            fh.write(raw)
-        yield path
+        paths = []
+        for k, (raw, src) in enumerate(zip(raws, sources)):
+            if isinstance(src, (str, os.PathLike)):
+                paths.append(os.fspath(src))
+                continue
+            paths.append(os.path.join(tmp, f"upload{k}.uff"))
+            with open(paths[-1], "wb") as fh:
+                fh.write(raw)
+        yield paths
 
 
 def _source(labels, fmt, kind, described, data) -> dict:

@@ -147,14 +147,30 @@ def check_finite(values: np.ndarray, where: str, row_offset: int = 0, row_name: 
 
 
 def merge(records: list[Records], labels: list[str]) -> Records:
-    """Several files of the same channels as several records (one per file)."""
+    """Several files of the same channels as several records (one or more per file).
+
+    The files must hold the same channels in the same units, sampled with the same step, and records of the same
+    length; DataError names the file that differs and the first file.
+    """
     first = records[0]
+    if len(records) == 1:
+        return first
+    n = len(first.values[0])
     for r, lab in zip(records[1:], labels[1:]):
         if r.outputs != first.outputs:
             raise DataError(f"{lab}: channels {list(r.outputs)} differ from those of {labels[0]} "
                             f"{list(first.outputs)}; every file must hold the same channels.")
         if abs(r.step - first.step) > 1e-6 * first.step:
-            raise DataError(f"{lab}: sampled every {r.step:g} s but {labels[0]} every {first.step:g} s.")
+            raise DataError(f"{lab}: sampled every {r.step:g} s but {labels[0]} every {first.step:g} s; the files of "
+                            "one dataset must share the sampling rate.")
+        if tuple(r.output_units) != tuple(first.output_units):
+            raise DataError(f"{lab}: units {list(r.output_units)} but {labels[0]} has {list(first.output_units)}; "
+                            "the files of one dataset must measure in the same units.")
+        lengths = {len(v) for v in r.values}
+        if lengths != {n}:
+            raise DataError(f"{lab}: records of {sorted(lengths)} samples but {labels[0]} has {n}; the files of one "
+                            "dataset must be equally long (cut them to the same length).")
     return Records(domain="time", values=[v for r in records for v in r.values], step=first.step,
                    start=first.start, outputs=first.outputs, output_units=first.output_units, force=first.force,
+                   nodes=first.nodes, directions=first.directions,
                    described=[d for r in records for d in r.described])

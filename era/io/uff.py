@@ -15,7 +15,7 @@ import pyuff
 from ..errors import DataError
 from ..geometry import Geometry
 from ..markov._common import uneven_step
-from .records import Records, check_finite
+from .records import Records, check_finite, merge
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
 _DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
@@ -162,11 +162,17 @@ def _same_sampling(recs: list[dict], label: str) -> None:
     first = recs[0]
     for r in recs[1:]:
         if r["y"].size != first["y"].size:
-            raise DataError(f"{r['where']}: {r['y'].size} samples, but data set #{first['set']} has "
+            raise DataError(f"{r['where']}: {r['y'].size} samples, but {_first(first, r)} has "
                             f"{first['y'].size}; every function record must have the same length.")
         if abs(r["dx"] - first["dx"]) > 1e-9 * first["dx"] or abs(r["x0"] - first["x0"]) > 1e-6 * first["dx"]:
-            raise DataError(f"{r['where']}: sampling step {r['dx']:g} from {r['x0']:g}, but data set #{first['set']} "
+            raise DataError(f"{r['where']}: sampling step {r['dx']:g} from {r['x0']:g}, but {_first(first, r)} "
                             f"has step {first['dx']:g} from {first['x0']:g}; resample to a common grid first.")
+
+
+def _first(first: dict, other: dict) -> str:
+    """The first record as named from another's message: its set, and its file when that is another one."""
+    same = first.get("file") == other.get("file")
+    return f"data set #{first['set']}" if same else f"{first['where']}"
 
 
 def _unique(names: list[str]) -> tuple[str, ...]:
@@ -191,7 +197,7 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
         i, j = outs.index(r["rsp"]), refs.index(r["ref"])
         if filled[i, j]:
             raise DataError(f"{r['where']}: a second record for response {_dof_label(*r['rsp'])} and reference "
-                            f"{_dof_label(*r['ref'])} (the first is data set #{first[i, j]['set']}); remove one.")
+                            f"{_dof_label(*r['ref'])} (the first is {_first(first[i, j], r)}); remove one.")
         values[:, i, j] = r["y"]
         filled[i, j] = True
         first[i, j] = r
@@ -319,23 +325,80 @@ def build_geometry(parts, nodes, directions, label: str) -> Geometry | None:
     return Geometry(ids, xyz, np.array(edges, dtype=int).reshape(-1, 2), channel_rows, directions)
 
 
-def read_uff(path: str, label: str):
-    """(Records or None, geometry parts, ModeSet or None) from a UFF file."""
-    sets = read_sets(path, label)
-    funcs = [_function_record(i, line, d, label) for i, line, d in sets if d.get("type") == 58]
-    skipped = sum(f is None for f in funcs)
-    funcs = [f for f in funcs if f is not None]
+def read_uff(path, label):
+    """(Records or None, geometry parts, ModeSet or None) from a UFF file, or from several (``path`` and ``label``
+    lists: one file per hammer hit or shaker reference, read as one test).
+
+    Several files: FRF or impulse-response records of all files are assembled into outputs × references by their
+    node/direction fields; time records are one record per file (several initial conditions or runs). The files
+    must share the sampling, the length and the units of their records; the nodes they define are merged.
+    """
+    paths, labels = ([path], [label]) if isinstance(path, (str, os.PathLike)) else (list(path), list(label))
+    per_file = [read_sets(os.fspath(p), lab) for p, lab in zip(paths, labels)]
+    funcs, skipped = [], 0
+    for sets, lab in zip(per_file, labels):
+        found = [_function_record(i, line, d, lab) for i, line, d in sets if d.get("type") == 58]
+        skipped += sum(f is None for f in found)
+        funcs += [dict(f, file=lab) for f in found if f is not None]
     records = None
     if funcs:
         domains = {f["domain"] for f in funcs}
         if len(domains) > 1:
-            raise DataError(f"{label}: mixes {' and '.join(sorted(domains))} records; load one kind per file.")
-        _same_sampling(funcs, label)
+            first = {d: next(f for f in funcs if f["domain"] == d) for d in domains}
+            raise DataError(f"{' and '.join(str(first[d]['where']) for d in sorted(domains))}: "
+                            f"{' and '.join(sorted(domains))} records mixed; load one kind of record at a time.")
+        _same_sampling(funcs, labels[0])
+        if len(paths) > 1:
+            _same_units(funcs)
         domain = domains.pop()
-        records = _channels(funcs, label) if domain == "time" else _matrix(funcs, domain, label)
+        if domain != "time":
+            records = _matrix(funcs, domain, ", ".join(labels))
+        elif len(paths) == 1:
+            records = _channels(funcs, labels[0])
+        else:
+            records = merge([_channels([f for f in funcs if f["file"] == lab], lab) for lab in labels
+                             if any(f["file"] == lab for f in funcs)], labels)
+        if len(paths) > 1:
+            records.described.insert(0, f"{len(paths)} UFF files read as one test: {', '.join(labels)}")
         if skipped:
             records.described.append(f"{skipped} other UFF 58 record(s) (spectra, coherence, ...) not used")
-    return records, _geometry_parts(sets, label), _modes(sets, label)
+    parts = _merge_parts([_geometry_parts(sets, lab) for sets, lab in zip(per_file, labels)], labels)
+    modes = [m for m in (_modes(sets, lab) for sets, lab in zip(per_file, labels)) if m is not None]
+    if len(modes) > 1:
+        raise DataError(f"{', '.join(labels)}: mode shapes (UFF 55) in more than one file; read mode files one by one "
+                        "(era.read_modes_uff).")
+    return records, parts, modes[0] if modes else None
+
+
+def _same_units(funcs: list[dict]) -> None:
+    """Files of one test measure the same quantities: every record's units must be those of the first file's."""
+    first = funcs[0]
+    for f in funcs[1:]:
+        if (f["unit"], f["den_unit"]) != (first["unit"], first["den_unit"]):
+            raise DataError(f"{f['where']}: units {f['unit']}/{f['den_unit']} but {first['where']} has "
+                            f"{first['unit']}/{first['den_unit']}; the files of one test must use the same units "
+                            "(export them again with the same unit settings).")
+
+
+def _merge_parts(parts, labels):
+    """The nodes and trace lines of several files as one geometry; a node defined twice must be at one place."""
+    present = [(p, lab) for p, lab in zip(parts, labels) if p is not None]
+    if len(present) <= 1:
+        return present[0][0] if present else None
+    where_of: dict[int, tuple[np.ndarray, str]] = {}
+    ids, xyz, traces = [], [], []
+    for (i_, x_, t_), lab in present:
+        for node, point in zip(i_, x_):
+            if int(node) in where_of:
+                if not np.allclose(where_of[int(node)][0], point, rtol=1e-6, atol=1e-9):
+                    raise DataError(f"{lab}: node {int(node)} at {point.tolist()} but {where_of[int(node)][1]} puts it "
+                                    f"at {where_of[int(node)][0].tolist()}; the files must share one geometry.")
+                continue
+            where_of[int(node)] = (point, lab)
+            ids.append(int(node))
+            xyz.append(point)
+        traces += [tr for tr in t_ if not any(np.array_equal(tr[2], seen[2]) for seen in traces)]
+    return np.array(ids, dtype=int), np.array(xyz, dtype=float).reshape(-1, 3), traces
 
 
 def read_modes_uff(path) -> ModeSet:
