@@ -64,6 +64,12 @@ class Settings:
     #: Per client (IP address) and minute: requests to /api/ in all, and those that start heavy work.
     rate_limit_per_minute: int = 1200
     rate_limit_heavy_per_minute: int = 60
+    #: A shared team token: without it only report links, static files and /api/health answer (app/access.py).
+    access_token: str | None = None
+    #: A header a reverse proxy sets to the authenticated user (e.g. X-Forwarded-User); requests without it: 401.
+    trust_user_header: str | None = None
+    #: Datasets and analyses that no report uses are deleted this many days after they were made (0: never).
+    expire_days: float = 30.0
     #: Start the viser mode-shape viewer (app/viewer/); ERA_VIEWER=0 turns it off.
     viewer: bool = True
 
@@ -74,7 +80,8 @@ class Settings:
 
 def from_env() -> Settings:
     """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
-    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE and ERA_VIEWER (0 turns the viser viewer off)."""
+    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE, ERA_ACCESS_TOKEN,
+    ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS and ERA_VIEWER (0 turns the viser viewer off)."""
     base = Settings()
     return replace(
         base,
@@ -87,5 +94,8 @@ def from_env() -> Settings:
         rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, int),
         heavy_workers=_env("ERA_HEAVY_WORKERS", base.heavy_workers, int),
         heavy_queue=_env("ERA_HEAVY_QUEUE", base.heavy_queue, int),
+        access_token=_env("ERA_ACCESS_TOKEN", None, str),
+        trust_user_header=_env("ERA_TRUST_USER_HEADER", None, str),
+        expire_days=_env("ERA_EXPIRE_DAYS", base.expire_days, float),
         viewer=_env("ERA_VIEWER", 1, int) != 0,
     )

@@ -7,6 +7,7 @@ out of responses. The JSON of every answer is declared in app/schemas.py (see /d
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import secrets
 import time
@@ -22,7 +23,8 @@ from swagger_ui_bundle import swagger_ui_path
 
 import era
 
-from . import config, schemas
+from . import config, housekeeping, schemas
+from .access import Access
 from .cache import Cache
 from .errors import NotFound
 from .jobs import Jobs
@@ -123,9 +125,11 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             viewer.start()
         log.info("ERA app: files in %s, index in %s (revision %s), viewer %s", settings.data_dir.resolve(),
                  store.backend, store.revision, "on" if viewer else "off")
+        sweeper = asyncio.create_task(housekeeping.sweep_forever(store, settings.expire_days))
         try:
             yield
         finally:
+            sweeper.cancel()
             if viewer is not None:
                 viewer.stop()
             app.state.jobs.shutdown()
@@ -140,10 +144,14 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.viewer = viewer
     limiter = RateLimit(settings.rate_limit_per_minute, settings.rate_limit_heavy_per_minute)
+    access = app.state.access = Access(settings.access_token, settings.trust_user_header)
 
     @app.middleware("http")
     async def rate_limit(request: Request, call_next):
         path = request.url.path
+        refused = access.check(request)
+        if refused is not None:
+            return refused
         if path.startswith("/api/"):
             client = request.client.host if request.client else "unknown"
             # uploads, identifications, examples and reports start heavy work; publishing to the viewer does not

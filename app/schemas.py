@@ -192,11 +192,20 @@ class ViewerLink(Schema):
     n_modes: int = Field(description="modes published")
 
 
+class StoreUsage(Schema):
+    rows: dict[str, int] = Field(description="rows per table: datasets, analyses, reports, explanations")
+    bytes: dict[str, int] = Field(description="bytes per folder of the data folder: datasets, reports, explanations")
+    free_bytes: int = Field(description="free space on the data folder's disk, bytes")
+
+
 class Health(Schema):
     status: str = Field(description="ok when the server answers")
     version: str = Field(description="era-modal version of this server (era.__version__)")
     store: str = Field(description="the index database: sqlite or postgresql")
     schema_revision: str = Field(description="its migration revision (app/store/migrations)")
+    usage: StoreUsage = Field(description="what the store holds")
+    expire_days: float = Field(description="datasets and analyses in no report are deleted after this, days (0: never)")
+    access: str = Field(description="open, or restricted (a team token or a sign-in proxy)")
 
 
 class Progress(Schema):

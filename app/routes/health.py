@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+
 from fastapi import APIRouter, Request
 
 from .. import schemas
@@ -12,4 +14,7 @@ router = APIRouter(prefix="/api", tags=["health"])
 @router.get("/health", summary="The server is up: its version", response_model=schemas.Health)
 async def health(request: Request):
     store = request.app.state.store
-    return {"status": "ok", "version": request.app.version, "store": store.backend, "schema_revision": store.revision}
+    settings = request.app.state.settings
+    return {"status": "ok", "version": request.app.version, "store": store.backend, "schema_revision": store.revision,
+            "usage": await asyncio.to_thread(store.usage), "expire_days": settings.expire_days,
+            "access": "open" if request.app.state.access.open else "restricted"}

@@ -5,10 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import plotly
-from fastapi import APIRouter, Request
-from fastapi.responses import FileResponse, HTMLResponse
+from fastapi import APIRouter, Form, Request
+from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse
 
 from .. import config
+from ..access import login_page
 from .deps import store
 
 router = APIRouter(include_in_schema=False)
@@ -33,3 +34,15 @@ async def report_page(request: Request, token: str):
 async def plotly_js():
     return FileResponse(PLOTLY_JS, media_type="application/javascript",
                         headers={"Cache-Control": "public, max-age=86400"})
+
+
+@router.get("/login")
+async def login_form(request: Request, next: str = "/"):
+    if request.app.state.access.token is None:
+        return RedirectResponse("/", status_code=303)
+    return login_page("This server is for its team: give the access token the administrator shared.", 200, next)
+
+
+@router.post("/login")
+async def login(request: Request, token: str = Form(""), next: str = Form("/")):
+    return request.app.state.access.login(token, next)

@@ -18,8 +18,10 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import os
 import re
 import secrets
+import shutil
 import threading
 import time
 from pathlib import Path
@@ -203,3 +205,51 @@ class Store:
         arrays = read_arrays(paths[1].read_bytes(), f"stored explanation {paths[1]}", ("dt", *EXPLANATION_RESPONSES),
                              required=("dt", *EXPLANATION_RESPONSES))
         return {k: arrays[k] for k in EXPLANATION_RESPONSES}, float(arrays["dt"].reshape(-1)[0])
+
+    # ---- housekeeping -----------------------------------------------------------------------------------
+    def expire(self, before: float) -> dict:
+        """Delete the analyses made before ``before`` (Unix s) that no report uses, with their explanations, then
+        the datasets made before it that no analysis uses any more. Rows first, then files (a file without a row
+        is only garbage; a row without its file would be a broken link). Returns {"analyses": n, "datasets": n}."""
+        with self._engine.begin() as conn:
+            used = sa.select(reports.c.analysis_id)
+            gone = [r[0] for r in conn.execute(sa.select(analyses.c.id).where(analyses.c.created < before,
+                                                                              analyses.c.id.not_in(used)))]
+            if gone:
+                conn.execute(explanations.delete().where(explanations.c.analysis_id.in_(gone)))
+                conn.execute(analyses.delete().where(analyses.c.id.in_(gone)))
+            dropped = [r[0] for r in conn.execute(sa.select(datasets.c.id).where(
+                datasets.c.created < before, datasets.c.id.not_in(sa.select(analyses.c.dataset_id))))]
+            if dropped:
+                conn.execute(datasets.delete().where(datasets.c.id.in_(dropped)))
+        for analysis_id in gone:
+            for path in self._explanation_paths(analysis_id) or ():
+                path.unlink(missing_ok=True)
+        for dataset_id in dropped:
+            self.dataset_path(dataset_id).unlink(missing_ok=True)
+        return {"analyses": len(gone), "datasets": len(dropped)}
+
+    def usage(self) -> dict:
+        """What the store holds: rows per table, bytes per folder of the data folder, and the disk's free bytes."""
+        with self._engine.connect() as conn:
+            rows = {t.name: conn.execute(sa.select(sa.func.count()).select_from(t)).scalar_one()
+                    for t in (datasets, analyses, reports, explanations)}
+        folders = {name: _folder_bytes(self.root / name) for name in ("datasets", "reports", "explanations")}
+        return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
+
+
+def _folder_bytes(folder: Path) -> int:
+    """Bytes of the files below ``folder`` (0 when it does not exist yet)."""
+    total = 0
+    stack = [folder]
+    while stack:
+        try:
+            entries = list(os.scandir(stack.pop()))
+        except FileNotFoundError:
+            continue
+        for e in entries:
+            if e.is_dir(follow_symlinks=False):
+                stack.append(e.path)
+            elif e.is_file(follow_symlinks=False):
+                total += e.stat(follow_symlinks=False).st_size
+    return total

@@ -81,7 +81,7 @@ def test_the_installed_server_runs_from_any_folder(wheel, tmp_path):
         assert '<footer class="note" id="footer">' in page
         assert b"import" in urllib.request.urlopen(base + "/static/js/main.js", timeout=5).read()
         health = json.load(urllib.request.urlopen(base + "/api/health", timeout=5))
-        assert health == {"status": "ok", "version": era.__version__, "store": "sqlite", "schema_revision": "0002"}
+        assert (health["status"], health["version"], health["store"]) == ("ok", era.__version__, "sqlite")
         made = urllib.request.urlopen(urllib.request.Request(base + "/api/examples/case1", method="POST"), timeout=60)
         assert json.load(made)["n_samples"] == 200
         assert (elsewhere / "store" / "era.sqlite3").is_file()

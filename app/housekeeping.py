@@ -1,0 +1,33 @@
+"""Housekeeping: datasets and analyses that no report uses are deleted ``ERA_EXPIRE_DAYS`` after they were made;
+reports (and what they froze) are kept. Runs at start and every hour, in a thread; several app processes may run
+it at once (deleting is idempotent)."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+
+from .store import Store
+
+log = logging.getLogger("app.housekeeping")
+#: Seconds between sweeps.
+EVERY_S = 3600.0
+
+
+def sweep(store: Store, expire_days: float, now: float | None = None) -> dict:
+    """Delete what expired by ``now`` (Unix s); returns the counts. ``expire_days`` ≤ 0 keeps everything."""
+    if expire_days <= 0:
+        return {"analyses": 0, "datasets": 0}
+    return store.expire(before=(time.time() if now is None else now) - 86400.0 * expire_days)
+
+
+async def sweep_forever(store: Store, expire_days: float) -> None:
+    while True:
+        try:
+            gone = await asyncio.to_thread(sweep, store, expire_days)
+            if any(gone.values()):
+                log.info("housekeeping: %s expired (older than %g days, in no report)", gone, expire_days)
+        except Exception:  # a failed sweep must not stop the server; the next one tries again
+            log.exception("housekeeping failed")
+        await asyncio.sleep(EVERY_S)
