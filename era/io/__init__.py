@@ -25,11 +25,12 @@ from .mat import read_mat
 from .npy import read_npy
 from .npz import npz_bytes, read_npz, save_npz
 from .records import Records, merge, to_response
+from .signalcalc import is_signalcalc, read_signalcalc
 from .tdms import read_tdms
 from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
 from .uff_write import save_modes_uff
 
-FORMATS = ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms")
+FORMATS = ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms", "signalcalc")
 _EXTENSIONS = {".uff": "uff", ".unv": "uff", ".uf": "uff", ".csv": "csv", ".txt": "csv", ".tsv": "csv",
                ".dat": "csv", ".npz": "npz", ".lvm": "lvm", ".npy": "npy", ".mat": "mat", ".h5": "hdf5",
                ".hdf5": "hdf5", ".hdf": "hdf5", ".he5": "hdf5", ".tdms": "tdms"}
@@ -101,6 +102,8 @@ def sniff(raw: bytes, name: str) -> str:
     for magic, fmt in _MAGIC:
         if head.startswith(magic):
             return fmt
+    if is_signalcalc(raw):
+        return "signalcalc"
     head = raw.lstrip(b"\r\n\t ")[:8]
     if head.startswith(b"-1") and raw.lstrip(b"\r\n")[:6] == b"    -1":
         return "uff"
@@ -121,10 +124,11 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     Parameters
     ----------
     source : path, bytes or binary file object, or a list of them read as one dataset: UFF files (one per hammer
-        hit or shaker reference) assembled into outputs × references by node and direction; time files (CSV, LVM,
-        MAT, TDMS, ...) as one record each (several initial conditions or runs)
-    format : one of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms") or None (sniffed
-        from the content, then the extension of ``name``/the path)
+        hit or shaker reference) assembled into outputs × references by node and direction; SignalCalc FRF files
+        by their channels, or in the order given when they all name the same channels (a roving hammer); time files
+        (CSV, LVM, MAT, TDMS, ...) as one record each (several initial conditions or runs)
+    format : one of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms", "signalcalc") or
+        None (sniffed from the content, then the extension of ``name``/the path)
     name : the original file name of an upload (for sniffing and messages)
     kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
     dt : sampling interval in s, used only when a file carries none (text without a time column, an LVM file
@@ -169,6 +173,9 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
             read = _TIME_READERS[fmt]
             rec = merge([read(_payload(fmt, raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)],
                         labels)
+            return _convert(rec, None, None, labels, fmt, kind, options)
+        if fmt == "signalcalc":
+            rec = read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)], labels)
             return _convert(rec, None, None, labels, fmt, kind, options)
         with _on_disk([r for r, _ in raws], sources) as paths:  # messages may count lines until the end
             rec, parts, modes = read_uff(paths if len(paths) > 1 else paths[0],

@@ -87,7 +87,8 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
     bad_order = np.flatnonzero(steps <= 0)
     if bad_order.size:
         k = int(bad_order[0])
-        raise DataError(f"{where}, {place(k)}: the time goes from {t[k]:.10g} to {t[k + 1]:.10g} {unit} (a repeat or "
+        axis = "time" if unit == "s" else "abscissa"
+        raise DataError(f"{where}, {place(k)}: the {axis} goes from {t[k]:.10g} to {t[k + 1]:.10g} {unit} (a repeat or "
                         "a restart); samples must be evenly spaced and increasing. Split the file at that point or "
                         "remove the repeated samples.")
     typical = float(np.median(steps))
@@ -97,7 +98,8 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
     if off.any():
         k = int(np.argmax(off))
         coarse = " (the times are printed too coarsely to tell)" if np.median(res) > 0.5 * typical else ""
-        raise DataError(f"{where}, {place(k)}: the time step is {steps[k]:.6g} {unit} where the typical step is "
+        what = "time step" if unit == "s" else "line spacing"
+        raise DataError(f"{where}, {place(k)}: the {what} is {steps[k]:.6g} {unit} where the typical step is "
                         f"{typical:.6g} {unit} (from {t[k]:.10g} to {t[k + 1]:.10g}){coarse}; samples must be evenly "
                         "spaced (no gaps, no repeats, one sampling rate). Resample the record, or load the part "
                         "before that line.")
@@ -113,7 +115,8 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
     return fitted
 
 
-def even_step_printed(t: np.ndarray, sample_cells: list[str], all_cells, where: str, lines=None) -> float:
+def even_step_printed(t: np.ndarray, sample_cells: list[str], all_cells, where: str, lines=None,
+                      unit: str = "s") -> float:
     """:func:`even_step` of a printed column, reading every value's digits only when needed.
 
     sample_cells : the printed first and last values (a few hundred); all_cells : () -> every printed value.
@@ -122,6 +125,6 @@ def even_step_printed(t: np.ndarray, sample_cells: list[str], all_cells, where: 
     test has its verdict, and its message, taken from every value's own digits.
     """
     try:
-        return even_step(t, float(printed_resolution(sample_cells).min()), where, lines)
+        return even_step(t, float(printed_resolution(sample_cells).min()), where, lines, unit)
     except DataError:
-        return even_step(t, printed_resolution(all_cells()), where, lines)
+        return even_step(t, printed_resolution(all_cells()), where, lines, unit)

@@ -19,6 +19,7 @@ import era.io.hdf5
 import era.io.lvm
 import era.io.mat
 import era.io.npy
+import era.io.signalcalc
 import era.io.tdms
 from era.io.uff import read_uff
 
@@ -188,8 +189,23 @@ def tdms_file(path):
     return lambda: era.io.tdms.read_tdms(str(path), path.name), lambda: TdmsFile.read(str(path))
 
 
-@pytest.mark.parametrize("make", [lvm_file, text_file, npy_file, mat_file, hdf5_file, tdms_file],
-                         ids=["LabVIEW LVM", "headerless text (rows)", "npy", "MATLAB v5", "HDF5", "TDMS"])
+def signalcalc_file(path):
+    """A SignalCalc-style FRF export of 1 000 001 lines (0-1000 Hz every mHz): ~48 MB."""
+    f = np.arange(1_000_001) * 1e-3
+    h = (f / 300) ** 2 / (1 - (f / 300) ** 2 + 0.02j * f / 300)
+    head = ("Units: Ratio\r\nRef Chan:Resp Chan\t1-Z:2-Z\r\nChannel Name\t : \r\nChannel Comment\t : \r\n\r\n"
+            "Frequency\t Real\t Imaginary\r\n\r\nUnits:\r\nHz\t(m/s2)(N)\t \r\n")
+    with open(path, "w", newline="") as fh:
+        fh.write(head)
+        np.savetxt(fh, np.column_stack([f, h.real, h.imag]), fmt=["%.13e", "%16.7g", "%16.7g"], delimiter="\t",
+                   newline="\r\n")
+    return (lambda: era.io.signalcalc.read_signalcalc([path.read_bytes()], [path.name]),
+            lambda: np.loadtxt(path, skiprows=9, delimiter="\t"))
+
+
+@pytest.mark.parametrize("make", [lvm_file, text_file, npy_file, mat_file, hdf5_file, tdms_file, signalcalc_file],
+                         ids=["LabVIEW LVM", "headerless text (rows)", "npy", "MATLAB v5", "HDF5", "TDMS",
+                              "SignalCalc FRF"])
 def test_each_format_reads_close_to_its_library(tmp_path, make):
     path = tmp_path / f"big.{make.__name__.split('_')[0]}"
     ours, reference = make(path)
