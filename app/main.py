@@ -23,7 +23,7 @@ from swagger_ui_bundle import swagger_ui_path
 
 import era
 
-from . import config, housekeeping, schemas
+from . import config, housekeeping, schemas, viewing
 from .access import Access
 from .cache import Cache
 from .errors import NotFound
@@ -121,7 +121,9 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         app.state.store = store
         app.state.cache = Cache(store, settings)
         app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
-        if viewer is not None:
+        if viewer is not None:  # a key published by another process is rebuilt here from the store
+            viewer.resolver = viewing.resolver(app.state.cache)
+            viewer.states = viewing.SharedStates(store)
             viewer.start()
         log.info("ERA app: files in %s, index in %s (revision %s), viewer %s", settings.data_dir.resolve(),
                  store.backend, store.revision, "on" if viewer else "off")

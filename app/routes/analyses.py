@@ -10,7 +10,7 @@ from pydantic import BaseModel, Field
 
 import era
 
-from .. import payloads, schemas
+from .. import payloads, schemas, viewing
 from ..cache import Analysis
 from .deps import analysis, cache, find_dataset, jobs, progress_key
 
@@ -148,6 +148,6 @@ async def publish(request: Request, body: ViewerRequest, a: Analysis = Depends(a
     if viewer is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
     model = await _model(request, a, body.order)
-    labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
-    key = await jobs(request).quick(viewer.publish, a.geometry, model.frequency_hz, model.shapes, labels)
+    key = await jobs(request).quick(viewer.publish, *viewing.modes_scene(a, model))
+    cache(request).store.add_viewer_key(key, a.id, {"kind": "modes", "order": body.order})
     return {"key": key, "url": viewer.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": model.n_modes}

@@ -6,13 +6,12 @@ from __future__ import annotations
 
 from typing import Literal
 
-import numpy as np
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from pydantic import BaseModel, Field
 
 import era
 
-from .. import compute, explaining, schemas
+from .. import compute, explaining, schemas, viewing
 from ..cache import Analysis
 from ..errors import NotFound
 from .analyses import identified
@@ -104,21 +103,7 @@ async def publish(request: Request, body: ExplainViewerRequest, a: Analysis = De
     viewer = request.app.state.viewer
     if viewer is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
-    key = "expanded_measured" if body.which == "measured" else "expanded_model"
-    shapes = np.asarray(summary[key], dtype=float)  # (88 joints, k modes)
-    f = np.asarray(summary["measured_hz"] if body.which == "measured" else
-                   [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
-    from era.examples.grid import nasa_grid
-    grid = nasa_grid().geometry()
-    n = grid.coordinates.shape[0]
-    if shapes.shape[0] != n:
-        raise era.DataError(f"The stored shapes have {shapes.shape[0]} joints, the grid {n}.")
-    # every joint is a channel (w along +z), so the viewer moves the whole grid from the expanded shapes
-    every_joint = era.Geometry(node_ids=grid.node_ids, coordinates=grid.coordinates, edges=grid.edges,
-                               channel_nodes=np.arange(n), channel_directions=np.tile([0.0, 0.0, 1.0], (n, 1)),
-                               units=grid.units)
-    paired = [body.which == "measured" or r["updated_hz"] is not None for r in summary["modes"]]
-    labels = [f"mode {k + 1}: {'measured (SEREP)' if body.which == 'measured' else 'updated model'} {fk:.3f} Hz"
-              if ok else f"mode {k + 1}: no model partner" for k, (fk, ok) in enumerate(zip(f, paired))]
-    key_ = await jobs(request).quick(viewer.publish, every_joint, f, shapes.astype(complex), labels)
-    return {"key": key_, "url": viewer.iframe_url(key_), "mode_url": f"/viser/{key_}/mode", "n_modes": int(f.size)}
+    scene = viewing.explain_scene(summary, body.which)
+    key = await jobs(request).quick(viewer.publish, *scene)
+    store(request).add_viewer_key(key, a.id, {"kind": "explain", "which": body.which})
+    return {"key": key, "url": viewer.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": int(scene[1].size)}

@@ -34,7 +34,7 @@ from era.io.npz import npz_bytes, read_arrays, read_npz
 
 from . import database
 from .files import write_atomic
-from .tables import analyses, datasets, explanations, reports
+from .tables import analyses, datasets, explanations, reports, viewer_keys
 
 __all__ = ["Store", "new_token", "write_atomic", "EXPLANATION_RESPONSES", "TOKEN_BYTES"]
 
@@ -206,6 +206,33 @@ class Store:
                              required=("dt", *EXPLANATION_RESPONSES))
         return {k: arrays[k] for k in EXPLANATION_RESPONSES}, float(arrays["dt"].reshape(-1)[0])
 
+    # ---- viewer keys (what a published key shows, and its view state, for every app process) ------------------
+    def add_viewer_key(self, key: str, analysis_id: str, spec: dict) -> None:
+        """Remember what ``key`` shows: ``spec`` {"kind": "modes", "order": n} or {"kind": "explain", "which": ...}."""
+        self._insert(viewer_keys, key=key, analysis_id=analysis_id, spec=json.dumps(spec), state=None, revision=0,
+                     created=time.time())
+
+    def viewer_key(self, key: str) -> tuple[str, dict] | None:
+        """(analysis_id, spec) of a published key, or None."""
+        row = self._one(sa.select(viewer_keys.c.analysis_id, viewer_keys.c.spec).where(viewer_keys.c.key == key))
+        return None if row is None else (row[0], json.loads(row[1]))
+
+    def set_viewer_state(self, key: str, state: dict) -> None:
+        """Store a key's view state and bump its revision (other processes follow the newer revision)."""
+        with self._engine.begin() as conn:
+            conn.execute(viewer_keys.update().where(viewer_keys.c.key == key)
+                         .values(state=json.dumps(state), revision=viewer_keys.c.revision + 1))
+
+    def viewer_states(self, keys) -> dict[str, tuple[dict, int]]:
+        """{key: (state, revision)} of the keys that have a stored state."""
+        keys = list(keys)
+        if not keys:
+            return {}
+        with self._engine.connect() as conn:
+            rows = conn.execute(sa.select(viewer_keys.c.key, viewer_keys.c.state, viewer_keys.c.revision)
+                                .where(viewer_keys.c.key.in_(keys), viewer_keys.c.state.is_not(None)))
+            return {k: (json.loads(st), int(rev)) for k, st, rev in rows}
+
     # ---- housekeeping -----------------------------------------------------------------------------------
     def expire(self, before: float) -> dict:
         """Delete the analyses made before ``before`` (Unix s) that no report uses, with their explanations, then
@@ -217,6 +244,7 @@ class Store:
                                                                               analyses.c.id.not_in(used)))]
             if gone:
                 conn.execute(explanations.delete().where(explanations.c.analysis_id.in_(gone)))
+                conn.execute(viewer_keys.delete().where(viewer_keys.c.analysis_id.in_(gone)))
                 conn.execute(analyses.delete().where(analyses.c.id.in_(gone)))
             dropped = [r[0] for r in conn.execute(sa.select(datasets.c.id).where(
                 datasets.c.created < before, datasets.c.id.not_in(sa.select(analyses.c.dataset_id))))]

@@ -39,3 +39,13 @@ explanations = sa.Table(
     sa.Column("analysis_id", sa.String(64), primary_key=True),
     sa.Column("created", sa.Float, nullable=False),
 )
+
+viewer_keys = sa.Table(
+    "viewer_keys", metadata,
+    sa.Column("key", sa.String(64), primary_key=True),
+    sa.Column("analysis_id", sa.String(64), nullable=False, index=True),
+    sa.Column("spec", sa.Text, nullable=False),      # JSON: {"kind": "modes", "order": n} or {"kind": "explain", ...}
+    sa.Column("state", sa.Text, nullable=True),      # JSON view state (mode, amplitude, speed, interpolate) or null
+    sa.Column("revision", sa.Integer, nullable=False, server_default="0"),  # bumped on every state change
+    sa.Column("created", sa.Float, nullable=False),
+)

@@ -15,6 +15,8 @@ One viser server per process: run the app with one uvicorn worker.
 
 from __future__ import annotations
 
+import time
+
 from urllib.parse import quote
 
 import numpy as np
@@ -35,7 +37,37 @@ class ModeViewer:
     def __init__(self, fps: float = 30.0, capacity: int = 256):
         self.registry = Registry(capacity)
         self._live = LiveViewer(self.registry, fps=fps)
+        self._live.on_tick = self.follow_states
         self.router = make_router(self)
+        #: key -> (geometry, frequency_hz, shapes, labels) of a key another process published, or None (set by the
+        #: app: it rebuilds the scene from stored results)
+        self.resolver = None
+        #: where view states are shared between processes: .save(key, state dict), .load(keys) -> {key: (state,
+        #: revision)} (set by the app; None: this process only)
+        self.states = None
+        self._followed: dict[str, int] = {}
+        self._last_sync = 0.0
+
+    def ensure(self, key: str) -> bool:
+        """The key is shown here: published in this process, or rebuilt through ``resolver``. Blocking."""
+        if key in self.registry:
+            return True
+        built = self.resolver(key) if self.resolver is not None else None
+        if built is None:
+            return False
+        self.registry.publish(*built, key=key)
+        return True
+
+    def follow_states(self, keys, every_s: float = 0.5) -> None:
+        """Apply view states chosen through other processes (newer stored revisions) to the shown ``keys``."""
+        now = time.monotonic()
+        if self.states is None or now - self._last_sync < every_s:
+            return
+        self._last_sync = now
+        for key, (state, revision) in self.states.load(keys).items():
+            if revision > self._followed.get(key, 0):
+                self._followed[key] = revision
+                self.registry.follow(key, state)
 
     def start(self) -> None:
         """Start the internal viser server (127.0.0.1, a free port) and the animation thread."""
@@ -69,8 +101,12 @@ class ModeViewer:
 
     def set_mode(self, key: str, index=None, amplitude=None, speed=None, phase_deg=None, interpolate=None):
         """What every client of `key` shows (same as POST /viser/{key}/mode); KeyError, ValueError."""
-        return self._live.set_mode(key, index=index, amplitude=amplitude, speed=speed, phase_deg=phase_deg,
-                                   interpolate=interpolate)
+        state = self._live.set_mode(key, index=index, amplitude=amplitude, speed=speed, phase_deg=phase_deg,
+                                    interpolate=interpolate)
+        if self.states is not None:
+            self.states.save(key, {"index": state.index, "amplitude": state.amplitude, "speed": state.speed,
+                                   "interpolate": state.interpolate})
+        return state
 
     def session_count(self, key: str | None = None) -> int:
         """Browsers currently showing `key` (all keys if None)."""

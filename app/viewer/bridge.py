@@ -106,7 +106,7 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
 
     @router.get("/viser/{key}/", include_in_schema=False)
     def viser_client_for_key(key: str, request: Request) -> Response:
-        if key not in viewer.registry:
+        if not KEY_PATTERN.fullmatch(key) or not viewer.ensure(key):  # published here, or rebuilt from the store
             return HTMLResponse("<p>Unknown or expired viewer link: reload the page to show the modes again.</p>",
                                 status_code=404)
         return page_response(request)
@@ -119,6 +119,8 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
     def select_mode(key: str, choice: ModeChoice) -> dict:
         """Select the mode, amplitude and speed that every viewer of this key shows."""
         try:
+            if not KEY_PATTERN.fullmatch(key) or not viewer.ensure(key):
+                raise KeyError(key)
             state = viewer.set_mode(key, index=choice.index, amplitude=choice.amplitude, speed=choice.speed,
                                     phase_deg=choice.phase_deg, interpolate=choice.interpolate)
         except KeyError:
@@ -136,6 +138,7 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
         if not KEY_PATTERN.fullmatch(key) or not viewer.running:
             await browser.close(code=1008, reason="Not a viewer key" if viewer.running else "Viewer not running")
             return
+        await asyncio.to_thread(viewer.ensure, key)  # a key another process published: rebuilt before viser asks
         offered = [p for p in browser.scope.get("subprotocols", []) if p.startswith("viser-v")]
         try:
             upstream = await websockets.connect(

@@ -122,6 +122,8 @@ class LiveViewer:
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
+        #: called with the shown keys on every frame (ModeViewer.follow_states: states chosen in other processes)
+        self.on_tick = None
 
     @property
     def port(self) -> int:
@@ -189,7 +191,13 @@ class LiveViewer:
             elapsed, last = now - last, now
             with self._lock:
                 sessions = list(self._sessions.items())
-            states = {key: self.registry.advance(key, elapsed) for key in {s.key for _, s in sessions}}
+            keys = {s.key for _, s in sessions}
+            if self.on_tick is not None and keys:
+                try:
+                    self.on_tick(keys)
+                except Exception:  # following other processes is best effort; the animation goes on
+                    log.debug("viewer state sync failed", exc_info=True)
+            states = {key: self.registry.advance(key, elapsed) for key in keys}
             for client_id, session in sessions:
                 current = states[session.key]
                 try:

@@ -92,7 +92,7 @@ class Registry:
         self._items: OrderedDict[str, Published] = OrderedDict()
         self._lock = threading.Lock()
 
-    def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None) -> str:
+    def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None, key: str | None = None) -> str:
         psi = np.asarray(shapes, dtype=complex)
         geometry = scene.geometry_for(geometry, psi.shape[0] if psi.ndim else 0)
         f, psi = scene.check_modes(geometry, frequency_hz, psi)
@@ -101,7 +101,7 @@ class Registry:
             node_vectors=[scene.node_modal_vectors(geometry, psi[:, j]) for j in range(f.size)],
             spline_vectors=[scene.node_modal_vectors(geometry, psi[:, j], interpolate=True) for j in range(f.size)],
         )
-        key = secrets.token_urlsafe(16)      # 128 bits
+        key = key or secrets.token_urlsafe(16)      # 128 bits; a given key: rebuilt from what another process published
         with self._lock:
             self._items[key] = entry
             while len(self._items) > self.capacity:
@@ -122,6 +122,19 @@ class Registry:
             entry.state = updated_state(entry.state, entry.n_modes, **changes)
             entry.revision += 1
             return entry.state
+
+    def follow(self, key: str, state: dict) -> None:
+        """Take a view state chosen through another process (mode, amplitude, speed, interpolate; the phase runs on
+        here); unknown keys are ignored."""
+        with self._lock:
+            entry = self._items.get(key)
+            if entry is None:
+                return
+            changes = {k: state[k] for k in ("index", "amplitude", "speed", "interpolate") if k in state}
+            if state.get("index") != entry.state.index:
+                changes["phase"] = 0.0
+            entry.state = replace(entry.state, **changes)
+            entry.revision += 1
 
     def advance(self, key: str, dt_s: float) -> tuple[ViewState, int] | None:
         """Move the key's phase on by speed × dt (one animation tick); (state, revision), or None if the key is gone.
