@@ -27,7 +27,8 @@ from .npz import npz_bytes, read_npz, save_npz
 from .records import Records, merge, to_response
 from .signalcalc import is_signalcalc, read_signalcalc
 from .tdms import read_tdms
-from .uff import ModeSet, build_geometry, read_modes_uff, read_uff
+from .uff import ModeSet, read_modes_uff, read_uff
+from .uff_geometry import build_geometry
 from .uff_write import save_modes_uff
 
 FORMATS = ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms", "signalcalc")

@@ -13,9 +13,9 @@ import numpy as np
 import pyuff
 
 from ..errors import DataError
-from ..geometry import Geometry
 from ..markov._common import uneven_step
 from .records import Records, check_finite, merge
+from .uff_geometry import build_geometry, geometry_parts, in_global_directions, merge_parts  # noqa: F401
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
 _DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
@@ -98,7 +98,7 @@ def read_sets(path: str, label: str) -> list[tuple[int, "_Line", dict]]:
     lines = [_Line(path, off) for off in offsets]
     out = []
     for i, (t, line) in enumerate(zip(types, lines)):
-        if int(t) not in (15, 2411, 82, 55, 58):
+        if int(t) not in (15, 2411, 82, 55, 58, 18, 2420):
             continue
         try:
             dset = uff.read_sets(i)
@@ -288,43 +288,6 @@ def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
     return ModeSet(np.array(freq), np.array(zeta), nodes, np.stack(shapes, axis=2), tuple(names))
 
 
-def _geometry_parts(sets, label: str):
-    ids, xyz, traces = [], [], []
-    for i, line, d in sets:
-        if d.get("type") in (15, 2411):
-            ids.append(np.asarray(d["node_nums"], dtype=int).reshape(-1))
-            cols = [np.asarray(d[k], dtype=float).reshape(-1) for k in "xyz"]
-            if any(c.size != ids[-1].size for c in cols):
-                raise DataError(f"{label}: data set #{i + 1} (UFF {d['type']}, line {line}) lists {ids[-1].size} nodes "
-                                f"but {[c.size for c in cols]} x/y/z coordinates; it is truncated or corrupt.")
-            xyz.append(np.stack(cols, axis=1))
-        elif d.get("type") == 82:
-            traces.append((i, line, np.asarray(d["nodes"], dtype=int)))
-    if not ids:
-        return None
-    return np.concatenate(ids), np.concatenate(xyz), traces
-
-
-def build_geometry(parts, nodes, directions, label: str) -> Geometry | None:
-    """Geometry from nodes, trace lines (node-label sequences, 0 = pen up) and each output's node label/direction."""
-    if parts is None:
-        return None
-    ids, xyz, traces = parts
-    row = {int(n): k for k, n in enumerate(ids)}
-    edges = []
-    for i, line, seq in traces:
-        for a, b in zip(seq[:-1], seq[1:]):
-            if a and b:
-                if a not in row or b not in row:
-                    raise DataError(f"{label}: trace line in data set #{i + 1} (UFF 82, line {line}) joins node "
-                                    f"{a if a not in row else b}, which the file does not define.")
-                edges.append((row[a], row[b]))
-    if nodes is None:
-        nodes, directions = np.zeros(0, int), np.zeros((0, 3))
-    channel_rows = np.array([row.get(int(n), -1) for n in nodes], dtype=int)
-    return Geometry(ids, xyz, np.array(edges, dtype=int).reshape(-1, 2), channel_rows, directions)
-
-
 def read_uff(path, label):
     """(Records or None, geometry parts, ModeSet or None) from a UFF file, or from several (``path`` and ``label``
     lists: one file per hammer hit or shaker reference, read as one test).
@@ -362,7 +325,9 @@ def read_uff(path, label):
             records.described.insert(0, f"{len(paths)} UFF files read as one test: {', '.join(labels)}")
         if skipped:
             records.described.append(f"{skipped} other UFF 58 record(s) (spectra, coherence, ...) not used")
-    parts = _merge_parts([_geometry_parts(sets, lab) for sets, lab in zip(per_file, labels)], labels)
+    parts = merge_parts([geometry_parts(sets, lab) for sets, lab in zip(per_file, labels)], labels)
+    if records is not None and records.nodes is not None and parts is not None:
+        records = in_global_directions(records, parts)
     modes = [m for m in (_modes(sets, lab) for sets, lab in zip(per_file, labels)) if m is not None]
     if len(modes) > 1:
         raise DataError(f"{', '.join(labels)}: mode shapes (UFF 55) in more than one file; read mode files one by one "
@@ -378,27 +343,6 @@ def _same_units(funcs: list[dict]) -> None:
             raise DataError(f"{f['where']}: units {f['unit']}/{f['den_unit']} but {first['where']} has "
                             f"{first['unit']}/{first['den_unit']}; the files of one test must use the same units "
                             "(export them again with the same unit settings).")
-
-
-def _merge_parts(parts, labels):
-    """The nodes and trace lines of several files as one geometry; a node defined twice must be at one place."""
-    present = [(p, lab) for p, lab in zip(parts, labels) if p is not None]
-    if len(present) <= 1:
-        return present[0][0] if present else None
-    where_of: dict[int, tuple[np.ndarray, str]] = {}
-    ids, xyz, traces = [], [], []
-    for (i_, x_, t_), lab in present:
-        for node, point in zip(i_, x_):
-            if int(node) in where_of:
-                if not np.allclose(where_of[int(node)][0], point, rtol=1e-6, atol=1e-9):
-                    raise DataError(f"{lab}: node {int(node)} at {point.tolist()} but {where_of[int(node)][1]} puts it "
-                                    f"at {where_of[int(node)][0].tolist()}; the files must share one geometry.")
-                continue
-            where_of[int(node)] = (point, lab)
-            ids.append(int(node))
-            xyz.append(point)
-        traces += [tr for tr in t_ if not any(np.array_equal(tr[2], seen[2]) for seen in traces)]
-    return np.array(ids, dtype=int), np.array(xyz, dtype=float).reshape(-1, 3), traces
 
 
 def read_modes_uff(path) -> ModeSet:
