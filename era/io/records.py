@@ -88,7 +88,8 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
     units = list(rec.output_units) if rec.output_units else None
     if kind == "frf":
         f = rec.start + rec.step * np.arange(rec.values[0].shape[0])
-        data = markov_from_frf(f, rec.values[0], frf_type=options.pop("frf_type", rec.frf_type),
+        frf, note = _sign_convention(rec.values[0], options.pop("frf_sign", "auto"))
+        data = markov_from_frf(f, frf, frf_type=options.pop("frf_type", rec.frf_type),
                                outputs=rec.outputs, inputs=rec.inputs, output_units=units,
                                input_units=list(rec.input_units) or None, **options)
     elif kind == "pulse":
@@ -123,10 +124,38 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
         else:
             data = markov_from_ambient(list(rec.values), rec.step, options.pop("references", None),
                                        names=rec.outputs, output_units=units, **options)
+    if kind == "frf" and note:
+        data.meta["conversions"].insert(0, note)
     if data.n_samples < MIN_SAMPLES:
         raise DataError(f"Only {data.n_samples} pulse-response samples; ERA needs at least {MIN_SAMPLES} (and "
                         "usually hundreds). Record longer or at a higher sampling rate.")
     return data, kind
+
+
+def _sign_convention(frf: np.ndarray, sign: str) -> tuple[np.ndarray, str | None]:
+    """FRFs (K, p, m) in ERA's convention (response = H e^{+iωt} for a force e^{+iωt}), and a note when converted.
+
+    sign: "+" (the file uses that convention), "-" (the other one, e^{-iωt}: H is conjugated) or "auto": the
+    impulse response of a real structure is causal, so the inverse FFT of FRFs in the other convention puts the
+    decay at the end of the record (negative times) instead of at its start; the energy in the first and last
+    quarters decides (a 100:1 contrast and more on measured FRFs), and a contrast under 2:1 leaves them as they are.
+    """
+    if sign not in ("auto", "+", "-"):
+        raise DataError(f"`frf_sign` must be 'auto', '+' (response = H·e^(+iωt), the usual convention) or '-' "
+                        f"(e^(-iωt): the FRFs are conjugated), got {sign!r}.")
+    if sign == "+":
+        return frf, None
+    if sign == "-":
+        return frf.conj(), "FRFs conjugated: the e^(-iωt) sign convention was given (frf_sign='-')"
+    h = np.fft.irfft(frf, axis=0)
+    energy = (h ** 2).reshape(len(h), -1).sum(axis=1)
+    quarter = max(len(energy) // 4, 1)
+    early, late = energy[1:quarter].sum(), energy[-quarter:].sum()
+    if late > 2 * early:
+        return frf.conj(), (f"FRFs conjugated: their impulse responses ran backwards in time (energy "
+                            f"{late / max(early, 1e-300):.3g}× larger at the end), the mark of the e^(-iωt) sign "
+                            "convention; say frf_sign='+' to keep them as they are")
+    return frf, None
 
 
 def _check_time(rec: Records) -> None:
