@@ -15,7 +15,7 @@ import pyuff
 from ..errors import DataError
 from ..markov._common import uneven_step
 from .records import Records, check_finite, merge
-from .uff_geometry import build_geometry, geometry_parts, in_global_directions, merge_parts  # noqa: F401
+from .uff_geometry import build_geometry, geometry_parts, in_global_directions, merge_parts, unit_factors  # noqa: F401
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
 _DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
@@ -98,7 +98,7 @@ def read_sets(path: str, label: str) -> list[tuple[int, "_Line", dict]]:
     lines = [_Line(path, off) for off in offsets]
     out = []
     for i, (t, line) in enumerate(zip(types, lines)):
-        if int(t) not in (15, 2411, 82, 55, 58, 18, 2420):
+        if int(t) not in (15, 2411, 82, 55, 58, 18, 2420, 164):
             continue
         try:
             dset = uff.read_sets(i)
@@ -155,7 +155,9 @@ def _function_record(i: int, line: _Line, d: dict, label: str) -> dict | None:
     return {"set": i + 1, "line": line, "domain": domain, "x0": x0, "dx": dx, "y": y, "rsp": rsp, "ref": ref,
             "name": name if name != "0" else _label(d.get("id1")) or f"channel {i + 1}",
             "unit": unit or num, "den_unit": den_unit or den, "quantity": num, "den": den,
-            "load_case": int(d.get("load_case_id", 0)), "where": where}
+            "load_case": int(d.get("load_case_id", 0)), "where": where,
+            "exp": tuple(int(d.get(f"{axis}_{q}_unit_exp", 0) or 0) for axis in ("abscissa", "ordinate", "orddenom")
+                         for q in ("len", "force"))}
 
 
 def _same_sampling(recs: list[dict], label: str) -> None:
@@ -302,7 +304,8 @@ def read_uff(path, label):
     for sets, lab in zip(per_file, labels):
         found = [_function_record(i, line, d, lab) for i, line, d in sets if d.get("type") == 58]
         skipped += sum(f is None for f in found)
-        funcs += [dict(f, file=lab) for f in found if f is not None]
+        factors = unit_factors(sets, lab)
+        funcs += [_in_si(dict(f, file=lab), factors) for f in found if f is not None]
     records = None
     if funcs:
         domains = {f["domain"] for f in funcs}
@@ -323,6 +326,8 @@ def read_uff(path, label):
                              if any(f["file"] == lab for f in funcs)], labels)
         if len(paths) > 1:
             records.described.insert(0, f"{len(paths)} UFF files read as one test: {', '.join(labels)}")
+        if any(f.get("si") for f in funcs):
+            records.described.append("values converted to SI units with the files' UFF 164 unit factors")
         if skipped:
             records.described.append(f"{skipped} other UFF 58 record(s) (spectra, coherence, ...) not used")
     parts = merge_parts([geometry_parts(sets, lab) for sets, lab in zip(per_file, labels)], labels)
@@ -333,6 +338,26 @@ def read_uff(path, label):
         raise DataError(f"{', '.join(labels)}: mode shapes (UFF 55) in more than one file; read mode files one by one "
                         "(era.read_modes_uff).")
     return records, parts, modes[0] if modes else None
+
+
+_SI_LABEL = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s^2", "force": "N"}
+
+
+def _in_si(f: dict, factors: tuple[float, float]) -> dict:
+    """A function record in SI units: values divided by length^e_L · force^e_F of its file's UFF 164 factors (the
+    exponents of records 8-10), unit labels made SI; unchanged when the file is in SI or says no units."""
+    length, force = factors
+    if (length, force) == (1.0, 1.0):
+        return f
+    xl, xf, nl, nf, dl, df = f["exp"]
+    scale = length ** (nl - dl) * force ** (nf - df)
+    abscissa = length ** xl * force ** xf
+    out = dict(f, y=f["y"] / scale if scale != 1 else f["y"], x0=f["x0"] / abscissa, dx=f["dx"] / abscissa,
+               si=(scale != 1))
+    if scale != 1:
+        out["unit"] = _SI_LABEL.get(f["quantity"], f"{f['unit']} (SI)")
+        out["den_unit"] = _SI_LABEL.get(f["den"], f["den_unit"]) if f["den_unit"] else ""
+    return out
 
 
 def _same_units(funcs: list[dict]) -> None:

@@ -13,6 +13,19 @@ from .records import Records
 from .uff_cs import systems, to_global
 
 
+def unit_factors(sets, label: str) -> tuple[float, float]:
+    """(length, force) factors of the file's UFF 164 units: a value in file units divided by length^e_L ·
+    force^e_F is in SI (m, N). (1, 1) without a data set 164."""
+    for i, line, d in sets:
+        if d.get("type") == 164:
+            factors = (float(d.get("length", 1.0)), float(d.get("force", 1.0)))
+            if not all(np.isfinite(v) and v > 0 for v in factors):
+                raise DataError(f"{label}: data set #{i + 1} (UFF 164, line {line}) gives unit factors {factors}; "
+                                "they must be positive numbers (1 for SI).")
+            return factors
+    return 1.0, 1.0
+
+
 def geometry_parts(sets, label: str):
     """(node ids (n,), global coordinates (n, 3), trace lines, measurement axes (n, 3, 3)) of one file, or None."""
     ids, xyz, traces, def_cs, disp_cs = [], [], [], [], []
@@ -34,7 +47,7 @@ def geometry_parts(sets, label: str):
     ids = np.concatenate(ids)
     xyz, frames, _ = to_global(ids, np.concatenate(xyz), np.concatenate(def_cs).astype(int),
                                np.concatenate(disp_cs).astype(int), systems(sets, label), label)
-    return ids, xyz, traces, frames
+    return ids, xyz / unit_factors(sets, label)[0], traces, frames  # coordinates in m
 
 
 def build_geometry(parts, nodes, directions, label: str) -> Geometry | None:

@@ -1,5 +1,6 @@
 """UFF coordinate systems (18, 2420): node coordinates and measurement directions given in local systems come out
-global, as Simcenter Testlab writes them (one displacement system per node)."""
+global, as Simcenter Testlab writes them (one displacement system per node); UFF 164 unit factors with the records'
+unit exponents give SI values."""
 
 from pathlib import Path
 
@@ -78,3 +79,26 @@ def test_undefined_or_spherical_systems_name_the_node(tmp_path):
     with pytest.raises(era.DataError, match=r"flat.uff: data set #1 \(UFF 18, line \d+\), system 3: its defining "
                                             r"points coincide or lie on one line"):
         era.load(tmp_path / "flat.uff")
+
+
+def test_unit_exponents_with_the_files_unit_factors_give_si_values(tmp_path):
+    """A file in mm (UFF 164 length factor 1000): accelerance in mm/s²/N and node coordinates in mm come out in SI."""
+    import pyuff
+
+    f = np.arange(0, 20.0, 0.05)
+    h = (f / 5) ** 2 / (1 - (f / 5) ** 2 + 0.02j * f / 5)
+
+    def frf(scale, unit):
+        rec = U.record58(h * scale, 0.0, 0.05, (1, 3), (1, 3), func_type=4, denominator=U.FORCE, den_unit="N",
+                         unit=unit)
+        rec.update(ordinate_len_unit_exp=1, orddenom_force_unit_exp=1)  # (length / s²) / force
+        return rec
+
+    units_mm = pyuff.prepare_164(units_code=5, units_description="mm", temp_mode=1, length=1000.0, force=1.0,
+                                 temp=1.0, temp_offset=273.15)
+    U.write(tmp_path / "si.uff", [U.nodes15([1], [[0.5, 0, 0]]), frf(1.0, "m/s^2")])
+    U.write(tmp_path / "mm.uff", [units_mm, U.nodes15([1], [[500.0, 0, 0]]), frf(1000.0, "mm/s^2")])
+    si, mm = era.load(tmp_path / "si.uff"), era.load(tmp_path / "mm.uff")
+    np.testing.assert_allclose(mm.data.markov, si.data.markov, rtol=1e-5, atol=1e-9 * np.abs(si.data.markov).max())
+    assert mm.data.output_units == ("m/s^2/N",) and "converted to SI" in " ".join(mm.source["records"])
+    np.testing.assert_allclose(mm.geometry.coordinates, [[0.5, 0, 0]])
