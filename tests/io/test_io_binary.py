@@ -3,6 +3,7 @@ library that writes it in the field; the data and the sampling found by name, am
 choose; lying, cut and hostile files refused before anything is allocated."""
 
 import io
+import struct
 import sys
 from pathlib import Path
 
@@ -176,12 +177,29 @@ def test_hostile_binary_files_are_refused_before_allocating(tmp_path):
         f.attrs["fs"] = 100.0
     with pytest.raises(era.DataError, match="external.h5: dataset 'acc' refers to data in other files"):
         era.load(tmp_path / "external.h5")
+    with h5py.File(tmp_path / "types.h5", "w") as f:  # wrong types: a rate in words, names where numbers belong
+        f["acc"] = y
+        f.attrs["fs"] = "fast"
+        f["labels"] = np.array([b"a", b"b"])
+    with pytest.raises(era.DataError, match=r"types.h5: `fs` must be one number"):
+        era.load(tmp_path / "types.h5")
+    with h5py.File(tmp_path / "words.h5", "w") as f:
+        f["labels"] = np.array([b"a"] * 50)
+    with pytest.raises(era.DataError, match=r"words.h5: no numeric array of at least 8 samples; the file holds "
+                                            r"'labels' 50"):
+        era.load(tmp_path / "words.h5", dt=0.01)
     with h5py.File(tmp_path / "ok.h5", "w") as f:
         f["acc"] = y
         f.attrs["fs"] = 100.0
     raw = (tmp_path / "ok.h5").read_bytes()
     with pytest.raises(era.DataError, match="cut.h5"):
         era.load(raw[: len(raw) // 2], name="cut.h5")
+    # MAT: a matrix header claiming 10^5 × 10^5 doubles (80 GB) over a few kB, refused before loadmat reads it
+    buf = io.BytesIO()
+    scipy.io.savemat(buf, {"acc": y, "fs": 100.0})
+    liar = buf.getvalue().replace(struct.pack("<ii", *y.shape), struct.pack("<ii", 100_000, 100_000), 1)
+    with pytest.raises(era.DataError, match=r"liar.mat: variable 'acc': the header promises shape \(100000, 100000\)"):
+        era.load(liar, name="liar.mat")
     # MAT: cut, garbage after the header
     buf = io.BytesIO()
     scipy.io.savemat(buf, {"acc": y, "fs": 100.0}, do_compression=True)
