@@ -172,6 +172,13 @@ def _support(node: str, spec, gravity) -> dict:
     return out
 
 
+def _positive(v, what: str, unit: str, zero: bool = False) -> float:
+    ok = isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v) and (v >= 0 if zero else v > 0)
+    if not ok:
+        raise DataError(f"Frame: {what} must be a number of {unit} {'≥' if zero else '>'} 0, got {v!r}.")
+    return float(v)
+
+
 def _vector(x) -> np.ndarray:
     """x as a finite (3,) float array, or NaNs when it is not three numbers."""
     try:
@@ -202,6 +209,11 @@ class Frame:
     it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
     mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %), a count for every
     member, or one count per member (e.g. ``element_counts()`` of a nominal model, to keep its mesh in variants).
+    joint_springs {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (design/effects.md): every
+    beam end there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
+    horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
+    rigid; columns stay continuous. added_mass_per_length {section name: kg/m}: non-structural mass (it weighs
+    too, and has no rotary inertia).
     """
 
     nodes: Mapping
@@ -212,6 +224,8 @@ class Frame:
     sensors: tuple = ()
     gravity: tuple | None = None
     elements_per_member: int | tuple | None = None
+    joint_springs: Mapping = field(default_factory=dict)
+    added_mass_per_length: Mapping = field(default_factory=dict)
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)   # noqa: E731
@@ -285,6 +299,16 @@ class Frame:
                 raise DataError(f"Frame: elements_per_member must be None (automatic), an integer ≥ 1 or one such "
                                 f"integer per member ({len(members)}), got {e!r}.")
             put("elements_per_member", int(e) if single else tuple(int(c) for c in counts))
+        put("joint_springs", MappingProxyType({self._known(n, "joint spring"): _positive(k, f"joint spring at node {n}",
+                                                                                        "N·m/rad")
+                                               for n, k in dict(self.joint_springs).items()}))
+        extra = {}
+        for name, kg in dict(self.added_mass_per_length).items():
+            if str(name) not in sections:
+                raise DataError(f"Frame: added mass per length for unknown section {name!r}; "
+                                f"known: {sorted(sections)}.")
+            extra[str(name)] = _positive(kg, f"added mass per length of section {name}", "kg/m", zero=True)
+        put("added_mass_per_length", MappingProxyType(extra))
 
     def _known(self, node, what: str) -> str:
         if str(node) not in self.nodes:
@@ -324,13 +348,45 @@ class Frame:
                 restrained[k, int(np.flatnonzero(self.gravity)[0])] = True
         for node, kg in self.masses.items():
             mass[index[node]] = kg
+        end_k, end_axes = self._end_springs(xyz, ends)
         return space.SpaceFrame(
             coords=xyz, elements=ends, orientation=orient, member=np.arange(len(self.members)),
             EA=prop(lambda s: s.e * s.area), GJ=prop(lambda s: s.g * s.j), EIy=prop(lambda s: s.e * s.iy),
-            EIz=prop(lambda s: s.e * s.iz), m=prop(lambda s: s.mass_per_length),
+            EIz=prop(lambda s: s.e * s.iz),
+            m=prop(lambda s: s.mass_per_length) + np.array([self.added_mass_per_length.get(m[2], 0.0)
+                                                             for m in self.members]),
             rho_ip=prop(lambda s: s.density * s.ip),
             r2=prop(lambda s: s.ip / s.area), node_mass=mass, restrained=restrained, springs=springs, cable_m=cable,
-            n_user=n, names=tuple(self.nodes))
+            n_user=n, names=tuple(self.nodes), end_springs=end_k, end_axes=end_axes)
+
+    @property
+    def vertical(self) -> np.ndarray:
+        """(3,) unit vector up: against gravity when given, else +Z."""
+        return np.array([0.0, 0.0, 1.0]) if self.gravity is None else -np.array(self.gravity) / np.linalg.norm(
+            self.gravity)
+
+    def beam_ends(self, node: str) -> list:
+        """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``."""
+        out = []
+        for k, (i, j, *_) in enumerate(self.members):
+            axis = np.subtract(self.nodes[j], self.nodes[i])
+            if np.linalg.norm(np.cross(axis / np.linalg.norm(axis), self.vertical)) > 1e-6:
+                out += [(k, side) for side, n in enumerate((i, j)) if n == node]
+        return out
+
+    def _end_springs(self, xyz, ends):
+        """(e, 2) end springs (inf = rigid) and (e, 2, 3) their axes, from joint_springs; None when all rigid."""
+        if not self.joint_springs:
+            return None, None
+        k = np.full(ends.shape, np.inf)
+        axes = np.zeros(ends.shape + (3,))
+        for node, stiffness in self.joint_springs.items():
+            for member, side in self.beam_ends(node):
+                d = xyz[ends[member, 1]] - xyz[ends[member, 0]]
+                normal = np.cross(self.vertical, d)
+                k[member, side] = stiffness
+                axes[member, side] = normal / np.linalg.norm(normal)
+        return k, axes
 
     def solution(self, n_modes: int = 10) -> tuple[space.SpaceFrame, space.SpaceModes]:
         """The mesh and its lowest modes (cached; at least n_modes), signs fixed by a generic reference vector.
@@ -381,7 +437,8 @@ class Frame:
     def total_mass_kg(self) -> float:
         """Members plus lumped masses, kg."""
         lengths = [np.linalg.norm(np.subtract(self.nodes[j], self.nodes[i])) for i, j, *_ in self.members]
-        return float(sum(L * self.sections[m[2]].mass_per_length for L, m in zip(lengths, self.members))
+        return float(sum(L * (self.sections[m[2]].mass_per_length + self.added_mass_per_length.get(m[2], 0.0))
+                         for L, m in zip(lengths, self.members))
                      + sum(self.masses.values()))
 
     def to_dict(self) -> dict:
@@ -401,7 +458,9 @@ class Frame:
                 "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in self.sensors],
                 "gravity": None if self.gravity is None else list(self.gravity),
                 "elements_per_member": (list(self.elements_per_member) if isinstance(self.elements_per_member, tuple)
-                                        else self.elements_per_member)}
+                                        else self.elements_per_member)} | (
+                {"joint_springs": dict(self.joint_springs)} if self.joint_springs else {}) | (
+                {"added_mass_per_length": dict(self.added_mass_per_length)} if self.added_mass_per_length else {})
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":

@@ -8,10 +8,12 @@ Yuen 2004) and names one only when the data clearly support it.
 from .effects import EffectSpec, Param, grid_effects
 from .explain import VERDICTS, Explanation, NamedEffect, explain
 from .fitting import ErrorLevels, Fit
+from .frame_model import FrameModel, frame_effects
 from .measured import MeasuredModes, identify_modes, measured_modes, modes_from_arrays
 from .overlay import model_response, overlay
 from .ranking import RankedEffect
 
 __all__ = ["explain", "Explanation", "NamedEffect", "RankedEffect", "EffectSpec", "Param", "grid_effects",
+           "FrameModel", "frame_effects",
            "ErrorLevels", "Fit", "MeasuredModes", "identify_modes", "measured_modes", "modes_from_arrays", "VERDICTS",
            "model_response", "overlay"]

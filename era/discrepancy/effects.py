@@ -45,7 +45,9 @@ class EffectSpec:
     name : identifier (e.g. "joint_flexibility"); "none" is the nominal model with the nuisance only.
     params : the effect's own parameters (the global ``stiffness_factor`` nuisance is added to every candidate).
     fixed : keywords always set with this effect (e.g. {"gravity": True}).
-    location_keyword : keyword that takes the (x_ft, y_ft) location, for located effects; None otherwise.
+    location_keyword : keyword that takes the location, for located effects; None otherwise.
+    locations : the candidate places of a located effect (node ids, (node i, node j) members, ...); None: the
+        model's default places (the grid's joints, (x_ft, y_ft)).
     trial : effect parameter values (by name) used to screen locations (one model solve per location).
     trial_power : how the effect's size scales with its (single) parameter when screening: +1 when the
         residual change grows with the value (a mass), −1 when it grows with its inverse (a joint's compliance).
@@ -57,6 +59,7 @@ class EffectSpec:
     params: tuple = ()
     fixed: dict = field(default_factory=dict)
     location_keyword: str | None = None
+    locations: tuple | None = None
     trial: dict = field(default_factory=dict)
     trial_power: float = 1.0
     summary: str = ""
@@ -122,6 +125,27 @@ def grid_effects(model) -> tuple:
     return tuple(out)
 
 
+def as_location(loc):
+    """A location as stored in results: a node id (str), a tuple of node ids (a member), or a tuple of floats
+    (the grid's (x_ft, y_ft))."""
+    if loc is None or isinstance(loc, str):
+        return loc
+    loc = tuple(loc)
+    return loc if all(isinstance(v, str) for v in loc) else tuple(float(v) for v in loc)
+
+
+def place(loc) -> str:
+    """Where, in words: "at node 7", "on member 3-4", "at joint (x = 2 ft, y = 7 ft)"."""
+    loc = as_location(loc)
+    if isinstance(loc, str):
+        return f"at node {loc}"
+    if loc == ("*",):
+        return "on every member"
+    if all(isinstance(v, str) for v in loc):
+        return f"on member {'-'.join(loc)}"
+    return f"at joint (x = {loc[0]:g} ft, y = {loc[1]:g} ft)"
+
+
 def describe(spec: EffectSpec, parameters: dict, location, probability: float, uncertainty=None,
              interval=None) -> str:
     """A sentence an engineer understands: what is missing, how big (± 1σ), where, and how sure.
@@ -145,7 +169,7 @@ def describe(spec: EffectSpec, parameters: dict, location, probability: float, u
             else:
                 shown.append(f"{label} = {v:.4g}{pm}{unit}")
     sf = parameters.get("stiffness_factor")
-    where = f" at joint (x = {location[0]:g} ft, y = {location[1]:g} ft)" if location is not None else ""
+    where = f" {place(location)}" if location is not None else ""
     size = f" ({', '.join(shown)})" if shown else ""
     extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
     return (f"The test data are best explained if {spec.summary}{where}{size}{extra}; "

@@ -15,7 +15,9 @@ from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subsp
 from ..data import ResponseData
 from ..errors import DataError
 from ..realization import Identification
-from .effects import describe, grid_effects, nuisance
+from ..structure import Frame
+from .effects import describe, grid_effects, nuisance, place
+from .frame_model import FrameModel, frame_effects
 from .fitting import ErrorLevels, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, rank_effects
@@ -26,9 +28,10 @@ VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained
 @dataclass(frozen=True)
 class NamedEffect:
     """The effect the data support: name, fitted parameters {keyword: value} (incl. stiffness_factor),
-    location (x_ft, y_ft) or None, posterior probability, a one-sentence description, the 1σ uncertainty
+    location (x_ft, y_ft) on the grid, a node id (str) or a member (node i, node j) on an era.Frame, or None;
+    posterior probability, a one-sentence description, the 1σ uncertainty
     {keyword: value} of each parameter (Laplace posterior), and for located effects the probability of the
-    location given the effect and the other joints still in contention ((x_ft, y_ft), probability);
+    location given the effect and the other places still in contention (location, probability);
     interval {keyword: (low, high)}: the effect parameter's 95 % profile-posterior interval, None on a side the
     data do not bound (then the description gives a bound, not a value)."""
 
@@ -60,8 +63,9 @@ class Explanation:
     residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9),
         worst first;
     residual_sensors : sensors with COMAC < 0.9 after the update.
-    node_xy_ft : (n_nodes, 2); expanded_measured : (n_nodes, k) SEREP expansion of the measured shapes with the
-    updated model's paired modes; expanded_model : (n_nodes, k) those model modes (NaN columns when unpaired).
+    node_xy_ft : (n_nodes, 2) on the grid, (0, 2) on a frame; expanded_measured : (n_rows, k) SEREP expansion of
+    the measured shapes with the updated model's paired modes; expanded_model : (n_rows, k) those model modes (NaN
+    columns when unpaired); rows: the grid's joints, or a frame's node translations (node_labels "7:x", ...).
     timing_s : wall-clock seconds of each stage.
     """
 
@@ -89,6 +93,7 @@ class Explanation:
     expanded_measured: np.ndarray
     expanded_model: np.ndarray
     timing_s: dict
+    node_labels: tuple = ()
 
     def candidate(self, name: str) -> RankedEffect:
         """The ranking entry of one candidate, by name."""
@@ -176,6 +181,8 @@ def _node_rows(model, measured: MeasuredModes):
     cannot be compared (no known inputs, or an input that is not a model node)."""
     if measured.modal_constants is None or not hasattr(model, "node_modes"):
         return None
+    if hasattr(model, "modal_rows"):
+        return model.modal_rows(measured.input_locations)
     xy = np.asarray(model.joints_ft, float)
 
     def row(at):
@@ -200,6 +207,21 @@ def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> 
         if others.size and np.min(np.abs(others - fa[j])) <= close * max(fa[j], 1e-12):
             out[i] = True
     return out
+
+
+def _too_few_data(fm: MeasuredModes, best) -> str | None:
+    """A sentence when the data hold no more numbers than the best candidate has unknowns (its parameters, the
+    stiffness factor and, for a located effect, its place): it then fits them whatever the truth, and no name is
+    warranted (one sensor on a cantilever: k frequencies, unit shapes that say nothing). None otherwise."""
+    p, k = fm.shapes.shape
+    n_data = k * p                      # k frequencies and k unit-norm shapes of p − 1 free components each
+    n_unknown = len(best.fit.params) + (1 if len(best.locations) > 1 or best.location is not None else 0)
+    if n_data > n_unknown:
+        return None
+    return (f"The data are {n_data} numbers ({k} modes at {p} sensor{'s' if p > 1 else ''}), no more than the "
+            f"{n_unknown} unknowns of the best candidate ({best.name}, its stiffness factor"
+            f"{' and its place' if best.location is not None else ''}): it fits them whatever the truth, so the "
+            "data cannot name it or tell it from the others; more sensors or more modes are needed.")
 
 
 def _verdict(ranking, min_probability, min_log_bayes):
@@ -234,9 +256,12 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only.
-    model : the nominal model (e.g. ``era.examples.grid.nasa_grid(...)``): needs .modes(n), .node_modes(n), .params,
-        .with_params(**changes), .joints_ft (candidate locations of located effects).
-    effects : candidate EffectSpecs, "none" first (default: :func:`era.discrepancy.effects.grid_effects`).
+    model : the nominal model: an era.Frame (wrapped in :class:`FrameModel`, its mesh kept for every candidate),
+        ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n), .node_modes(n), .params,
+        .with_params(**changes), .sensors and the candidate places of located effects (EffectSpec.locations, or
+        .joints_ft).
+    effects : candidate EffectSpecs, "none" first (default: :func:`frame_effects` for a Frame,
+        :func:`era.discrepancy.effects.grid_effects` otherwise).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
     orders : the model orders ERA's modes are tracked over (their stable tracks and spread).
     kept : (order, indices) with an Identification: compare exactly the modes a person kept at that order
@@ -252,6 +277,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     """
     t0 = time.perf_counter()
     timing = {}
+    if isinstance(model, Frame):
+        model = FrameModel.of(model)
     if kept is not None and not isinstance(data, Identification):
         raise DataError("explain: `kept` (order, mode indices) names modes of an identification; pass the "
                         "era.Identification they were kept from as `data`.")
@@ -259,9 +286,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         measured = data
     elif isinstance(data, (ResponseData, Identification)):
         p = data.n_outputs if isinstance(data, ResponseData) else data.data.n_outputs
-        sensors = np.asarray(model.sensors)
-        if p != sensors.shape[0]:
-            raise DataError(f"explain: the data have {p} outputs but the model has {sensors.shape[0]} "
+        if p != len(model.sensors):
+            raise DataError(f"explain: the data have {p} outputs but the model has {len(model.sensors)} "
                             "sensors; give one output per model sensor, in model.sensors order.")
         measured = (identify_modes(data, orders=orders) if isinstance(data, ResponseData)
                     else measured_modes(data, orders, kept=kept))
@@ -269,7 +295,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         raise DataError(f"explain: `data` must be an era.ResponseData, Identification or MeasuredModes, got "
                         f"{type(data).__name__}.")
     timing["era_s"] = time.perf_counter() - t0
-    specs = tuple(effects) if effects is not None else grid_effects(model)
+    if effects is not None:
+        specs = tuple(effects)
+    else:
+        specs = frame_effects(model) if isinstance(model, FrameModel) else grid_effects(model)
     n_model = measured.n_modes + extra_model_modes
     fit_modes = _select_modes(model, specs, measured, n_model)
     if fit_modes.size < 2:
@@ -281,12 +310,16 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     close = _close_modes(model, fm, n_model, errors.close)
     weights = errors.weights(fm, close, _node_rows(model, fm))
     t1 = time.perf_counter()
-    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, np.asarray(model.joints_ft, float),
-                           refine=refine_locations)
+    joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
+    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations)
     timing["ranking_s"] = time.perf_counter() - t1
     verdict, named = _verdict(ranking, min_probability, min_log_bayes)
+    too_few = None
+    if named is not None:
+        too_few = _too_few_data(fm, named)
+        if too_few:
+            verdict, named = "ambiguous", None
     t2 = time.perf_counter()           # the report: the named parameter's interval, pairings, expansion
-    spec_of = {s.name: s for s in specs}
     none = next(r for r in ranking if r.name == "none")
     chosen = named if named is not None else none
     updated = chosen.fit.model
@@ -296,11 +329,13 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         others = tuple((loc, q) for loc, _, q in named.locations[1:] if q >= 0.05)
         iv = profile_interval(model, named.fit, fm, weights, n_model)
         interval = {} if iv is None else {named.fit.params[1].name: iv}
-        text = describe(spec_of[named.name], named.parameters, named.location, named.probability,
+        text = describe(named.fit.spec, named.parameters, named.location, named.probability,
                         named.fit.uncertainty, interval)
         if others:
-            text += (f" The joint is not certain ({p_loc:.0%}); also possible: "
-                     + ", ".join(f"({x:g}, {y:g}) ft {q:.0%}" for (x, y), q in others) + ".")
+            grid = not isinstance(named.location, str) and not isinstance(named.location[0], str)
+            text += (f" The {'joint' if grid else 'place'} is not certain ({p_loc:.0%}); also possible: "
+                     + ", ".join(f"({loc[0]:g}, {loc[1]:g}) ft {q:.0%}" if grid else f"{place(loc)} {q:.0%}"
+                                 for loc, q in others) + ".")
         effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability, text,
                              dict(named.fit.uncertainty), p_loc, others, interval)
     before = _pair(model, fm, n_model, max_freq_error=1.0)
@@ -321,14 +356,16 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     g_b = gap(before, subspace_mac(before, fm.shapes, sa, fa, errors.close))
     g_a = gap(after, subspace_mac(after, fm.shapes, sb, fb, errors.close))
     message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, chosen.fit, comac_a, unpaired)
+    if too_few:
+        message = too_few + " " + message
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
         updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
         pairing_before=before, pairing_after=after, mac_before=before.mac_matrix, mac_after=after.mac_matrix,
         comac_before=comac_b, comac_after=comac_a, close_modes=close, residual_modes=tuple(int(i) for i in miss),
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
-        node_xy_ft=np.asarray(model.joints_ft, float), expanded_measured=expanded, expanded_model=model_nodes,
-        timing_s=timing)
+        node_xy_ft=joints, expanded_measured=expanded, expanded_model=model_nodes,
+        timing_s=timing, node_labels=tuple(getattr(model, "node_labels", ())))
 
 
 def _message(verdict, effect, ranking, g_b, g_a, miss, fm, fit, comac_a, unpaired) -> str:

@@ -27,7 +27,7 @@ import numpy as np
 from scipy.optimize import least_squares, linear_sum_assignment
 
 from ..correlation import pairing_cost
-from .effects import EffectSpec, Param
+from .effects import EffectSpec, Param, as_location
 from .measured import MeasuredModes
 
 
@@ -137,7 +137,7 @@ def build_model(nominal, spec: EffectSpec, params: tuple, u, location=None):
     changes = dict(spec.fixed)
     changes.update({p.name: p.value(x) for p, x in zip(params, u)})
     if spec.location_keyword is not None:
-        changes[spec.location_keyword] = tuple(location)
+        changes[spec.location_keyword] = as_location(location)
     return nominal.with_params(**changes)
 
 
@@ -182,12 +182,13 @@ def _prior_residuals(params, u):
 
 
 def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
-               n_model: int, location=None, u0=None, max_nfev: int = 60) -> Fit:
+               n_model: int, location=None, u0=None, max_nfev: int = 60, scan: bool = False) -> Fit:
     """Most probable parameters of one candidate (least squares on data + prior residuals) and its evidence.
 
     The parameters are the nuisance stiffness factor followed by the effect's own; the start is ``u0`` or the
     best of a coarse scan of the effect's parameter over its prior (±2σ), so broad priors do not trap the fit in
-    the wrong valley.
+    the wrong valley; ``scan`` with a ``u0`` scans ±2 prior σ about u0 too and starts from the best (frames,
+    whose modes can cross as a parameter moves, making the misfit valley-rich).
     """
     params = (nuisance,) + tuple(spec.params)
     lo = np.array([p.prior_mean - 5 * p.prior_std for p in params])
@@ -200,13 +201,16 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
         r, _ = mode_residuals(build_model(nominal, spec, params, u, location), measured, w, n_model)
         return np.concatenate([r, _prior_residuals(params, u)])
 
-    if u0 is None:
-        u0 = np.array([p.prior_mean for p in params])
+    if u0 is None or (scan and len(params) == 2):
+        start = u0
+        u0 = np.array([p.prior_mean for p in params]) if start is None else np.asarray(start, dtype=float)
         if len(params) == 2:  # coarse scan of the one effect parameter, the nuisance fixed
-            best = None
+            best = None if start is None else (float(np.sum(total(u0) ** 2)), u0)
             for k in (-2.0, -1.0, 0.0, 1.0, 2.0):
                 trial = u0.copy()
                 trial[1] = params[1].prior_mean + k * params[1].prior_std
+                if start is not None:   # about the screened start, over the prior's width
+                    trial[1] = np.clip(start[1] + k * params[1].prior_std, lo[1], hi[1])
                 c = float(np.sum(total(trial) ** 2))
                 if best is None or c < best[0]:
                     best = (c, trial)
@@ -227,7 +231,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
     r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)
     chi2 = float(np.sum(r**2))
     chi2_prior = float(np.sum(_prior_residuals(params, u) ** 2))
-    loc = None if location is None else tuple(float(v) for v in location)
+    loc = as_location(location)
     return Fit(spec=spec, location=loc, params=params, u=u,
                parameters={p.name: p.value(x) for p, x in zip(params, u)}, uncertainty=unc,
                log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,

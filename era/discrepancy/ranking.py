@@ -29,8 +29,9 @@ class RankedEffect:
     probability (posterior, equal prior odds between candidates); log_bayes_factor against "none";
     parameters {name: value} and location of the best fit; chi2 (data misfit at the best fit); adequate (fit
     consistent with the error levels); max_abs_freq_error_pct, min_mac at the best fit; fit (the Fit record);
-    locations : for located effects, the fully fitted joints as ((x_ft, y_ft), log_evidence, probability of
-        the location given the effect), best first.
+    locations : for located effects, the fully fitted places as (location, log_evidence, probability of
+        the location given the effect), best first; a location is (x_ft, y_ft) on the grid, a node id (str) or
+        a member (node i, node j) on an era.Frame.
     seconds : wall-clock time spent on this candidate (screening + fits); n_solves : model solves it took.
     """
 
@@ -64,13 +65,14 @@ def is_adequate(fit: Fit, n_data: int, max_sigma: float = 4.0, max_chi2_per_datu
 
 
 def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
-                     w: ModeWeights, n_model: int, locations: np.ndarray) -> tuple:
+                     w: ModeWeights, n_model: int, locations, with_prior: bool = False) -> tuple:
     """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
     and the size a (n_loc,) of the effect, relative to its trial size, that the linearised fit wants.
 
     r(a, b) ≈ r₀ + a Δ_ℓ + b J_sf, with r₀ the residual of the fitted nominal, Δ_ℓ the change the effect
     makes at its trial size at location ℓ, J_sf the sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act
-    backwards).
+    backwards). with_prior: the stiffness factor's prior enters as one more residual (frames: the group of every
+    member is a pure scaling, which the bare linearisation would score as a perfect, free fit).
     """
     u_sf = base.u[0]
     trial_u = [p.u(spec.trial[p.name]) for p in spec.params]
@@ -79,11 +81,17 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
         return mode_residuals(model, measured, w, n_model)[0]
 
     r0 = resid(base.model)
+    n_r = r0.size
     j_sf = (resid(build_model(nominal, EffectSpec("none"), (nuisance,), [u_sf + 1e-3])) - r0) / 1e-3
     out = np.empty(len(locations))
     size = np.zeros(len(locations))
+    if with_prior:   # the stiffness factor's prior as one more residual: a pure scaling is not free
+        r0 = np.r_[r0, (u_sf - nuisance.prior_mean) / nuisance.prior_std]
+        j_sf = np.r_[j_sf, 1.0 / nuisance.prior_std]
     for i, loc in enumerate(locations):
-        d = resid(build_model(nominal, spec, (nuisance,) + tuple(spec.params), [u_sf, *trial_u], loc)) - r0
+        d = resid(build_model(nominal, spec, (nuisance,) + tuple(spec.params), [u_sf, *trial_u], loc)) - r0[:n_r]
+        if with_prior:
+            d = np.r_[d, 0.0]
         A = np.column_stack([d, j_sf])
         coef, *_ = np.linalg.lstsq(A, -r0, rcond=None)
         if coef[0] < 0:  # only the stiffness factor then
@@ -105,7 +113,8 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
                  max_chi2_per_datum: float = 2.0) -> tuple:
     """Fit every candidate, marginalise located ones, and return RankedEffects by decreasing probability.
 
-    locations : (n_loc, 2) candidate (x_ft, y_ft) of located effects (the grid's joints).
+    locations : candidate places of located effects whose spec gives none (the grid's joints, (n_loc, 2) x_ft,
+        y_ft); a spec's own ``locations`` (node ids, members) take precedence.
     refine : how many of the best-screened locations get a full nonlinear fit.
     The first spec must be "none" (the nominal plus the nuisance): every Bayes factor is taken against it.
     """
@@ -123,17 +132,19 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             f = fit_effect(nominal, spec, nuisance, measured, w, n_model)
             rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals))
         else:
-            chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, locations)
+            places = locations if spec.locations is None else spec.locations
+            chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
+                                          with_prior=spec.locations is not None)
             top = np.argsort(chi2, kind="stable")[:refine]
-            fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=locations[i],
-                               u0=_start(spec, base, size[i])) for i in top]
+            fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
+                               u0=_start(spec, base, size[i]), scan=spec.locations is not None) for i in top]
             fits.sort(key=lambda f: -f.log_evidence)
             les = np.array([f.log_evidence for f in fits])
-            log_ev = float(logsumexp(les) - np.log(len(locations)))
+            log_ev = float(logsumexp(les) - np.log(len(places)))
             p_loc = np.exp(les - logsumexp(les))
             locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
             rows.append((spec, log_ev, fits[0], locs,
-                         time.perf_counter() - t, len(locations) + 2 + sum(f.n_evals for f in fits)))
+                         time.perf_counter() - t, len(places) + 2 + sum(f.n_evals for f in fits)))
     log_ev = np.array([r[1] for r in rows])
     prob = np.exp(log_ev - logsumexp(log_ev))
     out = []

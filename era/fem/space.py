@@ -36,6 +36,9 @@ class SpaceFrame:
     m (kg/m), rho_ip (kg·m), r2 = I_p/A (m²), each (e,); node_mass (n,) kg on the three translations; restrained
     (n, 6) bool; springs (n, 6) to ground on (x, y, z, rx, ry, rz), N/m and N·m/rad; cable_m (n,) length of a
     cable the node hangs from (0 = none); the first n_user nodes are the user's, named by ``names``.
+    end_springs (e, 2) N·m/rad, inf = rigid (None: all rigid), with end_axes (e, 2, 3) unit vectors: a semi-rigid
+    element end hangs on a rotational spring about that axis, its other five DOFs tied to the node; :func:`subdivide`
+    turns each into a hinge: hinges = (node, end node, axis (3,), k, penalty of the tied DOFs) per spring.
     """
 
     coords: np.ndarray
@@ -55,6 +58,9 @@ class SpaceFrame:
     cable_m: np.ndarray
     n_user: int
     names: tuple
+    end_springs: np.ndarray | None = None
+    end_axes: np.ndarray | None = None
+    hinges: tuple = ()
 
     @cached_property
     def axes(self) -> tuple[np.ndarray, np.ndarray]:
@@ -91,11 +97,59 @@ def subdivide(frame: SpaceFrame, counts: np.ndarray) -> SpaceFrame:
     n_new = start - frame.n_nodes
     rep = np.repeat(np.arange(counts.size), counts)
     pad = lambda x: np.concatenate([x, np.zeros((n_new,) + x.shape[1:], x.dtype)])   # noqa: E731
-    return SpaceFrame(coords=np.concatenate(coords), elements=np.concatenate(elements),
+    mesh = SpaceFrame(coords=np.concatenate(coords), elements=np.concatenate(elements),
                       orientation=frame.orientation[rep], member=frame.member[rep],
                       **{p: getattr(frame, p)[rep] for p in _PROPS},
                       node_mass=pad(frame.node_mass), restrained=pad(frame.restrained), springs=pad(frame.springs),
                       cable_m=pad(frame.cable_m), n_user=frame.n_user, names=frame.names)
+    if frame.end_springs is None or np.all(np.isinf(frame.end_springs)):
+        return mesh
+    last = np.cumsum(counts) - 1                       # element k of the member's chain at its end j
+    first = last - counts + 1
+    return _release(mesh, [(first[k], 0, frame.end_springs[k, 0], frame.end_axes[k, 0]) for k in range(counts.size)]
+                    + [(last[k], 1, frame.end_springs[k, 1], frame.end_axes[k, 1]) for k in range(counts.size)])
+
+
+def _release(mesh: SpaceFrame, ends: list) -> SpaceFrame:
+    """Give each semi-rigid element end (element, 0 | 1, k N·m/rad, axis (3,)) its own node at the same place,
+    tied to the original node by a hinge: a rotational spring k about the axis, the other five DOFs tied by a
+    penalty 1e4 × the element's stiffest axial/rotational term (relative error of the tie ~1e-5)."""
+    ends = [e for e in ends if np.isfinite(e[2])]
+    elements = mesh.elements.copy()
+    L = mesh.axes[0]
+    coords, hinges = [mesh.coords], []
+    n = mesh.n_nodes
+    for el, side, k, axis in ends:
+        node = elements[el, side]
+        coords.append(mesh.coords[node][None])
+        elements[el, side] = n
+        penalty = 1e4 * np.array([mesh.EA[el] / L[el],
+                                  max(mesh.GJ[el], 4 * mesh.EIy[el], 4 * mesh.EIz[el]) / L[el]])
+        hinges.append((int(node), n, np.asarray(axis, float), float(k), penalty))
+        n += 1
+    extra = len(ends)
+    pad = lambda x: np.concatenate([x, np.zeros((extra,) + x.shape[1:], x.dtype)])   # noqa: E731
+    return SpaceFrame(coords=np.concatenate(coords), elements=elements, orientation=mesh.orientation,
+                      member=mesh.member, **{p: getattr(mesh, p) for p in _PROPS}, node_mass=pad(mesh.node_mass),
+                      restrained=pad(mesh.restrained), springs=pad(mesh.springs), cable_m=pad(mesh.cable_m),
+                      n_user=mesh.n_user, names=mesh.names, hinges=tuple(hinges))
+
+
+def _hinge_stiffness(frame: SpaceFrame, n: int) -> scipy.sparse.csc_matrix:
+    """(n, n) stiffness of the hinges: k (v_b - v_a)² per tied or sprung direction v of each hinge."""
+    rows, cols, vals = [], [], []
+    for a, b, axis, k, (p_t, p_r) in frame.hinges:
+        basis = np.linalg.svd(axis[None, :])[2]          # axis first, then two normals
+        for block, directions, stiff in ((0, np.eye(3), [p_t] * 3), (3, basis, [k, p_r, p_r])):
+            for v, s in zip(directions, stiff):
+                dofs = np.r_[6 * a + block + np.arange(3), 6 * b + block + np.arange(3)]
+                vec = np.r_[-v, v]
+                rows.append(np.repeat(dofs, 6))
+                cols.append(np.tile(dofs, 6))
+                vals.append(s * np.outer(vec, vec).ravel())
+    if not rows:
+        return scipy.sparse.csc_matrix((n, n))
+    return scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
 
 
 def _scatter(mats: np.ndarray, edofs: np.ndarray, n: int, diag: np.ndarray | None = None) -> scipy.sparse.csc_matrix:
@@ -112,7 +166,8 @@ def stiffness(frame: SpaceFrame, axial_force: np.ndarray | None = None) -> scipy
     k = beam3d.local_stiffness(L, frame.EA, frame.GJ, frame.EIy, frame.EIz)
     if axial_force is not None:
         k = k + beam3d.local_geometric(L, axial_force, frame.r2)
-    return _scatter(beam3d.to_global(k, R), frame.edofs(), 6 * frame.n_nodes, frame.springs.ravel())
+    K = _scatter(beam3d.to_global(k, R), frame.edofs(), 6 * frame.n_nodes, frame.springs.ravel())
+    return K + _hinge_stiffness(frame, 6 * frame.n_nodes) if frame.hinges else K
 
 
 def mass(frame: SpaceFrame) -> scipy.sparse.csc_matrix:

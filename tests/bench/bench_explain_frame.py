@@ -1,0 +1,157 @@
+"""era.explain on era.Frame models: the blind matrix (four structures × every frame effect × seeds) and the time of
+explain on a 3-D frame of 200 nodes.
+
+Run: python3 tests/bench/bench_explain_frame.py 0,1,2        (the matrix for these seeds; prints one row per case
+                                                              and a summary per structure and effect)
+     python3 -m pytest tests/bench/bench_explain_frame.py -s  (the 200-node timing, and seed 0 of the matrix)
+The truth (era.examples.frame_simulation): every member's E and G scattered 2 % (1σ), twice the nominal's mesh,
+0.1 % frequency noise, 1 % shape noise, 2 % sensor gains; six modes the sensors see. "two" hides two effects at
+once (outside the library): it must not get a confident name.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+import era  # noqa: E402
+from era.examples.frame_simulation import simulate_frame_test  # noqa: E402
+from era.examples.frames import STRUCTURES  # noqa: E402
+
+# effect sizes: each moves some mode by a few % (well above the 0.15 % frequency floor and the scatter's ~0.5 %)
+CASES = {
+    "cantilever": [
+        ("none", {}),
+        ("support_flexibility", dict(support_at="0", support_rotation_stiffness=300.0)),
+        ("point_mass", dict(point_mass_at="3", point_mass_kg=0.15)),
+        ("member_stiffness", dict(member_at=("0", "1"), member_factor=0.7)),
+        ("distributed_mass", dict(distributed_mass_kg=0.4)),
+        ("two", dict(point_mass_at="4", point_mass_kg=0.1, support_at="0", support_rotation_stiffness=500.0)),
+    ],
+    "portal": [
+        ("none", {}),
+        ("support_flexibility", dict(support_at="A", support_rotation_stiffness=3e5)),
+        ("joint_flexibility", dict(joint_at="C", joint_stiffness=3e5)),
+        ("point_mass", dict(point_mass_at="E", point_mass_kg=30.0)),
+        ("member_stiffness", dict(member_at=("C", "G"), member_factor=0.6)),
+        ("distributed_mass", dict(distributed_mass_kg=60.0)),
+        ("two", dict(point_mass_at="E", point_mass_kg=30.0, support_at="A", support_rotation_stiffness=3e5)),
+    ],
+    "two_storey": [
+        ("none", {}),
+        ("support_flexibility", dict(support_at="10", support_rotation_stiffness=2e5)),
+        ("joint_flexibility", dict(joint_at="22", joint_stiffness=1e5)),
+        ("point_mass", dict(point_mass_at="32", point_mass_kg=100.0)),
+        ("member_stiffness", dict(member_at=("20", "21"), member_factor=0.5)),
+        ("distributed_mass", dict(distributed_mass_kg=150.0)),
+        ("two", dict(point_mass_at="32", point_mass_kg=100.0, joint_at="21", joint_stiffness=1e5)),
+    ],
+    "truss": [
+        ("none", {}),
+        ("support_flexibility", dict(support_at="b4", support_vertical_stiffness=2e6)),
+        ("joint_flexibility", dict(joint_at="t2", joint_stiffness=2e3)),
+        ("point_mass", dict(point_mass_at="b2", point_mass_kg=5.0)),
+        ("member_stiffness", dict(member_at=("b2", "t3"), member_factor=0.5)),
+        ("distributed_mass", dict(distributed_mass_kg=15.0)),
+        ("two", dict(point_mass_at="b2", point_mass_kg=5.0, member_at=("b2", "t3"), member_factor=0.5)),
+    ],
+}
+
+
+def run_case(structure, effect, params, seed):
+    frame = STRUCTURES[structure]()
+    measured, _ = simulate_frame_test(frame, effect, dict(params), seed=seed)
+    t = time.perf_counter()
+    r = era.explain(measured, frame)
+    seconds = time.perf_counter() - t
+    if effect in ("none", "two"):
+        ok = r.effect is None if effect == "two" else r.verdict == "no_significant_discrepancy"
+        return dict(structure=structure, effect=effect, seed=seed, verdict=r.verdict, named=None,
+                    outcome="right" if ok else ("WRONG" if r.effect is not None else r.verdict),
+                    where="", error="", after=r.after.max_abs_freq_error_pct, s=seconds)
+    name = next(k for k in params if not k.endswith("_at"))
+    where_true = next((v for k, v in params.items() if k.endswith("_at")), None)
+    if r.effect is None:
+        outcome = r.verdict
+        where = err = ""
+    else:
+        outcome = "right" if r.effect.name == effect else "WRONG"
+        where = "" if where_true is None else ("exact" if r.effect.location == where_true else
+                                               f"{r.effect.location} (truth {where_true})")
+        err = ""
+        if r.effect.name == effect:
+            v, sd = r.effect.parameters[name], r.effect.uncertainty.get(name, np.nan)
+            err = f"{100 * (v / params[name] - 1):+.1f} % (1σ {100 * sd / params[name]:.1f} %)"
+    return dict(structure=structure, effect=effect, seed=seed, verdict=r.verdict,
+                named=None if r.effect is None else r.effect.name, outcome=outcome, where=where, error=err,
+                after=r.after.max_abs_freq_error_pct, s=seconds)
+
+
+def matrix(seeds, structures=tuple(CASES)):
+    rows = []
+    for structure in structures:
+        for effect, params in CASES[structure]:
+            for seed in seeds:
+                row = run_case(structure, effect, params, seed)
+                rows.append(row)
+                print(f"{row['structure']:11s} {row['effect']:20s} seed {seed}: {row['verdict']:27s} "
+                      f"{row['outcome']:8s} {row['where']:10s} {row['error']:28s} after {row['after']:.2f} % "
+                      f"{row['s']:.1f} s", flush=True)
+    print("\nstructure   effect               right / wrong / other (verdicts)")
+    for structure in structures:
+        for effect, _ in CASES[structure]:
+            sel = [r for r in rows if r["structure"] == structure and r["effect"] == effect]
+            right = sum(r["outcome"] == "right" for r in sel)
+            wrong = sum(r["outcome"] == "WRONG" for r in sel)
+            other = sorted({r["verdict"] for r in sel if r["outcome"] not in ("right", "WRONG")})
+            print(f"{structure:11s} {effect:20s} {right} / {wrong} / {len(sel) - right - wrong} {other}")
+    return rows
+
+
+def building_with_sensors():
+    """tests/bench/bench_frame.py's 200-node building, with x and y sensors at four top corners and mid-height."""
+    sys.path.insert(0, os.path.dirname(__file__))
+    from bench_frame import BAYS, LEVELS, building
+    top, mid = LEVELS - 1, LEVELS // 2
+    corners = [(0, 0), (BAYS - 1, 0), (BAYS - 1, BAYS - 1), (0, BAYS - 1)]
+    sensors = [(f"{i}.{j}.{k}", d) for k in (top, mid) for i, j in corners for d in "xy"]
+    import dataclasses
+    return dataclasses.replace(building(), sensors=sensors)
+
+
+def time_200_nodes():
+    frame = building_with_sensors()
+    measured, _ = simulate_frame_test(frame, "point_mass", dict(point_mass_at="4.4.7", point_mass_kg=20.0), seed=0)
+    t = time.perf_counter()
+    r = era.explain(measured, frame)
+    total = time.perf_counter() - t
+    print(f"\n200-node frame ({len(frame.nodes)} nodes, {len(frame.members)} members): explain {total:.1f} s, "
+          f"verdict {r.verdict}, named {r.effect and (r.effect.name, r.effect.location)}")
+    for c in r.ranking:
+        print(f"  {c.name:20s} {c.seconds:6.1f} s  {c.n_solves:5d} solves")
+    return total, r
+
+
+def test_blind_matrix_seed_0_names_no_wrong_effect():
+    rows = matrix([0])
+    assert not [r for r in rows if r["outcome"] == "WRONG"]
+
+
+def test_explain_on_a_200_node_frame():
+    total, r = time_200_nodes()
+    assert r.effect is not None and r.effect.name == "point_mass"
+
+
+if __name__ == "__main__":
+    seeds = [int(s) for s in (sys.argv[1] if len(sys.argv) > 1 else "0").split(",")]
+    which = tuple(sys.argv[2].split(",")) if len(sys.argv) > 2 else tuple(CASES)
+    if "time" in which:
+        time_200_nodes()
+    else:
+        matrix(seeds, which)
