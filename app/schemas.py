@@ -53,7 +53,9 @@ class DatasetSource(Schema):
     model_config = ConfigDict(extra="allow")
     file: str | list[str] | None = Field(None, description="uploaded file name")
     bytes: int | None = Field(None, description="size of the upload, bytes")
-    format: str | None = Field(None, description="uff, csv or npz")
+    format: str | None = Field(None, description="uff, csv, text, npz, lvm, npy, mat, hdf5, tdms or signalcalc")
+    options: dict[str, Any] | None = Field(None, description="what the person said the files could not (dt, "
+                                                             "orientation, variable, group, frf_sign, format)")
     kind: str | None = Field(None, description="what the records were read as: pulse, decay, frf, io, ambient")
     records: list[str] | None = Field(None, description="what was read, one line per record group")
     conversions: list[str] | None = Field(None, description="conversions applied (FRF → pulse response, …)")

@@ -1,8 +1,8 @@
-"""Datasets: upload a file, read its summary, its records and its spectrum."""
+"""Datasets: upload files (one dataset), read its summary, its records and its spectrum."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Depends, Form, Query, Request, UploadFile
+from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 
 import era
 
@@ -14,24 +14,40 @@ from .deps import cache, dataset, jobs, progress_key
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
 
 
-@router.post("", summary="Upload a file (UFF, CSV, NPZ): pulse responses, free decays, FRFs, input-output or ambient records",
+@router.post("", summary="Upload one or several files (UFF, CSV, text, LVM, MAT, HDF5, TDMS, NPY, NPZ, SignalCalc) as "
+             "one dataset: pulse responses, free decays, FRFs, input-output or ambient records",
              response_model=schemas.Dataset)
-async def upload(request: Request, file: UploadFile,
-                 kind: str = Form("auto", description="auto, pulse, decay, frf, io or ambient: what the records are")):
-    """Multipart field ``file`` (and optionally ``kind``). Returns the dataset: id, outputs, inputs, dt, n_samples,
-    units, source (format, conversions), defaults, limits."""
-    name = (file.filename or "upload").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
-    blob = await file.read()
-    if not blob:
-        raise era.DataError(f"{name!r} is empty: choose a file with pulse responses or free decays.")
+async def upload(request: Request, file: list[UploadFile] = File(description="one part per file; several are read "
+                                                                             "as one dataset"),
+                 kind: str = Form("auto", description="auto, pulse, decay, frf, io or ambient: what the records are"),
+                 dt: float | None = Form(None, gt=0, description="sampling interval, s, when the files carry none"),
+                 format: str | None = Form(None, description="the format when sniffing should not decide, e.g. text"),
+                 orientation: str | None = Form(None, description="rows or columns: channels of a headerless table"),
+                 variable: str | None = Form(None, description="the array to read in a MAT or HDF5 file"),
+                 group: str | None = Form(None, description="the TDMS group to read"),
+                 frf_sign: str | None = Form(None, description="auto, + or -: the FRFs' sign convention")):
+    """Multipart parts ``file`` (one or several) and the options the files cannot say themselves. Returns the
+    dataset: id, outputs, inputs, dt, n_samples, units, source (format, conversions, options), defaults, limits."""
+    files = []
+    for part in file:
+        name = (part.filename or "upload").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
+        blob = await part.read()
+        if not blob:
+            raise era.DataError(f"{name!r} is empty: choose a file with pulse responses or free decays.")
+        files.append((name, blob))
+    name = files[0][0] if len(files) == 1 else f"{files[0][0]} + {len(files) - 1} more"
+    size = sum(len(b) for _, b in files)
+    options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group, frf_sign=frf_sign)
     c = cache(request)
 
     def work():
-        data, geometry, source = load_upload(blob, name, kind)
-        summary = payloads.dataset_summary(data, geometry, name, c.settings, dict(source, file=name, bytes=len(blob)))
+        data, geometry, source = load_upload(files, kind, **options)
+        given = {k: v for k, v in options.items() if v is not None}
+        source = dict(source, file=name if len(files) == 1 else [n for n, _ in files], bytes=size, options=given)
+        summary = payloads.dataset_summary(data, geometry, name, c.settings, source)
         return c.add_dataset(data, geometry, name, summary)
 
-    if len(blob) <= cache(request).settings.small_upload_bytes:  # cheap: never queued behind SVDs
+    if size <= c.settings.small_upload_bytes:  # cheap: never queued behind SVDs
         return await jobs(request).quick(work)
     return await jobs(request).heavy(work, progress=progress_key(request), message=f"Reading {name}")
 
