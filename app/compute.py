@@ -12,7 +12,9 @@ from __future__ import annotations
 import atexit
 import multiprocessing
 import os
+import signal
 import threading
+import time
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, TypeVar
@@ -25,13 +27,34 @@ _pool: ProcessPoolExecutor | None = None
 _lock = threading.Lock()
 
 
-def _init_worker() -> None:
+def _init_worker(parent: int) -> None:
     for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ[var] = "1"
     try:
         os.nice(WORKER_NICE)
     except OSError:
         pass
+    _die_with(parent)
+
+
+def _die_with(parent: int) -> None:
+    """End this worker when the app process ends, however it ends (kill -9 included): the kernel's parent-death
+    signal on Linux, and a watch on the parent's pid everywhere (a spawned worker would otherwise live on)."""
+    try:
+        import ctypes
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent:  # the parent died before the signal was armed
+        os._exit(0)
+
+    def watch():
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(0)
+
+    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
 
 
 def _executor(workers: int) -> ProcessPoolExecutor:
@@ -39,7 +62,7 @@ def _executor(workers: int) -> ProcessPoolExecutor:
     with _lock:
         if _pool is None:
             _pool = ProcessPoolExecutor(max_workers=max(1, workers), initializer=_init_worker,
-                                        mp_context=multiprocessing.get_context("spawn"))
+                                        initargs=(os.getpid(),), mp_context=multiprocessing.get_context("spawn"))
         return _pool
 
 

@@ -89,3 +89,25 @@ def test_a_viewer_follows_the_mode_chosen_through_another_process(tmp_path):
     state = second.registry.get(key).state
     assert (state.index, state.amplitude) == (2, 0.3)
     store.close()
+
+
+def test_worker_processes_end_with_the_app_process(tmp_path):
+    """The SVD workers (app/compute.py) must not outlive a killed server: a restart would leak them."""
+    import signal
+
+    code = ("import os, sys, time\nfrom app import compute\n"
+            "print(compute.run(os.getpid), flush=True)\ntime.sleep(60)\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=REPO, stdout=subprocess.PIPE, text=True)
+    worker = int(proc.stdout.readline())
+    assert worker != proc.pid and Path(f"/proc/{worker}").exists()
+    proc.send_signal(signal.SIGKILL)
+    proc.wait(10)
+    for _ in range(50):
+        try:
+            if "zombie" in Path(f"/proc/{worker}/status").read_text().lower():
+                break
+        except FileNotFoundError:  # gone
+            break
+        time.sleep(0.1)
+    else:
+        raise AssertionError(f"worker {worker} outlived its killed parent")
