@@ -11,7 +11,7 @@ import pytest
 import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
-from chain_sim import chain, simulate  # noqa: E402
+from chain_sim import hammer_decay  # noqa: E402
 
 USC = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
     "timeseries_data.lvm"
@@ -20,13 +20,8 @@ DT = 0.01
 
 def decays(n=1500, hits=(2,)):
     """Acceleration of the chain after a hammer pulse on each mass of ``hits``: list of (N, 3), and the modes."""
-    ad, bd, cd, dd, f_modes, _ = chain(DT)
-    out = []
-    for hit in hits:
-        u = np.zeros((n, 3))
-        u[20, hit] = 1.0
-        out.append(simulate(ad, bd, cd, dd, u))
-    return out, f_modes
+    runs = [hammer_decay(n, hit, DT) for hit in hits]
+    return [y for y, _ in runs], runs[0][1]
 
 
 def lvm_text(segments, *, x_columns="One", sep="\t", decimal=".", names=("a1", "a2", "a3"), unit="m/s^2",

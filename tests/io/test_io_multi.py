@@ -14,7 +14,7 @@ import era
 import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
-from chain_sim import chain, continuous_chain, simulate  # noqa: E402
+from chain_sim import continuous_chain, hammer_decay  # noqa: E402
 
 F = np.arange(0, 50.0 + 1e-9, 0.01)
 NODES = U.nodes15([1, 2, 3], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
@@ -91,13 +91,8 @@ def test_files_that_do_not_belong_together_are_named(tmp_path, roving):
 
 
 def decays(hits, n=1500, dt=0.01):
-    ad, bd, cd, dd, f_modes, _ = chain(dt)
-    out = []
-    for hit in hits:
-        u = np.zeros((n, 3))
-        u[20, hit] = 1.0
-        out.append(simulate(ad, bd, cd, dd, u))
-    return out, f_modes
+    runs = [hammer_decay(n, hit, dt) for hit in hits]
+    return [y for y, _ in runs], runs[0][1]
 
 
 def test_uff_mat_tdms_and_csv_time_files_are_initial_conditions(tmp_path):

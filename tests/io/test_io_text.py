@@ -12,17 +12,14 @@ import era
 import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
-from chain_sim import chain, simulate  # noqa: E402
+from chain_sim import hammer_decay  # noqa: E402
 
 CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
 DT = 0.01
 
 
 def decay(n=1500):
-    ad, bd, cd, dd, f_modes, _ = chain(DT)
-    u = np.zeros((n, 3))
-    u[20, 2] = 1.0
-    return simulate(ad, bd, cd, dd, u), f_modes
+    return hammer_decay(n, 2, DT)
 
 
 def savetxt(path, a, **kw):
