@@ -6,6 +6,7 @@ ERA modes (several orders) → pairing with the model → every candidate effect
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -209,6 +210,22 @@ def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> 
     return out
 
 
+def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_model: int):
+    """The weights with each frequency's error from the members' stiffness scatter added (ErrorLevels.member_scatter,
+    or the model's ``default_member_scatter``), through the nominal partner's strain-energy shares."""
+    scatter = errors.member_scatter
+    if scatter is None:
+        scatter = getattr(model, "default_member_scatter", 0.0)
+    if not scatter or not hasattr(model, "member_energy_fractions"):
+        return w
+    share = model.member_energy_fractions(n_model)                    # (n_members, n_model)
+    rel = 0.5 * scatter * np.sqrt(np.sum(share**2, axis=0))          # (n_model,) relative 1σ of each frequency
+    pairing = _pair(model, fm, n_model, max_freq_error=1.0)
+    per_mode = np.full(fm.n_modes, rel.max())
+    per_mode[pairing.measured_index] = rel[pairing.model_index]
+    return dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
+
+
 def _too_few_data(fm: MeasuredModes, best) -> str | None:
     """A sentence when the data hold no more numbers than the best candidate has unknowns (its parameters, the
     stiffness factor and, for a located effect, its place): it then fits them whatever the truth, and no name is
@@ -308,10 +325,11 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     fm = measured.take(fit_modes)
     n_model = fm.n_modes + extra_model_modes
     close = _close_modes(model, fm, n_model, errors.close)
-    weights = errors.weights(fm, close, _node_rows(model, fm))
+    weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
-    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations)
+    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
+                           fine_scan=isinstance(model, FrameModel))
     timing["ranking_s"] = time.perf_counter() - t1
     verdict, named = _verdict(ranking, min_probability, min_log_bayes)
     too_few = None

@@ -50,6 +50,10 @@ class ErrorLevels:
     close : modes closer than this relative frequency to a neighbour (measured or model) form a nearly repeated
         pair whose individual shapes are not defined (any rotation within the pair is as good); their shapes get
         ``close_shape_sigma``, so only their frequencies count.
+    member_scatter : relative 1σ to which each member's stiffness is known (a drawn model's members scatter by a
+        few per cent); mode j's frequency then carries ½ · scatter · √(Σ_e w_ej²), w_ej member e's share of the
+        mode's strain energy (model.member_energy_fractions). None: the model's own default (2 % for an
+        era.Frame, whose few members do not average out; 0 for the grid, whose 157 bars do, in freq_floor).
     """
 
     freq_floor: float = 0.0015
@@ -61,6 +65,7 @@ class ErrorLevels:
     gain_std: float = 0.02
     close: float = 0.03
     close_shape_sigma: float = 0.3
+    member_scatter: float | None = None
 
     def weights(self, measured: MeasuredModes, close_mask=None, node_rows=None) -> "ModeWeights":
         """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes.
@@ -187,7 +192,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
 
     The parameters are the nuisance stiffness factor followed by the effect's own; the start is ``u0`` or the
     best of a coarse scan of the effect's parameter over its prior (±2σ), so broad priors do not trap the fit in
-    the wrong valley; ``scan`` with a ``u0`` scans ±2 prior σ about u0 too and starts from the best (frames,
+    the wrong valley; ``scan`` makes that scan finer (steps of σ/2) and, with a ``u0``, centres it on u0 (frames,
     whose modes can cross as a parameter moves, making the misfit valley-rich).
     """
     params = (nuisance,) + tuple(spec.params)
@@ -206,7 +211,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
         u0 = np.array([p.prior_mean for p in params]) if start is None else np.asarray(start, dtype=float)
         if len(params) == 2:  # coarse scan of the one effect parameter, the nuisance fixed
             best = None if start is None else (float(np.sum(total(u0) ** 2)), u0)
-            for k in (-2.0, -1.0, 0.0, 1.0, 2.0):
+            for k in (np.arange(-2.0, 2.01, 0.5) if scan else (-2.0, -1.0, 0.0, 1.0, 2.0)):
                 trial = u0.copy()
                 trial[1] = params[1].prior_mean + k * params[1].prior_std
                 if start is not None:   # about the screened start, over the prior's width

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import DataError
+from ..fem import space
 from ..structure import Frame, Section
 from .effects import EffectSpec, Param
 
@@ -166,6 +167,20 @@ class FrameModel:
     @property
     def total_mass_kg(self) -> float:
         return self.updated_frame.total_mass_kg
+
+    default_member_scatter = 0.02     # ErrorLevels.member_scatter when not given: members known to ±2 % (1σ)
+
+    def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray:
+        """(n_members, n) each member's share of each mode's elastic strain energy (columns sum to 1 over the
+        members; springs, hinges and geometric stiffness left out)."""
+        mesh, result = self.updated_frame.solution(n_modes)
+        L, R = mesh.axes
+        k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
+        u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n_modes]     # (e, 12, n)
+        energy = np.einsum("ein,eij,ejn->en", u, k, u)
+        out = np.zeros((len(self.frame.members), energy.shape[1]))
+        np.add.at(out, mesh.member, energy)
+        return out / np.maximum(out.sum(axis=0, keepdims=True), 1e-300)
 
 
 def _member_ei_over_l(frame: Frame, ends, weak: bool = True) -> float:

@@ -110,12 +110,14 @@ def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
 
 def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, max_sigma: float = 4.0,
-                 max_chi2_per_datum: float = 2.0) -> tuple:
+                 max_chi2_per_datum: float = 2.0, fine_scan: bool = False) -> tuple:
     """Fit every candidate, marginalise located ones, and return RankedEffects by decreasing probability.
 
     locations : candidate places of located effects whose spec gives none (the grid's joints, (n_loc, 2) x_ft,
         y_ft); a spec's own ``locations`` (node ids, members) take precedence.
     refine : how many of the best-screened locations get a full nonlinear fit.
+    fine_scan : (frames) start every fit from a finer scan of its parameter (located: about the screened size),
+        and screen with the stiffness factor's prior as a residual; False keeps the grid's path as it was.
     The first spec must be "none" (the nominal plus the nuisance): every Bayes factor is taken against it.
     """
     if not specs or specs[0].name != "none":
@@ -129,15 +131,15 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
         if spec.name == "none":
             rows.append((spec, base.log_evidence, base, (), t - t0, base.n_evals))
         elif not spec.located:
-            f = fit_effect(nominal, spec, nuisance, measured, w, n_model)
+            f = fit_effect(nominal, spec, nuisance, measured, w, n_model, scan=fine_scan)
             rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals))
         else:
             places = locations if spec.locations is None else spec.locations
             chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
-                                          with_prior=spec.locations is not None)
+                                          with_prior=fine_scan)
             top = np.argsort(chi2, kind="stable")[:refine]
             fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
-                               u0=_start(spec, base, size[i]), scan=spec.locations is not None) for i in top]
+                               u0=_start(spec, base, size[i]), scan=fine_scan) for i in top]
             fits.sort(key=lambda f: -f.log_evidence)
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))

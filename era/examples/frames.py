@@ -73,3 +73,19 @@ def truss(panel_m: float = 1.0, depth_m: float = 1.0, **kw) -> Frame:
 
 
 STRUCTURES = {"cantilever": cantilever, "portal": portal, "two_storey": two_storey, "truss": truss}
+
+
+def nasa_grid_frame(**changes) -> Frame:
+    """The NASA grid (era.examples.grid) as an era.Frame: 88 joints named "x,y" in feet, the 157 one-foot bars
+    (2 in × 1/4 in aluminium, the thin side out of the plane z), hanging in the x-y plane (gravity along -y) from two
+    0.51 m cables at (2, 7) and (8, 7) ft, the left cable also holding x; the nine sensors along z. Matches
+    nasa_grid() within 1e-5 (tests/fem/test_frame_gravity.py)."""
+    from .grid import CABLES_FT, FT, JOINTS_FT, SEGMENT_JOINTS, SENSORS_FT, joint_index
+    bar = Section.rectangle(width=2 * 0.0254, depth=0.25 * 0.0254, material="aluminium")
+    names = [f"{int(x)},{int(y)}" for x, y in JOINTS_FT]
+    left, right = (names[joint_index(c)] for c in CABLES_FT)
+    kw = dict(nodes={n: (x * FT, y * FT, 0.0) for n, (x, y) in zip(names, JOINTS_FT)},
+              members=[(names[a], names[b], "bar") for a, b in SEGMENT_JOINTS], sections={"bar": bar},
+              supports={left: {"cable": 0.51, "kx": "fixed"}, right: {"cable": 0.51}},
+              sensors=[(names[joint_index(s)], "z") for s in SENSORS_FT], gravity=(0, -9.80665, 0))
+    return Frame(**{**kw, **changes})

@@ -54,8 +54,8 @@ CASES = {
     ],
     "truss": [
         ("none", {}),
-        ("support_flexibility", dict(support_at="b4", support_vertical_stiffness=2e6)),
-        ("joint_flexibility", dict(joint_at="t2", joint_stiffness=2e3)),
+        ("support_flexibility", dict(support_at="b4", support_vertical_stiffness=1e7)),
+        ("joint_flexibility", dict(joint_at="t2", joint_stiffness=3e4)),
         ("point_mass", dict(point_mass_at="b2", point_mass_kg=5.0)),
         ("member_stiffness", dict(member_at=("b2", "t3"), member_factor=0.5)),
         ("distributed_mass", dict(distributed_mass_kg=15.0)),
