@@ -25,7 +25,7 @@ from .discrepancy import Explanation, explain
 
 # the engineer's own structure (issue 9): a 3-D frame model described in SI units, JSON/TOML in and out
 from .structure import Frame, Section
-from .discrepancy import FrameModel, frame_effects
+from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 
 __all__ = [
     "__version__",
@@ -34,5 +34,5 @@ __all__ = [
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
-    "subspace_mac", "Frame", "Section", "FrameModel", "frame_effects",
+    "subspace_mac", "Frame", "Section", "FrameModel", "frame_effects", "compare_fe_modes",
 ]

@@ -8,12 +8,13 @@ Yuen 2004) and names one only when the data clearly support it.
 from .effects import EffectSpec, Param, grid_effects
 from .explain import VERDICTS, Explanation, NamedEffect, explain
 from .fitting import ErrorLevels, Fit
+from .fe_modes import ModeComparison, compare_fe_modes
 from .frame_model import FrameModel, frame_effects
 from .measured import MeasuredModes, identify_modes, measured_modes, modes_from_arrays
 from .overlay import model_response, overlay
 from .ranking import RankedEffect
 
 __all__ = ["explain", "Explanation", "NamedEffect", "RankedEffect", "EffectSpec", "Param", "grid_effects",
-           "FrameModel", "frame_effects",
+           "FrameModel", "frame_effects", "compare_fe_modes", "ModeComparison",
            "ErrorLevels", "Fit", "MeasuredModes", "identify_modes", "measured_modes", "modes_from_arrays", "VERDICTS",
            "model_response", "overlay"]
