@@ -14,13 +14,10 @@ tests/bench/bench_slider_browser.py measures it end to end.
 import statistics
 import time
 
-import pytest
 from fastapi.testclient import TestClient
 
-pytest.importorskip("era.examples.grid_simulation")
-
-from app.config import Settings  # noqa: E402
-from app.main import create_app  # noqa: E402
+from app.config import Settings
+from app.main import create_app
 
 
 def test_slider_step_is_a_fraction_of_the_svd(tmp_path):

@@ -42,7 +42,6 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("era.examples.grid_simulation")
 CHROMIUM = "/usr/bin/chromium"
 if not Path(CHROMIUM).exists():
     pytest.skip("Debian's chromium is not installed", allow_module_level=True)

@@ -67,7 +67,7 @@ def on_processes(campaign_dir):
 def on_cluster(campaign_dir):
     """The same campaign on a distributed.LocalCluster of two single-threaded worker processes, one of which is
     lost mid-campaign (its process is killed; the nanny starts a new one and the scheduler runs its tasks again)."""
-    distributed = pytest.importorskip("distributed")
+    import distributed
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
                                   silence_logs=40) as cluster, distributed.Client(cluster) as client:
         def kill():

@@ -4,7 +4,8 @@ the NASA grid described as an era.Frame reproduces nasa_grid()."""
 import numpy as np
 import pytest
 
-from era.examples.grid import CABLES_FT, FT, JOINTS_FT, SEGMENT_JOINTS, SENSORS_FT, joint_index, nasa_grid
+from era.examples.frames import nasa_grid_frame
+from era.examples.grid import nasa_grid
 from era.fem import space
 from era.fem.statics import G_STANDARD
 from era.structure import Frame, Section
@@ -49,22 +50,8 @@ def test_bar_on_two_cables_swings_as_a_pendulum():
     assert f[2] == pytest.approx(np.sqrt(3) * pendulum, rel=1e-3)   # yaw: k L²/2 against m L²/12
 
 
-def grid_frame(**changes) -> Frame:
-    """The NASA grid (era/examples/grid.py) as an era.Frame: 88 joints named "x,y" in feet, the 157 one-foot bars
-    (2 in × 1/4 in aluminium, the thin side out of the plane z), hanging in the x-y plane (gravity along -y) from two
-    0.51 m cables at (2, 7) and (8, 7) ft; the left cable also holds x, as nasa_grid's in-plane statics do."""
-    bar = Section.rectangle(width=2 * 0.0254, depth=0.25 * 0.0254, material="aluminium")
-    names = [f"{int(x)},{int(y)}" for x, y in JOINTS_FT]
-    left, right = (names[joint_index(c)] for c in CABLES_FT)
-    kw = dict(nodes={n: (x * FT, y * FT, 0.0) for n, (x, y) in zip(names, JOINTS_FT)},
-              members=[(names[a], names[b], "bar") for a, b in SEGMENT_JOINTS], sections={"bar": bar},
-              supports={left: {"cable": 0.51, "kx": "fixed"}, right: {"cable": 0.51}},
-              sensors=[(names[joint_index(s)], "z") for s in SENSORS_FT], gravity=(0, -G_STANDARD, 0))
-    return Frame(**{**kw, **changes})
-
-
 def test_nasa_grid_described_as_a_frame_matches_nasa_grid_within_0p5_percent():
-    frame = grid_frame()
+    frame = nasa_grid_frame()
     f, shapes = frame.modes(10)
     f0, s0 = nasa_grid().modes(10)
     np.testing.assert_allclose(f, f0, rtol=5e-3)
@@ -81,6 +68,6 @@ def test_nasa_grid_described_as_a_frame_matches_nasa_grid_within_0p5_percent():
 
 def test_the_grid_frame_with_a_softer_cable_and_a_point_mass_follows_nasa_grid():
     """Longer cables and a 1 kg mass at a joint move both models the same way."""
-    frame = grid_frame(supports={"2,7": {"cable": 0.7, "kx": "fixed"}, "8,7": {"cable": 0.7}}, masses={"10,0": 1.0})
+    frame = nasa_grid_frame(supports={"2,7": {"cable": 0.7, "kx": "fixed"}, "8,7": {"cable": 0.7}}, masses={"10,0": 1.0})
     f0 = nasa_grid(cable_length_m=0.7, point_mass_kg=1.0, point_mass_at=(10, 0)).modes(10)[0]
     np.testing.assert_allclose(frame.modes(10)[0], f0, rtol=1e-5)
