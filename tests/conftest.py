@@ -3,14 +3,10 @@
 from pathlib import Path
 
 import pytest
-
-REPO = Path(__file__).resolve().parents[1]
-SHARED_DATASETS = (REPO / ".." / "shared" / "datasets").resolve()
+from shared_data import SHARED_DATASETS, require_shared
 
 
 @pytest.fixture(scope="session")
 def shared_datasets() -> Path:
-    """The shared datasets folder; tests that need it skip when it is absent."""
-    if not SHARED_DATASETS.is_dir():
-        pytest.skip(f"shared datasets not found at {SHARED_DATASETS}")
-    return SHARED_DATASETS
+    """The shared datasets folder (a test failure when it is absent: see tests/shared_data.py)."""
+    return require_shared(SHARED_DATASETS)

@@ -11,6 +11,7 @@ import scipy.signal
 import era
 from era.discrepancy import measured_modes
 from era.examples.frames import cantilever
+from shared_data import require_shared  # noqa: E402
 
 USC = Path(__file__).resolve().parents[1].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
     "timeseries_data.lvm"
@@ -18,8 +19,7 @@ USC = Path(__file__).resolve().parents[1].parent / "shared" / "datasets" / "usc_
 
 @pytest.fixture(scope="module")
 def usc_modes():
-    if not USC.is_file():
-        pytest.skip("../shared/datasets/usc_cantilever_free_decay is absent")
+    require_shared(USC)
     acc = np.loadtxt(USC, skiprows=23, usecols=1)      # LabVIEW LVM: 23 header lines, then time, acceleration (g)
     y = scipy.signal.decimate(acc, 4, ftype="fir", zero_phase=True)     # Nyquist 207 Hz > 117.5 Hz
     start = int(np.argmax(np.abs(y))) + 5                                # the decay just after the impact

@@ -12,6 +12,7 @@ import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import hammer_decay  # noqa: E402
+from shared_data import require_shared  # noqa: E402
 
 USC = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
     "timeseries_data.lvm"
@@ -62,8 +63,7 @@ def lvm_text(segments, *, x_columns="One", sep="\t", decimal=".", names=("a1", "
 
 
 def test_the_usc_cantilever_lvm_reaches_the_published_frequencies():
-    if not USC.is_file():
-        pytest.skip("../shared/datasets/usc_cantilever_free_decay is absent")
+    require_shared(USC)
     ds = era.load(USC, n_samples=14000)  # the decay from just after the impact, 8.5 s
     assert ds.source["format"] == "lvm" and ds.source["kind"] == "decay"
     assert ds.data.outputs == ("Acceleration",) and ds.data.output_units == ("g",)

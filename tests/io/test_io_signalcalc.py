@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 import era
+from shared_data import require_shared  # noqa: E402
 
 MODELAB = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "modelab_beam_frf" / "SignalCalc"
 PUBLISHED_HZ = [111.99, 306.86, 596.37, 974.14]  # the repository's modeshapes.png
 
 
 def test_the_modelab_beam_in_nine_files_gives_the_published_modes():
-    if not MODELAB.is_dir():
-        pytest.skip("../shared/datasets/modelab_beam_frf is absent (GPL data, not vendored)")
+    require_shared(MODELAB)
     paths = [MODELAB / f"ASCII0000{k}" / f"Hxysv0000{k}.txt" for k in range(1, 10)]
     one = era.load(paths[0], band_hz=(65.0, 1000.0))
     assert one.source["format"] == "signalcalc" and one.data.markov.shape[1:] == (1, 1)

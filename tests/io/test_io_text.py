@@ -13,6 +13,7 @@ import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import hammer_decay  # noqa: E402
+from shared_data import require_shared  # noqa: E402
 
 CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
 DT = 0.01
@@ -28,8 +29,7 @@ def savetxt(path, a, **kw):
 
 
 def test_the_carini_rows_file_needs_its_rate_and_gives_the_psd_peaks():
-    if not CARINI.is_file():
-        pytest.skip("../shared/datasets/carini_ambient_3ch is absent")
+    require_shared(CARINI)
     with pytest.raises(era.DataError, match=r"^no sampling interval in yk.txt: give the sample rate \(dt=\.\.\.\)"):
         era.load(CARINI)
     ds = era.load(CARINI, dt=1 / 25, orientation="rows", kind="ambient", n_lags=500)

@@ -11,6 +11,7 @@ import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import chain, continuous_chain, simulate  # noqa: E402
+from shared_data import require_shared  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
@@ -113,8 +114,7 @@ def test_real_58b_operational_records_are_read_as_ambient_response():
 
 def test_full_mpstd_file_from_shared():
     path = SHARED / "pyuff_samples" / "MPSTD_Set001_2024_10_08.uff"
-    if not path.is_file():
-        pytest.skip("../shared/datasets/pyuff_samples is absent")
+    require_shared(path)
     ds = era.load(path, references=[0], n_lags=1024)
     assert ds.data.markov.shape == (1024, 4, 1)
     assert "4 channels × 1 record(s) of 222400 samples" in ds.source["records"][0]

@@ -8,6 +8,7 @@ import pytest
 
 import era
 from chain_sim import continuous_chain
+from shared_data import require_shared  # noqa: E402
 
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
 MODELAB = SHARED / "modelab_beam_frf" / "SignalCalc"
@@ -91,8 +92,7 @@ def _read_signalcalc(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.fixture(scope="module")
 def modelab():
-    if not MODELAB.is_dir():
-        pytest.skip("../shared/datasets/modelab_beam_frf is absent (GPL data, not vendored)")
+    require_shared(MODELAB)
     cols = [_read_signalcalc(MODELAB / f"ASCII0000{k}" / f"Hxysv0000{k}.txt") for k in range(1, 10)]
     f = cols[0][0]
     return f, np.stack([h for _, h in cols], axis=1)[:, None, :]  # (K, 1 accelerometer, 9 hammer points)

@@ -8,6 +8,7 @@ import pytest
 
 import era
 from chain_sim import chain, simulate
+from shared_data import require_shared  # noqa: E402
 
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
 CARINI = SHARED / "carini_ambient_3ch" / "yk.txt"
@@ -48,8 +49,7 @@ def test_bad_ambient_input_is_refused_clearly():
 
 
 def test_carini_ambient_record_gives_the_psd_peaks():
-    if not CARINI.is_file():
-        pytest.skip("../shared/datasets/carini_ambient_3ch is absent")
+    require_shared(CARINI)
     y = np.loadtxt(CARINI).T  # 3 × 32768 in the file, 25 Hz
     assert y.shape == (32768, 3)
     data = era.markov_from_ambient(y, 1 / 25, n_lags=500)

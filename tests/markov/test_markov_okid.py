@@ -7,6 +7,7 @@ import pytest
 
 import era
 from chain_sim import chain, simulate
+from shared_data import require_shared  # noqa: E402
 
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
 LADISK = SHARED / "ladisk_pyfrf_impact"
@@ -58,8 +59,7 @@ def test_several_records_are_fitted_together_and_bad_records_refused():
 
 @pytest.fixture(scope="module")
 def hammer():
-    if not LADISK.is_dir():
-        pytest.skip("../shared/datasets/ladisk_pyfrf_impact is absent")
+    require_shared(LADISK)
     recs = [np.load(LADISK / f"measurements_{k}.npy") for k in range(1, 6)]  # (3, 25600): t, force N, acc m/s²
     return recs
 
