@@ -82,7 +82,7 @@ def _pick(vars_: list[Var], variable, label: str) -> list[Var]:
         missing = [w for w in wanted if w not in by_name]
         if missing:
             raise DataError(f"{label}: no array named {', '.join(map(repr, missing))}; the file holds "
-                            f"{_listing(vars_)}.")
+                            f"{_listing(vars_)}.", option="variable")
         return [by_name[w] for w in wanted]
     data = [v for v in vars_ if v.key not in timing and v.kind in "fiu" and 1 <= len(v.shape) <= 2
             and max(v.shape, default=0) >= MIN_SAMPLES]
@@ -93,7 +93,7 @@ def _pick(vars_: list[Var], variable, label: str) -> list[Var]:
                           and len({max(v.shape) for v in data}) == 1):
         return data
     raise DataError(f"{label}: several arrays could be the data: {_listing(data)}; choose with "
-                    f"variable={data[0].name!r} (or a list of names read side by side as channels).")
+                    f"variable={data[0].name!r} (or a list of names read side by side as channels).", option="variable")
 
 
 def _listing(vars_: list[Var]) -> str:
@@ -182,4 +182,4 @@ def _sampling(vars_: list[Var], chosen: list[Var], n: int, label: str, dt) -> tu
     if dt is not None:
         return float(dt), 0.0, f"Δt = {float(dt):.9g} s given"
     raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...), or store it in the file as "
-                    "fs (Hz), dt (s) or a time vector t.")
+                    "fs (Hz), dt (s) or a time vector t.", option="dt")

@@ -82,7 +82,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
                                body.replace(",", ".") if comma else body, delim, label, dt, orientation, notes)
     if orientation is not None:
         raise DataError(f"{label}: `orientation` is for text without a header; this file has a header line, so its "
-                        "columns are the channels. Leave orientation out.")
+                        "columns are the channels. Leave orientation out.", option="orientation")
     first_line = numbered[0][0]
     n_cols = len(_split(numbered[0][1], delim))
     names = header[0] if header else [f"c{i + 1}" for i in range(n_cols)]

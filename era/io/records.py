@@ -79,12 +79,12 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
     """
     kind = guess_kind(rec) if kind == "auto" else kind
     if kind not in KINDS:
-        raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.")
+        raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.", option="kind")
     wrong = {"frf": "frequency", "pulse": "pulse"}
     if kind in wrong and rec.domain != wrong[kind]:
-        raise DataError(f"The file holds {rec.domain} records; they cannot be converted as {kind!r}.")
+        raise DataError(f"The file holds {rec.domain} records; they cannot be converted as {kind!r}.", option="kind")
     if kind not in wrong and rec.domain != "time":
-        raise DataError(f"The file holds {rec.domain} records; {kind!r} needs time histories.")
+        raise DataError(f"The file holds {rec.domain} records; {kind!r} needs time histories.", option="kind")
     units = list(rec.output_units) if rec.output_units else None
     if kind == "frf":
         f = rec.start + rec.step * np.arange(rec.values[0].shape[0])
@@ -114,7 +114,7 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
                     force[rec.outputs.index(c) if isinstance(c, str) else int(c)] = True
             if not force.any() or force.all():
                 raise DataError("OKID needs both excitation and response channels; none of the channels is marked "
-                                "as force (unit N/lbf or name 'force'). Say which with inputs=[channel, ...].")
+                                "as force (unit N/lbf or name 'force'). Say which with forces=[channel, ...].", option="forces")
             names = np.array(rec.outputs)
             u_units = [rec.output_units[i] for i in np.flatnonzero(force)] if rec.output_units else None
             y_units = [rec.output_units[i] for i in np.flatnonzero(~force)] if rec.output_units else None
