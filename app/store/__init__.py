@@ -34,6 +34,7 @@ from era.io.npz import npz_bytes, read_arrays, read_npz
 
 from . import database
 from .files import write_atomic
+from .staging import Staging
 from .tables import analyses, datasets, explanations, reports, viewer_keys
 
 __all__ = ["Store", "new_token", "write_atomic", "EXPLANATION_RESPONSES", "TOKEN_BYTES"]
@@ -65,6 +66,7 @@ class Store:
         self._engine = database.connect(self.url)
         self.revision = database.migrate(self._engine)
         self._explaining = threading.Lock()  # one explanation written at a time here: its two files stay a pair
+        self.staging = Staging(self.root / "imports")  # uploads waiting for the import step
 
     @property
     def backend(self) -> str:
@@ -262,7 +264,7 @@ class Store:
         with self._engine.connect() as conn:
             rows = {t.name: conn.execute(sa.select(sa.func.count()).select_from(t)).scalar_one()
                     for t in (datasets, analyses, reports, explanations)}
-        folders = {name: _folder_bytes(self.root / name) for name in ("datasets", "reports", "explanations")}
+        folders = {name: _folder_bytes(self.root / name) for name in ("datasets", "reports", "explanations", "imports")}
         return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
 
 
