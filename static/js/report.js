@@ -34,6 +34,9 @@
     const rows = [
       ["Dataset", `${d.name}: ${d.n_outputs} outputs × ${d.n_inputs} inputs, ${d.n_samples} samples, Δt = ${d.dt} s`],
       ["Dataset SHA-256", d.sha256],
+      ...(d.source && d.source.format ? [["Read as", `${d.source.format.toUpperCase()}${d.source.kind ? `, ${d.source.kind}` : ""}` +
+                                                     (d.source.records ? `: ${d.source.records.join("; ")}` : "")]] : []),
+      ...(window.EraFormat.importChoices(d.source) ? [["Import choices", window.EraFormat.importChoices(d.source)]] : []),
       ["Hankel matrix", `rows r = ${a.rows}, columns s = ${a.cols}, H(0) ${a.hankel_shape[0]} × ${a.hankel_shape[1]}, ${a.svd_method} SVD`],
       ["Order", `n = ${r.order} (max ${a.max_order}, suggested ${a.suggested_order})`],
       ["Kept modes", `${kept.size} of ${r.modes.n_modes}`],
