@@ -10,7 +10,8 @@ const $ = (id) => document.getElementById(id);
 // The option a refusal names -> the element that shows it (next to its control).
 const ERROR_BOX = { dt: "import-error-dt", orientation: "import-error-orientation", kind: "import-error-kind",
                     start_sample: "import-error-start_sample", variable: "import-error-variable",
-                    group: "import-error-group", forces: "import-error-channels", references: "import-error-channels",
+                    group: "import-error-group", frf_sign: "import-error-frf_sign",
+                    forces: "import-error-channels", references: "import-error-channels",
                     drop: "import-error-channels" };
 const ROLES = { response: "response", force: "force (excitation, input)", reference: "NExT reference response",
                 drop: "left out" };
@@ -51,6 +52,7 @@ export function options() {
   if (start > 0) o.start_sample = start;
   if (!$("field-variable").hidden && $("import-variable").value.trim()) o.variable = $("import-variable").value.trim();
   if (!$("field-group").hidden && $("import-group").value.trim()) o.group = $("import-group").value.trim();
+  if (!$("field-frf-sign").hidden && $("import-frf-sign").value !== "auto") o.frf_sign = $("import-frf-sign").value;
   const pick = (role) => roles.flatMap((r, i) => (r === role ? [i] : []));
   if (pick("drop").length) o.drop = pick("drop");
   const pv = current && current.preview;
@@ -99,6 +101,7 @@ function renderRead(answer) {
   $("field-orientation").hidden = !["csv", "text", "npy", "mat", "hdf5"].includes(pv.format);
   $("field-variable").hidden = !["mat", "hdf5"].includes(pv.format) && answer.option !== "variable";
   $("field-group").hidden = pv.format !== "tdms";
+  $("field-frf-sign").hidden = pv.domain !== "frequency";
   $("import-start").disabled = pv.domain === "frequency";
   const step = pv.dt === null ? "no sampling interval yet"
     : timeLike ? `Δt ${pv.dt} s (${Number(pv.sample_rate_hz.toPrecision(8))} Hz)` : `Δf ${pv.dt} Hz`;
@@ -171,6 +174,7 @@ export async function start(files, setDataStatus) {
   $("import-start").value = "0";
   $("import-variable").value = "";
   $("import-group").value = "";
+  $("import-frf-sign").value = "auto";
   try {
     const answer = await upload("/api/imports", files, (f) => {
       bar.value = f;
@@ -208,7 +212,7 @@ async function use() {
 export function init(datasetReady) {
   onDataset = datasetReady;
   for (const id of ["import-rate", "import-start", "import-variable", "import-group"]) $(id).addEventListener("input", reread);
-  for (const id of ["import-orientation", "kind"]) $(id).addEventListener("change", reread);
+  for (const id of ["import-orientation", "kind", "import-frf-sign"]) $(id).addEventListener("change", reread);
   $("import-use").addEventListener("click", use);
   $("import-cancel").addEventListener("click", () => { current = null; $("import").hidden = true; clearErrors(); });
 }

@@ -133,7 +133,8 @@ def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, brows
         assert "UFF, frequency records: 1 channel(s) × 3 reference(s)" in read and "geometry of 3 nodes" in read
         row = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
         assert row[3:5] == ["1", "+Z"]  # node and direction from the files
-        assert page.is_disabled("#import-start")  # FRFs have no pre-trigger
+        assert page.is_disabled("#import-start")  # FRFs have no pre-trigger, but a sign convention
+        assert page.is_visible("#field-frf-sign") and page.input_value("#import-frf-sign") == "auto"
         page.click("#import-use")
         page.wait_for_selector("#summary:not([hidden])")
         assert page.locator("#records-input option").count() == 3  # one dataset, three references
