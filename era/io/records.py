@@ -35,6 +35,8 @@ class Records:
     nodes : (c or p,) int node label of each channel (0 = unknown); directions : (c or p, 3) unit vectors.
     frf_type : "accelerance", "mobility", "receptance" or None.
     described : list of str, what was read (for Dataset.source).
+    named : False when the channel names were made up from the file name (an .npy file names nothing): files of
+        one dataset then match by channel count, and the first file's names are used.
     """
 
     domain: str
@@ -50,6 +52,7 @@ class Records:
     directions: np.ndarray | None = None
     frf_type: str | None = None
     described: list = field(default_factory=list)
+    named: bool = True
 
 
 def guess_kind(rec: Records) -> str:
@@ -186,7 +189,8 @@ def merge(records: list[Records], labels: list[str]) -> Records:
         return first
     n = len(first.values[0])
     for r, lab in zip(records[1:], labels[1:]):
-        if r.outputs != first.outputs:
+        if (r.outputs if r.named and first.named else len(r.outputs)) != \
+                (first.outputs if r.named and first.named else len(first.outputs)):
             raise DataError(f"{lab}: channels {list(r.outputs)} differ from those of {labels[0]} "
                             f"{list(first.outputs)}; every file must hold the same channels.")
         if abs(r.step - first.step) > 1e-6 * first.step:

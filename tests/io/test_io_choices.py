@@ -122,3 +122,22 @@ def test_choices_that_do_not_fit_the_records_are_refused_by_option():
     with pytest.raises(era.DataError, match="channel 7 does not exist") as err:
         era.load(raw, name="x.csv", forces=[7])
     assert err.value.option == "forces"
+
+
+LADISK = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "ladisk_pyfrf_impact"
+
+
+def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset():
+    """The real ladisk impacts (MIT, read from ../shared): five .npy files of rows [time, force N, acc m/s²]. The
+    time row is found (25.6 kHz), the files match by position, and saying which channel is the force gives OKID's
+    Markov parameters exactly as the direct call does (tests/markov/test_markov_okid.py checks their modes)."""
+    paths = [require_shared(LADISK / f"measurements_{k}.npy") for k in range(1, 6)]
+    pv = preview(paths)
+    assert pv.problem is None and 1 / pv.step == pytest.approx(25600, rel=1e-9) and pv.n_records == 5
+    assert len(pv.channels) == 2 and not any(c.force for c in pv.channels)  # nothing says which is the force
+    ds = era.load(paths, kind="io", forces=[0], n_observer=40, n_markov=400)
+    recs = [np.load(p) for p in paths]
+    direct = era.markov_from_io([r[1][:, None] for r in recs], [r[2][:, None] for r in recs], pv.step,
+                                n_observer=40, n_markov=400)
+    np.testing.assert_allclose(ds.data.markov, direct.markov, rtol=1e-9, atol=1e-12 * np.abs(direct.markov).max())
+    assert "Δt = 3.90625e-05 s from the first channel, a time axis" in ds.source["records"][0]
