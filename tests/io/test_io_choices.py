@@ -141,3 +141,11 @@ def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset
                                 n_observer=40, n_markov=400)
     np.testing.assert_allclose(ds.data.markov, direct.markov, rtol=1e-9, atol=1e-12 * np.abs(direct.markov).max())
     assert "Δt = 3.90625e-05 s from the first channel, a time axis" in ds.source["records"][0]
+
+
+def test_complex_numbers_in_text_are_named_as_frfs_without_a_frequency_axis():
+    """pyuff's README sample FRFs (MIT, ../shared): one complex number per line, no frequency axis."""
+    path = require_shared(Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "pyuff_samples" /
+                          "meas_point_1.txt")
+    with pytest.raises(era.DataError, match="complex numbers .*FRFs without a frequency axis.*UFF 58"):
+        era.load(path)
