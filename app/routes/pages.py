@@ -30,6 +30,20 @@ async def report_page(request: Request, token: str):
     return FileResponse(config.STATIC_DIR / "report.html", media_type="text/html")
 
 
+@router.get("/campaigns")
+async def campaigns_page():
+    return FileResponse(config.STATIC_DIR / "campaign.html", media_type="text/html")
+
+
+@router.get("/c/{campaign_id}")
+async def campaign_page(request: Request, campaign_id: str):
+    if store(request).campaign(campaign_id) is None:
+        return HTMLResponse("<!doctype html><meta charset=utf-8><title>Campaign not found</title>"
+                            "<h1>Campaign not found</h1><p>No campaign has this link. Check that the whole link was "
+                            "copied.</p><p><a href=\"/campaigns\">Start a campaign</a></p>", status_code=404)
+    return FileResponse(config.STATIC_DIR / "campaign.html", media_type="text/html")
+
+
 @router.get("/vendor/plotly.min.js")
 async def plotly_js():
     return FileResponse(PLOTLY_JS, media_type="application/javascript",

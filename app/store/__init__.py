@@ -10,7 +10,7 @@ data folder can serve any dataset, analysis, report or explanation.
 
 Layout of the data folder: ``era.sqlite3`` (the default database); ``datasets/{id}.npz``;
 ``reports/{token}/report.json`` and side files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal /
-updated responses) and ``.json``.
+updated responses) and ``.json``; ``campaigns/{id}/campaign.json`` and ``table.csv``.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from era.io.npz import npz_bytes, read_arrays, read_npz
 from . import database
 from .files import write_atomic
 from .staging import Staging
-from .tables import analyses, datasets, explanations, reports, viewer_keys
+from .tables import analyses, campaigns, datasets, explanations, reports, viewer_keys
 
 __all__ = ["Store", "new_token", "write_atomic", "EXPLANATION_RESPONSES", "TOKEN_BYTES"]
 
@@ -234,6 +234,26 @@ class Store:
             rows = conn.execute(sa.select(viewer_keys.c.key, viewer_keys.c.state, viewer_keys.c.revision)
                                 .where(viewer_keys.c.key.in_(keys), viewer_keys.c.state.is_not(None)))
             return {k: (json.loads(st), int(rev)) for k, st, rev in rows}
+
+    # ---- campaigns (app/campaigns.py runs them; the row is their state, the files their result) ---------------
+    def campaign_dir(self, campaign_id: str) -> Path | None:
+        """The folder of a campaign's result files; None for a string that is no id."""
+        return self.root / "campaigns" / campaign_id if _ID.fullmatch(campaign_id) else None
+
+    def add_campaign(self, campaign_id: str, name: str, total: int) -> None:
+        now = time.time()
+        self._insert(campaigns, id=campaign_id, name=name, state="queued", done=0, total=int(total), message=None,
+                     created=now, updated=now)
+
+    def set_campaign(self, campaign_id: str, **values) -> None:
+        """Update a campaign's state, done, total or message (and its ``updated`` time)."""
+        with self._engine.begin() as conn:
+            conn.execute(campaigns.update().where(campaigns.c.id == campaign_id).values(updated=time.time(), **values))
+
+    def campaign(self, campaign_id: str) -> dict | None:
+        """The campaign's row {id, name, state, done, total, message, created, updated}, or None."""
+        row = self._one(sa.select(campaigns).where(campaigns.c.id == campaign_id))
+        return None if row is None else dict(row._mapping)
 
     # ---- housekeeping -----------------------------------------------------------------------------------
     def expire(self, before: float) -> dict:
