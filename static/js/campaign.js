@@ -115,12 +115,25 @@
       name: plain(label(modeOf[s.mode])), text: names.map(plain), connectgaps: false,
       hovertemplate: "%{text}<br>%{y:.4g}<extra>%{fullData.name}</extra>",
     }));
-    const xaxis = { title: r.time_axis === "date" ? "time" : "record", type: r.time_axis === "date" ? "date" : "linear" };
-    const layout = (title, extra) => Object.assign({ margin: { l: 60, r: 10, t: 10, b: 45 }, xaxis,
-      yaxis: { title }, legend: { orientation: "h", y: -0.25 } }, extra || {});
-    Plotly.newPlot("campaign-freq", traces("frequency_hz", 1), layout("frequency, Hz"), cfg);
+    const xaxis = () => ({ title: { text: r.time_axis === "date" ? "time" : "record" }, type: r.time_axis === "date" ? "date" : "linear" });
+    const layout = (title, extra) => Object.assign({ margin: { l: 60, r: 10, t: 10, b: 45 }, xaxis: xaxis(),
+      yaxis: { title: { text: title } }, legend: { orientation: "h", y: -0.25 } }, extra || {});
+    const frequency = () => {
+      if ($("campaign-freq-scale").value === "hz") {
+        Plotly.react("campaign-freq", traces("frequency_hz", 1), layout("frequency, Hz"), cfg);
+        return;
+      }
+      // each mode relative to its reference frequency: a drift or a damage step of 1 % shows at any frequency
+      const rel = traces("frequency_hz", 1).map((t, k) => {
+        const f0 = modeOf[r.series[k].mode].reference_frequency_hz;
+        return Object.assign(t, { y: t.y.map((v) => (v === null || !f0 ? null : 100 * (v / f0 - 1))) });
+      });
+      Plotly.react("campaign-freq", rel, layout("change from the reference frequency, %"), cfg);
+    };
+    frequency();
+    $("campaign-freq-scale").addEventListener("change", frequency);
     Plotly.newPlot("campaign-damp", traces("damping_ratio", 100), layout("damping ratio, %"), cfg);
-    Plotly.newPlot("campaign-mac", traces("mac_to_reference", 1), layout("MAC to reference", { yaxis: { title: "MAC to reference", range: [0, 1.02] } }), cfg);
+    Plotly.newPlot("campaign-mac", traces("mac_to_reference", 1), layout("MAC to reference", { yaxis: { title: { text: "MAC to reference" }, range: [0, 1.02] } }), cfg);
   }
 
   function modes(r) {
@@ -142,7 +155,8 @@
     $("campaign-failed-count").textContent = r.failed.length ? `${r.failed.length} of ${r.n_records}: listed, the others finished` : "none";
     for (const f of r.failed) {
       const li = el("li", undefined, { "data-record": String(f.record) });
-      li.append(el("strong", f.name), document.createTextNode(`: ${f.reason}`));
+      const reason = f.reason.startsWith(`${f.name}: `) ? f.reason.slice(f.name.length + 2) : f.reason;  // named once
+      li.append(el("strong", f.name), document.createTextNode(`: ${reason}`));
       $("campaign-failed").append(li);
     }
     if (!r.failed.length) $("campaign-failed").append(el("li", "Every record was analysed."));

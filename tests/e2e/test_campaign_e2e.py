@@ -58,6 +58,16 @@ def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(
         mac = page.evaluate("document.getElementById('campaign-mac').data.flatMap(t => t.y.filter(v => v !== null))")
         assert min(mac) > 0.8 and max(mac) <= 1.0 + 1e-9
 
+        # relative to each mode's reference: the simulated damage (mode 2.44 Hz, -3 % from the third record, -4.3 % with
+        # the temperature by the fourth) stands out of the others' temperature drift (at most -1.4 % here)
+        page.select_option("#campaign-freq-scale", "change")
+        page.wait_for_function("document.getElementById('campaign-freq')._fullLayout.yaxis.title.text.startsWith('change')")
+        rel = page.evaluate("""document.getElementById('campaign-freq').data.map(t => [t.name,
+                               Math.min(...t.y.filter(v => v !== null)), Math.max(...t.y.filter(v => v !== null))])""")
+        damaged = [lo for name, lo, hi in rel if "(2.4" in name]
+        assert len(damaged) == 1 and damaged[0] < -3.0, rel
+        assert all(-2.5 < lo <= 0.0 <= hi < 2.5 for name, lo, hi in rel if "(2.4" not in name), rel
+
         # the failed record, by name and with the loader's reason; the others finished
         failed = page.locator("#campaign-failed li")
         assert failed.count() == 1
