@@ -1,17 +1,18 @@
 """Campaigns: start one on uploaded files or a server folder (POST), follow it and read its result (GET), download
-its table as CSV."""
+its table as CSV and its report as one HTML file."""
 
 from __future__ import annotations
 
 import os
 
 from fastapi import APIRouter, File, Form, Request, UploadFile
-from fastapi.responses import FileResponse
+from fastapi.responses import FileResponse, HTMLResponse
 
 import era
 
 from .. import campaigns, schemas
 from ..campaigns import Campaigns
+from ..errors import NotFound
 
 router = APIRouter(prefix="/api/campaigns", tags=["campaigns"])
 
@@ -74,3 +75,14 @@ async def status(request: Request, campaign_id: str):
 async def table(request: Request, campaign_id: str):
     return FileResponse(service(request).table_path(campaign_id), media_type="text/csv; charset=utf-8",
                         filename=f"era-campaign-{campaign_id[:8]}.csv")
+
+
+@router.get("/{campaign_id}/campaign.html", response_class=HTMLResponse,
+            summary="The campaign's report as one self-contained HTML file (opens offline)")
+async def download_html(request: Request, campaign_id: str):
+    status = service(request).status(campaign_id)
+    if status["state"] != "done":
+        raise NotFound("No finished campaign with this link: its report exists once every record is done.")
+    html = await request.app.state.jobs.quick(campaigns.standalone_html, status)
+    return HTMLResponse(html, headers={"Content-Disposition":
+                                       f'attachment; filename="era-campaign-{campaign_id[:8]}.html"'})

@@ -1,5 +1,5 @@
-/* The campaign page: /campaigns starts one (POST /api/campaigns), /c/{id} follows it and draws its result.
-   A classic script with no imports, like report.js. */
+/* The campaign page: /campaigns starts one (POST /api/campaigns), /c/{id} follows it and draws its result. A
+   classic script with no imports, like report.js: the download inlines it next to window.CAMPAIGN_DATA. */
 (function () {
   "use strict";
   const $ = (id) => document.getElementById(id);
@@ -96,9 +96,16 @@
       ["Ran on", `${r.engine} in ${r.seconds.toFixed(1)} s`],
     ];
     for (const [k, v] of rows) $("campaign-meta").append(el("dt", k), el("dd", v));
-    $("campaign-link").textContent = location.origin + c.url;
-    $("campaign-link").href = c.url;
-    $("campaign-csv").href = `/api/campaigns/${encodeURIComponent(c.id)}/table.csv`;
+    $("campaign-title").textContent = `ERA campaign: ${c.name}`;
+    document.title = `ERA campaign: ${c.name}`;
+    if (c.standalone) {
+      $("campaign-share").hidden = true;  // the downloaded file: no server behind it
+    } else {
+      $("campaign-link").textContent = location.origin + c.url;
+      $("campaign-link").href = c.url;
+      $("campaign-html").href = `/api/campaigns/${encodeURIComponent(c.id)}/campaign.html`;
+      $("campaign-csv").href = `/api/campaigns/${encodeURIComponent(c.id)}/table.csv`;
+    }
     plots(r);
     modes(r);
     failed(r);
@@ -163,6 +170,7 @@
   }
 
   const parts = location.pathname.split("/").filter(Boolean);
-  if (parts[0] === "c" && parts[1]) follow(decodeURIComponent(parts[1]));
+  if (window.CAMPAIGN_DATA) show(window.CAMPAIGN_DATA);
+  else if (parts[0] === "c" && parts[1]) follow(decodeURIComponent(parts[1]));
   else newCampaign();
 })();

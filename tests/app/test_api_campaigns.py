@@ -8,7 +8,9 @@ tests/campaign; here the app must carry its results faithfully.
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import time
 from pathlib import Path
 
@@ -64,11 +66,12 @@ def on_processes(records, tmp_path_factory):
         seconds = time.monotonic() - t0
         csv = c.get(f"/api/campaigns/{body['id']}/table.csv")
         page = c.get(body["url"])
-    return body, csv, page, seconds
+        html = c.get(f"/api/campaigns/{body['id']}/campaign.html")
+    return body, csv, page, html, seconds
 
 
 def test_uploaded_records_are_tracked_and_bad_files_listed_as_failed(records, on_processes):
-    body, csv, page, seconds = on_processes
+    body, csv, page, html, seconds = on_processes
     assert body["state"] == "done" and body["done"] == body["total"] == 5 and body["message"] is None
     r = body["result"]
     assert r["name"] == "site A" and r["engine"] == "2 local process(es)" and r["n_records"] == 5
@@ -94,6 +97,9 @@ def test_uploaded_records_are_tracked_and_bad_files_listed_as_failed(records, on
     assert lines[0].startswith("record,name,time,mode,found,frequency_hz,damping_ratio,mac_to_reference")
     assert len(lines) == 1 + 3 * len(r["modes"]) and "rec_2026-03-02T03-00.csv" in lines[1 + len(r["modes"])]
     assert page.status_code == 200 and "campaign.js" in page.text
+    inlined = re.search(r"window\.CAMPAIGN_DATA = (\{.*?\});</script>", html.text).group(1)
+    assert json.loads(inlined)["result"] == r and 'src="/' not in html.text  # offline: nothing to fetch
+    assert html.headers["content-disposition"].startswith("attachment")
     assert seconds < 60
 
 

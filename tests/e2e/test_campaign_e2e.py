@@ -1,5 +1,6 @@
 """A campaign in a real browser: from the main page's link, upload a few monitoring records (one of them cut off),
-watch the campaign run, read the tracking plots and the failed record, open the report link and download the table.
+watch the campaign run, read the tracking plots and the failed record, open the report link, download the table
+and the report as one HTML file that opens with no server.
 
 Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded); the records are
 era.campaign.simulated's monitored structure (five modes, six sensors), short enough for seconds per record.
@@ -86,6 +87,18 @@ def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(
         csv = urllib.request.urlopen(server.base + page.get_attribute("#campaign-csv", "href")).read().decode()
         assert csv.splitlines()[0].startswith("record,name,time,mode,found,frequency_hz")
         assert len(csv.splitlines()) == 1 + 4 * n_modes
+
+        # the offline report: one HTML file that draws the same plots with no server behind it
+        html = urllib.request.urlopen(server.base + page.get_attribute("#campaign-html", "href")).read()
+        (tmp_path / "campaign.html").write_bytes(html)
+        server.stop()
+        offline = browser.new_page()
+        offline.on("pageerror", lambda e: errors.append(str(e)))
+        offline.goto((tmp_path / "campaign.html").as_uri())
+        offline.wait_for_selector("body[data-ready='1']", timeout=60000)
+        assert offline.locator("#campaign-freq .main-svg .scatterlayer .trace").count() == n_modes
+        assert offline.locator("#campaign-failed li").first.text_content().startswith(CORRUPT)
+        assert offline.is_hidden("#campaign-share")
         assert errors == [], errors
     finally:
         server.stop()
