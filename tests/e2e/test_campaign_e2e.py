@@ -49,20 +49,22 @@ def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(
         n_modes = page.locator("#campaign-modes tbody tr").count()
         assert 4 <= n_modes <= 6
         for plot in ("#campaign-freq", "#campaign-damp", "#campaign-mac"):
-            traces = page.evaluate(f"document.querySelector('{plot}').data.map(t => t.y.filter(v => v !== null).length)")
+            traces = page.evaluate(f"document.querySelector('{plot}').data.map(t => t.y.filter(v => v !== null)"
+                                   ".length)")
             assert len(traces) == n_modes and sum(traces) >= 3 * n_modes, (plot, traces)
             assert page.locator(f"{plot} .main-svg .scatterlayer .trace").count() == n_modes
         x = page.evaluate("document.getElementById('campaign-freq').data[0].x")
         assert x[0].startswith("2026-03-02T00:00") and len(x) == 5 - 1  # dated from the names; the corrupt one out
-        f = page.evaluate("document.getElementById('campaign-freq').data.map(t => Math.max(...t.y.filter(v => v !== null)))")
+        f = page.evaluate("document.getElementById('campaign-freq').data.map(t => Math.max(...t.y.filter(v => v)))")
         assert 1.2 < min(f) < 1.3 and 6.0 < max(f) < 6.4  # the simulated structure's first and last modes
         mac = page.evaluate("document.getElementById('campaign-mac').data.flatMap(t => t.y.filter(v => v !== null))")
         assert min(mac) > 0.8 and max(mac) <= 1.0 + 1e-9
 
-        # relative to each mode's reference: the simulated damage (mode 2.44 Hz, -3 % from the third record, -4.3 % with
-        # the temperature by the fourth) stands out of the others' temperature drift (at most -1.4 % here)
+        # relative to each mode's reference: the simulated damage (mode 2.44 Hz, -3 % from the third record, -4.3 %
+        # with the temperature by the fourth) stands out of the others' temperature drift (at most -1.4 % here)
         page.select_option("#campaign-freq-scale", "change")
-        page.wait_for_function("document.getElementById('campaign-freq')._fullLayout.yaxis.title.text.startsWith('change')")
+        page.wait_for_function("document.getElementById('campaign-freq')._fullLayout.yaxis.title.text"
+                               ".startsWith('change')")
         rel = page.evaluate("""document.getElementById('campaign-freq').data.map(t => [t.name,
                                Math.min(...t.y.filter(v => v !== null)), Math.max(...t.y.filter(v => v !== null))])""")
         damaged = [lo for name, lo, hi in rel if "(2.4" in name]
