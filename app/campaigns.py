@@ -83,22 +83,31 @@ def folder_records(root: Path | None, folder: str) -> list[str]:
     if not target.is_dir():
         raise era.DataError(f"No folder {folder!r} in this server's campaign folder; GET /api/campaigns/folders "
                             "lists them.")
-    files = sorted(str(p) for p in target.iterdir() if p.is_file() and not p.name.startswith("."))
+    files = [str(p) for p in _record_files(base, target)]
     if not files:
-        raise era.DataError(f"The folder {folder!r} holds no record files.")
+        raise era.DataError(f"The folder {folder!r} holds no record files (links to files outside this server's "
+                            "campaign folder are not read).")
     return files
 
 
+def _record_files(base: Path, folder: Path) -> list[Path]:
+    """The files of ``folder`` a campaign reads, by name: not hidden, and inside ``base`` (resolved) once links are
+    followed, so a link to a file elsewhere on the server is never read."""
+    return sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")
+                  and base in p.resolve().parents)
+
+
 def folders(root: Path | None) -> list[dict]:
-    """[{name, n_files}] of ERA_CAMPAIGN_ROOT itself (".") and its subfolders, by name; [] when none is set."""
+    """[{name, n_files}] of ERA_CAMPAIGN_ROOT itself (".") and its subfolders that hold record files, by name; []
+    when none is set."""
     if root is None or not Path(root).is_dir():
         return []
-    base = Path(root)
+    base = Path(root).resolve()
     found = [base] + sorted((p for p in base.iterdir() if p.is_dir() and not p.name.startswith(".")),
                             key=lambda p: p.name)[:MAX_FOLDERS]
     out = []
     for p in found:
-        n = sum(1 for f in p.iterdir() if f.is_file() and not f.name.startswith("."))
+        n = len(_record_files(base, p))
         if n:
             out.append({"name": "." if p == base else p.name, "n_files": n})
     return out

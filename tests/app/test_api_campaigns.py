@@ -120,6 +120,12 @@ def test_the_app_runs_the_records_on_the_dask_scheduler_it_is_given(records, on_
 
 
 def test_a_folder_under_the_campaign_root_runs_like_an_upload(records, tmp_path):
+    secret = tmp_path / "secret.csv"
+    secret.write_text("time,a\n0,1\n")
+    linked = records.parent / "linked"
+    linked.mkdir(exist_ok=True)
+    if not (linked / "rec.csv").is_symlink():
+        (linked / "rec.csv").symlink_to(secret)  # a link out of the campaign folder: never read
     with client(tmp_path / "data", campaign_root=records.parent, campaign_workers=1) as c:
         listed = c.get("/api/campaigns/folders").json()
         exact(schemas.CampaignFolders, listed)
@@ -127,10 +133,12 @@ def test_a_folder_under_the_campaign_root_runs_like_an_upload(records, tmp_path)
         body = finish(c, c.post("/api/campaigns", data=dict(FORM, folder="site-a")))
         outside = c.post("/api/campaigns", data=dict(FORM, folder="../"))
         missing = c.post("/api/campaigns", data=dict(FORM, folder="site-b"))
+        link = c.post("/api/campaigns", data=dict(FORM, folder="linked"))
     assert body["state"] == "done" and body["name"] == "folder site-a"
     assert len(body["result"]["records"]) == 3 and {f["name"] for f in body["result"]["failed"]} == {CORRUPT, EMPTY}
     assert outside.status_code == 422 and "outside this server's campaign folder" in outside.json()["error"]
     assert missing.status_code == 422 and "No folder 'site-b'" in missing.json()["error"]
+    assert link.status_code == 422 and "links to files outside" in link.json()["error"]
 
 
 def test_refusals_say_what_is_wrong(records, tmp_path):
