@@ -181,3 +181,18 @@ def test_a_campaign_link_is_readable_without_the_team_token_but_starting_one_nee
     assert [r.status_code for r in stranger_read] == [200, 200, 200]
     assert folders.status_code == 401  # what the server holds is for the team only
     assert os.path.basename(body["url"]) == body["id"]
+
+
+def test_a_campaign_running_when_the_server_stops_says_so_instead_of_running_forever(records, tmp_path):
+    with client(tmp_path, campaign_workers=1) as c:
+        started = c.post("/api/campaigns", files=parts(records), data=FORM).json()
+    # the app stopped: the campaign ends after the record in progress, and says why to whoever opens its link
+    deadline = time.monotonic() + 60
+    with client(tmp_path) as c:
+        while True:
+            body = c.get(f"/api/campaigns/{started['id']}").json()
+            if body["state"] not in ("queued", "running") or time.monotonic() > deadline:
+                break
+            time.sleep(0.2)
+    assert body["state"] == "failed" and body["done"] < body["total"] and body["result"] is None
+    assert body["message"] == "The server stopped during the campaign; start the campaign again."
