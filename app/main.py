@@ -29,7 +29,7 @@ from .cache import Cache
 from .campaigns import Campaigns
 from .errors import NotFound
 from .jobs import Jobs
-from .routes import analyses, campaigns, datasets, examples, explain, health, imports, pages, reports
+from .routes import analyses, campaigns, datasets, examples, explain, health, imports, models, pages, reports
 from .routes import jobs as job_routes
 from .store import Store
 from .viewer import ModeViewer
@@ -197,7 +197,8 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         return _error(500, f"Internal error (reference {ref}); it has been logged. Please report it with the "
                            "reference.")
 
-    for module in (datasets, imports, examples, analyses, explain, reports, campaigns, job_routes, health, pages):
+    for module in (datasets, imports, models, examples, analyses, explain, reports, campaigns, job_routes, health,
+                   pages):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)

@@ -298,10 +298,13 @@ class NamedEffect(Explained):
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value} (incl. "
                                                             "stiffness_factor), in the keyword's unit")
     uncertainty: dict[str, float | None] = Field(description="1σ of each parameter, same units")
-    location: list[float] | None = Field(description="(x_ft, y_ft) of a located effect, ft, or null")
+    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft) of a located effect on the "
+                                                                       "grid, ft; on a frame a node id or a member "
+                                                                       "[node i, node j] ([\"*\"]: every member); "
+                                                                       "or null")
     location_probability: float | None = Field(description="posterior of that location, fraction")
-    other_locations: list[tuple[list[float], float | None]] = Field(description="[(x_ft, y_ft), probability] of "
-                                                                              "locations that tie")
+    other_locations: list[tuple[list[float] | str | list[str], float | None]] = Field(
+        description="[location, probability] of locations that tie (as `location`)")
     interval: dict[str, list[float | None]] = Field(description="{keyword: [low, high]} 95 % interval of the "
                                                                 "effect's parameter; null on an unbounded side")
     probability: float | None = Field(description="posterior probability of the effect, fraction")
@@ -309,7 +312,7 @@ class NamedEffect(Explained):
 
 
 class LocatedEvidence(Explained):
-    location: list[float] | None = Field(description="(x_ft, y_ft), ft")
+    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft), ft; a frame's node id or member")
     log_evidence: float | None
     probability: float | None = Field(description="posterior of this location, fraction")
 
@@ -320,7 +323,8 @@ class RankedEffect(Explained):
     probability: float | None = Field(description="posterior probability among the candidates, fraction")
     log_bayes_factor: float | None = Field(description="ln Bayes factor against the nominal model")
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value}")
-    location: list[float] | None = Field(description="(x_ft, y_ft) of the best location, ft, or null")
+    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft) of the best location, ft (a "
+                                                                       "frame's node id or member), or null")
     chi2: float | None = Field(description="χ² of the fit")
     adequate: bool = Field(description="the fit is consistent with the error levels")
     max_abs_freq_error_pct: float | None = Field(description="largest |Δf| after the fit, %")
@@ -402,8 +406,12 @@ class Explanation(Explained):
     model_hz_before: Floats = Field(description="nominal model frequencies, Hz")
     model_hz_after: Floats = Field(description="updated model frequencies, Hz")
     measured_hz: Floats = Field(description="frequencies of the fitted measured modes, Hz")
-    grid_shape: list[int] = Field(description="[joints along x, joints along y]")
-    sensors_ft: Matrix = Field(description="(p, 2) sensor positions, ft")
+    grid_shape: list[int] | None = Field(description="[joints along x, joints along y] (null on a frame)")
+    sensors_ft: Matrix | None = Field(description="(p, 2) sensor positions, ft (null on a frame)")
+    frame: dict[str, Any] | None = Field(None, description="on a frame: {nodes: {id: [x, y, z] m}, members: "
+                                                           "[[i, j]], sensors: [[node, direction]], node_labels: "
+                                                           "rows of the expanded shapes (\"7:x\", ...)}")
+    model_text: str | None = Field(None, description="on a frame: the model compared, in one line")
     outputs: list[str] = Field(description="(p,) output labels")
     inputs: list[str] = Field(description="(m,) input labels")
     overlay_fit_percent: dict[str, Matrix] = Field(description="{nominal, updated}: (p, m) fit of the simulated "
@@ -449,6 +457,16 @@ class ReportGeometry(Schema):
     units: str
 
 
+class FrozenModel(Schema):
+    """A dataset's structure model as a report keeps it."""
+
+    model: dict[str, Any] = Field(description="era.Frame's file format, SI units, as described")
+    source: str = Field(description="geometry (described in the panel) or file")
+    name: str | None = Field(description="the uploaded file's name, or null")
+    saved: float | None = Field(description="when it was saved, Unix s")
+    text: str = Field(description="the model in one line")
+
+
 class ReportDocument(Schema):
     """The frozen report, as stored: everything its page draws."""
 
@@ -464,6 +482,8 @@ class ReportDocument(Schema):
     stabilization: Stabilization
     geometry: ReportGeometry | None
     explanation: Explanation | None = Field(description="simulation vs test, when its panel ran before the report")
+    structure_model: FrozenModel | None = Field(None, description="the dataset's structure model when the report was "
+                                                                  "made (issue 9), or null")
     recordings: dict[str, str] = Field(description="{mode index: file} of the mode-shape recordings (.viser)")
 
 
@@ -556,3 +576,33 @@ class CampaignFolders(Schema):
     folders: list[CampaignFolder]
     engine: str = Field(description="where campaigns run on this server")
     max_records: int = Field(description="records in one campaign at most (ERA_MAX_CAMPAIGN_RECORDS)")
+
+
+# ---- the structure model of a dataset (issue 9: simulation vs test on the engineer's own structure) ----------------
+class ModelDraft(Schema):
+    """GET /api/datasets/{id}/model/draft: what the model step starts from, read from the dataset's geometry."""
+
+    nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m (the geometry's labels)")
+    members: list[list[str]] = Field(description="[node i, node j, group] per trace line; group by direction: "
+                                                 "vertical, along x, along y, inclined")
+    sensors: list[list[Any]] = Field(description="[node, direction] per output, in the outputs' order")
+    outputs: list[str] = Field(description="(p,) output labels")
+    units: str = Field(description="always m")
+    groups: list[str] = Field(description="the groups the members fall into")
+    materials: list[str] = Field(description="materials the section helpers know")
+    shapes: list[str] = Field(description="section shapes: rectangle, tube, square_tube, circle")
+
+
+class StructureModel(Schema):
+    """A dataset's stored structure model (GET/PUT /api/datasets/{id}/model, POST .../model/file)."""
+
+    model: dict[str, Any] = Field(description="the model in era.Frame's file format (SI units), as described")
+    source: Literal["geometry", "file"] = Field(description="built from the geometry in the panel, or uploaded")
+    name: str | None = Field(description="the uploaded file's name, or null")
+    saved: float | None = Field(description="when it was saved, Unix s")
+    n_nodes: int
+    n_members: int
+    n_sensors: int
+    total_mass_kg: float = Field(description="members plus lumped masses, kg")
+    frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
+    text: str = Field(description="the model in one line")

@@ -10,7 +10,8 @@ data folder can serve any dataset, analysis, report or explanation.
 
 Layout of the data folder: ``era.sqlite3`` (the default database); ``datasets/{id}.npz``;
 ``reports/{token}/report.json`` and side files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal /
-updated responses) and ``.json``; ``campaigns/{id}/campaign.json`` and ``table.csv``.
+updated responses) and ``.json``; ``campaigns/{id}/campaign.json`` and ``table.csv``; ``models/{dataset_id}.json``
+(the structure model of a dataset, app/modeling.py: the file itself is the commit point, so it has no table).
 """
 
 from __future__ import annotations
@@ -110,6 +111,23 @@ class Store:
         path = self.dataset_path(dataset_id)
         data, geometry, name, _ = read_npz(path.read_bytes(), f"stored dataset {path}")
         return data, geometry, row[0] if name is None else name
+
+    # ---- structure models (one per dataset, replaced when saved again) ------------------------------------
+    def _model_path(self, dataset_id: str) -> Path | None:
+        return self.root / "models" / f"{dataset_id}.json" if _ID.fullmatch(dataset_id) else None
+
+    def set_model(self, dataset_id: str, stored: dict) -> None:
+        """Keep a dataset's structure model ({"model": era.frame table, "source", "name", "saved"}), replacing the
+        one before in one atomic write (a reader sees the old model or the new one)."""
+        path = self._model_path(dataset_id)
+        if path is None:
+            raise ValueError(f"{dataset_id!r} is not a dataset id.")
+        write_atomic(path, json.dumps(stored, separators=(",", ":")).encode())
+
+    def model(self, dataset_id: str) -> dict | None:
+        """The stored structure model of a dataset, or None."""
+        path = self._model_path(dataset_id)
+        return json.loads(path.read_bytes()) if path is not None and path.is_file() else None
 
     # ---- analyses ----------------------------------------------------------------------------------
     def add_analysis(self, dataset_id: str, params: dict) -> str:
@@ -277,6 +295,7 @@ class Store:
                 path.unlink(missing_ok=True)
         for dataset_id in dropped:
             self.dataset_path(dataset_id).unlink(missing_ok=True)
+            self._model_path(dataset_id).unlink(missing_ok=True)
         return {"analyses": len(gone), "datasets": len(dropped)}
 
     def usage(self) -> dict:
@@ -284,7 +303,8 @@ class Store:
         with self._engine.connect() as conn:
             rows = {t.name: conn.execute(sa.select(sa.func.count()).select_from(t)).scalar_one()
                     for t in (datasets, analyses, reports, explanations)}
-        folders = {name: _folder_bytes(self.root / name) for name in ("datasets", "reports", "explanations", "imports")}
+        folders = {name: _folder_bytes(self.root / name)
+                   for name in ("datasets", "reports", "explanations", "imports", "models")}
         return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
 
 

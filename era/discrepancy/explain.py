@@ -124,9 +124,9 @@ class Explanation:
             "verdict": self.verdict, "message": self.message,
             "effect": None if e is None else {
                 "name": e.name, "parameters": e.parameters, "uncertainty": e.uncertainty,
-                "location": None if e.location is None else [float(v) for v in e.location],
+                "location": _location_json(e.location),
                 "location_probability": e.location_probability,
-                "other_locations": [[[float(v) for v in loc], q] for loc, q in e.other_locations],
+                "other_locations": [[_location_json(loc), q] for loc, q in e.other_locations],
                 "interval": {k: list(v) for k, v in e.interval.items()},
                 "probability": e.probability, "description": e.description},
             "ranking": [r.as_dict() for r in self.ranking],
@@ -143,6 +143,13 @@ class Explanation:
             "expanded_model": np.where(np.isfinite(self.expanded_model), self.expanded_model, 0.0).tolist(),
             "timing_s": dict(self.timing_s),
         }
+
+
+def _location_json(loc):
+    """A location for JSON: (x_ft, y_ft) as floats on the grid; a frame's node id (str) or member (i, j) as is."""
+    if loc is None or isinstance(loc, str):
+        return loc
+    return [v if isinstance(v, str) else float(v) for v in loc]
 
 
 def _pair(model, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:

@@ -1,0 +1,77 @@
+"""The structure model of a dataset (issue 9): the draft read from its geometry, the stored model (GET), a model
+described in the browser (PUT), a model file uploaded (POST .../model/file). Saving checks the model against the
+dataset's channels and solves it once; a refused model leaves the stored one as it was."""
+
+from __future__ import annotations
+
+import time
+from typing import Literal
+
+from fastapi import APIRouter, Depends, File, Request, UploadFile
+from pydantic import BaseModel, Field
+
+from .. import modeling, schemas
+from ..cache import Dataset
+from ..errors import NotFound
+from .deps import dataset, jobs, progress_key, store
+
+router = APIRouter(prefix="/api/datasets", tags=["structure model"])
+
+
+class ModelRequest(BaseModel):
+    model: dict = Field(description="the model in era.Frame's file format (SI units): nodes, members, sections "
+                                    "(constants, or shape + sizes in m + material), supports, masses, sensors "
+                                    "(one per output, in order), gravity")
+    source: Literal["geometry", "file"] = Field("geometry", description="built in the panel, or from a file")
+    name: str | None = Field(None, max_length=200, description="the model file's name")
+
+
+async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
+    files = store(request)
+
+    def work():
+        fr, f_hz = modeling.checked(stored["model"], ds.data.outputs, ds.geometry)
+        files.set_model(ds.id, stored)         # only a model that solved is kept
+        return modeling.summary(stored, fr, f_hz)
+
+    return await jobs(request).heavy(work, progress=progress_key(request),
+                                     message="Checking the model and computing its lowest modes")
+
+
+@router.get("/{dataset_id}/model/draft", summary="What the model step starts from: the geometry's nodes, trace "
+            "lines as members (grouped by direction) and the channels as sensors", response_model=schemas.ModelDraft)
+async def draft(ds: Dataset = Depends(dataset)):
+    return modeling.draft(ds.geometry, ds.data.outputs)
+
+
+@router.get("/{dataset_id}/model", summary="The dataset's stored structure model", response_model=schemas.StructureModel)
+async def read(request: Request, ds: Dataset = Depends(dataset)):
+    stored = store(request).model(ds.id)
+    if stored is None:
+        raise NotFound("This dataset has no structure model yet: describe it in the Model panel or upload a model "
+                       f"file (PUT /api/datasets/{ds.id}/model).")
+
+    def work():
+        fr = modeling.frame(stored["model"])
+        return modeling.summary(stored, fr, fr.modes(modeling.N_MODES)[0])
+
+    return await jobs(request).heavy(work, progress=progress_key(request), message="Reading the model's modes")
+
+
+@router.put("/{dataset_id}/model", summary="Save the dataset's structure model (era.Frame file format)",
+            response_model=schemas.StructureModel)
+async def save(request: Request, body: ModelRequest, ds: Dataset = Depends(dataset)):
+    """Refused with a sentence (422) when a member goes to a missing node, a section has no material, the model
+    is a mechanism, or its sensors are not the dataset's outputs; the stored model is then unchanged."""
+    return await _save(request, ds, {"model": body.model, "source": body.source, "name": body.name,
+                                     "saved": time.time()})
+
+
+@router.post("/{dataset_id}/model/file", summary="Upload a model file (era.Frame JSON, or TOML named .toml)",
+             response_model=schemas.StructureModel)
+async def upload(request: Request, file: UploadFile = File(description="the model file"),
+                 ds: Dataset = Depends(dataset)):
+    name = (file.filename or "model.json").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
+    blob = await file.read(modeling.MAX_MODEL_BYTES + 1)
+    model = modeling.read_file(name, blob)
+    return await _save(request, ds, {"model": model, "source": "file", "name": name, "saved": time.time()})

@@ -1,0 +1,133 @@
+"""The structure model of a dataset (issue 9, in the app): drafted from an uploaded UFF geometry, described, saved,
+uploaded as a file, refused with a sentence when wrong (the stored one kept), then used by simulation vs test,
+which names the effect hidden in the simulated test at a node id, and frozen into a report.
+
+The dataset: a simulated impact test of the portal frame (era.examples.frames.portal; 400 kg hidden at the
+beam's mid node E, UFF node 3), written as UFF 15/82/58 with its geometry in mm (tests/frame_test_file.py).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+
+import pytest
+from frame_test_file import write_uff
+
+from apiclient import client
+from app import schemas
+from era.examples.frames import portal
+
+PLATE = {"shape": "rectangle", "width": 0.3, "depth": 0.05, "material": "steel"}   # the portal's 300 × 50 mm
+
+
+@pytest.fixture(scope="module")
+def portal_test(tmp_path_factory):
+    """(client, dataset) of the uploaded portal test; the client stays open for the module."""
+    folder = tmp_path_factory.mktemp("models")
+    path = write_uff(folder / "portal.uff", portal(), dict(point_mass_at="E", point_mass_kg=200.0), inputs=(1, 4))
+    with client(folder / "data", viewer=True) as c:
+        ds = c.post("/api/datasets", files={"file": ("portal.uff", path.read_bytes(), "application/octet-stream")})
+        assert ds.status_code == 200, ds.text
+        yield c, ds.json()
+
+
+def described(draft: dict) -> dict:
+    """The model a person describes in the panel: the draft's members and sensors, one section per group, the
+    two column bases (UFF nodes 1 and 5) fixed."""
+    return {"nodes": draft["nodes"], "members": draft["members"],
+            "sections": {g: dict(PLATE) for g in draft["groups"]}, "supports": {"1": "fixed", "5": "fixed"},
+            "masses": {}, "sensors": draft["sensors"]}
+
+
+def test_the_draft_reads_members_groups_and_sensors_from_the_geometry(portal_test):
+    c, ds = portal_test
+    d = schemas.ModelDraft.model_validate(c.get(f"/api/datasets/{ds['id']}/model/draft").json())
+    assert len(d.nodes) == 7 and d.nodes["2"] == pytest.approx([0.0, 0.0, 3.0])     # mm in the file, m here
+    assert {tuple(m[:2]) for m in d.members} == {("1", "6"), ("2", "6"), ("2", "3"), ("3", "4"), ("4", "7"),
+                                                 ("5", "7")}
+    assert set(d.groups) == {"vertical", "along x"}
+    assert d.sensors[:3] == [["6", "x"], ["2", "x"], ["3", "z"]] and len(d.sensors) == len(d.outputs) == 7
+    assert c.get(f"/api/datasets/{ds['id']}/model").status_code == 404
+
+
+def test_bad_models_are_refused_with_a_sentence_and_the_saved_one_is_kept(portal_test):
+    c, ds = portal_test
+    url = f"/api/datasets/{ds['id']}/model"
+    draft = c.get(f"{url}/draft").json()
+    good = described(draft)
+    r = c.put(url, json={"model": good})
+    assert r.status_code == 200, r.text
+    saved = schemas.StructureModel.model_validate(r.json())
+    assert saved.n_nodes == 7 and saved.n_members == 6 and saved.n_sensors == 7 and saved.source == "geometry"
+    assert saved.frequency_hz[0] == pytest.approx(portal().modes(1)[0][0], rel=1e-6)   # the same structure
+    assert "rectangle 300 × 50 mm steel" in saved.text
+
+    def refused(model, words):
+        r = c.put(url, json={"model": model})
+        assert r.status_code == 422 and words in r.json()["error"], r.text
+
+    bad = copy.deepcopy(good)
+    bad["members"].append(["3", "99", "vertical"])
+    refused(bad, "goes to node 99, which is not in nodes")
+    bad = copy.deepcopy(good)
+    del bad["sections"]["vertical"]["material"]
+    refused(bad, "Section 'vertical' has no material")
+    bad = copy.deepcopy(good)
+    bad["sensors"] = bad["sensors"][:6]
+    refused(bad, "6 sensor(s) but this dataset has 7 output(s)")
+    bad = copy.deepcopy(good)
+    bad["sensors"][0], bad["sensors"][1] = bad["sensors"][1], bad["sensors"][0]
+    refused(bad, "output 1 (Fx) measures node 6 along x")
+    bad = copy.deepcopy(good)
+    bad["supports"] = {"1": "pinned", "5": "pinned"}       # pins in 3-D: the frame spins about the line 1-5
+    refused(bad, "is a mechanism")
+    files = {"file": ("model.json", b"{not json", "application/json")}
+    r = c.post(f"{url}/file", files=files)
+    assert r.status_code == 422 and "model.json: not a readable model file" in r.json()["error"]
+    assert c.get(url).json()["model"] == good            # nothing saved is lost
+
+
+def test_a_model_file_in_json_or_toml_is_read_and_stored(portal_test):
+    c, ds = portal_test
+    url = f"/api/datasets/{ds['id']}/model"
+    model = described(c.get(f"{url}/draft").json())
+    r = c.post(f"{url}/file", files={"file": ("portal.json", json.dumps(model).encode(), "application/json")})
+    assert r.status_code == 200 and r.json()["source"] == "file" and r.json()["name"] == "portal.json", r.text
+    toml = ("sensors = " + json.dumps(model["sensors"]) + "\n"
+            + "members = " + json.dumps(model["members"]) + "\n"
+            + "[nodes]\n" + "".join(f'"{k}" = {json.dumps(v)}\n' for k, v in model["nodes"].items())
+            + '[supports]\n"1" = "fixed"\n"5" = "pinned"\n'
+            + "".join(f'[sections."{g}"]\nshape = "rectangle"\nwidth = 0.3\ndepth = 0.05\nmaterial = "steel"\n'
+                      for g in model["sections"]))
+    r = c.post(f"{url}/file", files={"file": ("portal.toml", toml.encode(), "text/plain")})
+    assert r.status_code == 200, r.text
+    assert c.get(url).json()["model"]["supports"] == {"1": "fixed", "5": "pinned"}
+
+
+def test_simulation_vs_test_names_the_hidden_mass_at_a_node_and_the_report_keeps_the_model(portal_test):
+    c, ds = portal_test
+    url = f"/api/datasets/{ds['id']}/model"
+    model = described(c.get(f"{url}/draft").json())
+    assert c.put(url, json={"model": model}).status_code == 200
+    a = c.post("/api/analyses", json=dict(dataset_id=ds["id"], rows=100, cols=100)).json()
+    r = c.post(f"/api/analyses/{a['id']}/explain", json={})
+    assert r.status_code == 200, r.text
+    s = schemas.Explanation.model_validate(r.json())
+    assert s.verdict == "explained" and s.effect.name == "point_mass"
+    assert s.effect.parameters["point_mass_kg"] == pytest.approx(200.0, rel=0.15)
+    assert s.effect.location in {"2", "3", "4"}        # the beam's nodes: B, E, C (three modes cannot tell them)
+    assert s.grid_shape is None and s.frame["members"][0] == ["1", "6"] and "7 nodes, 6 members" in s.model_text
+    assert len(s.expanded_measured) == len(s.frame["node_labels"]) == 21
+    v = c.post(f"/api/analyses/{a['id']}/explain/viewer", json={"which": "model"})
+    assert v.status_code == 200 and v.json()["n_modes"] == len(s.modes), v.text
+
+    made = c.post("/api/reports", json={"analysis_id": a["id"], "order": 20, "modes": [0, 1]})
+    assert made.status_code == 200, made.text
+    report = schemas.Report.model_validate(c.get(f"/api/reports/{made.json()['token']}").json())
+    assert report.structure_model.model == model and report.explanation.effect.location == s.effect.location
+    # the stored model changes afterwards; the report keeps the one it froze
+    changed = dict(model, masses={"3": 5.0})
+    assert c.put(url, json={"model": changed}).status_code == 200
+    again = c.get(f"/api/reports/{made.json()['token']}").json()
+    assert again["structure_model"]["model"] == model
