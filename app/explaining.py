@@ -64,7 +64,8 @@ def check_grid_dataset(data: era.ResponseData, geometry: era.Geometry | None, mo
     """Raise era.DataError unless the dataset has the grid's nine sensors, in model.sensors order."""
     need = ("The simulation-vs-test panel needs the NASA grid's nine sensors in order: outputs w at "
             + ", ".join(f"({x:g}, {y:g})" for x, y in model.sensors) + " ft, with the grid geometry (the built-in "
-            "grid example has them).")
+            "grid example has them); for another structure, describe it in the Model panel or upload a model file "
+            "first.")
     if data.n_outputs != len(model.sensors):
         raise era.DataError(f"This dataset has {data.n_outputs} output(s). {need}")
     if geometry is None:
@@ -159,7 +160,8 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
 def frame_json(frame: era.Frame, node_labels) -> dict:
     """What the panel and the report draw a frame's shapes with: nodes (m), members, sensors, and the node
     translation of each row of the expanded shapes ("7:x", ...)."""
-    return {"nodes": {n: list(xyz) for n, xyz in frame.nodes.items()}, "members": [[i, j] for i, j, *_ in frame.members],
+    return {"nodes": {n: list(xyz) for n, xyz in frame.nodes.items()},
+            "members": [[i, j] for i, j, *_ in frame.members],
             "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in frame.sensors],
             "node_labels": list(node_labels)}
 

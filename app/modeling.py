@@ -23,6 +23,8 @@ N_MODES = 10
 #: Largest model file accepted, bytes.
 MAX_MODEL_BYTES = 2_000_000
 SHAPES = ("rectangle", "tube", "square_tube", "circle")
+TABLES = ("nodes", "sections", "supports", "masses", "joint_springs", "added_mass_per_length")
+LISTS = ("members", "sensors")
 
 
 def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
@@ -94,8 +96,25 @@ def frame(model: dict) -> era.Frame:
     """The era.Frame of a stored model (the file format); era.DataError with the reason when it is not one."""
     if not isinstance(model, dict):
         raise era.DataError("A model must be a table of nodes, members, sections, supports, masses and sensors.")
+    for key in TABLES:
+        if key in model and not isinstance(model[key], dict):
+            raise era.DataError(f"The model's {key} must be a table {{node or name: ...}}, got "
+                                f"{type(model[key]).__name__}.")
+    for key in LISTS:
+        if key in model and not isinstance(model[key], list):
+            raise era.DataError(f"The model's {key} must be a list, got {type(model[key]).__name__}.")
+        if not all(isinstance(x, list) for x in model.get(key, [])):
+            form = "[node i, node j, section]" if key == "members" else "[node, direction]"
+            raise era.DataError(f"Each of the model's {key} must be a list: {form}.")
+    g = model.get("gravity")
+    if g is not None and not (isinstance(g, list) and len(g) == 3 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in g)):
+        raise era.DataError(f"The model's gravity must be null or [gx, gy, gz] in m/s², got {g!r}.")
     _check_sections(model.get("sections"))
-    return era.Frame.from_dict(model)
+    try:
+        return era.Frame.from_dict(model)
+    except (TypeError, ValueError) as exc:          # a value of the wrong kind somewhere era did not expect it
+        raise era.DataError(f"The model is not in era.Frame's file format: {exc}.") from None
 
 
 def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None) -> None:

@@ -44,7 +44,8 @@ async def draft(ds: Dataset = Depends(dataset)):
     return modeling.draft(ds.geometry, ds.data.outputs)
 
 
-@router.get("/{dataset_id}/model", summary="The dataset's stored structure model", response_model=schemas.StructureModel)
+@router.get("/{dataset_id}/model", summary="The dataset's stored structure model",
+            response_model=schemas.StructureModel)
 async def read(request: Request, ds: Dataset = Depends(dataset)):
     stored = store(request).model(ds.id)
     if stored is None:
