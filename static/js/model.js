@@ -45,6 +45,7 @@ function startFrom(stored) {
   for (const [n, s] of Object.entries(m ? m.supports || {} : {})) desc.supports[n] = s;
   for (const [n, kg] of Object.entries(m ? m.masses || {} : {})) desc.masses[n] = kg;
   for (const g of new Set(desc.members.map((x) => x[2]))) desc.sections[g] ||= newSection();
+  $("model-gravity").checked = !!desc.gravity;
 }
 
 // ---- drawing: sections, nodes, members, the clickable view ----------------------------------------------------------
@@ -286,6 +287,7 @@ async function load(ds) {
 export function init() {
   $("model-from-geometry").addEventListener("click", openEditor);
   $("model-save").addEventListener("click", save);
+  $("model-gravity").addEventListener("change", () => { desc.gravity = $("model-gravity").checked ? [0, 0, -9.81] : null; });
   $("model-file").addEventListener("change", () => { const f = $("model-file").files[0]; if (f) uploadModel(f); });
   on("dataset", load);
   on("modes", render);
