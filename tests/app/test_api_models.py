@@ -137,3 +137,20 @@ def test_simulation_vs_test_names_the_hidden_mass_at_a_node_and_the_report_keeps
     assert c.put(url, json={"model": changed}).status_code == 200
     again = c.get(f"/api/reports/{made.json()['token']}").json()
     assert again["structure_model"]["model"] == model
+
+
+def test_a_model_is_replaced_whole_and_goes_with_its_dataset_when_that_expires(tmp_path):
+    import time
+
+    import era.examples.paper_cases
+    from app.store import Store
+
+    store = Store(tmp_path)
+    ds = store.add_dataset(era.examples.paper_cases.case_1(200), None, "case1", {})
+    assert store.model(ds) is None
+    for mass in (1.0, 2.0):
+        store.set_model(ds, {"model": {"masses": {"1": mass}}, "source": "file", "name": "m.json", "saved": 0.0})
+    assert store.model(ds)["model"]["masses"] == {"1": 2.0}
+    assert store.usage()["bytes"]["models"] > 0
+    store.expire(time.time() + 1)
+    assert store.model(ds) is None and not (tmp_path / "models" / f"{ds}.json").exists()
