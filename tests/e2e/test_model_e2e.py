@@ -2,8 +2,8 @@
 a portal frame (UFF with its geometry in mm, 200 kg hidden at the beam's mid node, UFF node 3), describe the model
 in the Model panel (a section and material per group of trace lines, a support set by clicking a node in the
 drawing and one in the node table), see a missing material refused next to the button, save, run simulation vs
-test, read the named effect at a node, freeze the report and find the model in it, and reopen the analysis link
-with the model still there.
+test, read the named effect at a node, freeze the report and find the model in it, reopen the analysis link with
+the model still there, and see a broken model file refused with the saved model kept.
 
 Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
 """
@@ -115,6 +115,14 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         assert "7 nodes, 6 members" in page.text_content("#model-summary")
         page.wait_for_selector("#explain-verdict", timeout=60000)
         assert page.text_content("#explain-verdict > div") == head
+
+        # a model file that is not one: refused next to the file control, the saved model kept
+        bad = tmp_path / "model.json"
+        bad.write_text('{"nodes": {"1": [0, 0, 0]}, "members": [["1", "9", "s"]], "sections": {}}')
+        page.set_input_files("#model-file", str(bad))
+        page.wait_for_selector("#model-file-error:not([hidden])", timeout=30000)
+        assert "no sections" in page.text_content("#model-file-error")
+        assert "7 nodes, 6 members" in page.text_content("#model-summary")
         assert errors == [], errors
     finally:
         server.stop()
