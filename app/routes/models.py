@@ -31,8 +31,9 @@ async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
 
     def work():
         fr, f_hz = modeling.checked(stored["model"], ds.data.outputs, ds.geometry)
-        files.set_model(ds.id, stored)         # only a model that solved is kept
-        return modeling.summary(stored, fr, f_hz)
+        kept = dict(stored, frequency_hz=[float(f) for f in f_hz])
+        files.set_model(ds.id, kept)           # only a model that solved is kept, with its frequencies
+        return modeling.summary(kept, fr, f_hz)
 
     return await jobs(request).heavy(work, progress=progress_key(request),
                                      message="Checking the model and computing its lowest modes")
@@ -54,9 +55,10 @@ async def read(request: Request, ds: Dataset = Depends(dataset)):
 
     def work():
         fr = modeling.frame(stored["model"])
-        return modeling.summary(stored, fr, fr.modes(modeling.N_MODES)[0])
+        f_hz = stored.get("frequency_hz") or fr.modes(modeling.N_MODES)[0]   # kept when saved: no solve here
+        return modeling.summary(stored, fr, f_hz)
 
-    return await jobs(request).heavy(work, progress=progress_key(request), message="Reading the model's modes")
+    return await jobs(request).quick(work)
 
 
 @router.put("/{dataset_id}/model", summary="Save the dataset's structure model (era.Frame file format)",
