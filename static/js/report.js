@@ -45,6 +45,12 @@
     ];
     const dl = $("report-meta");
     for (const [k, v] of rows) { dl.append(el("dt", k), el("dd", v)); }
+    if (r.structure_model) {  // the dataset's structure model when the report was made (issue 9), frozen here
+      const m = r.structure_model, dd = el("dd", `${m.source === "file" ? `file ${m.name}: ` : ""}${m.text} `, { id: "report-model" });
+      const blob = new Blob([JSON.stringify(m.model, null, 1)], { type: "application/json" });
+      dd.append(el("a", "model (JSON)", { href: URL.createObjectURL(blob), download: "model.json" }));
+      dl.append(el("dt", "Model of the structure"), dd);
+    }
     if (!r.standalone) {
       const links = el("dd");
       for (const [text, href] of [["report (HTML)", `/api/reports/${r.token}/report.html`],

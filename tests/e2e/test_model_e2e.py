@@ -10,6 +10,9 @@ Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downl
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 from frame_test_file import write_uff
 
@@ -108,6 +111,11 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         assert page.text_content("#report-explain-verdict > div") == head
         assert page.text_content("#report-explain-effect") == location
         assert "rectangle 300 × 50 mm steel" in page.text_content("#report-explain-model")
+        assert "supports 1 fixed, 5 fixed" in page.text_content("#report-model")     # the model, frozen
+        with page.expect_download() as got:
+            page.click("#report-model a")
+        frozen = json.loads(Path(got.value.path()).read_text())
+        assert frozen["supports"] == {"1": "fixed", "5": "fixed"} and frozen["sections"]["vertical"]["width"] == 0.3
 
         # the analysis link reopens the dataset with its model
         page.goto(address)
