@@ -198,3 +198,24 @@ def describe(model: dict) -> str:
     return (f"{len(nodes)} nodes, {len(members)} members; sections {'; '.join(secs) or 'none'}; supports "
             f"{', '.join(sup) or 'none (free-free)'}; masses {', '.join(mass) or 'none'}; "
             f"{len(model.get('sensors', []))} sensors" + ("; gravity" if model.get("gravity") else ""))
+
+
+def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
+    """The model's modes beside the test's (schemas.ModelComparison): frequencies (Hz), the MAC matrix (test
+    modes × model modes) at the sensors, and each test mode's partner (era.correlation.pair_modes: frequency and
+    MAC together, as explain pairs them; null when none is acceptable). frequency_hz (k,), shapes (p, k) complex:
+    the test's modes, e.g. those kept at one order. The model gives 6 modes more than the test, so a mode that
+    moved can still be found."""
+    from era.correlation import pair_modes, real_shapes
+
+    f_test = np.asarray(frequency_hz, float)
+    test = real_shapes(np.asarray(shapes))
+    f_model, s_model = fr.modes(max(N_MODES, test.shape[1] + 6))
+    p = pair_modes(f_test, test, f_model, s_model)
+    partner = {int(i): k for k, i in enumerate(p.measured_index)}
+    best = [None if i not in partner else {"model_mode": int(p.model_index[partner[i]]),
+                                           "mac": float(p.mac[partner[i]]),
+                                           "frequency_error_pct": float(p.frequency_error_pct[partner[i]])}
+            for i in range(f_test.size)]
+    return {"test_hz": [float(f) for f in f_test], "model_hz": [float(f) for f in f_model],
+            "mac": [[float(v) for v in row] for row in p.mac_matrix], "best": best}

@@ -606,3 +606,19 @@ class StructureModel(Schema):
     total_mass_kg: float = Field(description="members plus lumped masses, kg")
     frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
     text: str = Field(description="the model in one line")
+
+
+class BestPartner(Schema):
+    model_mode: int = Field(description="index of the model mode with the largest MAC, from 0")
+    mac: float | None = Field(description="that MAC, fraction")
+    frequency_error_pct: float | None = Field(description="(model − test)/test, %")
+
+
+class ModelComparison(Schema):
+    """GET /api/analyses/{id}/model/mac: the dataset's model beside the test's modes, at the sensors."""
+
+    test_hz: Floats = Field(description="(k,) the test modes compared, Hz")
+    model_hz: Floats = Field(description="(n,) the model's lowest modes, Hz")
+    mac: Matrix = Field(description="(k, n) MAC of each test mode with each model mode")
+    best: list[BestPartner | None] = Field(description="(k,) each test mode's model partner (frequency and MAC "
+                                                      "together, as explain pairs them), null when none fits")

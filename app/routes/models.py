@@ -1,21 +1,25 @@
 """The structure model of a dataset (issue 9): the draft read from its geometry, the stored model (GET), a model
-described in the browser (PUT), a model file uploaded (POST .../model/file). Saving checks the model against the
-dataset's channels and solves it once; a refused model leaves the stored one as it was."""
+described in the browser (PUT), a model file uploaded (POST .../model/file), and the model's modes beside an
+analysis's (MAC). Saving checks the model against the dataset's channels and solves it once; a refused model
+leaves the stored one as it was."""
 
 from __future__ import annotations
 
 import time
 from typing import Literal
 
-from fastapi import APIRouter, Depends, File, Request, UploadFile
+import numpy as np
+from fastapi import APIRouter, Depends, File, Query, Request, UploadFile
 from pydantic import BaseModel, Field
 
-from .. import modeling, schemas
-from ..cache import Dataset
-from ..errors import NotFound
-from .deps import dataset, jobs, progress_key, store
+import era
 
-router = APIRouter(prefix="/api/datasets", tags=["structure model"])
+from .. import modeling, schemas
+from ..cache import Analysis, Dataset
+from ..errors import NotFound
+from .deps import analysis, cache, dataset, jobs, progress_key, store
+
+router = APIRouter(tags=["structure model"])
 
 
 class ModelRequest(BaseModel):
@@ -39,13 +43,14 @@ async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
                                      message="Checking the model and computing its lowest modes")
 
 
-@router.get("/{dataset_id}/model/draft", summary="What the model step starts from: the geometry's nodes, trace "
-            "lines as members (grouped by direction) and the channels as sensors", response_model=schemas.ModelDraft)
+@router.get("/api/datasets/{dataset_id}/model/draft", summary="What the model step starts from: the geometry's "
+            "nodes, trace lines as members (grouped by direction) and the channels as sensors",
+            response_model=schemas.ModelDraft)
 async def draft(ds: Dataset = Depends(dataset)):
     return modeling.draft(ds.geometry, ds.data.outputs)
 
 
-@router.get("/{dataset_id}/model", summary="The dataset's stored structure model",
+@router.get("/api/datasets/{dataset_id}/model", summary="The dataset's stored structure model",
             response_model=schemas.StructureModel)
 async def read(request: Request, ds: Dataset = Depends(dataset)):
     stored = store(request).model(ds.id)
@@ -61,8 +66,8 @@ async def read(request: Request, ds: Dataset = Depends(dataset)):
     return await jobs(request).quick(work)
 
 
-@router.put("/{dataset_id}/model", summary="Save the dataset's structure model (era.Frame file format)",
-            response_model=schemas.StructureModel)
+@router.put("/api/datasets/{dataset_id}/model",
+            summary="Save the dataset's structure model (era.Frame file format)", response_model=schemas.StructureModel)
 async def save(request: Request, body: ModelRequest, ds: Dataset = Depends(dataset)):
     """Refused with a sentence (422) when a member goes to a missing node, a section has no material, the model
     is a mechanism, or its sensors are not the dataset's outputs; the stored model is then unchanged."""
@@ -70,11 +75,35 @@ async def save(request: Request, body: ModelRequest, ds: Dataset = Depends(datas
                                      "saved": time.time()})
 
 
-@router.post("/{dataset_id}/model/file", summary="Upload a model file (era.Frame JSON, or TOML named .toml)",
-             response_model=schemas.StructureModel)
+@router.post("/api/datasets/{dataset_id}/model/file",
+             summary="Upload a model file (era.Frame JSON, or TOML named .toml)", response_model=schemas.StructureModel)
 async def upload(request: Request, file: UploadFile = File(description="the model file"),
                  ds: Dataset = Depends(dataset)):
     name = (file.filename or "model.json").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
     blob = await file.read(modeling.MAX_MODEL_BYTES + 1)
     model = modeling.read_file(name, blob)
     return await _save(request, ds, {"model": model, "source": "file", "name": name, "saved": time.time()})
+
+
+@router.get("/api/analyses/{analysis_id}/model/mac", summary="The dataset's model beside this analysis's modes of "
+            "one order: frequencies and MAC at the sensors", response_model=schemas.ModelComparison)
+async def mac(request: Request, order: int = Query(ge=1), modes: str | None = Query(
+        None, description="comma-separated indices of the modes to compare (default: every mode of the order)"),
+        a: Analysis = Depends(analysis)):
+    stored = store(request).model(a.dataset_id)
+    if stored is None:
+        raise NotFound("This dataset has no structure model yet: describe it in the Model panel or upload a model "
+                       "file first.")
+    try:
+        picked = None if not modes else [int(k) for k in modes.split(",")]
+    except ValueError:
+        raise era.EraError(f"modes must be comma-separated mode indices, got {modes!r}.") from None
+    c = cache(request)
+
+    def work():
+        m = c.model(a, order)
+        kept = np.arange(m.frequency_hz.size) if picked is None else era.kept_modes(m, picked)
+        return modeling.compare(modeling.frame(stored["model"]), m.frequency_hz[kept], m.shapes[:, kept])
+
+    return await jobs(request).heavy(work, progress=progress_key(request),
+                                     message="The model's modes beside the test's")

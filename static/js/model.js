@@ -142,8 +142,10 @@ function drawMembers() {
   });
 }
 
-// The two axes along which the structure is largest: a portal in x-z is seen from the front.
+// The two axes of the view: chosen, or those along which the structure is largest (a portal in x-z: the front).
 function plane() {
+  const chosen = $("model-view").value;
+  if (chosen !== "auto") return chosen.split(",").map(Number);
   const xyz = Object.values(draft.nodes);
   const span = [0, 1, 2].map((a) => Math.max(...xyz.map((p) => p[a])) - Math.min(...xyz.map((p) => p[a])));
   return [0, 1, 2].sort((i, j) => span[j] - span[i] || i - j).slice(0, 2).sort();
@@ -222,6 +224,7 @@ function show(summary) {
 // The stored model beside the test: its lowest frequencies, and the test's kept modes at the current order.
 function render() {
   const summary = saved, dl = $("model-summary");
+  canCompare();
   dl.replaceChildren();
   dl.hidden = !summary;
   if (!summary) return;
@@ -269,11 +272,43 @@ async function uploadModel(file) {
   }
 }
 
+// The saved model's modes beside the test's kept modes at the current order: MAC at the sensors.
+async function compare() {
+  showError("model-compare-error", null);
+  const kept = [...state.kept].sort((a, b) => a - b);
+  if (!kept.length) { showError("model-compare-error", new Error("Keep at least one mode in the table first.")); return; }
+  $("model-compare").disabled = true;
+  try {
+    const q = new URLSearchParams({ order: state.order, modes: kept.join(",") });
+    const r = await api(`/api/analyses/${state.analysis.id}/model/mac?${q}`,
+                        { progress: (text) => { $("model-compare-note").textContent = text; } });
+    $("model-mac").hidden = false;
+    await Plotly.react("model-mac", [{ type: "heatmap", z: r.mac, zmin: 0, zmax: 1,
+      colorscale: [[0, "#ffffff"], [0.5, "#9ab8e6"], [1, "#123e85"]],
+      x: r.model_hz.map((f, j) => `${j + 1}: ${f === null ? "–" : f.toFixed(3)}`), y: r.test_hz.map((f, i) => `${i + 1}: ${f.toFixed(3)}`),
+      hovertemplate: "test %{y} Hz<br>model %{x} Hz<br>MAC %{z:.3f}<extra></extra>" }],
+      { title: { text: `MAC: the test's kept modes at order ${state.order} against the model`, font: { size: 13 } },
+        margin: { l: 80, r: 10, t: 30, b: 70 }, xaxis: { title: { text: "model mode (Hz)" }, tickangle: -45 },
+        yaxis: { title: { text: "test mode (Hz)" }, autorange: "reversed" } }, plotConfig);
+    $("model-compare-note").textContent = r.best.map((b, i) => b === null ? `test ${r.test_hz[i].toFixed(3)} Hz: no model partner` :
+      `test ${r.test_hz[i].toFixed(3)} Hz ↔ model ${r.model_hz[b.model_mode].toFixed(3)} Hz (MAC ${b.mac.toFixed(3)}, ${b.frequency_error_pct >= 0 ? "+" : ""}${b.frequency_error_pct.toFixed(1)} %)`).join("; ");
+  } catch (err) {
+    $("model-compare-note").textContent = "";
+    showError("model-compare-error", err);
+  } finally {
+    canCompare();
+  }
+}
+
+function canCompare() { $("model-compare").disabled = !(saved && state.analysis && state.modes); }
+
 async function load(ds) {
   saved = null; draft = null; desc = null;
   $("model-editor").hidden = true;
+  $("model-mac").hidden = true;
+  $("model-compare-note").textContent = "";
   $("model-status").textContent = "";
-  for (const id of ["model-error", "model-file-error"]) showError(id, null);
+  for (const id of ["model-error", "model-file-error", "model-compare-error"]) showError(id, null);
   $("model-from-geometry").disabled = !(ds.geometry && ds.geometry.n_edges > 0);
   $("model-from-geometry").title = $("model-from-geometry").disabled ? "This dataset has no trace lines: upload a model file." : "";
   try {
@@ -287,6 +322,8 @@ async function load(ds) {
 export function init() {
   $("model-from-geometry").addEventListener("click", openEditor);
   $("model-save").addEventListener("click", save);
+  $("model-compare").addEventListener("click", compare);
+  $("model-view").addEventListener("change", () => { if (draft) drawPlot(); });
   $("model-gravity").addEventListener("change", () => { desc.gravity = $("model-gravity").checked ? [0, 0, -9.81] : null; });
   $("model-file").addEventListener("change", () => { const f = $("model-file").files[0]; if (f) uploadModel(f); });
   on("dataset", load);

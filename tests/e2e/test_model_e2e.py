@@ -85,6 +85,12 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         assert "supports 1 fixed, 5 fixed" in summary
         assert f"{portal().modes(1)[0][0]:.4g}" in summary                   # the same frame as era's portal()
         assert "Compares with this dataset's model" in page.text_content("#explain-hint")
+        # the model beside the test's kept modes: the sway mode 12 % high in the model (the hidden mass)
+        page.click("#model-compare")
+        page.wait_for_selector("#model-mac .main-svg", timeout=60000)
+        note = page.text_content("#model-compare-note")
+        assert "test 3.2" in note and "model 3.635 Hz" in note and "+13" in note, note
+        assert "↔ model 23.836 Hz" in note, note       # paired by frequency and MAC together, as explain pairs
         page.locator("#panel-model").screenshot(path=str(shots / "model-panel.png"))
 
         # simulation vs test on it: the hidden mass, named at a node of the beam
