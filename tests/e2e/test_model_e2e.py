@@ -41,7 +41,9 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         errors = []
         page.on("pageerror", lambda e: errors.append(str(e)))
         page.goto(server.base + "/")
-        page.set_input_files("#file", str(uff))
+        page.set_input_files("#file", str(uff))                   # the import step shows what was read: use it
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr", timeout=60000)
+        page.click("#import-use")
         page.wait_for_selector("#modes-table tbody tr", timeout=60000)
         assert "Describe the structure in the Model panel" in page.text_content("#explain-hint")
 
