@@ -53,6 +53,10 @@ def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
         if node < 0 or not np.any(d):
             raise era.DataError(f"Output {ch + 1} ({name}) has no node or direction in the geometry, so the model "
                                 "cannot place its sensor: upload a model file that lists the sensors.")
+        if node not in used:
+            raise era.DataError(f"Output {ch + 1} ({name}) measures node {ids[node]}, which is on no trace line, so "
+                                "no member carries its sensor: add the trace lines to it in the file, or upload a "
+                                "model file.")
         axis = [k for k, v in DIRECTIONS.items() if np.allclose(v, d, atol=1e-9)]
         sensors.append([ids[node], axis[0] if axis else [float(v) for v in d]])
     return {"nodes": {ids[i]: [float(v) for v in xyz[i]] for i in used}, "members": members,

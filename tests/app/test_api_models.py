@@ -54,6 +54,21 @@ def test_the_draft_reads_members_groups_and_sensors_from_the_geometry(portal_tes
     assert c.get(f"/api/datasets/{ds['id']}/model").status_code == 404
 
 
+def test_a_draft_needs_trace_lines_and_every_sensor_on_one():
+    from app import modeling
+
+    g = era.Geometry(node_ids=[1, 2, 3], coordinates=[[0, 0, 0], [1, 0, 0], [2, 0, 0]], edges=[[0, 1]],
+                     channel_nodes=[1, 2], channel_directions=[[0, 0, 1], [0, 0, -1]], units="m")
+    with pytest.raises(era.DataError, match="Output 2 \\(b\\) measures node 3, which is on no trace line"):
+        modeling.draft(g, ("a", "b"))
+    d = modeling.draft(era.Geometry(node_ids=g.node_ids, coordinates=g.coordinates, edges=[[0, 1], [1, 2]],
+                                    channel_nodes=g.channel_nodes, channel_directions=g.channel_directions), ("a", "b"))
+    assert d["sensors"] == [["2", "z"], ["3", "-z"]] and d["groups"] == ["along x"]
+    with pytest.raises(era.DataError, match="no trace lines"):
+        modeling.draft(era.Geometry(node_ids=g.node_ids, coordinates=g.coordinates, edges=np.zeros((0, 2)),
+                                    channel_nodes=g.channel_nodes, channel_directions=g.channel_directions), ("a", "b"))
+
+
 def test_bad_models_are_refused_with_a_sentence_and_the_saved_one_is_kept(portal_test):
     c, ds = portal_test
     url = f"/api/datasets/{ds['id']}/model"
