@@ -13,9 +13,8 @@ import numpy as np
 import pyuff
 
 from era.examples.frame_simulation import truth_model
-from era.structure import DIRECTIONS
 
-AXIS_CODE = {"x": 1, "y": 2, "z": 3, "-x": -1, "-y": -2, "-z": -3}
+AXIS_CODE = {"x": 1, "y": 2, "z": 3, "-x": -1, "-y": -2, "-z": -3}     # UFF 58 direction codes
 
 
 def node_numbers(frame) -> dict:
@@ -68,5 +67,3 @@ def write_uff(path: Path, frame, params: dict | None = None, *, inputs=(0,), **k
     pyuff.UFF(str(path)).write_sets(sets, mode="add")
     return path
 
-
-assert set(AXIS_CODE) == set(DIRECTIONS)

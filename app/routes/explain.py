@@ -1,6 +1,6 @@
 """Simulation vs test (issues 5, 9): run era.explain on an analysis (its identification, and the modes kept when
-asked) against its dataset's structure model (app/routes/models.py) or, without one, the NASA grid model, read the stored result back, and show the measured (SEREP-expanded) and
-model shapes in the viewer."""
+asked) against its dataset's structure model (app/routes/models.py) or, without one, the NASA grid model, read
+the stored result back, and show the measured (SEREP-expanded) and model shapes in the viewer."""
 
 from __future__ import annotations
 
@@ -79,10 +79,9 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 
     def work():
         chosen = kept if kept is None else (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
-        summary, responses = compute.run(explaining.run, ident, a.geometry, model, body.nominal if stored is None
-                                         else {}, orders=body.orders, kept=chosen,
-                                         described=None if stored is None else stored["model"],
-                                         workers=c.settings.heavy_workers)
+        nominal, described = (body.nominal, None) if stored is None else ({}, stored["model"])
+        summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=body.orders,
+                                         kept=chosen, described=described, workers=c.settings.heavy_workers)
         files.add_explanation(a.id, summary, responses, a.data.dt)
         return summary, responses
 
