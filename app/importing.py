@@ -49,8 +49,11 @@ def _sources(files: list[tuple[str, bytes]]) -> list:
     return sources
 
 
-def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int) -> dict:
-    """schemas.ImportPreview of ``files`` read with ``options``; raises era.EraError when they cannot be read."""
+def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int) -> tuple[dict, str | None,
+                                                                                        str | None]:
+    """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
+    stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
+    be read at all."""
     reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k != "references"}
     sources = _sources(files)
     pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,

@@ -157,7 +157,7 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
         files=list(got.labels), format=got.format, domain=rec.domain, step=step,
         start=chosen.start if step is not None else float(start_sample or 0), channels=channels,
         references=list(rec.inputs), n_records=len(chosen.values), n_samples=[len(v) for v in chosen.values],
-        kind=guess_kind(chosen) if chosen.domain != "time" or len(chosen.values[0]) else "decay",
+        kind=guess_kind(chosen),
         described=list(chosen.described), x=np.asarray(x, float), traces=np.asarray(y[idx].T, float),
         problem=problem, problem_option=option,
         geometry_nodes=len(got.parts[0]) if got.parts is not None else 0)
