@@ -18,6 +18,7 @@ const ROLES = { response: "response", force: "force (excitation, input)", refere
 
 let current = null;        // the last answer of /api/imports (id, files, preview, error, option)
 let roles = [];            // role of each channel as read: response | force | reference | drop
+let fileForces = "";       // the channels the files themselves mark as forces (units N, names), as "0,3"
 let fileRate = false;      // the files carry their own sampling interval
 let onDataset = null;      // callback(dataset summary)
 let rereading = null;      // debounce timer
@@ -56,11 +57,7 @@ export function options() {
   const pick = (role) => roles.flatMap((r, i) => (r === role ? [i] : []));
   if (pick("drop").length) o.drop = pick("drop");
   const pv = current && current.preview;
-  if (pv && pv.domain === "time") {
-    const marked = pv.channels.filter((c) => c.force).map((c) => c.index);
-    const forces = pick("force");
-    if (forces.join() !== marked.join()) o.forces = forces;  // only when the person changed the files' marks
-  }
+  if (pv && pv.domain === "time" && pick("force").join() !== fileForces) o.forces = pick("force");  // changed marks
   if (pick("reference").length) o.references = pick("reference");
   return o;
 }
@@ -129,8 +126,9 @@ function renderRead(answer) {
 function show(answer) {
   current = answer;
   const pv = answer.preview;
-  if (pv && roles.length !== pv.channels.length) {
+  if (pv && roles.length !== pv.channels.length) {  // the first reading (no options yet): the files' own marks
     roles = pv.channels.map((c) => (c.dropped ? "drop" : c.force ? "force" : "response"));
+    fileForces = pv.channels.filter((c) => c.force).map((c) => c.index).join();
   }
   clearErrors();
   renderRead(answer);

@@ -144,3 +144,35 @@ def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, brows
         assert not errors, errors
     finally:
         server.stop()
+
+
+def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_path, browser, shots):  # noqa: F811
+    from chain_sim import chain, simulate
+
+    ad, bd, cd, dd, f_modes, _ = chain(0.01)
+    u = np.random.default_rng(3).standard_normal((3000, 3)) * np.array([0.0, 0.0, 1.0])
+    y = simulate(ad, bd, cd, dd, u)
+    table = np.column_stack([np.arange(3000) * 0.01, u[:, 2], y])
+    path = tmp_path / "shaker.csv"
+    np.savetxt(path, table, delimiter=",", header="time [s],drive [V],a1 [V],a2 [V],a3 [V]", comments="", fmt="%.10g")
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser)
+        page.set_input_files("#file", str(path))
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        page.select_option("#kind", "io")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        page.click("#import-use")  # nothing says which channel is the force: refused under the channel table
+        page.wait_for_selector("#import-error-channels:not([hidden])")
+        assert "forces=" in page.text_content("#import-error-channels")
+        page.select_option("#import-channels select[data-channel='0']", "force")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        assert page.locator("#records-input option").all_text_contents() == ["drive"]
+        assert "force channels: drive" in page.text_content("#summary")
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(coherent_modes(page), list(f_modes), 0.01)
+        assert not errors, errors
+    finally:
+        server.stop()
