@@ -11,7 +11,9 @@ import numpy as np
 from . import hankel, svd
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
-from .modal import ModalModel, build_model
+from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
+                    modal_sum, repeated_clusters)
+from .uncertainty import PoleCovariance, modal_std, pole_weights, record_covariance, residual_covariance
 
 
 @dataclass(frozen=True, eq=False)
@@ -25,10 +27,10 @@ class Identification:
         (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
         d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD, the computed rank for the
-        randomized one.
+        truncated and randomized ones.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
-    svd_method : "dense" or "randomized"
+    svd_method : "dense", "truncated" or "randomized"
 
     The realization of every order n ≤ K is a leading block of the projection P^T H(1) Q (eq. 34); see
     :meth:`projected`.
@@ -87,7 +89,7 @@ class Identification:
             raise OrderError(
                 f"Order {order} is above the numerical rank of H(0), {self.max_order}: singular values past it "
                 f"are round-off or were not computed. Choose an order ≤ {self.max_order}"
-                + (" (or identify with a larger max_order)." if self.svd_method == "randomized" else ".")
+                + (" (or identify with a larger max_order)." if self.svd_method != "dense" else ".")
             )
         return order
 
@@ -124,12 +126,59 @@ class Identification:
         C = self.P[:p, :n] * root[None, :]
         return A, W[:, :m].copy(), C, W
 
-    def model(self, order: int) -> ModalModel:
+    def model(self, order: int, *, uncertainty: bool = True, records=None) -> ModalModel:
         """The ERA model of order n (eq. 34 in balanced form) and its modes: the one path every caller takes
-        (the slider, the stabilization diagram, explain). Equal to ``realize(order)``."""
+        (the slider, the stabilization diagram, explain). Equal to ``realize(order)``.
+
+        Parameters
+        ----------
+        order : int
+            n.
+        uncertainty : bool
+            Compute each mode's frequency_std_hz and damping_std (era.uncertainty; about the cost of the
+            eigensolution again). False leaves them NaN; poles with a close neighbour still get theirs
+            computed internally to decide which modes are repeated (era.modal.repeated_clusters).
+        records : (n_b, N, p, m) array, optional
+            The independent records whose mean is ``data.markov``: the covariance comes from their scatter
+            (era.uncertainty.record_covariance) instead of from residual blocks of the mean.
+        """
+        n = self._check_order(order)
         d = self.data
-        A, B, C, W = self.balanced(order)
-        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA")
+        A, B, C, W = self.balanced(n)
+        dec = decompose(A, B, C, W)
+        modes = dec.z.size
+        want = np.ones(modes, dtype=bool) if uncertainty else cluster_candidates(dec.z, dec.is_pair)
+        z_cov = np.full((modes, 2, 2), np.nan)
+        if want.any():
+            z_cov[want] = self.pole_covariance(n, dec, np.flatnonzero(want), records).z_cov
+        z_std = np.sqrt(z_cov[:, 0, 0] + z_cov[:, 1, 1])
+        clusters = repeated_clusters(dec.z, dec.is_pair, z_std, d.dt)
+        f_std, d_std = modal_std(dec.z, z_cov, d.dt)
+        for idx in clusters:  # a repeated mode: the cluster's largest
+            f_std[idx], d_std[idx] = np.max(f_std[idx]), np.max(d_std[idx])
+        dec = align_repeated(dec, clusters)
+        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
+                           dec=dec, frequency_std_hz=f_std if uncertainty else None,
+                           damping_std=d_std if uncertainty else None)
+
+    def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
+                        records=None) -> PoleCovariance:
+        """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
+        (from :func:`era.modal.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
+        (default all); ``records`` as in :meth:`model`."""
+        n = self._check_order(order)
+        d = self.data
+        p, m = d.n_outputs, d.n_inputs
+        idx = np.arange(dec.z.size) if modes is None else np.asarray(modes, dtype=int)
+        root = np.sqrt(self.singular_values[:n])
+        left = (dec.left[idx] / root[None, :]) @ self.P[:, :n].T  # a_j, (k, r p)
+        right = ((self.Q[:, :n] / root[None, :]) @ dec.right[:, idx]).T  # b_j^T, (k, s m)
+        weights = pole_weights(left, right, dec.z[idx], self.row_shifts, self.col_shifts, p, m)
+        if records is not None:
+            return record_covariance(weights, records)
+        t = weights.shape[1]
+        residual = d.markov[:t] - modal_sum(dec.z, dec.shapes, dec.amplitudes, dec.is_pair, t)
+        return residual_covariance(weights, residual, n * (p + m))
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
         """The realization of the given order and its modes.
@@ -194,9 +243,11 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     max_order : int, optional
         The largest order needed. Default: the numerical rank of H(0) (singular values above
         max(r p, s m)·ε·d_1). With the randomized SVD, the rank computed (default 200).
-    svd_method : "auto", "dense" or "randomized"
-        "auto" takes the dense LAPACK SVD unless min(shape)²·max(shape) of H(0) exceeds
-        era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
+    svd_method : "auto", "dense", "truncated" or "randomized"
+        "auto" takes the truncated SVD of rank max_order (era.svd.truncated_svd) when max_order is at most
+        era.svd.TRUNCATED_RANK_FRACTION of min(shape) of H(0) — the sweep of orders 2..120 on a 900 × 2392
+        H(0) then costs less than half of one dense SVD; else the dense LAPACK SVD unless min(shape)²·max(shape)
+        exceeds era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
 
     Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.hankel.MAX_HANKEL_ELEMENTS elements.
 
@@ -215,9 +266,11 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     if max_order is not None:
         max_order = _count(max_order, "max_order")
     h0 = hankel.block_hankel(data.markov, js, ts, 0)
-    method = svd.choose_method(h0.shape, svd_method)
+    method = svd.choose_method(h0.shape, svd_method, max_order)
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
+    elif method == "truncated":
+        P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape))
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
     # keep the numerical rank (and no more than max_order) of the singular triplets
