@@ -142,10 +142,17 @@ class Identification:
             The independent records whose mean is ``data.markov``: the covariance comes from their scatter
             (era.uncertainty.record_covariance) instead of from residual blocks of the mean.
         """
+        return self._model(order, uncertainty, records)[0]
+
+    def _model(self, order, uncertainty, records=None):
+        """:meth:`model`, and what computing standard deviations for some of its modes later needs: the
+        decomposition before the repeated modes were aligned, the model's mode order as indices into it, and
+        the clusters (stabilization computes them for its stable poles only)."""
         n = self._check_order(order)
         d = self.data
         A, B, C, W = self.balanced(n)
         dec = decompose(A, B, C, W)
+        raw = dec
         modes = dec.z.size
         want = np.ones(modes, dtype=bool) if uncertainty else cluster_candidates(dec.z, dec.is_pair)
         z_cov = np.full((modes, 2, 2), np.nan)
@@ -157,9 +164,29 @@ class Identification:
         for idx in clusters:  # a repeated mode: the cluster's largest
             f_std[idx], d_std[idx] = np.max(f_std[idx]), np.max(d_std[idx])
         dec = align_repeated(dec, clusters)
-        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
-                           dec=dec, frequency_std_hz=f_std if uncertainty else None,
-                           damping_std=d_std if uncertainty else None)
+        model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
+                            dec=dec, frequency_std_hz=f_std if uncertainty else None,
+                            damping_std=d_std if uncertainty else None)
+        s = np.log(np.where(dec.z == 0, 1e-300, dec.z)) / d.dt
+        return model, raw, np.lexsort((np.abs(s), s.imag)), clusters
+
+    def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
+        """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
+        ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest."""
+        idx = set(int(i) for i in modes)
+        for c in clusters:
+            if idx & set(int(i) for i in c):
+                idx |= set(int(i) for i in c)
+        idx = np.array(sorted(idx), dtype=int)
+        f_std = np.full(raw.z.size, np.nan)
+        d_std = np.full(raw.z.size, np.nan)
+        if idx.size:
+            cov = self.pole_covariance(order, raw, idx).z_cov
+            f_std[idx], d_std[idx] = modal_std(raw.z[idx], cov, self.data.dt)
+            for c in clusters:
+                if np.isfinite(f_std[c]).all():
+                    f_std[c], d_std[c] = np.max(f_std[c]), np.max(d_std[c])
+        return f_std[np.asarray(modes, dtype=int)], d_std[np.asarray(modes, dtype=int)]
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
