@@ -150,7 +150,12 @@ class Identification:
         the clusters (stabilization computes them for its stable poles only)."""
         n = self._check_order(order)
         d = self.data
-        A, B, C, W = self.balanced(n)
+        p, m = d.n_outputs, d.n_inputs
+        root = np.sqrt(self.singular_values[:n])
+        A = self.projected(n) / root[:, None] / root[None, :]
+        C = self.P[:p, :n] * root[None, :]
+        B = (root[:, None] * self.Q[:m, :n].T).copy()
+        W = (root, self.Q[:, :n])  # W = D^{1/2} Q_n^T, not formed (balanced())
         dec = decompose(A, B, C, W)
         raw = dec
         modes = dec.z.size
