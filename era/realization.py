@@ -13,7 +13,7 @@ from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
                     modal_sum, repeated_clusters)
-from .uncertainty import PoleCovariance, modal_std, pole_weights, record_covariance, residual_covariance
+from .uncertainty import PoleCovariance, modal_std, record_covariance, residual_covariance
 
 
 @dataclass(frozen=True, eq=False)
@@ -205,12 +205,12 @@ class Identification:
         root = np.sqrt(self.singular_values[:n])
         left = (dec.left[idx] / root[None, :]) @ self.P[:, :n].T  # a_j, (k, r p)
         right = ((self.Q[:, :n] / root[None, :]) @ dec.right[:, idx]).T  # b_j^T, (k, s m)
-        weights = pole_weights(left, right, dec.z[idx], self.row_shifts, self.col_shifts, p, m)
+        z = dec.z[idx]
         if records is not None:
-            return record_covariance(weights, records)
-        t = weights.shape[1]
+            return record_covariance(left, right, z, self.row_shifts, self.col_shifts, records)
+        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
         residual = d.markov[:t] - modal_sum(dec.z, dec.shapes, dec.amplitudes, dec.is_pair, t)
-        return residual_covariance(weights, residual, n * (p + m))
+        return residual_covariance(left, right, z, self.row_shifts, self.col_shifts, residual, n * (p + m))
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
         """The realization of the given order and its modes.

@@ -19,7 +19,8 @@ built from the same samples Y(k) (eq. 16), so (1) is a linear functional of the 
 
     Δz_j = Σ_k ⟨G_j(k), E(k)⟩,   G_j(k) = G0_j(k - 1) - z_j G0_j(k),   G0_j(k) = Σ_{j_i + t_l = k} a_j[i] b_j[l]^T
 
-(p × m blocks a_j[i], b_j[l] of a_j and b_j; :func:`pole_weights` computes G by FFT convolution over the shifts).
+(p × m blocks a_j[i], b_j[l] of a_j and b_j; :func:`pole_functionals` computes G by FFT convolution over the
+shifts).
 Its variance needs the covariance of the E(k), which comes from the data in one of two ways:
 
 * **Residual blocks** (:func:`residual_covariance`, the default; one record). The errors are estimated by the
@@ -51,7 +52,7 @@ import scipy.fft
 #: two-sided 95 % normal quantile: a 95 % interval is value ± Z95 · std.
 Z95 = 1.959963984540054
 
-#: modes handled per FFT batch in pole_weights (bounds the memory at ~ chunk · n_fft · p · m complex numbers).
+#: modes handled per FFT batch in pole_functionals (bounds the memory at ~ chunk · n_fft · p · m complex numbers).
 _CHUNK = 16
 
 
@@ -70,40 +71,53 @@ class PoleCovariance:
     block_length: int
 
 
-def pole_weights(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,
-                 col_shifts: np.ndarray, p: int, m: int) -> np.ndarray:
-    """G_j(k) of the module docstring: Δz_j = Σ_k ⟨G_j(k), E(k)⟩ for errors E(k) in the samples Y(k).
+def pole_functionals(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,
+                     col_shifts: np.ndarray, errors: np.ndarray) -> np.ndarray:
+    """Each sample's share of the first-order pole change: ⟨G_j(k), E(k)⟩ for every mode j, error set and sample k.
+
+    G_j(k) = G0_j(k - 1) - z_j G0_j(k) with G0_j the convolution over the shifts of the blocks of a_j and b_j
+    (module docstring), computed by FFT in single precision (the result is a standard deviation: 1e-6 relative
+    is plenty) and contracted with the errors chunk by chunk, so G is never held for all modes at once.
 
     Parameters
     ----------
     left : (modes, r p) complex, the a_j; right : (modes, s m) complex, the b_j^T; z : (modes,) poles.
-    row_shifts, col_shifts : (r,), (s,) int, the shifts of eq. 16; p, m : outputs and inputs.
+    row_shifts, col_shifts : (r,), (s,) int, the shifts of eq. 16.
+    errors : (sets, T, p, m) real, T = j_{r-1} + t_{s-1} + 2: error estimates of the samples Y(0..T-1)
+        (residuals, or records minus their mean).
 
     Returns
     -------
-    (modes, T, p, m) complex, T = j_{r-1} + t_{s-1} + 2 (the samples H(0) and H(1) use).
+    (modes, sets, T) complex; summed over k it is Δz_j for that error set.
     """
     modes = left.shape[0]
+    sets, t, p, m = errors.shape
     r, s = len(row_shifts), len(col_shifts)
     length = int(row_shifts[-1] + col_shifts[-1] + 1)  # G0 at k = 0 .. j_{r-1} + t_{s-1}
+    if t != length + 1:
+        raise ValueError(f"errors cover {t} samples; H(0) and H(1) use {length + 1}.")
     n_fft = scipy.fft.next_fast_len(length)
-    out = np.zeros((modes, length + 1, p, m), dtype=complex)
+    e = np.ascontiguousarray(errors.transpose(0, 2, 3, 1), dtype=np.float32)  # (sets, p, m, T): time last
+    out = np.zeros((modes, sets, t), dtype=complex)
     for lo in range(0, modes, _CHUNK):
         hi = min(lo + _CHUNK, modes)
-        a = np.zeros((hi - lo, n_fft, p), dtype=complex)
-        b = np.zeros((hi - lo, n_fft, m), dtype=complex)
-        a[:, row_shifts] = left[lo:hi].reshape(hi - lo, r, p)
-        b[:, col_shifts] = right[lo:hi].reshape(hi - lo, s, m)
-        fa, fb = scipy.fft.fft(a, axis=1), scipy.fft.fft(b, axis=1)
-        g0 = scipy.fft.ifft(fa[:, :, :, None] * fb[:, :, None, :], axis=1)[:, :length]
-        out[lo:hi, 1:] += g0  # the H(1) term: sample k enters H(1) where H(0) has k - 1
-        out[lo:hi, :-1] -= z[lo:hi, None, None, None] * g0
+        a = np.zeros((hi - lo, p, n_fft), dtype=np.complex64)
+        b = np.zeros((hi - lo, m, n_fft), dtype=np.complex64)
+        a[:, :, row_shifts] = left[lo:hi].reshape(hi - lo, r, p).transpose(0, 2, 1)
+        b[:, :, col_shifts] = right[lo:hi].reshape(hi - lo, s, m).transpose(0, 2, 1)
+        fa, fb = scipy.fft.fft(a, axis=-1), scipy.fft.fft(b, axis=-1)
+        g0 = scipy.fft.ifft(fa[:, :, None, :] * fb[:, None, :, :], axis=-1, overwrite_x=True)[..., :length]
+        g0 = g0.reshape(hi - lo, p * m, length)
+        ee = e.reshape(sets, p * m, t)
+        # sample k enters H(1) where H(0) has k - 1: ⟨G0(k-1), E(k)⟩ - z ⟨G0(k), E(k)⟩
+        for k in range(sets):
+            out[lo:hi, k, 1:] += np.einsum("jck,ck->jk", g0, ee[k, :, 1:])
+            out[lo:hi, k, :-1] -= z[lo:hi, None] * np.einsum("jck,ck->jk", g0, ee[k, :, :-1])
     return out
 
 
-def _block_sums(weights: np.ndarray, errors: np.ndarray, block_length: int) -> np.ndarray:
-    """s_{j,β} = Σ_{k in block β} ⟨G_j(k), E(k)⟩: (modes, blocks) complex. errors (T, p, m) real."""
-    per_sample = np.einsum("jkpm,kpm->jk", weights, errors)
+def _block_sums(per_sample: np.ndarray, block_length: int) -> np.ndarray:
+    """Sums of (modes, T) over consecutive blocks of ``block_length`` samples: (modes, blocks)."""
     t = per_sample.shape[1]
     n_blocks = t // block_length
     head = per_sample[:, :n_blocks * block_length].reshape(per_sample.shape[0], n_blocks, block_length).sum(axis=2)
@@ -133,14 +147,15 @@ def correlation_length(residual: np.ndarray, max_length: int) -> int:
     return max(1, max_length)
 
 
-def residual_covariance(weights: np.ndarray, residual: np.ndarray, n_parameters: int,
+def residual_covariance(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,
+                        col_shifts: np.ndarray, residual: np.ndarray, n_parameters: int,
                         block_length: int | None = None, min_blocks: int = 20) -> PoleCovariance:
     """Pole covariance from the residual of the model over the samples (residual blocks; module docstring).
 
     Parameters
     ----------
-    weights : (modes, T, p, m) from :func:`pole_weights`.
-    residual : (T, p, m) real, Y(k) - Ŷ(k) over the same samples.
+    left, right, z, row_shifts, col_shifts : as in :func:`pole_functionals`.
+    residual : (T, p, m) real, Y(k) - Ŷ(k) over the samples H(0) and H(1) use.
     n_parameters : parameters fitted, n (p + m) for an order-n realization (degrees-of-freedom correction).
     block_length : samples per block; default :func:`correlation_length`, at most T / min_blocks.
     """
@@ -148,7 +163,8 @@ def residual_covariance(weights: np.ndarray, residual: np.ndarray, n_parameters:
     if block_length is None:
         block_length = correlation_length(residual, max(1, t // min_blocks))
     block_length = int(max(1, block_length))
-    cov = _outer_real(_block_sums(weights, residual, block_length))
+    per_sample = pole_functionals(left, right, z, row_shifts, col_shifts, residual[None])[:, 0]
+    cov = _outer_real(_block_sums(per_sample, block_length))
     n_obs = residual.size
     if n_obs > 2 * n_parameters:
         cov = cov * (n_obs / (n_obs - n_parameters))
@@ -156,18 +172,20 @@ def residual_covariance(weights: np.ndarray, residual: np.ndarray, n_parameters:
                           block_length=block_length)
 
 
-def record_covariance(weights: np.ndarray, records: np.ndarray) -> PoleCovariance:
+def record_covariance(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,
+                      col_shifts: np.ndarray, records: np.ndarray) -> PoleCovariance:
     """Pole covariance of a mean of independent records (Reynders et al. 2008; module docstring).
 
     records : (n_b, ≥T, p, m) real, the records whose mean is the identified Y. Their scatter about the mean,
     divided by n_b (n_b - 1), is the covariance of the mean's errors.
     """
     records = np.asarray(records, dtype=float)
-    n_b, t = records.shape[0], weights.shape[1]
+    n_b = records.shape[0]
     if n_b < 2:
         raise ValueError("record_covariance needs at least 2 records.")
+    t = int(row_shifts[-1] + col_shifts[-1] + 2)
     dev = records[:, :t] - records[:, :t].mean(axis=0)
-    sums = np.stack([np.einsum("jkpm,kpm->j", weights, d) for d in dev], axis=1)  # (modes, n_b)
+    sums = pole_functionals(left, right, z, row_shifts, col_shifts, dev).sum(axis=2)  # (modes, n_b)
     return PoleCovariance(z_cov=_outer_real(sums) / (n_b * (n_b - 1)), method="records", n_blocks=n_b,
                           block_length=1)
 
