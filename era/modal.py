@@ -131,7 +131,7 @@ def repeated_clusters(z: np.ndarray, is_pair: np.ndarray, z_std: np.ndarray, dt:
 
     Poles i, j are linked when they are of the same kind and |z_i - z_j| ≤ max(CLUSTER_SIGMAS·sqrt(σ_i² + σ_j²),
     REPEATED_Z_FLOOR·|z_i|), with both σ/(|z| |s| Δτ) ≤ CLUSTER_MAX_RELATIVE_STD (σ the standard deviation of z,
-    NaN where not computed); the clusters are the connected groups.
+    NaN where not computed), and |z_i - z_j| ≤ CLUSTER_SCREEN; the clusters are the connected groups.
     """
     z = np.asarray(z, dtype=complex)
     k = z.size
@@ -147,7 +147,8 @@ def repeated_clusters(z: np.ndarray, is_pair: np.ndarray, z_std: np.ndarray, dt:
     with np.errstate(invalid="ignore"):
         tol = np.maximum(CLUSTER_SIGMAS * np.hypot(sigma[:, None], sigma[None, :]), REPEATED_Z_FLOOR * np.abs(z)[:, None])
         tol = np.where(determined[:, None] & determined[None, :], tol, REPEATED_Z_FLOOR * np.abs(z)[:, None])
-    linked = (dist <= tol) & (is_pair[:, None] == is_pair[None, :])
+    # within the screen too, so that a model with every σ computed and one with only the candidates' agree
+    linked = (dist <= np.minimum(tol, CLUSTER_SCREEN)) & (is_pair[:, None] == is_pair[None, :])
     label = np.arange(k)
     for _ in range(k):  # connected components by label propagation (k is small)
         new = np.array([label[linked[i] | (np.arange(k) == i)].min() for i in range(k)])
@@ -430,9 +431,11 @@ def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), m
     nan = np.full(dec.z.size, np.nan)
     f_std = nan if frequency_std_hz is None else np.asarray(frequency_std_hz, dtype=float)
     d_std = nan if damping_std is None else np.asarray(damping_std, dtype=float)
-    gamma = indicators.emac(dec.histories, dec.z, col_shifts, B.shape[1])
+    growth = indicators.powers(dec.z, col_shifts)  # z_j^{t_i}, shared by γ and the contribution
+    gamma = indicators.emac(dec.histories, dec.z, col_shifts, B.shape[1], growth)
     mu = indicators.mpc(dec.shapes)
-    contrib = indicators.contribution(dec.shapes, dec.amplitudes, dec.z, row_shifts, col_shifts, dec.is_pair)
+    contrib = indicators.contribution(dec.shapes, dec.amplitudes, dec.z, row_shifts, col_shifts, dec.is_pair,
+                                      growth)
     s = continuous_eigenvalues(dec.z, dt)
     order = np.lexsort((np.abs(s), s.imag))
     return ModalModel(A=A, B=B, C=C, dt=dt, z=dec.z[order], shapes=dec.shapes[:, order],

@@ -164,8 +164,11 @@ class Identification:
         if want.any():
             z_cov[want] = self.pole_covariance(n, dec, np.flatnonzero(want), records).z_cov
         z_std = np.sqrt(z_cov[:, 0, 0] + z_cov[:, 1, 1])
-        clusters = repeated_clusters(dec.z, dec.is_pair, z_std, d.dt)
-        f_std, d_std = modal_std(dec.z, z_cov, d.dt)
+        clusters = repeated_clusters(dec.z, dec.is_pair, z_std, d.dt) if want.any() else []
+        if want.any():
+            f_std, d_std = modal_std(dec.z, z_cov, d.dt)
+        else:
+            f_std, d_std = np.full(modes, np.nan), np.full(modes, np.nan)
         for idx in clusters:  # a repeated mode: the cluster's largest
             f_std[idx], d_std[idx] = np.max(f_std[idx]), np.max(d_std[idx])
         dec = align_repeated(dec, clusters)
