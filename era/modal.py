@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg
 
 from . import indicators
 from .errors import EraError
@@ -108,7 +107,7 @@ def modal_sum(z: np.ndarray, shapes: np.ndarray, amplitudes: np.ndarray, is_pair
 #: round-off splits an exactly repeated pair by ~1e-9 in the examples (Case II).
 REPEATED_Z_FLOOR = 1e-7
 
-#: Two poles are one cluster when |z_i - z_j| ≤ CLUSTER_SIGMAS · sqrt(σ_i² + σ_j²), σ the standard deviation of z ...
+#: Two poles are one cluster when |z_i - z_j| ≤ CLUSTER_SIGMAS · sqrt(σ_i² + σ_j²), σ the std of z ...
 CLUSTER_SIGMAS = 3.0
 
 #: ... and both are determined to better than this relative standard deviation of s (noise poles, whose own
@@ -145,8 +144,9 @@ def repeated_clusters(z: np.ndarray, is_pair: np.ndarray, z_std: np.ndarray, dt:
     determined = rel <= CLUSTER_MAX_RELATIVE_STD
     dist = np.abs(z[:, None] - z[None, :])
     with np.errstate(invalid="ignore"):
-        tol = np.maximum(CLUSTER_SIGMAS * np.hypot(sigma[:, None], sigma[None, :]), REPEATED_Z_FLOOR * np.abs(z)[:, None])
-        tol = np.where(determined[:, None] & determined[None, :], tol, REPEATED_Z_FLOOR * np.abs(z)[:, None])
+        floor = REPEATED_Z_FLOOR * np.abs(z)[:, None]
+        tol = np.maximum(CLUSTER_SIGMAS * np.hypot(sigma[:, None], sigma[None, :]), floor)
+        tol = np.where(determined[:, None] & determined[None, :], tol, floor)
     # within the screen too, so that a model with every σ computed and one with only the candidates' agree
     linked = (dist <= np.minimum(tol, CLUSTER_SCREEN)) & (is_pair[:, None] == is_pair[None, :])
     label = np.arange(k)

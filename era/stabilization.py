@@ -152,6 +152,15 @@ def blas_threads() -> int:
     return max(counts, default=1)
 
 
+def _single_threaded_blas():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        from contextlib import nullcontext
+        return nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
                   damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3,
                   uncertainty: bool = False, workers: int | None = None) -> Stabilization:
@@ -198,8 +207,10 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
 
     def in_parallel(fn, items):
         if workers > 1 and len(items) > 1:
-            with ThreadPoolExecutor(workers) as pool:  # largest first, so the pool ends on small ones
-                out = dict(zip(items[::-1], pool.map(fn, items[::-1])))
+            # one BLAS thread per worker while they run: the cores go to orders, not to BLAS threads that
+            # would fight over them (threadpoolctl's limit is process-wide for the duration of the sweep)
+            with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
+                out = dict(zip(items[::-1], pool.map(fn, items[::-1])))  # largest first: ends on small ones
             return [out[x] for x in items]
         return [fn(x) for x in items]
 

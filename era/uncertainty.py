@@ -17,7 +17,8 @@ to first order; the change of the singular subspaces P_n, Q_n (the SVD's own sen
 propagate explicitly) drops out of (1) because (H(1) - z_j H(0)) vanishes on b_j and a_j. Both Hankel matrices are
 built from the same samples Y(k) (eq. 16), so (1) is a linear functional of the sample errors E(k):
 
-    Δz_j = Σ_k ⟨G_j(k), E(k)⟩,   G_j(k) = G0_j(k - 1) - z_j G0_j(k),   G0_j(k) = Σ_{j_i + t_l = k} a_j[i] b_j[l]^T
+    Δz_j = Σ_k ⟨G_j(k), E(k)⟩,   G_j(k) = G0_j(k - 1) - z_j G0_j(k),
+    G0_j(k) = Σ_{j_i + t_l = k} a_j[i] b_j[l]^T
 
 (p × m blocks a_j[i], b_j[l] of a_j and b_j; :func:`pole_functionals` computes G by FFT convolution over the
 shifts).
@@ -27,14 +28,16 @@ Its variance needs the covariance of the E(k), which comes from the data in one 
   residual R(k) = Y(k) - Ŷ(k) of the order-n model over the samples H(0) and H(1) use. The samples are split into
   consecutive blocks of L samples, long enough that the residual is uncorrelated from one block to the next
   (L from the residual's own autocorrelation: L = 1 for white noise), and the sum of the functional over each
-  block is one independent draw: Cov(Re Δz, Im Δz) = Σ_blocks s s^T with s = Σ_{k in block} ⟨G_j(k), R(k)⟩, times
+  block is one independent draw: Cov(Re Δz, Im Δz) = Σ_blocks s s^T with s = Σ_{k in block} ⟨G_j(k), R(k)⟩,
+  times
   n_obs / (n_obs - n (p + m)) for the parameters the fit absorbed. This is the heteroscedasticity- and
   (within L) autocorrelation-consistent "sandwich" estimate: no noise level or spectrum is assumed, only that
   errors more than L samples apart are independent. A single pulse response or free decay cannot be split into
   records (its signal decays), which is why its blocks are taken in the residual and not in Y.
 * **Records** (:func:`record_covariance`). When Y is the mean of n_b independent records (repeated hits, averaged
   free decays, NExT segments), the scatter of the records about their mean is the sample covariance of H that
-  Reynders et al. use, evaluated through (1): Cov = Σ_b s_b s_b^T / (n_b (n_b - 1)), s_b = Σ_k ⟨G_j(k), Y_b(k) - Y(k)⟩.
+  Reynders et al. use, evaluated through (1): Cov = Σ_b s_b s_b^T / (n_b (n_b - 1)),
+  s_b = Σ_k ⟨G_j(k), Y_b(k) - Y(k)⟩.
   No model residual and no independence in time are needed; n_b should be ≥ 10 or so for a stable estimate.
 
 Frequency and damping follow from z by the chain rule through s = ln(z)/Δτ (eq. 41); :func:`modal_std`.

@@ -1,4 +1,4 @@
-"""Each mode's standard deviations from the data (era.uncertainty): 95 % intervals that hold the truth 95 % of the time."""
+"""Each mode's standard deviations from the data (era.uncertainty): 95 % intervals hold the truth 95 % of the time."""
 
 import numpy as np
 import pytest
