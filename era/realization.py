@@ -13,7 +13,8 @@ from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
                     modal_sum, repeated_clusters)
-from .uncertainty import PoleCovariance, modal_std, record_covariance, residual_covariance
+from .uncertainty import (PoleCovariance, _block_sums, correlation_length, modal_std, pole_functionals,
+                          record_covariance, residual_covariance)
 
 
 @dataclass(frozen=True, eq=False)
@@ -195,6 +196,54 @@ class Identification:
                 if np.isfinite(f_std[c]).all():
                     f_std[c], d_std[c] = np.max(f_std[c]), np.max(d_std[c])
         return f_std[np.asarray(modes, dtype=int)], d_std[np.asarray(modes, dtype=int)]
+
+    def shape_scatter(self, order: int, modes=None) -> np.ndarray:
+        """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)`` (the scatter the data
+        leave in the shape), to first order from the residual blocks of era.uncertainty.
+
+        The shape is the first block of H(0) b_j (b_j as in era.uncertainty), so a perturbation moves it by
+        Δφ_j = (ΔH(0) b_j)[:p] + Σ_{k≠j} φ_k a_k (ΔH(1) - z_j ΔH(0)) b_j / (z_j - z_k) (the pencil's eigenvector
+        perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
+        signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
+        its expectation is the sum over the independent blocks. Cost: n pole functionals per mode, so it is
+        not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
+
+        Returns
+        -------
+        (len(modes),) fractions; the MAC between the estimate and the truth is about 1 minus this.
+        """
+        n = self._check_order(order)
+        model, raw, perm, clusters = self._model(n, False)
+        dec = align_repeated(raw, clusters)
+        chosen = perm if modes is None else perm[np.asarray(modes, dtype=int)]
+        d = self.data
+        p, m = d.n_outputs, d.n_inputs
+        root = np.sqrt(self.singular_values[:n])
+        # every eigenvalue of the order-n model: the kept ones and the conjugates of the pairs
+        pair = dec.is_pair
+        z_all = np.concatenate([dec.z, dec.z[pair].conj()])
+        a_all = (np.concatenate([dec.left, dec.left[pair].conj()]) / root[None, :]) @ self.P[:, :n].T
+        phi_all = np.concatenate([dec.shapes, dec.shapes[:, pair].conj()], axis=1)
+        b_modes = ((self.Q[:, :n] / root[None, :]) @ dec.right).T  # (modes, s m)
+        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
+        residual = d.markov[:t] - modal_sum(raw.z, raw.shapes, raw.amplitudes, raw.is_pair, t)
+        block = correlation_length(residual, max(1, t // 20))
+        s_cols = len(self.col_shifts)
+        out = np.empty(len(chosen))
+        for i, j in enumerate(chosen):
+            others = np.flatnonzero(np.abs(z_all - dec.z[j]) > 0)  # k ≠ j (and ≠ a repeated copy of it)
+            c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
+                                 np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
+                                 residual[None])[:, 0]  # (others, T)
+            dphi = (phi_all[:, others] / (dec.z[j] - z_all[others])) @ c  # (p, T)
+            bj = b_modes[j].reshape(s_cols, m)
+            dphi[:, self.col_shifts] += np.einsum("tpm,tm->pt", residual[self.col_shifts], bj)
+            phi = dec.shapes[:, j]
+            unit = phi / np.linalg.norm(phi)
+            dphi -= np.outer(unit, unit.conj() @ dphi)  # the part orthogonal to φ
+            sums = _block_sums(dphi, block)  # (p, blocks)
+            out[i] = float(np.sum(np.abs(sums) ** 2) / np.linalg.norm(phi) ** 2)
+        return out
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
