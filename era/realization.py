@@ -136,9 +136,10 @@ class Identification:
         order : int
             n.
         uncertainty : bool
-            Compute each mode's frequency_std_hz and damping_std (era.uncertainty; about the cost of the
-            eigensolution again). False leaves them NaN; poles with a close neighbour still get theirs
-            computed internally to decide which modes are repeated (era.modal.repeated_clusters).
+            Compute each mode's frequency_std_hz and damping_std (era.uncertainty; 1.5-4× the time of the
+            model without them, most at high orders with many outputs·inputs). False leaves them NaN; poles
+            with a close neighbour still get theirs computed internally to decide which modes are repeated
+            (era.modal.repeated_clusters).
         records : (n_b, N, p, m) array, optional
             The independent records whose mean is ``data.markov``: the covariance comes from their scatter
             (era.uncertainty.record_covariance) instead of from residual blocks of the mean.
