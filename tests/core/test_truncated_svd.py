@@ -43,9 +43,9 @@ def test_truncated_singular_values_keep_the_round_off_of_the_dense_ones():
 def test_truncated_triplets_are_orthonormal_and_wide_matrices_work():
     rng = np.random.default_rng(0)
     h = (rng.standard_normal((120, 30)) * np.logspace(0, -4, 30)) @ rng.standard_normal((30, 200))
-    for m in (h, h.T):
+    for m in (h, h.T):  # values down to 2e-3 d_1: the direct Gram route (orthogonality to ε d_1²/d_k²)
         p, d, q = truncated_svd(m, 20)
         np.testing.assert_allclose(p.T @ p, np.eye(20), atol=1e-10)
-        np.testing.assert_allclose(q.T @ q, np.eye(20), atol=1e-12)
+        np.testing.assert_allclose(q.T @ q, np.eye(20), atol=1e-10)
         np.testing.assert_allclose(d, dense_svd(m)[1][:20], rtol=1e-10)
         np.testing.assert_allclose(m @ q, p * d, atol=1e-10 * d[0])
