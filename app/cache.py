@@ -10,6 +10,7 @@ call them through app.jobs.
 from __future__ import annotations
 
 import threading
+from functools import partial
 from collections import OrderedDict
 from dataclasses import dataclass
 
@@ -168,7 +169,7 @@ class Cache:
                 ident = self.identification(a)
                 top = min(ident.max_order, self.settings.max_stabilization_order)
                 orders = range(2, top + 1, 2) if top >= 2 else range(1, top + 1)
-                return self._compute(era.stabilization, ident, orders)
+                return self._compute(partial(era.stabilization, uncertainty=True), ident, orders)
             hit = self._once(self._stabs, a.id, diagram)
         return hit
 

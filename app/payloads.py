@@ -123,6 +123,8 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
         "frequency_hz": floats(model.frequency_hz), "natural_frequency_hz": floats(model.natural_frequency_hz),
         "eigenvalue_re": floats(model.eigenvalues.real), "eigenvalue_im": floats(model.eigenvalues.imag),
         "damping_ratio": floats(model.damping_ratio), "emac": floats(model.emac), "mpc": floats(model.mpc),
+        "frequency_std_hz": floats(model._std(model.frequency_std_hz)),
+        "damping_std": floats(model._std(model.damping_std)),
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],
@@ -152,6 +154,11 @@ def reconstruction_json(model: era.ModalModel, data: era.ResponseData, kept: np.
     }
 
 
+def _pole_std(values, order) -> list:
+    """Each pole's standard deviation from the data (null where not computed)."""
+    return floats(np.full(np.shape(order), np.nan) if values is None else values)
+
+
 def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
     """The stabilization diagram (schemas.Stabilization): every pole of every order with its stability flags,
     the suggested modes (each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN), and the CMIF
@@ -161,11 +168,15 @@ def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
         "mode_index": np.asarray(stab.mode_index).tolist(),
         "frequency_hz": floats(stab.frequency_hz), "damping_ratio": floats(stab.damping_ratio),
         "emac": floats(stab.emac), "mpc": floats(stab.mpc), "contribution": floats(stab.contribution),
+        "frequency_std_hz": _pole_std(stab.frequency_std_hz, stab.order),
+        "damping_std": _pole_std(stab.damping_std, stab.order),
         "stable_frequency": np.asarray(stab.stable_frequency).tolist(),
         "stable_damping": np.asarray(stab.stable_damping).tolist(),
         "stable_shape": np.asarray(stab.stable_shape).tolist(), "stable": np.asarray(stab.stable).tolist(),
         "modes": [{"frequency_hz": floats(mo.frequency_hz), "frequency_std_hz": floats(mo.frequency_std_hz),
                    "damping_ratio": floats(mo.damping_ratio), "damping_std": floats(mo.damping_std),
+                   "data_frequency_std_hz": floats(getattr(mo, "data_frequency_std_hz", np.nan)),
+                   "data_damping_std": floats(getattr(mo, "data_damping_std", np.nan)),
                    "emac": floats(mo.emac), "mpc": floats(mo.mpc), "orders": list(mo.orders),
                    "coherent": bool(mo.coherent)} for mo in stab.modes],
         "coherent_min": COHERENT_MIN,

@@ -85,18 +85,22 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
 
 
 def modes_csv(report: dict) -> str:
-    """The modes of a report, one row per mode: kept flag, frequency, damping, γ, μ, contribution, shape."""
+    """The modes of a report, one row per mode: kept flag, frequency and its standard deviation from the data,
+    damping and its standard deviation, γ, μ, contribution, shape (a 95 % interval is value ± 1.96 std)."""
     m = report["modes"]
     kept = set(report["kept"])
     buf = io.StringIO()
     w = csv.writer(buf)
     shape_cols = [f"{_cell(o)} {part}" for o in m["outputs"] for part in ("re", "im")]
-    w.writerow(["mode", "kept", "frequency_hz", "natural_frequency_hz", "damping_ratio", "emac", "mpc",
-                "contribution_relative", "is_pair", *shape_cols])
+    w.writerow(["mode", "kept", "frequency_hz", "frequency_std_hz", "natural_frequency_hz", "damping_ratio",
+                "damping_std", "emac", "mpc", "contribution_relative", "is_pair", *shape_cols])
+    none = [None] * m["n_modes"]  # reports frozen before the standard deviations existed
+    f_std, d_std = m.get("frequency_std_hz") or none, m.get("damping_std") or none
     for k in range(m["n_modes"]):
         shape = [v for re, im in zip(m["shapes_re"][k], m["shapes_im"][k]) for v in (re, im)]
-        w.writerow([k, int(k in kept), m["frequency_hz"][k], m["natural_frequency_hz"][k], m["damping_ratio"][k],
-                    m["emac"][k], m["mpc"][k], m["contribution_relative"][k], int(m["is_pair"][k]), *shape])
+        w.writerow([k, int(k in kept), m["frequency_hz"][k], f_std[k], m["natural_frequency_hz"][k],
+                    m["damping_ratio"][k], d_std[k], m["emac"][k], m["mpc"][k], m["contribution_relative"][k],
+                    int(m["is_pair"][k]), *shape])
     return buf.getvalue()
 
 
@@ -186,4 +190,22 @@ def modes_uff(report: dict) -> bytes:
     modes = SimpleNamespace(shapes=shapes, eigenvalues=s)  # what save_modes_uff reads of a ModalModel
     buf = io.BytesIO()
     era.save_modes_uff(buf, modes, geometry_from_json(report.get("geometry")), name="ERA")
-    return buf.getvalue()
+    f_std, d_std = m.get("frequency_std_hz"), m.get("damping_std")
+    if not f_std or not d_std:  # a report frozen before the standard deviations existed
+        return buf.getvalue()
+    return _uff_std_lines(buf.getvalue(), [f_std[k] for k in kept], [d_std[k] for k in kept])
+
+
+def _uff_std_lines(text: bytes, f_std: list, d_std: list) -> bytes:
+    """Write each mode's standard deviations from the data into the third ID line of its UFF 55 set (free text,
+    80 characters; save_modes_uff leaves it "NONE"): "std f 0.00123 Hz, std zeta 0.00045 (95 %: ±1.96 std)"."""
+    lines = text.decode("latin-1").split("\n")
+    k = 0
+    for i, line in enumerate(lines):
+        if line.strip() == "-1" and i + 1 < len(lines) and lines[i + 1].strip() == "55" and k < len(f_std):
+            if i + 4 < len(lines) and lines[i + 4].strip() == "NONE":
+                fs, ds = f_std[k], d_std[k]
+                if fs is not None and ds is not None:
+                    lines[i + 4] = f"std f {fs:.4g} Hz, std zeta {ds:.4g} (95 %: +-1.96 std)"[:80].ljust(80)
+            k += 1
+    return "\n".join(lines).encode("latin-1")

@@ -199,6 +199,9 @@ class Modes(Schema):
     damping_ratio: Floats = Field(description="(k,) ζ = -Re(s)/|s|, fraction (negative: growing)")
     emac: Floats = Field(description="(k,) γ, modal amplitude coherence (eqs. 42-45), fraction")
     mpc: Floats = Field(description="(k,) μ, modal phase collinearity (eqs. 46-54), fraction")
+    frequency_std_hz: Floats | None = Field(None, description="(k,) standard deviation of frequency_hz that the "
+                                            "data determine (era.uncertainty), Hz; 95 % interval ± 1.96 σ")
+    damping_std: Floats | None = Field(None, description="(k,) standard deviation of ζ from the data, fraction")
     emac_mpc: Floats = Field(description="(k,) γ·μ, fraction")
     contribution: Floats = Field(description="(k,) Frobenius norm of the mode in H(0), units of the singular values")
     contribution_relative: Floats = Field(description="(k,) contribution / the largest, fraction")
@@ -229,6 +232,9 @@ class StableMode(Schema):
     frequency_std_hz: float | None = Field(description="its spread over those orders, Hz")
     damping_ratio: float | None = Field(description="mean ζ, fraction")
     damping_std: float | None = Field(description="spread of ζ, fraction")
+    data_frequency_std_hz: float | None = Field(None, description="standard deviation of the frequency that the "
+                                                "data determine at its highest order (era.uncertainty), Hz")
+    data_damping_std: float | None = Field(None, description="the same for ζ, fraction")
     emac: float | None = Field(description="mean γ, fraction")
     mpc: float | None = Field(description="mean μ, fraction")
     orders: list[int] = Field(description="the orders it is stable in")
@@ -245,6 +251,9 @@ class Stabilization(Schema):
     emac: Floats = Field(description="(poles,) γ, fraction")
     mpc: Floats = Field(description="(poles,) μ, fraction")
     contribution: Floats = Field(description="(poles,) contribution in H(0)")
+    frequency_std_hz: Floats | None = Field(None, description="(poles,) standard deviation of the frequency from "
+                                            "the data, Hz (null where not computed)")
+    damping_std: Floats | None = Field(None, description="(poles,) standard deviation of ζ from the data")
     stable_frequency: list[bool] = Field(description="(poles,) frequency within 1 % of the previous order's pole")
     stable_damping: list[bool] = Field(description="(poles,) damping within 5 %")
     stable_shape: list[bool] = Field(description="(poles,) MAC ≥ 0.98 with it")

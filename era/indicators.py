@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 
-def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs: int) -> np.ndarray:
+def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs: int,
+         growth: np.ndarray | None = None) -> np.ndarray:
     """Modal amplitude coherence γ_j (eqs. 42-45).
 
     Parameters
@@ -20,6 +21,8 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
         (0, t_1, ..., t_{s-1}).
     n_inputs : int
         m.
+    growth : complex ndarray, shape (modes, s), optional
+        powers(z, col_shifts), when the caller already has it.
 
     Returns
     -------
@@ -32,7 +35,8 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
     q = histories.reshape(modes, len(col_shifts), n_inputs)
     b = q[:, 0, :]
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        growth = powers(z, col_shifts)  # (modes, s): exp(t_i Δτ s_j) = z_j^{t_i}
+        if growth is None:
+            growth = powers(z, col_shifts)  # (modes, s): exp(t_i Δτ s_j) = z_j^{t_i}
         # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄
         inner = np.abs(np.einsum("js,js->j", growth.conj(), np.einsum("jsm,jm->js", q, b.conj())))
         ideal_norm = np.sqrt(np.sum(np.abs(growth) ** 2, axis=1) * np.sum(np.abs(b) ** 2, axis=1))
@@ -100,7 +104,7 @@ def mpc(shapes: np.ndarray) -> np.ndarray:
     return np.clip(out, 0.0, 1.0)
 
 
-def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair) -> np.ndarray:
+def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair, col_growth=None) -> np.ndarray:
     """Each mode's share of H(0): the Frobenius norm of its term in H(0), in the units of the singular values.
 
     Mode j adds o_j r_j^T to H(0) (plus the complex conjugate for a pair), with o_j = [c_j z_j^{j_i}]_i
@@ -111,7 +115,8 @@ def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair) -> np.n
     Parameters
     ----------
     shapes : (p, modes) complex; amplitudes : (modes, m) complex; z : (modes,) complex;
-    row_shifts : (r,) int; col_shifts : (s,) int; is_pair : (modes,) bool.
+    row_shifts : (r,) int; col_shifts : (s,) int; is_pair : (modes,) bool;
+    col_growth : (modes, s) complex, powers(z, col_shifts) when the caller already has it.
 
     Returns
     -------
@@ -119,7 +124,7 @@ def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair) -> np.n
     """
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         rows = powers(z, row_shifts)  # (modes, r)
-        cols = powers(z, col_shifts)  # (modes, s)
+        cols = powers(z, col_shifts) if col_growth is None else col_growth  # (modes, s)
         # o^T o = (Σ_i z^{2 j_i}) (c^T c) and |o|² = (Σ_i |z|^{2 j_i}) |c|², likewise for r
         o2 = np.sum(np.abs(rows) ** 2, axis=1) * np.sum(np.abs(shapes) ** 2, axis=0)
         r2 = np.sum(np.abs(cols) ** 2, axis=1) * np.sum(np.abs(amplitudes) ** 2, axis=1)

@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg
 
 from . import indicators
 from .errors import EraError
@@ -21,7 +20,9 @@ class ModalDecomposition:
 
     z : (modes,) complex discrete eigenvalues (the member with Im z ≥ 0); shapes : (p, modes) complex;
     amplitudes : (modes, m) complex; histories : (modes, s·m) modal amplitude histories ψ^{-1} W;
-    is_pair : (modes,) bool, True for a complex-conjugate pair.
+    is_pair : (modes,) bool, True for a complex-conjugate pair;
+    right : (n, modes) complex, the eigenvectors ψ_j; left : (modes, n) complex, the matching rows of ψ^{-1}
+    (scaled with the shapes, so left_j A = z_j left_j and left_j right_j = 1 still hold).
     """
 
     z: np.ndarray
@@ -29,9 +30,11 @@ class ModalDecomposition:
     amplitudes: np.ndarray
     histories: np.ndarray
     is_pair: np.ndarray
+    right: np.ndarray | None = None
+    left: np.ndarray | None = None
 
 
-def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W: np.ndarray) -> ModalDecomposition:
+def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W) -> ModalDecomposition:
     """Eigen-decompose A ψ = ψ z (eq. 40) and express B, C and the state history W in modal coordinates.
 
     Parameters
@@ -39,35 +42,170 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W: np.ndarray) -> Mod
     A : (n, n) real; B : (n, m) real; C : (p, n) real
     W : (n, s·m) real: the state at the column shifts (its first m columns are the initial state B for ERA
         and A1). Its rows projected on the left eigenvectors are the modal histories of eq. 44.
+        Or a pair (root (n,), basis (s·m, n)) standing for W = diag(root) basis^T (ERA's D^{1/2} Q_n^T),
+        which saves forming W.
 
     Shapes are scaled so that their largest component is 1 (real), and amplitudes inversely, so the product
     shapes·amplitudes (the response) is unchanged and shapes are comparable across orders.
     """
-    z_all, psi = scipy.linalg.eig(A, check_finite=False)
+    # numpy's LAPACK calls release the GIL (scipy.linalg's do not): the orders of a sweep run in parallel threads
+    z_all, psi = np.linalg.eig(A)
+    if np.isrealobj(z_all):
+        z_all, psi = z_all.astype(complex), psi.astype(complex)
     keep = z_all.imag >= 0  # LAPACK returns exact conjugate pairs and exactly real eigenvalues
     try:
-        left = scipy.linalg.inv(psi, check_finite=False)[keep]  # rows of ψ^{-1} for the kept modes
+        left = np.linalg.inv(psi)[keep]  # rows of ψ^{-1} for the kept modes
     except (np.linalg.LinAlgError, ValueError):
         left = np.linalg.pinv(psi)[keep]  # defective A (a Jordan block): best effort
     z = z_all[keep]
     is_pair = z.imag > 0
     z = np.where(is_pair, z, z.real + 0j)
-    shapes = C @ psi[:, keep]
-    amplitudes = _times_real(left, B)
-    histories = _times_real(left, W)
-    # normalise: largest shape component = 1
-    if shapes.size:
+    right = psi[:, keep]
+    shapes = C @ right
+    if shapes.size:  # normalise: largest shape component = 1 (left rows inversely, before the products)
         big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
         scale = np.where(np.abs(big) > 0, big, 1.0)
-        shapes = shapes / scale
-        amplitudes = amplitudes * scale[:, None]
-        histories = histories * scale[:, None]
-    return ModalDecomposition(z=z, shapes=shapes, amplitudes=amplitudes, histories=histories, is_pair=is_pair)
+        shapes, right, left = shapes / scale, right / scale, left * scale[:, None]
+    amplitudes = _times_real(left, B)
+    if isinstance(W, tuple):
+        root, basis = W
+        histories = _times_real(left * root[None, :], basis.T)
+    else:
+        histories = _times_real(left, W)
+    return ModalDecomposition(z=z, shapes=shapes, amplitudes=amplitudes, histories=histories, is_pair=is_pair,
+                              right=right, left=left)
+
+
+def _normalised(dec: ModalDecomposition) -> ModalDecomposition:
+    """Each shape scaled so that its largest component is 1 (real), the amplitudes, histories and left
+    eigenvectors inversely: the response and every indicator are unchanged."""
+    shapes = dec.shapes
+    if not shapes.size:
+        return dec
+    big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
+    scale = np.where(np.abs(big) > 0, big, 1.0)
+    return replace(dec, shapes=shapes / scale, amplitudes=dec.amplitudes * scale[:, None],
+                   histories=dec.histories * scale[:, None],
+                   right=None if dec.right is None else dec.right / scale,
+                   left=None if dec.left is None else dec.left * scale[:, None])
+
+
+def modal_sum(z: np.ndarray, shapes: np.ndarray, amplitudes: np.ndarray, is_pair: np.ndarray,
+              n_samples: int) -> np.ndarray:
+    """Y(k) = Σ_pairs 2 Re(c_j z_j^k b_j) + Σ_real c_j z_j^k b_j for k = 0..n_samples-1 (eq. 35 in modal form):
+    shape (n_samples, p, m)."""
+    weight = np.where(is_pair, 2.0, 1.0)
+    zk = indicators.powers(z, np.arange(n_samples)).T * weight  # (N, modes)
+    p, m = shapes.shape[0], amplitudes.shape[1]
+    residues = np.einsum("pj,jm->jpm", shapes, amplitudes).reshape(-1, p * m)  # (modes, p m)
+    with np.errstate(over="ignore", invalid="ignore"):
+        y = zk.real @ residues.real - zk.imag @ residues.imag  # Re(zk @ residues) as two real products
+    return y.reshape(n_samples, p, m)
+
+
+#: Eigenvalues closer than this (|Δz|, relative to |z|) are one repeated eigenvalue whatever their uncertainty:
+#: round-off splits an exactly repeated pair by ~1e-9 in the examples (Case II).
+REPEATED_Z_FLOOR = 1e-7
+
+#: Two poles are one cluster when |z_i - z_j| ≤ CLUSTER_SIGMAS · sqrt(σ_i² + σ_j²), σ the std of z ...
+CLUSTER_SIGMAS = 3.0
+
+#: ... and both are determined to better than this relative standard deviation of s (noise poles, whose own
+#: scatter is large, are never rotated: that would make their shapes look real).
+CLUSTER_MAX_RELATIVE_STD = 0.01
+
+#: Only poles with a neighbour within this |Δz| are candidates (their uncertainty is computed for the test).
+CLUSTER_SCREEN = 5e-3
+
+
+def cluster_candidates(z: np.ndarray, is_pair: np.ndarray) -> np.ndarray:
+    """(modes,) bool: poles with a pole of the same kind (pair or real) within CLUSTER_SCREEN in z."""
+    near = (np.abs(z[:, None] - z[None, :]) <= CLUSTER_SCREEN) & (is_pair[:, None] == is_pair[None, :])
+    np.fill_diagonal(near, False)
+    return near.any(axis=1)
+
+
+def repeated_clusters(z: np.ndarray, is_pair: np.ndarray, z_std: np.ndarray, dt: float) -> list[np.ndarray]:
+    """Groups (of ≥ 2 mode indices) of poles closer than their estimation uncertainty: a repeated eigenvalue.
+
+    Poles i, j are linked when they are of the same kind and |z_i - z_j| ≤ max(CLUSTER_SIGMAS·sqrt(σ_i² + σ_j²),
+    REPEATED_Z_FLOOR·|z_i|), with both σ/(|z| |s| Δτ) ≤ CLUSTER_MAX_RELATIVE_STD (σ the standard deviation of z,
+    NaN where not computed), and |z_i - z_j| ≤ CLUSTER_SCREEN; the clusters are the connected groups.
+    """
+    z = np.asarray(z, dtype=complex)
+    k = z.size
+    if k < 2:
+        return []
+    if not cluster_candidates(z, np.asarray(is_pair)).any() and not np.any(REPEATED_Z_FLOOR > CLUSTER_SCREEN):
+        return []  # nothing within the screen: no pair can be linked
+    sigma = np.where(np.isfinite(z_std), z_std, np.inf)
+    s_mag = np.abs(continuous_eigenvalues(z, dt)) * dt  # |s| Δτ ≈ |dz/z| per unit relative change of s
+    rel = sigma / np.maximum(np.abs(z) * s_mag, 1e-300)
+    determined = rel <= CLUSTER_MAX_RELATIVE_STD
+    dist = np.abs(z[:, None] - z[None, :])
+    with np.errstate(invalid="ignore"):
+        floor = REPEATED_Z_FLOOR * np.abs(z)[:, None]
+        tol = np.maximum(CLUSTER_SIGMAS * np.hypot(sigma[:, None], sigma[None, :]), floor)
+        tol = np.where(determined[:, None] & determined[None, :], tol, floor)
+    # within the screen too, so that a model with every σ computed and one with only the candidates' agree
+    linked = (dist <= np.minimum(tol, CLUSTER_SCREEN)) & (is_pair[:, None] == is_pair[None, :])
+    label = np.arange(k)
+    for _ in range(k):  # connected components by label propagation (k is small)
+        new = np.array([label[linked[i] | (np.arange(k) == i)].min() for i in range(k)])
+        if np.array_equal(new, label):
+            break
+        label = new
+    return [np.flatnonzero(label == g) for g in np.unique(label) if np.count_nonzero(label == g) > 1]
+
+
+def align_repeated(dec: ModalDecomposition, clusters) -> ModalDecomposition:
+    """Rotate the basis of each repeated eigenvalue's eigenspace so that its shapes are as real as possible.
+
+    For a cluster of k modes with shapes Φ (p × k), the eigensolver returns an arbitrary complex combination
+    of the true modes inside their eigenspace (any basis of it is an eigenbasis), so μ of each column is
+    meaningless. The real k-dimensional subspace closest to span(Φ) is spanned by the k leading left singular
+    vectors U_k of the real p × 2k matrix [Re Φ, Im Φ] (exactly span(Φ) when the true modes are real); the new
+    basis is Φ T with T = Φ^+ U_k (k × k), so the new shapes are (nearly) real and μ ≈ 1 whatever basis the
+    solver returned. The eigenvectors, left eigenvectors, amplitudes and histories are transformed together
+    (ψ T, T^{-1} ψ^{-1}, T^{-1} b, T^{-1} q): shapes·amplitudes, hence the reconstruction, are unchanged when
+    the eigenvalues are equal. When they differ (by less than their uncertainty), each new mode takes the
+    diagonal of T^{-1} diag(z) T (their mean, for a well-conditioned T), which moves the reconstruction by
+    O(|Δz|), inside the uncertainty. A cluster of k modes needs p ≥ k sensors; with p = k (Case II's two
+    sensors) every basis of R^p is real and μ is 1 trivially.
+    """
+    if not clusters:
+        return dec
+    z, shapes, amps, hist = dec.z.copy(), dec.shapes.copy(), dec.amplitudes.copy(), dec.histories.copy()
+    right = None if dec.right is None else dec.right.copy()
+    left = None if dec.left is None else dec.left.copy()
+    p = shapes.shape[0]
+    for idx in clusters:
+        k = len(idx)
+        if k > p:
+            continue
+        phi = shapes[:, idx]
+        u, _, _ = np.linalg.svd(np.hstack([phi.real, phi.imag]), full_matrices=False)
+        t, *_ = np.linalg.lstsq(phi, u[:, :k].astype(complex), rcond=None)
+        if not np.all(np.isfinite(t)) or np.linalg.cond(t) > 1e8:
+            continue
+        ti = np.linalg.inv(t)
+        z[idx] = np.diag(ti @ np.diag(z[idx]) @ t)
+        shapes[:, idx] = phi @ t
+        amps[idx] = ti @ amps[idx]
+        hist[idx] = ti @ hist[idx]
+        if right is not None:
+            right[:, idx] = right[:, idx] @ t
+            left[idx] = ti @ left[idx]
+    pair = dec.is_pair
+    z = np.where(pair, z, z.real + 0j)
+    return _normalised(replace(dec, z=z, shapes=shapes, amplitudes=amps, histories=hist, right=right, left=left))
 
 
 def _times_real(left: np.ndarray, right: np.ndarray) -> np.ndarray:
-    """complex (k, n) @ real (n, q) as two real products (half the work of a complex one)."""
-    return (left.real @ right) + 1j * (left.imag @ right)
+    """complex (k, n) @ real (n, q) as one real product of twice the rows (half the work of a complex one)."""
+    k = left.shape[0]
+    both = np.concatenate([left.real, left.imag]) @ right
+    return both[:k] + 1j * both[k:]
 
 
 def continuous_eigenvalues(z: np.ndarray, dt: float) -> np.ndarray:
@@ -110,8 +248,15 @@ class ModalModel:
         Channel labels (p and m).
     method : str
         "ERA", "A1" or "A2".
+    frequency_std_hz, damping_std : (modes,)
+        Standard deviation of the damped frequency (Hz) and of the damping ratio that the data determine, to
+        first order from the scatter of the Hankel matrices (era.uncertainty: residual blocks of the record,
+        or the records' scatter). A 95 % interval is value ± 1.96·std (:meth:`frequency_interval_hz`,
+        :meth:`damping_interval`). NaN where not computed (A1/A2, or ``uncertainty=False``). For a repeated
+        mode (a cluster, see era.modal.align_repeated) the largest of the cluster's.
 
-    Modes are sorted by frequency (then by |s|).
+    Modes are sorted by frequency (then by |s|). Modes whose eigenvalues coincide within their uncertainty (a
+    repeated mode) are given the basis of their eigenspace that makes their shapes most real (align_repeated).
     """
 
     A: np.ndarray
@@ -128,6 +273,8 @@ class ModalModel:
     outputs: tuple = ()
     inputs: tuple = ()
     method: str = "ERA"
+    frequency_std_hz: np.ndarray | None = None
+    damping_std: np.ndarray | None = None
 
     # ---- derived modal parameters -------------------------------------------------------------
     @property
@@ -157,6 +304,19 @@ class ModalModel:
     def natural_frequency_hz(self) -> np.ndarray:
         """Undamped natural frequency |s|/2π in Hz, shape (modes,) (what a finite-element model gives)."""
         return np.abs(self.eigenvalues) / (2 * np.pi)
+
+    def frequency_interval_hz(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high) of the 95 % interval frequency_hz ± 1.96 σ (``level_z`` another normal quantile), Hz."""
+        f, sd = self.frequency_hz, self._std(self.frequency_std_hz)
+        return f - level_z * sd, f + level_z * sd
+
+    def damping_interval(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high) of the 95 % interval damping_ratio ± 1.96 σ."""
+        z, sd = self.damping_ratio, self._std(self.damping_std)
+        return z - level_z * sd, z + level_z * sd
+
+    def _std(self, value) -> np.ndarray:
+        return np.full(self.n_modes, np.nan) if value is None else np.asarray(value, dtype=float)
 
     @property
     def damping_ratio(self) -> np.ndarray:
@@ -226,7 +386,9 @@ class ModalModel:
                 A[k, k], B[k], C[:, k] = z[j].real, b[j].real, c[:, j].real
                 k += 1
         return replace(self, A=A, B=B, C=C, z=z, shapes=c, amplitudes=b, emac=self.emac[idx],
-                       mpc=self.mpc[idx], contribution=self.contribution[idx], is_pair=pair)
+                       mpc=self.mpc[idx], contribution=self.contribution[idx], is_pair=pair,
+                       frequency_std_hz=self._std(self.frequency_std_hz)[idx],
+                       damping_std=self._std(self.damping_std)[idx])
 
     # ---- reconstruction (eq. 35) ---------------------------------------------------------------
     def reconstruct(self, n_samples: int) -> np.ndarray:
@@ -237,13 +399,7 @@ class ModalModel:
         n_samples = int(n_samples)
         if n_samples < 0:
             raise EraError(f"`n_samples` must be ≥ 0, got {n_samples}.")
-        weight = np.where(self.is_pair, 2.0, 1.0)
-        zk = indicators.powers(self.z, np.arange(n_samples)).T * weight  # (N, modes)
-        p, m = self.shapes.shape[0], self.amplitudes.shape[1]
-        residues = np.einsum("pj,jm->jpm", self.shapes, self.amplitudes).reshape(-1, p * m)  # (modes, p m)
-        with np.errstate(over="ignore", invalid="ignore"):
-            y = zk.real @ residues.real - zk.imag @ residues.imag  # Re(zk @ residues) as two real products
-        return y.reshape(n_samples, p, m)
+        return modal_sum(self.z, self.shapes, self.amplitudes, self.is_pair, n_samples)
 
     def fit_error(self, markov) -> np.ndarray:
         """Normalised RMS error of the reconstruction against measured Y, per channel: shape (p, m).
@@ -263,15 +419,26 @@ class ModalModel:
         return out
 
 
-def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), method="ERA") -> ModalModel:
-    """The ModalModel of the realization (A, B, C) whose state history at the column shifts is W (n, s·m)."""
-    dec = decompose(A, B, C, W)
-    gamma = indicators.emac(dec.histories, dec.z, col_shifts, B.shape[1])
+def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), method="ERA", *,
+                dec: ModalDecomposition | None = None, frequency_std_hz=None, damping_std=None) -> ModalModel:
+    """The ModalModel of the realization (A, B, C) whose state history at the column shifts is W (n, s·m).
+
+    ``dec`` is its decomposition when the caller already has it (aligned for repeated modes,
+    Identification.model); frequency_std_hz, damping_std : (modes,) in the order of ``dec``, or None.
+    """
+    if dec is None:
+        dec = decompose(A, B, C, W)
+    nan = np.full(dec.z.size, np.nan)
+    f_std = nan if frequency_std_hz is None else np.asarray(frequency_std_hz, dtype=float)
+    d_std = nan if damping_std is None else np.asarray(damping_std, dtype=float)
+    growth = indicators.powers(dec.z, col_shifts)  # z_j^{t_i}, shared by γ and the contribution
+    gamma = indicators.emac(dec.histories, dec.z, col_shifts, B.shape[1], growth)
     mu = indicators.mpc(dec.shapes)
-    contrib = indicators.contribution(dec.shapes, dec.amplitudes, dec.z, row_shifts, col_shifts, dec.is_pair)
+    contrib = indicators.contribution(dec.shapes, dec.amplitudes, dec.z, row_shifts, col_shifts, dec.is_pair,
+                                      growth)
     s = continuous_eigenvalues(dec.z, dt)
     order = np.lexsort((np.abs(s), s.imag))
     return ModalModel(A=A, B=B, C=C, dt=dt, z=dec.z[order], shapes=dec.shapes[:, order],
                       amplitudes=dec.amplitudes[order], emac=gamma[order], mpc=mu[order],
                       contribution=contrib[order], is_pair=dec.is_pair[order], outputs=tuple(outputs),
-                      inputs=tuple(inputs), method=method)
+                      inputs=tuple(inputs), method=method, frequency_std_hz=f_std[order], damping_std=d_std[order])

@@ -11,7 +11,10 @@ import numpy as np
 from . import hankel, svd
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
-from .modal import ModalModel, build_model
+from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
+                    modal_sum, repeated_clusters)
+from .uncertainty import (PoleCovariance, _block_sums, correlation_length, modal_std, pole_functionals,
+                          record_covariance, residual_covariance)
 
 
 @dataclass(frozen=True, eq=False)
@@ -25,10 +28,10 @@ class Identification:
         (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
         d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD, the computed rank for the
-        randomized one.
+        truncated and randomized ones.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
-    svd_method : "dense" or "randomized"
+    svd_method : "dense", "truncated" or "randomized"
 
     The realization of every order n ≤ K is a leading block of the projection P^T H(1) Q (eq. 34); see
     :meth:`projected`.
@@ -87,7 +90,7 @@ class Identification:
             raise OrderError(
                 f"Order {order} is above the numerical rank of H(0), {self.max_order}: singular values past it "
                 f"are round-off or were not computed. Choose an order ≤ {self.max_order}"
-                + (" (or identify with a larger max_order)." if self.svd_method == "randomized" else ".")
+                + (" (or identify with a larger max_order)." if self.svd_method != "dense" else ".")
             )
         return order
 
@@ -124,12 +127,143 @@ class Identification:
         C = self.P[:p, :n] * root[None, :]
         return A, W[:, :m].copy(), C, W
 
-    def model(self, order: int) -> ModalModel:
+    def model(self, order: int, *, uncertainty: bool = True, records=None) -> ModalModel:
         """The ERA model of order n (eq. 34 in balanced form) and its modes: the one path every caller takes
-        (the slider, the stabilization diagram, explain). Equal to ``realize(order)``."""
+        (the slider, the stabilization diagram, explain). Equal to ``realize(order)``.
+
+        Parameters
+        ----------
+        order : int
+            n.
+        uncertainty : bool
+            Compute each mode's frequency_std_hz and damping_std (era.uncertainty; 1.5-4× the time of the
+            model without them, most at high orders with many outputs·inputs). False leaves them NaN; poles
+            with a close neighbour still get theirs computed internally to decide which modes are repeated
+            (era.modal.repeated_clusters).
+        records : (n_b, N, p, m) array, optional
+            The independent records whose mean is ``data.markov``: the covariance comes from their scatter
+            (era.uncertainty.record_covariance) instead of from residual blocks of the mean.
+        """
+        return self._model(order, uncertainty, records)[0]
+
+    def _model(self, order, uncertainty, records=None):
+        """:meth:`model`, and what computing standard deviations for some of its modes later needs: the
+        decomposition before the repeated modes were aligned, the model's mode order as indices into it, and
+        the clusters (stabilization computes them for its stable poles only)."""
+        n = self._check_order(order)
         d = self.data
-        A, B, C, W = self.balanced(order)
-        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA")
+        p, m = d.n_outputs, d.n_inputs
+        root = np.sqrt(self.singular_values[:n])
+        A = self.projected(n) / root[:, None] / root[None, :]
+        C = self.P[:p, :n] * root[None, :]
+        B = (root[:, None] * self.Q[:m, :n].T).copy()
+        W = (root, self.Q[:, :n])  # W = D^{1/2} Q_n^T, not formed (balanced())
+        dec = decompose(A, B, C, W)
+        raw = dec
+        modes = dec.z.size
+        want = np.ones(modes, dtype=bool) if uncertainty else cluster_candidates(dec.z, dec.is_pair)
+        z_cov = np.full((modes, 2, 2), np.nan)
+        if want.any():
+            z_cov[want] = self.pole_covariance(n, dec, np.flatnonzero(want), records).z_cov
+        z_std = np.sqrt(z_cov[:, 0, 0] + z_cov[:, 1, 1])
+        clusters = repeated_clusters(dec.z, dec.is_pair, z_std, d.dt) if want.any() else []
+        if want.any():
+            f_std, d_std = modal_std(dec.z, z_cov, d.dt)
+        else:
+            f_std, d_std = np.full(modes, np.nan), np.full(modes, np.nan)
+        for idx in clusters:  # a repeated mode: the cluster's largest
+            f_std[idx], d_std[idx] = np.max(f_std[idx]), np.max(d_std[idx])
+        dec = align_repeated(dec, clusters)
+        model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
+                            dec=dec, frequency_std_hz=f_std if uncertainty else None,
+                            damping_std=d_std if uncertainty else None)
+        s = np.log(np.where(dec.z == 0, 1e-300, dec.z)) / d.dt
+        return model, raw, np.lexsort((np.abs(s), s.imag)), clusters
+
+    def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
+        """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
+        ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest."""
+        idx = set(int(i) for i in modes)
+        for c in clusters:
+            if idx & set(int(i) for i in c):
+                idx |= set(int(i) for i in c)
+        idx = np.array(sorted(idx), dtype=int)
+        f_std = np.full(raw.z.size, np.nan)
+        d_std = np.full(raw.z.size, np.nan)
+        if idx.size:
+            cov = self.pole_covariance(order, raw, idx).z_cov
+            f_std[idx], d_std[idx] = modal_std(raw.z[idx], cov, self.data.dt)
+            for c in clusters:
+                if np.isfinite(f_std[c]).all():
+                    f_std[c], d_std[c] = np.max(f_std[c]), np.max(d_std[c])
+        return f_std[np.asarray(modes, dtype=int)], d_std[np.asarray(modes, dtype=int)]
+
+    def shape_scatter(self, order: int, modes=None) -> np.ndarray:
+        """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)`` (the scatter the data
+        leave in the shape), to first order from the residual blocks of era.uncertainty.
+
+        The shape is the first block of H(0) b_j (b_j as in era.uncertainty), so a perturbation moves it by
+        Δφ_j = (ΔH(0) b_j)[:p] + Σ_{k≠j} φ_k a_k (ΔH(1) - z_j ΔH(0)) b_j / (z_j - z_k) (the pencil's eigenvector
+        perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
+        signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
+        its expectation is the sum over the independent blocks. Cost: n pole functionals per mode, so it is
+        not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
+
+        Returns
+        -------
+        (len(modes),) fractions; the MAC between the estimate and the truth is about 1 minus this.
+        """
+        n = self._check_order(order)
+        model, raw, perm, clusters = self._model(n, False)
+        dec = align_repeated(raw, clusters)
+        chosen = perm if modes is None else perm[np.asarray(modes, dtype=int)]
+        d = self.data
+        p, m = d.n_outputs, d.n_inputs
+        root = np.sqrt(self.singular_values[:n])
+        # every eigenvalue of the order-n model: the kept ones and the conjugates of the pairs
+        pair = dec.is_pair
+        z_all = np.concatenate([dec.z, dec.z[pair].conj()])
+        a_all = (np.concatenate([dec.left, dec.left[pair].conj()]) / root[None, :]) @ self.P[:, :n].T
+        phi_all = np.concatenate([dec.shapes, dec.shapes[:, pair].conj()], axis=1)
+        b_modes = ((self.Q[:, :n] / root[None, :]) @ dec.right).T  # (modes, s m)
+        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
+        residual = d.markov[:t] - modal_sum(raw.z, raw.shapes, raw.amplitudes, raw.is_pair, t)
+        block = correlation_length(residual, max(1, t // 20))
+        s_cols = len(self.col_shifts)
+        out = np.empty(len(chosen))
+        for i, j in enumerate(chosen):
+            others = np.flatnonzero(np.abs(z_all - dec.z[j]) > 0)  # k ≠ j (and ≠ a repeated copy of it)
+            c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
+                                 np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
+                                 residual[None])[:, 0]  # (others, T)
+            dphi = (phi_all[:, others] / (dec.z[j] - z_all[others])) @ c  # (p, T)
+            bj = b_modes[j].reshape(s_cols, m)
+            dphi[:, self.col_shifts] += np.einsum("tpm,tm->pt", residual[self.col_shifts], bj)
+            phi = dec.shapes[:, j]
+            unit = phi / np.linalg.norm(phi)
+            dphi -= np.outer(unit, unit.conj() @ dphi)  # the part orthogonal to φ
+            sums = _block_sums(dphi, block)  # (p, blocks)
+            out[i] = float(np.sum(np.abs(sums) ** 2) / np.linalg.norm(phi) ** 2)
+        return out
+
+    def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
+                        records=None) -> PoleCovariance:
+        """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
+        (from :func:`era.modal.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
+        (default all); ``records`` as in :meth:`model`."""
+        n = self._check_order(order)
+        d = self.data
+        p, m = d.n_outputs, d.n_inputs
+        idx = np.arange(dec.z.size) if modes is None else np.asarray(modes, dtype=int)
+        root = np.sqrt(self.singular_values[:n])
+        left = (dec.left[idx] / root[None, :]) @ self.P[:, :n].T  # a_j, (k, r p)
+        right = ((self.Q[:, :n] / root[None, :]) @ dec.right[:, idx]).T  # b_j^T, (k, s m)
+        z = dec.z[idx]
+        if records is not None:
+            return record_covariance(left, right, z, self.row_shifts, self.col_shifts, records)
+        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
+        residual = d.markov[:t] - modal_sum(dec.z, dec.shapes, dec.amplitudes, dec.is_pair, t)
+        return residual_covariance(left, right, z, self.row_shifts, self.col_shifts, residual, n * (p + m))
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
         """The realization of the given order and its modes.
@@ -194,9 +328,11 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     max_order : int, optional
         The largest order needed. Default: the numerical rank of H(0) (singular values above
         max(r p, s m)·ε·d_1). With the randomized SVD, the rank computed (default 200).
-    svd_method : "auto", "dense" or "randomized"
-        "auto" takes the dense LAPACK SVD unless min(shape)²·max(shape) of H(0) exceeds
-        era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
+    svd_method : "auto", "dense", "truncated" or "randomized"
+        "auto" takes the truncated SVD of rank max_order (era.svd.truncated_svd) when max_order is at most
+        era.svd.TRUNCATED_RANK_FRACTION of min(shape) of H(0) — the sweep of orders 2..120 on a 900 × 2392
+        H(0) then costs less than half of one dense SVD; else the dense LAPACK SVD unless min(shape)²·max(shape)
+        exceeds era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
 
     Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.hankel.MAX_HANKEL_ELEMENTS elements.
 
@@ -215,9 +351,11 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     if max_order is not None:
         max_order = _count(max_order, "max_order")
     h0 = hankel.block_hankel(data.markov, js, ts, 0)
-    method = svd.choose_method(h0.shape, svd_method)
+    method = svd.choose_method(h0.shape, svd_method, max_order)
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
+    elif method == "truncated":
+        P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape))
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
     # keep the numerical rank (and no more than max_order) of the singular triplets

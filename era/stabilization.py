@@ -3,6 +3,7 @@ that persist across orders."""
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,7 +23,10 @@ class StableMode:
     frequency_hz, damping_ratio, emac, mpc : means over the orders where it appears;
     frequency_std_hz, damping_std : their standard deviations (the spread across orders);
     orders : the orders where it appears; pole_indices : its poles in the Stabilization arrays;
-    shape : (p,) complex, the shape at the highest of those orders.
+    shape : (p,) complex, the shape at the highest of those orders;
+    data_frequency_std_hz, data_damping_std : the standard deviations the data give at that highest order
+    (era.uncertainty; NaN when the diagram was computed without them). The spread across orders is not an
+    uncertainty of the data: it shrinks as more orders agree on the same biased value.
     """
 
     frequency_hz: float
@@ -34,6 +38,8 @@ class StableMode:
     orders: tuple
     pole_indices: tuple
     shape: np.ndarray
+    data_frequency_std_hz: float = float("nan")
+    data_damping_std: float = float("nan")
 
     @property
     def coherent(self) -> bool:
@@ -47,6 +53,8 @@ class Stabilization:
 
     orders : (n_orders,) the orders computed (requested orders above ident.max_order are left out).
     order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
+    frequency_std_hz, damping_std : each stable pole's standard deviations from the data (ModalModel's; NaN
+        for the other poles, and for all unless ``stabilization(..., uncertainty=True)``).
     mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
     stable_frequency, stable_damping, stable_shape : the pole has a partner at the previous computed order
         within freq_tol (relative frequency change), damping_tol (relative damping change) and with
@@ -68,6 +76,8 @@ class Stabilization:
     stable_shape: np.ndarray
     shapes: np.ndarray
     modes: tuple
+    frequency_std_hz: np.ndarray | None = None
+    damping_std: np.ndarray | None = None
 
     @property
     def stable(self) -> np.ndarray:
@@ -130,8 +140,30 @@ def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
     return merged
 
 
+def blas_threads() -> int:
+    """Threads the loaded BLAS may use (threadpoolctl's view, so a ``threadpool_limits`` applies); 1 without
+    threadpoolctl. The sweep runs that many orders at a time: each order's eigensolution is too small for a
+    threaded BLAS, so threads across orders are what makes the sweep scale like the SVD does."""
+    try:
+        from threadpoolctl import threadpool_info
+    except ImportError:
+        return 1
+    counts = [int(lib.get("num_threads") or 1) for lib in threadpool_info() if lib.get("user_api") == "blas"]
+    return max(counts, default=1)
+
+
+def _single_threaded_blas():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        from contextlib import nullcontext
+        return nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
-                  damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3) -> Stabilization:
+                  damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3,
+                  uncertainty: bool = False, workers: int | None = None) -> Stabilization:
     """Poles of every requested order, each realized from the leading block of the SAME projected H(1).
 
     Parameters
@@ -147,6 +179,15 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         MAC with that pole at or above which the shape is stable (default 0.98).
     min_orders : int
         A suggested mode must be found stable (all three) in at least this many orders.
+    uncertainty : bool
+        Also the standard deviations from the data (ModalModel.frequency_std_hz, damping_std) of every stable
+        pole (NaN for the others): about the work of the sweep again (tests/bench/bench_sweep.py).
+    workers : int, optional
+        Orders realized at a time in threads (numpy's eigensolver releases the GIL); default the BLAS thread
+        count (:func:`blas_threads`), so one BLAS thread means one core.
+
+    Every order is ``ident.model(order)`` (same numbers, also for repeated modes): the projection of H(1) is
+    made once for the largest order, then the orders are realized in parallel and compared in order.
 
     Returns
     -------
@@ -157,10 +198,26 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
     done = [n for n in req if n <= ident.max_order]
     d = ident.data
+    if done:
+        ident.projected(done[-1])  # one projection of H(1) for every order
+    workers = blas_threads() if workers is None else max(1, int(workers))
+
+    def realize(n):
+        return ident._model(n, False)
+
+    def in_parallel(fn, items):
+        if workers > 1 and len(items) > 1:
+            # one BLAS thread per worker while they run: the cores go to orders, not to BLAS threads that
+            # would fight over them (threadpoolctl's limit is process-wide for the duration of the sweep)
+            with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
+                out = dict(zip(items[::-1], pool.map(fn, items[::-1])))  # largest first: ends on small ones
+            return [out[x] for x in items]
+        return [fn(x) for x in items]
+
+    realized = in_parallel(realize, done)
     cols = []
     prev = None
-    for n in done:
-        model = ident.model(n)
+    for n, (model, *_) in zip(done, realized):
         f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
         if prev is None or len(prev[0]) == 0 or len(f) == 0:  # nothing to compare with
             sf = sd = ss = np.zeros(len(f), dtype=bool)
@@ -172,17 +229,27 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             sd = _relative_change(z, prev[1])[rows, near] <= damping_tol
             ss = mac(sh, prev[2])[rows, near] >= mac_min
         prev = (f, z, sh)
+        nan = np.full(len(f), np.nan)
         cols.append((np.full(len(f), n), np.arange(len(f)), f, z, model.emac, model.mpc, model.contribution,
-                     sf, sd, ss, sh))
+                     sf, sd, ss, nan, nan.copy(), sh))
+    if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
+        def std_of_stable(k):
+            n, (model, raw, perm, clusters) = done[k], realized[k]
+            stable = np.flatnonzero(cols[k][7] & cols[k][8] & cols[k][9])
+            if stable.size:
+                cols[k][10][stable], cols[k][11][stable] = ident.mode_std(n, raw, perm[stable], clusters)
+
+        in_parallel(std_of_stable, list(range(len(done))))
     p = d.n_outputs
     if cols:
         parts = list(zip(*cols))
         arrays = [np.concatenate(x) for x in parts[:-1]]
         shapes = np.concatenate(parts[-1], axis=1)
     else:
-        arrays = [np.zeros(0, dtype=t) for t in (int, int, float, float, float, float, float, bool, bool, bool)]
+        arrays = [np.zeros(0, dtype=t)
+                  for t in (int, int, float, float, float, float, float, bool, bool, bool, float, float)]
         shapes = np.zeros((p, 0), dtype=complex)
-    order, mode_index, freq, damp, gamma, mu, contrib, sf, sd, ss = arrays
+    order, mode_index, freq, damp, gamma, mu, contrib, sf, sd, ss, f_std, d_std = arrays
     stable = sf & sd & ss
     modes = []
     for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
@@ -191,8 +258,10 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             frequency_hz=float(freq[c].mean()), frequency_std_hz=float(freq[c].std()),
             damping_ratio=float(damp[c].mean()), damping_std=float(damp[c].std()),
             emac=float(gamma[c].mean()), mpc=float(mu[c].mean()), orders=tuple(int(x) for x in order[c]),
-            pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy()))
+            pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy(),
+            data_frequency_std_hz=float(f_std[c[-1]]), data_damping_std=float(d_std[c[-1]])))
     modes.sort(key=lambda m: m.frequency_hz)
     return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=mode_index, frequency_hz=freq,
                          damping_ratio=damp, emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf,
-                         stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes))
+                         stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
+                         frequency_std_hz=f_std, damping_std=d_std)

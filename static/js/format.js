@@ -2,12 +2,19 @@
    the report download inlines it). */
 (function () {
   const num = (v, digits) => (v === null || v === undefined || !isFinite(v)) ? "–" : Number(v).toFixed(digits);
+  // value ± 1.96 σ (the 95 % interval the data give, era.uncertainty), or the value alone when σ is unknown
+  const pm = (v, sd, digits) => {
+    const ok = sd !== null && sd !== undefined && isFinite(sd);
+    return ok ? `${num(v, digits)} ± ${num(1.96 * sd, digits)}` : num(v, digits);
+  };
+  const std = (m, key, k) => (m[key] ? m[key][k] : null);
   const columns = [
     { key: "index", label: "#", title: "mode number at this order", value: (m, k) => k, text: (m, k) => String(k + 1) },
-    { key: "frequency_hz", label: "f (Hz)", title: "damped natural frequency", value: (m, k) => m.frequency_hz[k],
-      text: (m, k) => num(m.frequency_hz[k], 4) },
-    { key: "damping_ratio", label: "ζ (%)", title: "damping ratio", value: (m, k) => m.damping_ratio[k],
-      text: (m, k) => num(100 * m.damping_ratio[k], 3) },
+    { key: "frequency_hz", label: "f (Hz)", title: "damped natural frequency ± its 95 % interval from the data",
+      value: (m, k) => m.frequency_hz[k], text: (m, k) => pm(m.frequency_hz[k], std(m, "frequency_std_hz", k), 4) },
+    { key: "damping_ratio", label: "ζ (%)", title: "damping ratio ± its 95 % interval from the data",
+      value: (m, k) => m.damping_ratio[k],
+      text: (m, k) => pm(100 * m.damping_ratio[k], std(m, "damping_std", k) === null ? null : 100 * std(m, "damping_std", k), 3) },
     { key: "emac", label: "γ", title: "modal amplitude coherence (eqs. 42-45)", value: (m, k) => m.emac[k],
       text: (m, k) => num(m.emac[k], 3) },
     { key: "mpc", label: "μ", title: "modal phase collinearity (eqs. 46-54)", value: (m, k) => m.mpc[k],
@@ -39,5 +46,5 @@
     if (o.references && o.references.length) out.push(`NExT references: ${ch(o.references)}`);
     return out.length ? out.join("; ") : null;
   }
-  window.EraFormat = { num, columns, importChoices };
+  window.EraFormat = { num, pm, columns, importChoices };
 })();

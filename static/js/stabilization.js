@@ -16,12 +16,14 @@ function categories(s) {
 }
 
 const mark = (ok) => (ok ? "✓" : "✗");
+const { pm } = window.EraFormat;  // value ± 1.96 σ (95 % interval from the data) when the server gave σ
+const sd = (values, i, scale = 1) => (values && values[i] !== null && values[i] !== undefined ? scale * values[i] : null);
 
 function poleTrace(s, idx, name, marker) {
   return {
     x: idx.map((i) => s.frequency_hz[i]), y: idx.map((i) => s.order[i]), customdata: idx.map((i) => [s.order[i], s.mode_index[i]]),
-    text: idx.map((i) => `order ${s.order[i]}, mode ${s.mode_index[i] + 1}<br>f = ${s.frequency_hz[i].toFixed(4)} Hz, ` +
-      `ζ = ${(100 * s.damping_ratio[i]).toFixed(2)} %<br>γ = ${s.emac[i].toFixed(3)}, μ = ${s.mpc[i].toFixed(3)}<br>` +
+    text: idx.map((i) => `order ${s.order[i]}, mode ${s.mode_index[i] + 1}<br>f = ${pm(s.frequency_hz[i], sd(s.frequency_std_hz, i), 4)} Hz, ` +
+      `ζ = ${pm(100 * s.damping_ratio[i], sd(s.damping_std, i, 100), 2)} %<br>γ = ${s.emac[i].toFixed(3)}, μ = ${s.mpc[i].toFixed(3)}<br>` +
       `against the previous order: f ${mark(s.stable_frequency[i])}, ζ ${mark(s.stable_damping[i])}, ` +
       `shape ${mark(s.stable_shape[i])}`),
     hovertemplate: "%{text}<extra></extra>", type: "scatter", mode: "markers", name, marker,

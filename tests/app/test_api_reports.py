@@ -99,6 +99,8 @@ def test_csv_download_lists_every_mode_with_the_kept_flag(tmp_path):
     assert len(rows) == 5 and [int(x["kept"]) for x in rows] == [1, 0, 1, 0, 1]
     np.testing.assert_allclose([float(x["frequency_hz"]) for x in rows], case1_frequencies_hz(), rtol=1e-8)
     assert "sensor 1 re" in rows[0]
+    # noise-free Case I: the standard deviations from the data are round-off
+    assert all(0 <= float(x["frequency_std_hz"]) < 1e-8 and 0 <= float(x["damping_std"]) < 1e-8 for x in rows)
 
 
 def test_uff_download_holds_the_kept_modes(tmp_path):
@@ -110,6 +112,7 @@ def test_uff_download_holds_the_kept_modes(tmp_path):
         path = tmp_path / "modes.uff"
         path.write_bytes(r.content)
         modes = era.read_modes_uff(str(path))
+        assert r.content.decode("latin-1").count("std f ") == 3  # each mode's standard deviations, ID line 3
         freqs = np.sort(np.asarray(modes.frequency_hz))
         np.testing.assert_allclose(freqs, case1_frequencies_hz()[[0, 2, 4]], rtol=1e-4)
         empty = _report(c, a, modes=())["token"]

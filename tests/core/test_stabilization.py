@@ -79,3 +79,19 @@ def test_a_repeated_pair_is_suggested_as_two_modes_at_one_frequency():
     repeated = [m for m in persistent if abs(m.frequency_hz - 18.5) < 0.05]
     assert len(repeated) == 2
     assert set(repeated[0].orders) & set(repeated[1].orders)  # two poles at one order: two modes, not one track
+
+
+def test_stable_poles_carry_the_standard_deviations_of_their_order_model(noisy):
+    ident, _ = noisy
+    stab = era.stabilization(ident, orders=[10, 20, 30], uncertainty=True)
+    assert np.all(np.isnan(era.stabilization(ident, orders=[10, 20]).frequency_std_hz))
+    assert np.all(np.isnan(stab.frequency_std_hz[~stab.stable]))
+    assert np.all(np.isfinite(stab.frequency_std_hz[stab.stable])) and stab.stable.sum() >= 8
+    for n in (20, 30):
+        model = ident.model(n)
+        at = (stab.order == n) & stab.stable
+        np.testing.assert_allclose(stab.frequency_std_hz[at], model.frequency_std_hz[stab.mode_index[at]], rtol=1e-9)
+        np.testing.assert_allclose(stab.damping_std[at], model.damping_std[stab.mode_index[at]], rtol=1e-9)
+    serial = era.stabilization(ident, orders=[10, 20, 30], uncertainty=True, workers=1)
+    np.testing.assert_array_equal(serial.frequency_std_hz, stab.frequency_std_hz)
+    assert all(np.isfinite(m.data_frequency_std_hz) for m in stab.modes)

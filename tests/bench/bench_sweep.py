@@ -1,0 +1,90 @@
+"""The whole sweep for half an SVD (issue 14): identify + stabilization(2..120) against one dense gesdd of H(0),
+measured in the same process, with 1 and 2 BLAS threads, and every stable pole against the dense path's.
+
+Run: python3 -m pytest tests/bench/bench_sweep.py -s
+The sizes are those of the issue: H(0) 900 × 2392 (grid-like, p = 9, m = 8) and 1280 × 2000 (p = 32, m = 4).
+Timings are interleaved (SVD, sweep, SVD, sweep, ...) and their medians compared, so a neighbour's load hits both.
+"""
+
+import numpy as np
+import pytest
+from threadpoolctl import threadpool_limits
+
+import era
+from era.examples.synthetic import modal_response
+from era.hankel import block_hankel
+from era.svd import dense_svd
+from timing import median_time
+
+ORDERS = range(2, 121, 2)
+CASES = {  # (p, m, N, rows, cols, dt, frequencies)
+    "900x2392 p=9 m=8": (9, 8, 400, 100, 299, 1 / 32, np.linspace(0.3, 14, 20)),
+    "1280x2000 p=32 m=4": (32, 4, 2000, 40, 500, 0.01, np.linspace(1, 45, 25)),
+}
+REPEAT = 5
+
+
+@pytest.fixture(scope="module", params=list(CASES), ids=list(CASES))
+def case(request):
+    p, m, n, rows, cols, dt, f = CASES[request.param]
+    data, _ = modal_response(f, 0.01, p, m, n, dt, snr_db=30, seed=0)
+    return request.param, data, rows, cols
+
+
+def _sweep(data, rows, cols, **kw):
+    ident = era.identify(data, rows, cols, max_order=max(ORDERS))
+    return ident, era.stabilization(ident, ORDERS, **kw)
+
+
+def _ratios(data, rows, cols, threads):
+    h0 = block_hankel(data.markov, np.arange(rows), np.arange(cols))
+    with threadpool_limits(threads):
+        _sweep(data, rows, cols)  # warm-up
+        t_svd, t_sweep, t_sigma = [], [], []
+        for _ in range(REPEAT):  # interleaved, so a neighbour's load hits both
+            t_svd.append(median_time(lambda: dense_svd(h0), repeat=1))
+            t_sweep.append(median_time(lambda: _sweep(data, rows, cols), repeat=1))
+            t_sigma.append(median_time(lambda: _sweep(data, rows, cols, uncertainty=True), repeat=1))
+    return h0.shape, np.median(t_svd), np.median(t_sweep), np.median(t_sigma)
+
+
+#: what each case reaches on the 2-core machine of the issue (the issue's target is 0.5 at both thread counts):
+#: ratio ≤ LIMIT[case][threads] guards against regressions; the figures printed are the measurement.
+LIMIT = {"900x2392 p=9 m=8": {1: 1.0, 2: 1.3}, "1280x2000 p=32 m=4": {1: 0.5, 2: 0.9}}
+
+
+def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(case):
+    """Measured (README, issue 14): 1280 × 2000 meets the 0.5× target with one BLAS thread (0.44×); 900 × 2392
+    does not (0.72-0.83×): the 60 eigensolutions alone (LAPACK's Hessenberg QR, not BLAS-3) cost ≈ 0.25× of
+    its gesdd and the Gram matrix's eigensolution ≈ 0.15×. With two BLAS threads gesdd gains 1.3-1.9× while the
+    truncated SVD (syevr's tridiagonalization is BLAS-2) and the sweep (two orders at a time) gained less on
+    this shared machine: 1.10× on 900 × 2392; 0.42× on 1280 × 2000 (it improves there)."""
+    name, data, rows, cols = case
+    assert era.identify(data, rows, cols, max_order=max(ORDERS)).svd_method == "truncated"
+    for threads in (1, 2):
+        shape, svd, sweep, sigma = _ratios(data, rows, cols, threads)
+        print(f"\n[{name}, {threads} BLAS thread(s)] H(0) {shape[0]}×{shape[1]}: one dense gesdd {svd:.3f} s | "
+              f"identify + stabilization(2..120) {sweep:.3f} s = {sweep / svd:.2f}× SVD (issue target 0.5) | "
+              f"with the stable poles' σ {sigma:.3f} s = {sigma / svd:.2f}× SVD")
+        assert sweep / svd <= LIMIT[name][threads]
+
+
+def test_every_stable_pole_equals_the_dense_paths_to_1e_8(case):
+    name, data, rows, cols = case
+    fast, stab_fast = _sweep(data, rows, cols)
+    dense = era.identify(data, rows, cols, svd_method="dense")
+    stab_dense = era.stabilization(dense, ORDERS)
+    np.testing.assert_allclose(fast.singular_values[:120], dense.singular_values[:120], rtol=1e-10)
+    assert np.array_equal(stab_fast.stable, stab_dense.stable)
+    worst = 0.0
+    for n in ORDERS:
+        at = stab_dense.order == n
+        stable = stab_dense.stable[at]
+        if not stable.any():
+            continue
+        s_fast, s_dense = fast.model(n, uncertainty=False).eigenvalues, dense.model(n, uncertainty=False).eigenvalues
+        rel = np.abs(s_fast[stable] - s_dense[stable]) / np.abs(s_dense[stable])
+        worst = max(worst, float(rel.max()))
+    print(f"\n[{name}] {int(stab_dense.stable.sum())} stable poles over orders 2..120: largest relative difference "
+          f"truncated vs dense {worst:.1e}")
+    assert worst <= 1e-8
