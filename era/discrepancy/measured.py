@@ -90,7 +90,8 @@ def modal_constants(ident, stab, chosen, to_metres: float, weights=None):
     scale the columns of B, so the residues are divided by them again.
     """
     unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
-    models = {o: ident.model(o, uncertainty=False) for o in sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})}
+    orders = sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})
+    models = {o: ident.model(o, uncertainty=False) for o in orders}  # the spread across orders is the error
     out, spread = [], []
     for md in chosen:
         each = []
