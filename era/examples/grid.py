@@ -219,6 +219,7 @@ class GridModel:
 
     sensors = property(lambda self: SENSORS_FT.copy(), doc="(9, 2) sensor (x_ft, y_ft), in channel order.")
     joints_ft = property(lambda self: JOINTS_FT.copy(), doc="(88, 2) joint (x_ft, y_ft), index iy·11 + ix.")
+    members_ft = property(lambda self: MEMBERS_FT, doc="The 157 members ((x1, y1), (x2, y2)) ft (member_at).")
 
     def with_params(self, **changes) -> "GridModel":
         """A new model with some parameters changed (the perturbation, if any, is kept).
