@@ -109,7 +109,8 @@ def adequacy(fit: Fit, w: ModeWeights, alpha: float = 1e-3, max_sigma: float = 4
 
 
 def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
-                     w: ModeWeights, n_model: int, locations, with_prior: bool = False) -> tuple:
+                     w: ModeWeights, n_model: int, locations, with_prior: bool = False,
+                     ritz_modes: int = 0) -> tuple:
     """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
     and the size a (n_loc,) of the effect, relative to its trial size, that the linearised fit wants.
 
@@ -117,7 +118,8 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     effects already named), Δ_ℓ the change the effect makes at its trial size at location ℓ, J_sf the
     sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act backwards). with_prior: the stiffness
     factor's prior enters as one more residual (frames: the group of every member is a pure scaling, which the
-    bare linearisation would score as a perfect, free fit).
+    bare linearisation would score as a perfect, free fit). ritz_modes > 0: on models with a ``ritz`` method,
+    each place's modes come from the reference's lowest ``ritz_modes`` modes (Rayleigh-Ritz) instead of a solve.
     """
     u_sf = base.u[0]
     trial_u = [p.u(spec.trial[p.name]) for p in spec.params[len(spec.start):]]
@@ -135,9 +137,13 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     if with_prior:   # the stiffness factor's prior as one more residual: a pure scaling is not free
         r0 = np.r_[r0, (u_sf - nuisance.prior_mean) / nuisance.prior_std]
         j_sf = np.r_[j_sf, 1.0 / nuisance.prior_std]
+    # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
+    basis = base.model.dof_modes(ritz_modes)[1] if ritz_modes and hasattr(base.model, "ritz") else None
     for i, loc in enumerate(locations):
         u = [*base.u, *trial_u]
-        d = resid(build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, loc)) - r0[:n_r]
+        trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, loc)
+        approx = None if basis is None else trial.ritz(basis)
+        d = resid(trial if approx is None else approx) - r0[:n_r]
         if with_prior:
             d = np.r_[d, 0.0]
         A = np.column_stack([d, j_sf])
@@ -159,13 +165,15 @@ def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
 
 def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, test: dict | None = None,
-                 fine_scan: bool = False) -> tuple:
+                 fine_scan: bool = False, ritz_modes: int = 30) -> tuple:
     """Fit every candidate, marginalise located ones, and return RankedEffects by decreasing probability.
 
     locations : candidate places of located effects whose spec gives none (the grid's joints, (n_loc, 2) x_ft,
         y_ft); a spec's own ``locations`` (node ids, members) take precedence.
     refine : how many of the best-screened locations get a full nonlinear fit.
     test : keyword arguments of :func:`adequacy` (its levels).
+    ritz_modes : screen places in the span of this many of the reference's modes, on models that can
+        (screen_locations); 0: a solve per place.
     fine_scan : (frames) start every fit from a finer scan of its parameter (located: about the screened size),
         and screen with the stiffness factor's prior as a residual; False keeps the grid's path as it was.
     The first spec must be "none", the reference (the nominal plus the nuisance, or the :func:`combined` effects
@@ -186,7 +194,7 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
         else:
             places = locations if spec.locations is None else spec.locations
             chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
-                                          with_prior=fine_scan)
+                                          with_prior=fine_scan, ritz_modes=ritz_modes)
             top = np.argsort(chi2, kind="stable")[:refine]
             fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
                                u0=_start(spec, base, size[i]), scan=fine_scan) for i in top]

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
+import scipy.linalg
 
 from .. import fem
 from ..errors import EraError
@@ -287,12 +288,41 @@ class GridModel:
         f, w = self.node_modes(n_modes)
         return f, w[[joint_index(s) for s in SENSORS_FT]]
 
+    def ritz(self, basis: np.ndarray) -> "RitzModes | None":
+        """This model's modes in the span of ``basis`` (n_dof, r) — mode shapes of a model with the same DOFs,
+        e.g. the fitted nominal's (Rayleigh-Ritz: a small dense eigenproblem instead of a solve, for screening
+        many places of a local change); None when the DOFs differ (a joint that splits into two nodes)."""
+        _, system, _, w_joint, _ = self._system
+        if basis.shape[0] != system.K.shape[0]:
+            return None
+        k = basis.T @ (system.K @ basis)
+        m = basis.T @ (system.M @ basis)
+        lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
+        f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+        return RitzModes(f, (basis @ v)[w_joint], np.array([joint_index(s) for s in SENSORS_FT]))
+
     def geometry(self) -> Geometry:
         """The 88 joints in metres (z = 0), the 157 segments as edges, the nine channels along +z."""
         xyz = np.column_stack([JOINTS_FT * FT, np.zeros(NX * NY)])
         return Geometry(node_ids=np.arange(1, NX * NY + 1), coordinates=xyz, edges=SEGMENT_JOINTS,
                         channel_nodes=np.array([joint_index(s) for s in SENSORS_FT]),
                         channel_directions=np.tile([0.0, 0.0, 1.0], (len(SENSORS_FT), 1)), units="m")
+
+
+@dataclass(frozen=True, eq=False)
+class RitzModes:
+    """Approximate modes (GridModel.ritz): frequencies (r,) Hz and mass-normalised w at the joints (88, r);
+    .modes(n) and .node_modes(n) as a GridModel's."""
+
+    frequency_hz: np.ndarray
+    joint_w: np.ndarray
+    sensor_rows: np.ndarray
+
+    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.joint_w[:, :n_modes].copy()
+
+    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.joint_w[self.sensor_rows, :n_modes].copy()
 
 
 def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_length_m=0.51,
