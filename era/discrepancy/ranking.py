@@ -73,8 +73,10 @@ class Adequacy:
     Σ r_f² ~ χ²(k) and Σ r_s² ~ χ²(k (p − 1)); the largest |r_f| is the Bonferroni-corrected normal extreme.
 
     chi2_freq, chi2_shape : the two sums; p_freq, p_shape : their upper-tail probabilities; max_freq_sigma :
-    max |r_f|; ok : all three within the levels of :func:`adequacy`; off_modes : indices of the modes whose
-    frequency residual or shape χ² alone fails its own test, worst first.
+    max |r_f|; ok : all three within the levels of :func:`adequacy`; clean : also within a looser level
+    (tail probabilities ≥ 0.05, max |r_f| ≤ 3): when a model passes ``ok`` but not ``clean``, something more may
+    be there and the search for a further effect goes on (naming it still needs its evidence);
+    off_modes : indices of the modes whose frequency residual or shape χ² alone fails its own test, worst first.
     """
 
     chi2_freq: float
@@ -84,6 +86,7 @@ class Adequacy:
     max_freq_sigma: float
     ok: bool
     off_modes: tuple
+    clean: bool = True
 
 
 def adequacy(fit: Fit, w: ModeWeights, alpha: float = 1e-3, max_sigma: float = 4.0,
@@ -104,8 +107,10 @@ def adequacy(fit: Fit, w: ModeWeights, alpha: float = 1e-3, max_sigma: float = 4
     off_s = chi2.sf(per_mode_s, max(r_s.shape[1] - 1, 1)) < alpha / k
     off = np.flatnonzero((np.abs(r_f) > limit) | off_s)
     off = off[np.argsort(-(np.abs(r_f[off]) / limit + per_mode_s[off] / max(r_s.shape[1], 1)), kind="stable")]
-    ok = p_f >= alpha and p_s >= alpha and float(np.max(np.abs(r_f))) <= limit
-    return Adequacy(c_f, c_s, p_f, p_s, float(np.max(np.abs(r_f))), bool(ok), tuple(int(i) for i in off))
+    worst = float(np.max(np.abs(r_f)))
+    ok = p_f >= alpha and p_s >= alpha and worst <= limit
+    clean = ok and p_f >= 0.05 and p_s >= 0.05 and worst <= 3.0
+    return Adequacy(c_f, c_s, p_f, p_s, worst, bool(ok), tuple(int(i) for i in off), bool(clean))
 
 
 def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
@@ -196,6 +201,9 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
                                           with_prior=fine_scan, ritz_modes=ritz_modes)
             top = np.argsort(chi2, kind="stable")[:refine]
+            # places the linearised misfit puts far behind the best are not worth a full fit: their evidence
+            # is below the best's by more than e^{-12}, well within the marginal's rounding
+            top = top[chi2[top] - chi2[top[0]] <= max(25.0, 0.5 * chi2[top[0]])]
             fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
                                u0=_start(spec, base, size[i]), scan=fine_scan) for i in top]
             fits.sort(key=lambda f: -f.log_evidence)

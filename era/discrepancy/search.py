@@ -2,7 +2,8 @@
 
 Step 1 ranks every candidate against the nominal (ranking.rank_effects). When the best clears the naming
 thresholds (posterior ≥ 0.9, Bayes factor ≥ 100) but the model with it still misses the test beyond the
-measurement error (ranking.adequacy), the residual is explained again: every other candidate is fitted on top
+measurement error, or is within it only at a loose level (ranking.Adequacy.clean), the residual is explained
+again: every other candidate is fitted on top
 of the named effect (effects.combined: the named parameters re-fitted with the new one, the named places kept)
 and weighed against the model with the named effect alone, by the same thresholds. At most ``max_effects``.
 
@@ -84,7 +85,7 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
             break
         named.append(best)
         specs.append(next(s for s in library if s.name == best.name))
-        if best.adequate or len(named) == max_effects:
+        if (best.adequate and best.test.clean) or len(named) == max_effects:
             break
         chain = _chain(tuple(specs), tuple(named), best.fit)
         done = {s.name for s in specs}

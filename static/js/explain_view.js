@@ -20,7 +20,16 @@
     torsion_factor: ["torsion (GJ) factor", ""], cable_length_m: ["cable length", "m"],
     distributed_mass_kg: ["distributed mass", "kg"], point_mass_kg: ["point mass", "kg"],
     loose_joint_stiffness: ["loose-joint stiffness", "N·m/rad"], gravity: ["gravity stiffening fraction", ""],
+    member_factor: ["member stiffness factor", ""],
   };
+  // A place: a joint [x, y] ft, a member [[x1, y1], [x2, y2]] ft, or (frames) a node id / [node i, node j].
+  function placeText(l) {
+    if (l === null || l === undefined) return "";
+    if (typeof l === "string") return `node ${l}`;
+    if (Array.isArray(l[0])) return `member (${l[0][0]}, ${l[0][1]})–(${l[1][0]}, ${l[1][1]}) ft`;
+    if (typeof l[0] === "string") return `member ${l.join("–")}`;
+    return `joint (x = ${l[0]} ft, y = ${l[1]} ft)`;
+  }
 
   function el(tag, text, attrs) {
     const n = document.createElement(tag);
@@ -67,26 +76,37 @@
     const box = el("div", null, { id: `${id}-verdict`, "data-verdict": s.verdict,
       style: `background:${bg};border-left:4px solid ${ink};padding:8px 12px;border-radius:5px;margin:6px 0` });
     const head = el("div", null, { style: `font-weight:600;color:${ink};font-size:15px` });
-    head.textContent = s.effect ? `${title}: ${s.effect.name.replace(/_/g, " ")}` : title;
+    // several effects (result.effects, most important first); results stored before them carry one
+    const effects = (s.effects && s.effects.length) ? s.effects : (s.effect ? [s.effect] : []);
+    head.textContent = effects.length ? `${title}: ${effects.map((e) => e.name.replace(/_/g, " ")).join(" + ")}` : title;
     box.append(head, el("div", s.message, { style: "margin-top:4px" }));
-    if (s.effect) {
-      const e = s.effect, dl = el("dl", null, { class: "summary", id: `${id}-effect` });
-      const add = (k, v) => dl.append(el("dt", k), el("dd", v));
-      add("Effect", e.name);
-      add("Parameters (± 1σ)", paramText(e.parameters, e.uncertainty, e.interval));
+    effects.forEach((e, k) => {
+      const dl = el("dl", null, { class: "summary", id: k === 0 ? `${id}-effect` : `${id}-effect-${k + 1}` });
+      const add = (key, v) => dl.append(el("dt", key), el("dd", v));
+      add(effects.length > 1 ? `Effect ${k + 1}` : "Effect", e.name);
+      const own = Object.fromEntries(Object.entries(e.parameters || {}).filter(([n]) => n !== "stiffness_factor"));
+      const shown = effects.length > 1 && Object.keys(own).length ? own : e.parameters;
+      add("Parameters (± 1σ)", paramText(shown, e.uncertainty, e.interval));
       if (e.location) {
-        add("Location", `joint (x = ${e.location[0]} ft, y = ${e.location[1]} ft)` +
+        add("Location", placeText(e.location) +
           (e.location_probability !== null && e.location_probability !== undefined ? `, ${num(100 * e.location_probability, 0)} % certain` : "") +
-          ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `(${l[0]}, ${l[1]}) ft ${num(100 * q, 0)} %`).join(", ")}` : ""));
+          ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `${placeText(l)} ${num(100 * q, 0)} %`).join(", ")}` : ""));
       }
-      add("Posterior probability", `${num(100 * e.probability, 1)} %`);
+      add(k === 0 ? "Posterior probability" : "Posterior probability (given the effects before)", `${num(100 * e.probability, 1)} %`);
+      if (e.gap_after) add("Gap after this step", `max |Δf| ${num(e.gap_after.max_abs_freq_error_pct, 2)} %, min MAC ${num(e.gap_after.min_mac, 3)}`);
       box.append(dl);
+    });
+    if (effects.length > 1 && effects[0].parameters && "stiffness_factor" in effects[0].parameters) {
+      box.append(el("div", `Global stiffness factor (nuisance): ${num(effects[0].parameters.stiffness_factor, 3)}`));
     }
     return box;
   }
 
   function gapTable(s, id) {
-    const rows = [["before (nominal model)", s.before], ["after (updated model)", s.after]].map(([k, g]) =>
+    const steps = (s.effects || []).length > 1
+      ? s.effects.map((e, k) => [`after step ${k + 1} (+ ${e.name.replace(/_/g, " ")})`, e.gap_after]).filter(([, g]) => g)
+      : [["after (updated model)", s.after]];
+    const rows = [["before (nominal model)", s.before], ...steps].map(([k, g]) =>
       [k, num(g.max_abs_freq_error_pct, 2), num(g.rms_freq_error_pct, 2), num(g.min_mac, 3), num(g.mean_mac, 3), String(g.n_pairs ?? "–")]);
     return table(`${id}-gap`, [["model"], ["max |Δf| (%)", "largest frequency error over the paired modes"],
       ["rms Δf (%)"], ["min MAC", "worst shape agreement (nearly repeated modes compared as a plane)"], ["mean MAC"],
@@ -96,7 +116,7 @@
   function rankingTable(s, id) {
     const rows = s.ranking.map((r) => [r.name, `${num(100 * r.probability, 1)} %`, num(r.log_evidence, 1),
       r.name === "none" ? "(reference)" : num(r.log_bayes_factor, 1),
-      paramText(r.parameters) + (r.location ? `; at (${r.location[0]}, ${r.location[1]}) ft` : ""),
+      paramText(r.parameters) + (r.location ? `; ${placeText(r.location)}` : ""),
       r.adequate ? "yes" : "no", num(r.max_abs_freq_error_pct, 2), num(r.min_mac, 3)]);
     return table(`${id}-ranking`, [["candidate"], ["posterior", "probability given the data, within this library"],
       ["ln evidence", "Laplace approximation (Beck & Yuen 2004)"], ["ln Bayes factor vs none", "against the nominal model with a global stiffness factor"],
