@@ -26,7 +26,8 @@ class RankedEffect:
     """One candidate in the ranking.
 
     name; log_evidence (marginalised over locations for located effects, up to a common constant);
-    probability (posterior, equal prior odds between candidates); log_bayes_factor against "none" (the
+    probability (posterior, with the candidates' prior odds EffectSpec.prior_log_odds); log_bayes_factor
+    (the data's alone) against "none" (the
     reference: the nominal, or the effects already named); parameters {name: value} and location of the best
     fit; chi2 (data misfit at the best fit); adequate (the χ² test of :func:`adequacy` passes);
     max_abs_freq_error_pct, min_mac at the best fit; fit (the Fit record); test (the Adequacy record);
@@ -213,8 +214,8 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
             rows.append((spec, log_ev, fits[0], locs,
                          time.perf_counter() - t, len(places) + 2 + sum(f.n_evals for f in fits)))
-    log_ev = np.array([r[1] for r in rows])
-    prob = np.exp(log_ev - logsumexp(log_ev))
+    log_post = np.array([r[1] + r[0].prior_log_odds for r in rows])
+    prob = np.exp(log_post - logsumexp(log_post))
     out = []
     for (spec, le, f, locs, sec, solves), p in zip(rows, prob):
         t = adequacy(f, w, **(test or {}))
