@@ -49,7 +49,8 @@ def loose_joint_signature_pct(at, stiffness: float, n_modes: int = 12) -> float:
 _KEYS = {"none": (), "joint_flexibility": ("joint_stiffness",), "torsion_stiffness": ("torsion_factor",),
          "cable_length": ("cable_length_m",), "distributed_mass": ("distributed_mass_kg",),
          "point_mass": ("point_mass_kg", "point_mass_at"), "loose_joint": ("loose_joint_stiffness", "loose_joint_at"),
-         "gravity_stiffening": (), "member_stiffness": ("member_factor", "member_at"), "damaged_bar": ("bar", "ei_factor"), "ground_spring": ("stiffness_n_per_m", "at")}
+         "gravity_stiffening": (), "member_stiffness": ("member_factor", "member_at"),
+         "damaged_bar": ("bar", "ei_factor"), "ground_spring": ("stiffness_n_per_m", "at")}
 
 
 def _parse(effect) -> tuple[str, dict]:

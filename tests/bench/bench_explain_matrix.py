@@ -3,6 +3,7 @@
 Run: nice python3 tests/bench/bench_explain_matrix.py 0,1            (every group, these seeds)
  or: nice python3 tests/bench/bench_explain_matrix.py 0,1 pairs      (one group: single, pairs, damage, outside)
  or: python3 -m pytest -s tests/bench/bench_explain_matrix.py        (seeds 0, 1; fails on a confident wrong name)
+ or: python3 -m pytest -s tests/bench/bench_explain_matrix.py -k time (one two-effect case: where the time goes)
 
 Each case is classed by what explain() names against what the truth hides (era.examples.grid_simulation):
   right     the named set is the hidden set (located effects at their place: the joint, the member);
@@ -98,6 +99,22 @@ def matrix(seeds=(0, 1), groups=tuple(GROUPS)):
         print(f"  {group:8s} {counts['right']:3d} / {counts['part']:3d} / {counts['wrong']:3d} / {counts['honest']:3d}"
               f"   ({len(sel)} cases)")
     return rows
+
+
+def test_one_two_effect_case_time():
+    """One blind case with two hidden effects (the search runs two steps): the issue asks for < 10 s on 2 cores.
+    Prints where the time goes; fails above 30 s (a regression, or a machine shared with other heavy work)."""
+    c = run_case(("point_mass", "cable_length"), 0)
+    r = c["result"]
+    print(f"\ntwo-effect case (point_mass + cable_length, seed 0): {c['seconds']:.1f} s, {c['solves']} solves "
+          f"(screening by Rayleigh-Ritz counted as one each); ERA {r.timing_s['era_s']:.2f} s, search "
+          f"{r.timing_s['ranking_s']:.1f} s, report {r.timing_s['report_s']:.2f} s; named "
+          f"{[e.name for e in r.effects]}")
+    for k, ranking in enumerate(r.rankings):
+        for x in ranking:
+            print(f"   step {k + 1} {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} solves")
+    assert c["outcome"] == "right"
+    assert c["seconds"] < 30.0
 
 
 def test_no_confident_wrong_name():
