@@ -90,12 +90,17 @@ class Adequacy:
     clean: bool = True
 
 
-def adequacy(fit: Fit, w: ModeWeights, alpha: float = 1e-3, max_sigma: float = 4.0,
+def adequacy(fit: Fit, w: ModeWeights, alpha: float = 0.01, max_sigma: float = 4.0,
              shape_scale: float = 1.0) -> Adequacy:
     """The χ² adequacy test of a fit (see :class:`Adequacy`) at significance ``alpha`` (per test);
     ``max_sigma``: the largest |r_f| allowed (no lower than the Bonferroni extreme of k normal residuals);
     ``shape_scale``: the shape errors σ_s are trusted only to this factor (a model-form allowance: the truth's
-    scattered bars bend the shapes by more than ERA's spread across orders shows)."""
+    scattered bars bend the shapes by more than ERA's spread across orders shows).
+
+    Calibration (tests/bench/bench_explain_matrix.py, seeds 0-1): every right single or paired fit had
+    p_freq ≥ 0.25 and max |r_f| ≤ 2.6; a distributed mass named while a loose joint hid beside it had
+    p_freq = 1.0e-3, a whole damaged bar's best candidates 1e-11 and below. α = 0.01 rejects the first and keeps
+    every right one."""
     from scipy.stats import chi2, norm
     k = fit.freq_residual.size
     r_f = np.asarray(fit.freq_residual, float)

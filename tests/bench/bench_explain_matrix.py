@@ -8,7 +8,10 @@ Run: nice python3 tests/bench/bench_explain_matrix.py 0,1            (every grou
 Each case is classed by what explain() names against what the truth hides (era.examples.grid_simulation):
   right     the named set is the hidden set (located effects at their place: the joint, the member);
   part      only some of the hidden effects are named, nothing wrong (verdict "explained" on a subset);
-  wrong     some named effect is not hidden, or sits at the wrong place: a confident wrong name;
+  near      the right names, but a place left uncertain: the best place is a neighbour, and the report lists
+            the true place among the others still in contention (with its probability);
+  wrong     some named effect is not hidden, or sits at a wrong place the report does not qualify: a confident
+            wrong name;
   honest    nothing named: "unexplained", "ambiguous" or "no_significant_discrepancy" (right for "none").
 For "none" the right answer is "no_significant_discrepancy"; for out-of-library truths (a ground spring, a whole
 damaged bar) nothing may be named. Each row also prints the adequacy test of the model with the named set (or of
@@ -25,6 +28,9 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import era  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(__file__))
+from timing import median_time  # noqa: E402
 from era.examples.grid import nasa_grid  # noqa: E402
 from era.examples.grid_simulation import EFFECTS, simulate_grid_test  # noqa: E402
 
@@ -53,9 +59,17 @@ def classify(result, truth) -> str:
     named = {_key(e.name, e.location) for e in result.effects}
     if not named:
         return "honest"
-    if not named <= hidden or any(not e["in_library"] for e in truth["effects"]):
+    if any(not e["in_library"] for e in truth["effects"]):
         return "wrong"
-    return "right" if named == hidden else "part"
+    if named <= hidden:
+        return "right" if named == hidden else "part"
+    # a wrong place: "near" when the report names the true place among the others in contention
+    for e in result.effects:
+        if _key(e.name, e.location) not in hidden:
+            alts = {_key(e.name, loc) for loc, _ in e.other_locations}
+            if not (alts & hidden) or e.name not in {n for n, _ in hidden}:
+                return "wrong"
+    return "near"
 
 
 def run_case(effect, seed):
@@ -92,21 +106,24 @@ def matrix(seeds=(0, 1), groups=tuple(GROUPS)):
                       f"{r.after.max_abs_freq_error_pct:5.2f}% | best set chi2_f {t.chi2_freq:7.1f}/{r.fit_modes.size} "
                       f"p_f {t.p_freq:.1e} p_s {t.p_shape:.1e} max {t.max_freq_sigma:4.1f}σ | {c['seconds']:5.1f} s "
                       f"{c['solves']} solves", flush=True)
-    print("\nconfusion (right / part / wrong / honest), by group:")
+    print("\nconfusion (right / near / part / wrong / honest), by group:")
     for group in groups:
         sel = [c for c in rows if c["group"] == group]
-        counts = {k: sum(c["outcome"] == k for c in sel) for k in ("right", "part", "wrong", "honest")}
-        print(f"  {group:8s} {counts['right']:3d} / {counts['part']:3d} / {counts['wrong']:3d} / {counts['honest']:3d}"
-              f"   ({len(sel)} cases)")
+        counts = {k: sum(c["outcome"] == k for c in sel) for k in ("right", "near", "part", "wrong", "honest")}
+        print(f"  {group:8s} " + " / ".join(f"{counts[k]:3d}" for k in counts) + f"   ({len(sel)} cases)")
     return rows
 
 
 def test_one_two_effect_case_time():
     """One blind case with two hidden effects (the search runs two steps): the issue asks for < 10 s on 2 cores.
     Prints where the time goes; fails above 30 s (a regression, or a machine shared with other heavy work)."""
+    model = nasa_grid()
+    k = iter(range(1, 100))
+    ref = median_time(lambda: model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16), repeat=9)
     c = run_case(("point_mass", "cable_length"), 0)
     r = c["result"]
-    print(f"\ntwo-effect case (point_mass + cable_length, seed 0): {c['seconds']:.1f} s, {c['solves']} solves "
+    print(f"\none grid solve (build + modes(16)) here: {1e3 * ref:.1f} ms; the case took {c['seconds'] / ref:.0f} × that")
+    print(f"two-effect case (point_mass + cable_length, seed 0): {c['seconds']:.1f} s, {c['solves']} solves "
           f"(screening by Rayleigh-Ritz counted as one each); ERA {r.timing_s['era_s']:.2f} s, search "
           f"{r.timing_s['ranking_s']:.1f} s, report {r.timing_s['report_s']:.2f} s; named "
           f"{[e.name for e in r.effects]}")
