@@ -149,11 +149,11 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
         r0 = np.r_[r0, (u_sf - nuisance.prior_mean) / nuisance.prior_std]
         j_sf = np.r_[j_sf, 1.0 / nuisance.prior_std]
     # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
-    basis = base.model.dof_modes(ritz_modes)[1] if ritz_modes and hasattr(base.model, "ritz") else None
+    ritz = bool(ritz_modes) and hasattr(base.model, "ritz")
     for i, loc in enumerate(locations):
         u = [*base.u, *trial_u]
         trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, loc)
-        approx = None if basis is None else trial.ritz(basis)
+        approx = trial.ritz(base.model, ritz_modes) if ritz else None
         d = resid(trial if approx is None else approx) - r0[:n_r]
         if with_prior:
             d = np.r_[d, 0.0]

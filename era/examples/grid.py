@@ -288,13 +288,35 @@ class GridModel:
         f, w = self.node_modes(n_modes)
         return f, w[[joint_index(s) for s in SENSORS_FT]]
 
-    def ritz(self, basis: np.ndarray) -> "RitzModes | None":
-        """This model's modes in the span of ``basis`` (n_dof, r) — mode shapes of a model with the same DOFs,
-        e.g. the fitted nominal's (Rayleigh-Ritz: a small dense eigenproblem instead of a solve, for screening
-        many places of a local change); None when the DOFs differ (a joint that splits into two nodes)."""
+    def ritz(self, reference: "GridModel", n_modes: int) -> "RitzModes | None":
+        """This model's modes in the span of the ``reference`` model's lowest ``n_modes`` modes (Rayleigh-Ritz: a
+        small dense eigenproblem instead of a solve, for screening many places of a local change), or None when
+        this model is not the reference plus local changes (other mesh, or a joint of the reference's that
+        this one keeps rigid).
+
+        A joint this model splits (a loose joint) and the reference does not: the reference's shapes move both
+        bars' nodes together, and the split node's rotations are added as extra basis vectors (the relative
+        rotation the spring allows)."""
         _, system, _, w_joint, _ = self._system
-        if basis.shape[0] != system.K.shape[0]:
+        ref_frame, ref_system = reference._system[0], reference._system[1]
+        frame = self._system[0]
+        split, split_ref = frame.links[:, 0].tolist(), ref_frame.links[:, 0].tolist()
+        if (self._params["elements_per_bar"] != reference._params["elements_per_bar"]
+                or not set(split_ref) <= set(split)):
             return None
+        n_joint, n_split, n_split_ref = NX * NY, len(split), len(split_ref)
+        # each node of this model ↔ the reference node that moves with it
+        node_ref = np.arange(frame.n_nodes)
+        node_ref[n_joint:n_joint + n_split] = [n_joint + split_ref.index(j) if j in split_ref else j for j in split]
+        node_ref[n_joint + n_split:] -= n_split - n_split_ref
+        dofs, dofs_ref = system.dofs, ref_system.dofs
+        phi = reference.dof_modes(n_modes)[1]
+        lifted = np.zeros((system.K.shape[0], phi.shape[1]))
+        lifted[dofs.ravel()] = phi[dofs_ref[node_ref].ravel()]
+        new = sorted(set(dofs[n_joint:n_joint + n_split].ravel().tolist())
+                     - set(dofs[[n_joint + k for k, j in enumerate(split) if j in split_ref]].ravel().tolist())
+                     - set(dofs[:n_joint].ravel().tolist()))
+        basis = np.column_stack([lifted, np.eye(lifted.shape[0])[:, new]]) if new else lifted
         k = basis.T @ (system.K @ basis)
         m = basis.T @ (system.M @ basis)
         lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
