@@ -17,8 +17,10 @@ from fastapi import Request
 from fastapi.responses import HTMLResponse, JSONResponse, RedirectResponse, Response
 
 COOKIE = "era_token"
-#: Open without signing in (GET only): report links, the page's assets, the viewer's client, health, sign-in.
-_PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|static/.*|vendor/.*|viser/.*|api/health|login|favicon\.ico)$")
+#: Open without signing in (GET only): report and campaign links, the page's assets, the viewer's client, health,
+#: sign-in.
+_PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|c/[^/]+|api/campaigns/(?!folders$)[^/]+(/.*)?|static/.*|"
+                     r"vendor/.*|viser/.*|api/health|login|favicon\.ico)$")
 
 
 class Access:

@@ -72,6 +72,16 @@ class Settings:
     expire_days: float = 30.0
     #: Start the viser mode-shape viewer (app/viewer/); ERA_VIEWER=0 turns it off.
     viewer: bool = True
+    #: Campaigns (app/campaigns.py): the Dask scheduler their records run on (tcp://host:8786); None: local processes.
+    dask_scheduler: str | None = None
+    #: Local processes one campaign uses when there is no scheduler (0: half the cores, at least 1).
+    campaign_workers: int = 0
+    #: A server folder whose subfolders may be run as campaigns (POST /api/campaigns with folder=); None: uploads only.
+    campaign_root: Path | None = None
+    #: Records (files) in one campaign at most.
+    max_campaign_records: int = 2000
+    #: Campaigns waiting behind the running one (one runs at a time per app process); beyond it, 503.
+    campaign_queue: int = 4
 
     @property
     def db_path(self) -> Path:
@@ -81,7 +91,8 @@ class Settings:
 def from_env() -> Settings:
     """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
     ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE, ERA_ACCESS_TOKEN,
-    ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS and ERA_VIEWER (0 turns the viser viewer off)."""
+    ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS, ERA_VIEWER (0 turns the viser viewer off) and the campaigns'
+    ERA_DASK_SCHEDULER, ERA_CAMPAIGN_WORKERS, ERA_CAMPAIGN_ROOT, ERA_MAX_CAMPAIGN_RECORDS and ERA_CAMPAIGN_QUEUE."""
     base = Settings()
     return replace(
         base,
@@ -98,4 +109,9 @@ def from_env() -> Settings:
         trust_user_header=_env("ERA_TRUST_USER_HEADER", None, str),
         expire_days=_env("ERA_EXPIRE_DAYS", base.expire_days, float),
         viewer=_env("ERA_VIEWER", 1, int) != 0,
+        dask_scheduler=_env("ERA_DASK_SCHEDULER", None, str),
+        campaign_workers=_env("ERA_CAMPAIGN_WORKERS", base.campaign_workers, int),
+        campaign_root=_env("ERA_CAMPAIGN_ROOT", None, Path),
+        max_campaign_records=_env("ERA_MAX_CAMPAIGN_RECORDS", base.max_campaign_records, int),
+        campaign_queue=_env("ERA_CAMPAIGN_QUEUE", base.campaign_queue, int),
     )

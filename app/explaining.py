@@ -64,7 +64,8 @@ def check_grid_dataset(data: era.ResponseData, geometry: era.Geometry | None, mo
     """Raise era.DataError unless the dataset has the grid's nine sensors, in model.sensors order."""
     need = ("The simulation-vs-test panel needs the NASA grid's nine sensors in order: outputs w at "
             + ", ".join(f"({x:g}, {y:g})" for x, y in model.sensors) + " ft, with the grid geometry (the built-in "
-            "grid example has them).")
+            "grid example has them); for another structure, describe it in the Model panel or upload a model file "
+            "first.")
     if data.n_outputs != len(model.sensors):
         raise era.DataError(f"This dataset has {data.n_outputs} output(s). {need}")
     if geometry is None:
@@ -113,8 +114,10 @@ def orders_for(ident: era.Identification, orders=None, order: int | None = None)
 
 
 def run(ident: era.Identification, geometry: era.Geometry | None, model, params: dict | None, *,
-        orders=None, kept: tuple | None = None) -> tuple[dict, dict]:
-    """era.explain on the identification of a grid dataset against the nominal ``model`` (nominal_model(params)).
+        orders=None, kept: tuple | None = None, described: dict | None = None) -> tuple[dict, dict]:
+    """era.explain on the identification of a dataset against the nominal ``model``: the grid
+    (nominal_model(params)), or None with ``described``, the dataset's structure model as stored (app/modeling.py:
+    an era.Frame is built from it here, in the worker process, as a Frame does not pickle).
 
     orders : the orders the modes are tracked over (:func:`orders_for`); kept : (order, mode indices) to compare
     exactly the modes the person kept at that order, else every mode stable over the orders.
@@ -123,7 +126,13 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
     from era.discrepancy import overlay
 
     data = ident.data
-    check_grid_dataset(data, geometry, model)
+    is_frame = described is not None
+    if is_frame:
+        from . import modeling
+        model = modeling.frame(described)
+        modeling.check_channels(model, data.outputs, geometry)
+    else:
+        check_grid_dataset(data, geometry, model)
     tracked = orders_for(ident, orders, None if kept is None else kept[0])
     t0 = time.perf_counter()
     result = era.explain(ident, model, orders=tracked, kept=kept)
@@ -137,12 +146,24 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         model_hz_before=result.nominal_model.modes(n_model)[0] if n_model else [],
         model_hz_after=result.updated_model.modes(n_model)[0] if n_model else [],
         measured_hz=result.measured.take(result.fit_modes).frequency_hz,
-        grid_shape=[int(np.unique(result.node_xy_ft[:, 0]).size), int(np.unique(result.node_xy_ft[:, 1]).size)],
-        sensors_ft=[list(s) for s in model.sensors],
+        grid_shape=None if is_frame else [int(np.unique(result.node_xy_ft[:, 0]).size),
+                                          int(np.unique(result.node_xy_ft[:, 1]).size)],
+        sensors_ft=None if is_frame else [list(s) for s in model.sensors],
         outputs=list(data.outputs), inputs=list(data.inputs),
         overlay_fit_percent={k: payloads.fit_percent(responses[f"fit_error_{k}"]) for k in ("nominal", "updated")},
         seconds=seconds)
+    if is_frame:
+        summary.update(frame=frame_json(model, result.node_labels), model_text=modeling.describe(described))
     return _json(summary), {k: np.asarray(responses[k], float) for k in ("measured", "nominal", "updated")}
+
+
+def frame_json(frame: era.Frame, node_labels) -> dict:
+    """What the panel and the report draw a frame's shapes with: nodes (m), members, sensors, and the node
+    translation of each row of the expanded shapes ("7:x", ...)."""
+    return {"nodes": {n: list(xyz) for n, xyz in frame.nodes.items()},
+            "members": [[i, j] for i, j, *_ in frame.members],
+            "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in frame.sensors],
+            "node_labels": list(node_labels)}
 
 
 def basis(ident: era.Identification, orders: list[int], kept: tuple | None) -> dict:

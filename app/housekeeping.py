@@ -9,6 +9,7 @@ import logging
 import time
 
 from .store import Store
+from .store.staging import IMPORT_TTL_S
 
 log = logging.getLogger("app.housekeeping")
 #: Seconds between sweeps.
@@ -16,10 +17,13 @@ EVERY_S = 3600.0
 
 
 def sweep(store: Store, expire_days: float, now: float | None = None) -> dict:
-    """Delete what expired by ``now`` (Unix s); returns the counts. ``expire_days`` ≤ 0 keeps everything."""
+    """Delete what expired by ``now`` (Unix s); returns the counts. ``expire_days`` ≤ 0 keeps every dataset and
+    analysis; uploads never turned into a dataset (the import step's) go a day after they came, always."""
+    now = time.time() if now is None else now
+    imports = store.staging.expire(before=now - IMPORT_TTL_S)
     if expire_days <= 0:
-        return {"analyses": 0, "datasets": 0}
-    return store.expire(before=(time.time() if now is None else now) - 86400.0 * expire_days)
+        return {"analyses": 0, "datasets": 0, "imports": imports}
+    return dict(store.expire(before=now - 86400.0 * expire_days), imports=imports)
 
 
 async def sweep_forever(store: Store, expire_days: float) -> None:

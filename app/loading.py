@@ -15,9 +15,10 @@ MAX_FILES = 256
 
 def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
-    variable, group, frf_sign; None means not given). Raises an era.EraError (shown to the person as is)."""
+    variable, group, frf_sign, start_sample, drop, forces, references; None means not given). Raises an
+    era.EraError (shown to the person as is)."""
     if kind not in KINDS:
-        raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.")
+        raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")
     if not files:
         raise era.DataError("No file in the upload: add at least one file part named `file`.")
     if len(files) > MAX_FILES:
@@ -34,3 +35,29 @@ def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", **options):
         raise era.DataError(f"{files[0][0]}: the file holds geometry or modes but no response records; upload the "
                             "measured responses.")
     return ds.data, ds.geometry, dict(ds.source or {})
+
+
+def channel_list(text: str | None, option: str) -> list[int] | None:
+    """Channel positions from a form field such as "0, 2" (None or blank: not given)."""
+    if text is None or not text.strip():
+        return None
+    try:
+        return [int(x) for x in text.replace(";", ",").split(",") if x.strip()]
+    except ValueError:
+        raise era.DataError(f"`{option}` lists channel positions (0-based), comma-separated, e.g. 0,2; got {text!r}.",
+                            option=option) from None
+
+
+def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict) -> dict:
+    """Read ``files`` with ``options`` into a stored dataset; returns its summary (schemas.Dataset), whose
+    ``source.options`` keeps what the person said (shown in the summary, frozen into reports)."""
+    from .payloads import dataset_summary
+
+    data, geometry, source = load_upload(files, kind, **options)
+    name = files[0][0] if len(files) == 1 else f"{files[0][0]} + {len(files) - 1} more"
+    said = {k: v for k, v in options.items() if v is not None}
+    if kind != "auto":
+        said["kind"] = kind
+    source = dict(source, file=name if len(files) == 1 else [n for n, _ in files],
+                  bytes=sum(len(b) for _, b in files), options=said)
+    return cache.add_dataset(data, geometry, name, dataset_summary(data, geometry, name, cache.settings, source))

@@ -26,9 +26,10 @@ import era
 from . import config, housekeeping, schemas, viewing
 from .access import Access
 from .cache import Cache
+from .campaigns import Campaigns
 from .errors import NotFound
 from .jobs import Jobs
-from .routes import analyses, datasets, examples, explain, health, pages, reports
+from .routes import analyses, campaigns, datasets, examples, explain, health, imports, models, pages, reports
 from .routes import jobs as job_routes
 from .store import Store
 from .viewer import ModeViewer
@@ -36,8 +37,9 @@ from .viewer import ModeViewer
 log = logging.getLogger("app")
 
 
-def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
-    return JSONResponse({"error": message}, status_code=status, headers=headers)
+def _error(status: int, message: str, headers: dict | None = None, option: str | None = None) -> JSONResponse:
+    body = {"error": message} if option is None else {"error": message, "option": option}
+    return JSONResponse(body, status_code=status, headers=headers)
 
 
 class UploadLimit:
@@ -121,6 +123,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         app.state.store = store
         app.state.cache = Cache(store, settings)
         app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
+        app.state.campaigns = Campaigns(store, settings)
         if viewer is not None:  # a key published by another process is rebuilt here from the store
             viewer.resolver = viewing.resolver(app.state.cache)
             viewer.states = viewing.SharedStates(store)
@@ -135,6 +138,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             if viewer is not None:
                 viewer.stop()
             app.state.jobs.shutdown()
+            app.state.campaigns.shutdown()
             store.close()
 
     errors = {404: "unknown id", 422: "invalid request or data, with what to change", 429: "rate limit",
@@ -168,7 +172,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
 
     @app.exception_handler(era.EraError)
     async def era_error(request: Request, exc: era.EraError):
-        return _error(422, str(exc))
+        return _error(422, str(exc), option=getattr(exc, "option", None))
 
     @app.exception_handler(NotFound)
     async def not_found(request: Request, exc: NotFound):
@@ -193,7 +197,8 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         return _error(500, f"Internal error (reference {ref}); it has been logged. Please report it with the "
                            "reference.")
 
-    for module in (datasets, examples, analyses, explain, reports, job_routes, health, pages):
+    for module in (datasets, imports, models, examples, analyses, explain, reports, campaigns, job_routes, health,
+                   pages):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)

@@ -2,7 +2,8 @@
 
 A report holds everything its page draws (no recomputation when it is opened): the dataset's summary and
 hash, the parameters, the modes of the chosen order with the kept ones marked, the stabilization diagram,
-measured and reconstructed records, the geometry for the animation, and the software versions.
+measured and reconstructed records, the geometry for the animation, the structure model simulation vs test used,
+and the software versions.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 
 import era
 
-from . import config, payloads
+from . import config, modeling, payloads
 from .cache import Analysis
 
 #: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
@@ -46,13 +47,14 @@ def geometry_json(geometry: era.Geometry | None) -> dict | None:
 
 def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: np.ndarray,
           stab: era.Stabilization, *, dataset: dict, explanation: dict | None, recordings: dict[str, str],
-          version: str, plot_points: int) -> dict:
+          version: str, plot_points: int, structure: dict | None = None) -> dict:
     """The report document (schemas.ReportDocument) of analysis ``a`` at the order of ``model`` (from ``ident``)
     with the modes ``kept`` (sorted indices). Blocking (one full reconstruction): run it on a pool.
 
     dataset : the dataset's stored summary; explanation : the stored simulation-vs-test result with every
     overlay (explaining.for_report), or None; recordings : {mode index: file name} of the mode-shape recordings;
-    plot_points : points of the stabilization diagram's CMIF curve.
+    plot_points : points of the stabilization diagram's CMIF curve; structure : the dataset's structure model as
+    stored (app/modeling.py), frozen with the report, or None.
     """
     data = a.data
     reduced = model.select(kept)
@@ -75,6 +77,9 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
         "stabilization": payloads.stabilization_json(stab, data, plot_points),
         "geometry": geometry_json(a.geometry),
         "explanation": explanation,
+        "structure_model": None if structure is None else {
+            k: structure.get(k) for k in ("model", "source", "name", "saved")} | {
+            "text": modeling.describe(structure["model"])},
         "recordings": dict(recordings),
     }
 

@@ -25,6 +25,8 @@ class Error(Schema):
     """Every refusal and failure (404, 413, 422, 429, 500, 503): no stack trace, a sentence to act on."""
 
     error: str = Field(description="what is wrong and what to do about it")
+    option: str | None = Field(None, description="the option that fixes it (e.g. dt, orientation, forces), when one "
+                                                 "does: a form shows the message next to that control")
 
 
 # ---- datasets ---------------------------------------------------------------------------------------------
@@ -80,6 +82,72 @@ class Dataset(Schema):
     source: DatasetSource
     defaults: HankelDefaults
     limits: DatasetLimits
+
+
+class ImportOptions(Schema):
+    """What the person says about uploaded files that they cannot say themselves (the import step). Channels are
+    numbered as read (0-based), before any is dropped."""
+
+    model_config = ConfigDict(extra="forbid")
+    kind: Literal["auto", "pulse", "decay", "frf", "io", "ambient"] = Field(
+        "auto", description="what the records are: auto (guessed), pulse, decay, frf, io (OKID) or ambient (NExT)")
+    dt: float | None = Field(None, gt=0, description="sampling interval, s, when the files carry none")
+    format: str | None = Field(None, description="the format when sniffing should not decide, e.g. text")
+    orientation: Literal["rows", "columns"] | None = Field(None, description="channels of a headerless table")
+    variable: str | None = Field(None, description="the array to read in a MAT or HDF5 file")
+    group: str | None = Field(None, description="the TDMS group to read")
+    frf_sign: Literal["auto", "+", "-"] | None = Field(None, description="the FRFs' sign convention")
+    start_sample: int | None = Field(None, ge=0, description="samples skipped at the start of every record "
+                                                            "(pre-trigger)")
+    drop: list[int] | None = Field(None, description="channels left out")
+    forces: list[int] | None = Field(None, description="channels that measure the excitation (input-output records); "
+                                                       "null: as the files' units and names say")
+    references: list[int] | None = Field(None, description="reference channels of ambient records (NExT); null: all")
+
+
+class ImportChannel(Schema):
+    index: int = Field(description="position in the files, 0-based (what drop/forces/references take)")
+    name: str
+    unit: str = Field(description="unit as the file gives it ('' when none)")
+    node: int | None = Field(description="test-geometry node of the sensor, when the file says")
+    direction: str | None = Field(description="+X, -Z, ... (global), when the file says")
+    force: bool = Field(description="measures the excitation")
+    dropped: bool = Field(description="left out by the person's choice")
+
+
+class ImportPreview(Schema):
+    """What was read, before anything is identified (POST /api/imports)."""
+
+    files: list[str]
+    format: str
+    domain: str = Field(description="time, pulse (impulse responses) or frequency (FRFs)")
+    dt: float | None = Field(description="Δt, s (or Δf, Hz, for FRFs); null when the files carry none")
+    sample_rate_hz: float | None = Field(description="1/Δt for time data, Hz")
+    start: float = Field(description="abscissa of the first kept sample, s or Hz")
+    channels: list[ImportChannel]
+    references: list[str] = Field(description="the references (inputs) of FRFs or impulse responses")
+    n_records: int = Field(description="records (files, runs or initial conditions)")
+    n_samples: list[int] = Field(description="samples of each record after start_sample")
+    kind: str = Field(description="what kind=auto would read the records as")
+    described: list[str] = Field(description="what was read and done")
+    x: Floats = Field(description="abscissa of the plotted points: s, Hz, or sample numbers when dt is null")
+    x_label: str
+    traces: Matrix = Field(description="(channels, points) first record of every channel, thinned "
+                                       "(|FRF| of the first reference)")
+    geometry_nodes: int = Field(description="nodes of the test geometry in the files")
+
+
+class Import(Schema):
+    """An upload waiting for the import step: its files, what was read, and what still stops it."""
+
+    id: str = Field(description="upload id (kept a day unless it becomes a dataset)")
+    files: list[str]
+    bytes: int
+    options: dict[str, Any] = Field(description="the options this preview used")
+    preview: ImportPreview | None = Field(description="what was read, or null when nothing could be")
+    error: str | None = Field(description="what still stops the import, and what to do")
+    option: str | None = Field(description="the option that fixes the error (dt, orientation, variable, group, "
+                                           "kind, forces, start_sample, drop, format)")
 
 
 class Records(Schema):
@@ -233,8 +301,9 @@ class Gap(Explained):
     n_pairs: int = Field(description="paired modes")
 
 
-#: a place: a joint (x_ft, y_ft) or a member ((x1, y1), (x2, y2)) ft
-Place = list[float] | list[list[float]]
+#: a place: on the grid a joint (x_ft, y_ft) or a member ((x1, y1), (x2, y2)) ft; on a frame a node id or a
+#: member [node i, node j] (["*"]: every member)
+Place = list[float] | list[list[float]] | str | list[str]
 
 
 class NamedEffect(Explained):
@@ -242,8 +311,9 @@ class NamedEffect(Explained):
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value} (incl. "
                                                             "stiffness_factor), in the keyword's unit")
     uncertainty: dict[str, float | None] = Field(description="1σ of each parameter, same units")
-    location: Place | None = Field(description="(x_ft, y_ft) of a located effect, ((x1, y1), (x2, y2)) of a "
-                                                "member, ft, or null")
+    location: Place | None = Field(description="(x_ft, y_ft) of a located effect on the grid, ((x1, y1), "
+                                                "(x2, y2)) of a grid member, ft; on a frame a node id or a member "
+                                                "[node i, node j] ([\"*\"]: every member); or null")
     location_probability: float | None = Field(description="posterior of that location, fraction")
     other_locations: list[tuple[Place, float | None]] = Field(description="[place, probability] of "
                                                                         "locations that tie")
@@ -255,7 +325,8 @@ class NamedEffect(Explained):
 
 
 class LocatedEvidence(Explained):
-    location: Place | None = Field(description="(x_ft, y_ft) or a member ((x1, y1), (x2, y2)), ft")
+    location: Place | None = Field(description="(x_ft, y_ft) or a member ((x1, y1), (x2, y2)), ft; a frame's "
+                                                "node id or member")
     log_evidence: float | None
     probability: float | None = Field(description="posterior of this location, fraction")
 
@@ -267,7 +338,7 @@ class RankedEffect(Explained):
     log_bayes_factor: float | None = Field(description="ln Bayes factor against the nominal model")
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value}")
     location: Place | None = Field(description="(x_ft, y_ft) or a member ((x1, y1), (x2, y2)) of the best "
-                                               "location, ft, or null")
+                                               "location, ft (a frame's node id or member), or null")
     chi2: float | None = Field(description="χ² of the fit")
     adequate: bool = Field(description="the fit is consistent with the error levels")
     max_abs_freq_error_pct: float | None = Field(description="largest |Δf| after the fit, %")
@@ -343,8 +414,12 @@ class Explanation(Explained):
     model_hz_before: Floats = Field(description="nominal model frequencies, Hz")
     model_hz_after: Floats = Field(description="updated model frequencies, Hz")
     measured_hz: Floats = Field(description="frequencies of the fitted measured modes, Hz")
-    grid_shape: list[int] = Field(description="[joints along x, joints along y]")
-    sensors_ft: Matrix = Field(description="(p, 2) sensor positions, ft")
+    grid_shape: list[int] | None = Field(description="[joints along x, joints along y] (null on a frame)")
+    sensors_ft: Matrix | None = Field(description="(p, 2) sensor positions, ft (null on a frame)")
+    frame: dict[str, Any] | None = Field(None, description="on a frame: {nodes: {id: [x, y, z] m}, members: "
+                                                           "[[i, j]], sensors: [[node, direction]], node_labels: "
+                                                           "rows of the expanded shapes (\"7:x\", ...)}")
+    model_text: str | None = Field(None, description="on a frame: the model compared, in one line")
     outputs: list[str] = Field(description="(p,) output labels")
     inputs: list[str] = Field(description="(m,) input labels")
     overlay_fit_percent: dict[str, Matrix] = Field(description="{nominal, updated}: (p, m) fit of the simulated "
@@ -390,6 +465,16 @@ class ReportGeometry(Schema):
     units: str
 
 
+class FrozenModel(Schema):
+    """A dataset's structure model as a report keeps it."""
+
+    model: dict[str, Any] = Field(description="era.Frame's file format, SI units, as described")
+    source: str = Field(description="geometry (described in the panel) or file")
+    name: str | None = Field(description="the uploaded file's name, or null")
+    saved: float | None = Field(description="when it was saved, Unix s")
+    text: str = Field(description="the model in one line")
+
+
 class ReportDocument(Schema):
     """The frozen report, as stored: everything its page draws."""
 
@@ -405,6 +490,8 @@ class ReportDocument(Schema):
     stabilization: Stabilization
     geometry: ReportGeometry | None
     explanation: Explanation | None = Field(description="simulation vs test, when its panel ran before the report")
+    structure_model: FrozenModel | None = Field(None, description="the dataset's structure model when the report was "
+                                                                  "made (issue 9), or null")
     recordings: dict[str, str] = Field(description="{mode index: file} of the mode-shape recordings (.viser)")
 
 
@@ -421,3 +508,125 @@ class OfflineReport(ReportDocument):
     standalone: bool = Field(description="true: the page has no server (no links to downloads)")
     offline_recordings: dict[str, str] = Field(description="{mode index: .viser recording, base64}")
     viser_marker: str | None = Field(description="what the player page holds where a recording goes, or null")
+
+
+# ---- campaigns (app/campaigns.py) -------------------------------------------------------------------------
+class CampaignAnalysis(Schema):
+    kind: str = Field(description="how each record became Markov parameters: auto, ambient (NExT), decay, ...")
+    dt: float | None = Field(description="sampling interval given for files without a time column, s, or null")
+    orders: list[int] = Field(description="model orders of each record's stabilization diagram")
+
+
+class CampaignRecord(Schema):
+    record: int = Field(description="position of the record among the campaign's files (0-based)")
+    name: str = Field(description="its file name")
+    time: str | float = Field(description="ISO 8601 date-time from the file name, or the record's position when "
+                                          "not every file name holds one")
+
+
+class CampaignMode(Schema):
+    mode: int = Field(description="the tracked mode's number")
+    reference_frequency_hz: float | None = Field(description="frequency where it was defined, Hz")
+    reference_damping_ratio: float | None = Field(description="damping where it was defined, fraction")
+    origin: str = Field(description="reference (a mode of the first record) or new (appeared later and persisted)")
+    first_record: int = Field(description="the record that defined it (-1 for a given reference)")
+    n_found: int = Field(description="records that show it")
+
+
+class CampaignSeries(Schema):
+    mode: int
+    frequency_hz: Floats = Field(description="one per analysed record, in time order; null where it is missing")
+    damping_ratio: Floats = Field(description="fraction, one per analysed record")
+    mac_to_reference: Floats = Field(description="MAC of the record's mode with the reference shape")
+
+
+class CampaignFailure(Schema):
+    record: int
+    name: str = Field(description="the file name")
+    reason: str = Field(description="why the record could not be analysed, for a person")
+
+
+class CampaignResult(Schema):
+    """campaigns/{id}/campaign.json: everything the campaign page draws."""
+
+    id: str
+    name: str
+    engine: str = Field(description="where the records ran: the Dask scheduler's address or local processes")
+    analysis: CampaignAnalysis
+    seconds: float = Field(description="wall time of the campaign, s")
+    n_records: int = Field(description="records (files) in the campaign, analysed or failed")
+    time_axis: Literal["date", "record"] = Field(description="what the records' time is")
+    records: list[CampaignRecord] = Field(description="the analysed records, in time order")
+    modes: list[CampaignMode]
+    series: list[CampaignSeries] = Field(description="one per tracked mode")
+    failed: list[CampaignFailure]
+
+
+class Campaign(Schema):
+    id: str = Field(description="the campaign's id (144-bit random): its link is the secret")
+    name: str
+    url: str = Field(description="the campaign's page and report link, /c/{id}")
+    state: Literal["queued", "running", "done", "failed"]
+    done: int = Field(description="records finished so far (analysed or failed)")
+    total: int = Field(description="records in the campaign")
+    message: str | None = Field(description="why the campaign failed as a whole, or a warning; null otherwise")
+    engine: str = Field(description="where the records run")
+    result: CampaignResult | None = Field(description="once done")
+
+
+class CampaignFolder(Schema):
+    name: str = Field(description="a folder under ERA_CAMPAIGN_ROOT ('.' is the root itself)")
+    n_files: int
+
+
+class CampaignFolders(Schema):
+    enabled: bool = Field(description="whether this server runs campaigns on its own folders (ERA_CAMPAIGN_ROOT)")
+    folders: list[CampaignFolder]
+    engine: str = Field(description="where campaigns run on this server")
+    max_records: int = Field(description="records in one campaign at most (ERA_MAX_CAMPAIGN_RECORDS)")
+
+
+# ---- the structure model of a dataset (issue 9: simulation vs test on the engineer's own structure) ----------------
+class ModelDraft(Schema):
+    """GET /api/datasets/{id}/model/draft: what the model step starts from, read from the dataset's geometry."""
+
+    nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m (the geometry's labels)")
+    members: list[list[str]] = Field(description="[node i, node j, group] per trace line; group by direction: "
+                                                 "vertical, along x, along y, inclined")
+    sensors: list[list[Any]] = Field(description="[node, direction] per output, in the outputs' order")
+    outputs: list[str] = Field(description="(p,) output labels")
+    units: str = Field(description="always m")
+    groups: list[str] = Field(description="the groups the members fall into")
+    materials: list[str] = Field(description="materials the section helpers know")
+    shapes: list[str] = Field(description="section shapes: rectangle, tube, square_tube, circle")
+
+
+class StructureModel(Schema):
+    """A dataset's stored structure model (GET/PUT /api/datasets/{id}/model, POST .../model/file)."""
+
+    model: dict[str, Any] = Field(description="the model in era.Frame's file format (SI units), as described")
+    source: Literal["geometry", "file"] = Field(description="built from the geometry in the panel, or uploaded")
+    name: str | None = Field(description="the uploaded file's name, or null")
+    saved: float | None = Field(description="when it was saved, Unix s")
+    n_nodes: int
+    n_members: int
+    n_sensors: int
+    total_mass_kg: float = Field(description="members plus lumped masses, kg")
+    frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
+    text: str = Field(description="the model in one line")
+
+
+class BestPartner(Schema):
+    model_mode: int = Field(description="index of the model mode with the largest MAC, from 0")
+    mac: float | None = Field(description="that MAC, fraction")
+    frequency_error_pct: float | None = Field(description="(model − test)/test, %")
+
+
+class ModelComparison(Schema):
+    """GET /api/analyses/{id}/model/mac: the dataset's model beside the test's modes, at the sensors."""
+
+    test_hz: Floats = Field(description="(k,) the test modes compared, Hz")
+    model_hz: Floats = Field(description="(n,) the model's lowest modes, Hz")
+    mac: Matrix = Field(description="(k, n) MAC of each test mode with each model mode")
+    best: list[BestPartner | None] = Field(description="(k,) each test mode's model partner (frequency and MAC "
+                                                      "together, as explain pairs them), null when none fits")

@@ -20,25 +20,41 @@ def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
 
 
 def explain_scene(summary: dict, which: str) -> tuple:
-    """(geometry of every grid joint, frequency_hz, shapes (joints, k), labels) of an explanation's measured shapes
-    expanded by SEREP (``which`` = "measured") or the updated model's ("model")."""
-    from era.examples.grid import nasa_grid
-
+    """(geometry of every grid joint or frame node, frequency_hz, shapes (rows, k), labels) of an explanation's
+    measured shapes expanded by SEREP (``which`` = "measured") or the updated model's ("model")."""
     shapes = np.asarray(summary["expanded_measured" if which == "measured" else "expanded_model"], dtype=float)
     f = np.asarray(summary["measured_hz"] if which == "measured" else
                    [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
-    grid = nasa_grid().geometry()
-    n = grid.coordinates.shape[0]
+    every_joint = _frame_geometry(summary["frame"]) if summary.get("frame") else _grid_geometry()
+    n = every_joint.channel_nodes.size
     if shapes.shape[0] != n:
-        raise era.DataError(f"The stored shapes have {shapes.shape[0]} joints, the grid {n}.")
-    # every joint is a channel (w along +z), so the viewer moves the whole grid from the expanded shapes
-    every_joint = era.Geometry(node_ids=grid.node_ids, coordinates=grid.coordinates, edges=grid.edges,
-                               channel_nodes=np.arange(n), channel_directions=np.tile([0.0, 0.0, 1.0], (n, 1)),
-                               units=grid.units)
+        raise era.DataError(f"The stored shapes have {shapes.shape[0]} rows, the structure {n} node translations.")
     paired = [which == "measured" or r["updated_hz"] is not None for r in summary["modes"]]
     labels = [f"mode {k + 1}: {'measured (SEREP)' if which == 'measured' else 'updated model'} {fk:.3f} Hz"
               if ok else f"mode {k + 1}: no model partner" for k, (fk, ok) in enumerate(zip(f, paired))]
     return every_joint, f, shapes.astype(complex), labels
+
+
+def _grid_geometry() -> era.Geometry:
+    """The grid with every joint a channel (w along +z), so the viewer moves the whole grid."""
+    from era.examples.grid import nasa_grid
+
+    grid = nasa_grid().geometry()
+    n = grid.coordinates.shape[0]
+    return era.Geometry(node_ids=grid.node_ids, coordinates=grid.coordinates, edges=grid.edges,
+                        channel_nodes=np.arange(n), channel_directions=np.tile([0.0, 0.0, 1.0], (n, 1)),
+                        units=grid.units)
+
+
+def _frame_geometry(frame: dict) -> era.Geometry:
+    """A frame's nodes (m) and members, with a channel per row of its expanded shapes ("node:x", ...)."""
+    ids = list(frame["nodes"])
+    index = {n: k for k, n in enumerate(ids)}
+    rows = [label.rsplit(":", 1) for label in frame["node_labels"]]
+    return era.Geometry(node_ids=np.arange(1, len(ids) + 1), coordinates=[frame["nodes"][n] for n in ids],
+                        edges=[[index[i], index[j]] for i, j in frame["members"]],
+                        channel_nodes=[index[n] for n, _ in rows],
+                        channel_directions=[np.eye(3)["xyz".index(a)] for _, a in rows], units="m")
 
 
 def resolver(cache: Cache):

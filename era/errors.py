@@ -6,7 +6,18 @@ so the web app can show it to a person as it is.
 
 
 class EraError(ValueError):
-    """Base class of every error raised by ``era`` for bad input or bad parameters."""
+    """Base class of every error raised by ``era`` for bad input or bad parameters.
+
+    option : the name of the parameter that fixes it (e.g. "dt" for a file without a sampling interval), or None;
+        a form shows the message next to that control.
+    """
+
+    def __init__(self, *args, option: str | None = None):
+        super().__init__(*args)
+        self.option = option
+
+    def __reduce__(self):  # keep `option` across processes (the app computes in a worker pool)
+        return _rebuild, (type(self), self.args, self.option)
 
 
 class DataError(EraError):
@@ -19,3 +30,7 @@ class HankelError(EraError):
 
 class OrderError(EraError):
     """The requested model order is impossible: above the numerical rank or the basis kept."""
+
+
+def _rebuild(cls, args, option):
+    return cls(*args, option=option)

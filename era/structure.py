@@ -1,4 +1,4 @@
-"""The user's description of a frame-like structure: :class:`Section`, :class:`Frame` (SI units), JSON/TOML in and out.
+"""The user's description of a frame-like structure: :class:`Section`, :class:`Frame` (SI units).
 
 A Frame is nodes, straight members with a section each, supports, known lumped masses, the sensors in the data's
 channel order and, optionally, gravity. ``Frame.modes(n)`` meshes the members (era.fem.space.converged_mesh) and
@@ -9,20 +9,7 @@ Local axes of a member: x from its first node to its second; z along the member'
 horizontal member's local z is vertical and its local y horizontal. ``Section.iy`` is about local y (bending that
 moves the member along z), ``Section.iz`` about local z; a rectangle's ``depth`` runs along local z.
 
-The file format (``Frame.to_dict``, ``Frame.save``: JSON; ``Frame.load`` also reads TOML, by the ``.toml`` suffix)::
-
-    {"format": "era.frame", "version": 1,              # SI units throughout: m, kg, N, Pa, s
-     "nodes": {"1": [0, 0, 0], "2": [0, 0, 0.9]},     # id -> [x, y, z] m
-     "sections": {"col": {"area": 3e-4, "iy": 9e-10, "iz": 6.25e-8, "j": 3.4e-9, "e": 2e11, "g": 7.7e10,
-                          "density": 7850, "ip": 6.3e-8},
-                  "bar": {"shape": "rectangle", "width": 0.05, "depth": 0.006, "material": "steel"}},
-     "members": [["1", "2", "col"], ["2", "3", "bar", [0, 1, 0]]],   # [node i, node j, section(, local z)]
-     "supports": {"1": "fixed", "4": "pinned", "7": {"kz": 2e5, "ry": 1e3, "kx": "fixed"},
-                  "9": {"cable": 0.51}},
-     "masses": {"9": 0.025},                           # kg on the node's three translations
-     "sensors": [["3", "x"], ["7", "-z"], ["8", [0.6, 0.8, 0]]],   # [node, "x"|"-x"|... or a direction vector]
-     "gravity": [0, 0, -9.81],                          # or null / absent
-     "elements_per_member": null}                       # null: automatic (converged to 0.1 %), n, or [n, ...]
+The file format (JSON or TOML) is era/io/frame_file.py's.
 
 A section is given by its constants (``ip``, the polar moment, defaults to iy + iz) or by ``shape`` (rectangle,
 circle, tube, square_tube) with that helper's keywords. A support is "fixed" (all six DOFs), "pinned" (three
@@ -34,13 +21,10 @@ global axis).
 
 from __future__ import annotations
 
-import json
 import math
 import numbers
-import tomllib
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, field, fields
 from collections.abc import Mapping
-from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -442,63 +426,26 @@ class Frame:
                      + sum(self.masses.values()))
 
     def to_dict(self) -> dict:
-        """The file format of the module docstring (JSON-ready: no inf, no numpy types)."""
-        def support(spec):
-            if spec == dict.fromkeys(SUPPORT_KEYS, math.inf):
-                return "fixed"
-            if spec == dict.fromkeys(SUPPORT_KEYS[:3], math.inf):
-                return "pinned"
-            return {k: "fixed" if math.isinf(v) else v for k, v in spec.items()}
-        return {"format": "era.frame", "version": 1,
-                "nodes": {k: list(v) for k, v in self.nodes.items()},
-                "sections": {k: asdict(s) for k, s in self.sections.items()},
-                "members": [[i, j, s] + ([] if o is None else [list(o)]) for i, j, s, o in self.members],
-                "supports": {k: support(v) for k, v in self.supports.items()},
-                "masses": dict(self.masses),
-                "sensors": [[n, d if isinstance(d, str) else list(d)] for n, d in self.sensors],
-                "gravity": None if self.gravity is None else list(self.gravity),
-                "elements_per_member": (list(self.elements_per_member) if isinstance(self.elements_per_member, tuple)
-                                        else self.elements_per_member)} | (
-                {"joint_springs": dict(self.joint_springs)} if self.joint_springs else {}) | (
-                {"added_mass_per_length": dict(self.added_mass_per_length)} if self.added_mass_per_length else {})
+        """The file format of era/io/frame_file.py (JSON-ready: no inf, no numpy types)."""
+        from .io.frame_file import frame_to_dict
+        return frame_to_dict(self)
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":
         """A Frame from the file format (as read from JSON or TOML); unknown keys are refused."""
-        if not isinstance(d, dict):
-            raise DataError(f"Frame: a model must be a table of nodes, sections, members, ..., got {type(d).__name__}.")
-        if d.get("format", "era.frame") != "era.frame" or d.get("version", 1) != 1:
-            raise DataError(f"Frame: not an era.frame model of version 1 (format {d.get('format')!r}, "
-                            f"version {d.get('version')!r}).")
-        known = {f.name for f in fields(cls)}
-        unknown = set(d) - known - {"format", "version"}
-        if unknown:
-            raise DataError(f"Frame: unknown key(s) {sorted(unknown)}; known: {sorted(known)}.")
-        missing = {"nodes", "members", "sections"} - set(d)
-        if missing:
-            raise DataError(f"Frame: the model lacks {sorted(missing)}.")
-        sections = d["sections"]
-        if not isinstance(sections, dict) or not all(isinstance(s, dict) for s in sections.values()):
-            raise DataError("Frame: sections must be a table of section tables.")
-        return cls(**{k: v for k, v in d.items() if k in known})
+        from .io.frame_file import frame_from_dict
+        return frame_from_dict(d, cls)
 
     def save(self, path) -> None:
-        """Write the model as JSON (the module docstring's format)."""
-        Path(path).write_text(json.dumps(self.to_dict(), indent=1) + "\n", encoding="utf-8")
+        """Write the model as JSON (era/io/frame_file.py)."""
+        from .io.frame_file import save_frame
+        save_frame(self, path)
 
     @classmethod
     def load(cls, path) -> "Frame":
         """Read a model from JSON, or from TOML when the name ends in .toml."""
-        path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-            d = tomllib.loads(text) if path.suffix.lower() == ".toml" else json.loads(text)
-        except (OSError, UnicodeDecodeError, ValueError) as exc:    # JSONDecodeError and TOMLDecodeError too
-            raise DataError(f"{path.name}: not a readable model file: {exc}") from None
-        try:
-            return cls.from_dict(d)
-        except DataError as exc:
-            raise DataError(f"{path.name}: {exc}") from None
+        from .io.frame_file import load_frame
+        return load_frame(path, cls)
 
     @classmethod
     def from_geometry(cls, geometry, section: Section, supports: dict | None = None, masses: dict | None = None,

@@ -4,14 +4,23 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 
-import era
-
 from .. import payloads, schemas
 from ..cache import Dataset
-from ..loading import load_upload
+from ..importing import check_files
+from ..loading import channel_list, new_dataset
 from .deps import cache, dataset, jobs, progress_key
 
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
+
+
+async def read_parts(parts: list[UploadFile]) -> list[tuple[str, bytes]]:
+    """(name, bytes) of each uploaded part; the name without any folder."""
+    files = []
+    for part in parts:
+        name = (part.filename or "upload").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
+        files.append((name, await part.read()))
+    check_files(files)
+    return files
 
 
 @router.post("", summary="Upload one or several files (UFF, CSV, text, LVM, MAT, HDF5, TDMS, NPY, NPZ, SignalCalc) as "
@@ -25,31 +34,24 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
                  orientation: str | None = Form(None, description="rows or columns: channels of a headerless table"),
                  variable: str | None = Form(None, description="the array to read in a MAT or HDF5 file"),
                  group: str | None = Form(None, description="the TDMS group to read"),
-                 frf_sign: str | None = Form(None, description="auto, + or -: the FRFs' sign convention")):
-    """Multipart parts ``file`` (one or several) and the options the files cannot say themselves. Returns the
-    dataset: id, outputs, inputs, dt, n_samples, units, source (format, conversions, options), defaults, limits."""
-    files = []
-    for part in file:
-        name = (part.filename or "upload").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
-        blob = await part.read()
-        if not blob:
-            raise era.DataError(f"{name!r} is empty: choose a file with pulse responses or free decays.")
-        files.append((name, blob))
-    name = files[0][0] if len(files) == 1 else f"{files[0][0]} + {len(files) - 1} more"
-    size = sum(len(b) for _, b in files)
-    options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group, frf_sign=frf_sign)
+                 frf_sign: str | None = Form(None, description="auto, + or -: the FRFs' sign convention"),
+                 start_sample: int | None = Form(None, ge=0, description="samples skipped at the start of every "
+                                                                         "record (pre-trigger)"),
+                 drop: str | None = Form(None, description="channels left out: positions as read, e.g. 0,3"),
+                 forces: str | None = Form(None, description="channels measuring the excitation, e.g. 0"),
+                 references: str | None = Form(None, description="NExT reference channels of ambient records")):
+    """Multipart parts ``file`` (one or several) and the options the files cannot say themselves (the import step
+    of the page uses /api/imports to show what was read first). Returns the dataset: id, outputs, inputs, dt,
+    n_samples, units, source (format, conversions, options), defaults, limits."""
+    files = await read_parts(file)
+    options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group, frf_sign=frf_sign,
+                   start_sample=start_sample, drop=channel_list(drop, "drop"),
+                   forces=channel_list(forces, "forces"), references=channel_list(references, "references"))
     c = cache(request)
-
-    def work():
-        data, geometry, source = load_upload(files, kind, **options)
-        given = {k: v for k, v in options.items() if v is not None}
-        source = dict(source, file=name if len(files) == 1 else [n for n, _ in files], bytes=size, options=given)
-        summary = payloads.dataset_summary(data, geometry, name, c.settings, source)
-        return c.add_dataset(data, geometry, name, summary)
-
-    if size <= c.settings.small_upload_bytes:  # cheap: never queued behind SVDs
-        return await jobs(request).quick(work)
-    return await jobs(request).heavy(work, progress=progress_key(request), message=f"Reading {name}")
+    if sum(len(b) for _, b in files) <= c.settings.small_upload_bytes:  # cheap: never queued behind SVDs
+        return await jobs(request).quick(new_dataset, c, files, kind, options)
+    return await jobs(request).heavy(new_dataset, c, files, kind, options, progress=progress_key(request),
+                                     message=f"Reading {files[0][0]}")
 
 
 @router.get("/{dataset_id}", summary="The summary of a stored dataset", response_model=schemas.Dataset)

@@ -1,6 +1,6 @@
-"""Simulation vs test (issue 5): run era.explain on an analysis (its identification, and the modes kept when
-asked) against the NASA grid model, read the stored result back, and show the measured (SEREP-expanded) and
-model shapes in the viewer."""
+"""Simulation vs test (issues 5, 9): run era.explain on an analysis (its identification, and the modes kept when
+asked) against its dataset's structure model (app/routes/models.py) or, without one, the NASA grid model, read
+the stored result back, and show the measured (SEREP-expanded) and model shapes in the viewer."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pydantic import BaseModel, Field
 
 import era
 
-from .. import compute, explaining, schemas, viewing
+from .. import compute, explaining, modeling, schemas, viewing
 from ..cache import Analysis
 from ..errors import NotFound
 from .analyses import identified
@@ -55,13 +55,19 @@ def _overlay(request: Request, analysis_id: str, output: int, input: int) -> dic
 
 
 @router.post("/{analysis_id}/explain",
-             summary="Simulation vs test: name the effect the grid model is missing, update it, show the gap",
+             summary="Simulation vs test: name the effect the model is missing, update it, show the gap",
              response_model=schemas.Explanation)
 async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(analysis)):
     """Runs era.explain on this analysis (its Hankel size and SVD; the modes stable over ``orders``, or the modes
-    kept at ``order``), whose dataset must have the grid's nine sensors in order. Stores the result with the
-    analysis; ``basis`` in the answer says what was used."""
-    model = explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+    kept at ``order``) against the dataset's structure model, or, without one, the NASA grid (then the dataset
+    must have the grid's nine sensors in order). Stores the result with the analysis; ``basis`` in the answer
+    says what was used."""
+    stored = store(request).model(a.dataset_id)     # the dataset's own structure model, else the grid's
+    if stored is None:
+        model = explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+    else:
+        model = None                                     # built from stored["model"] in the worker
+        await jobs(request).quick(modeling.check_channels_of, stored["model"], a.data.outputs, a.geometry)
     kept = None
     if body.modes == "kept":
         if body.order is None or body.kept is None:
@@ -73,8 +79,9 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 
     def work():
         chosen = kept if kept is None else (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
-        summary, responses = compute.run(explaining.run, ident, a.geometry, model, body.nominal, orders=body.orders,
-                                         kept=chosen, workers=c.settings.heavy_workers)
+        nominal, described = (body.nominal, None) if stored is None else ({}, stored["model"])
+        summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=body.orders,
+                                         kept=chosen, described=described, workers=c.settings.heavy_workers)
         files.add_explanation(a.id, summary, responses, a.data.dt)
         return summary, responses
 

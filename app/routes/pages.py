@@ -21,13 +21,30 @@ async def index():
     return FileResponse(config.STATIC_DIR / "index.html", media_type="text/html")
 
 
+def _not_found(what: str, back: str, back_text: str) -> HTMLResponse:
+    """The 404 page of a shared link (report, campaign) that leads nowhere."""
+    return HTMLResponse(f"<!doctype html><meta charset=utf-8><title>{what.title()} not found</title>"
+                        f"<h1>{what.title()} not found</h1><p>No {what} has this link. Check that the whole link was "
+                        f"copied.</p><p><a href=\"{back}\">{back_text}</a></p>", status_code=404)
+
+
 @router.get("/r/{token}")
 async def report_page(request: Request, token: str):
     if store(request).report(token) is None:
-        return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title>"
-                            "<h1>Report not found</h1><p>No report has this link. Check that the whole link was "
-                            "copied.</p><p><a href=\"/\">Start a new analysis</a></p>", status_code=404)
+        return _not_found("report", "/", "Start a new analysis")
     return FileResponse(config.STATIC_DIR / "report.html", media_type="text/html")
+
+
+@router.get("/campaigns")
+async def campaigns_page():
+    return FileResponse(config.STATIC_DIR / "campaign.html", media_type="text/html")
+
+
+@router.get("/c/{campaign_id}")
+async def campaign_page(request: Request, campaign_id: str):
+    if store(request).campaign(campaign_id) is None:
+        return _not_found("campaign", "/campaigns", "Start a campaign")
+    return FileResponse(config.STATIC_DIR / "campaign.html", media_type="text/html")
 
 
 @router.get("/vendor/plotly.min.js")

@@ -45,7 +45,7 @@ async def create(request: Request, body: ReportRequest):
         explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id))
         report = reporting.build(a, ident, model, kept, c.stabilization(a), dataset=c.summary(a.dataset_id),
                                  explanation=explanation, recordings=recordings, version=version,
-                                 plot_points=c.settings.max_plot_points)
+                                 plot_points=c.settings.max_plot_points, structure=c.store.model(a.dataset_id))
         token = new_token()
         c.store.add_report(token, a.id, report, files)  # on disk before the link is returned
         return token

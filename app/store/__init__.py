@@ -10,7 +10,8 @@ data folder can serve any dataset, analysis, report or explanation.
 
 Layout of the data folder: ``era.sqlite3`` (the default database); ``datasets/{id}.npz``;
 ``reports/{token}/report.json`` and side files; ``explanations/{analysis_id}.npz`` (dt and the measured / nominal /
-updated responses) and ``.json``.
+updated responses) and ``.json``; ``campaigns/{id}/campaign.json`` and ``table.csv``; ``models/{dataset_id}.json``
+(the structure model of a dataset, app/modeling.py: the file itself is the commit point, so it has no table).
 """
 
 from __future__ import annotations
@@ -34,7 +35,8 @@ from era.io.npz import npz_bytes, read_arrays, read_npz
 
 from . import database
 from .files import write_atomic
-from .tables import analyses, datasets, explanations, reports, viewer_keys
+from .staging import Staging
+from .tables import analyses, campaigns, datasets, explanations, reports, viewer_keys
 
 __all__ = ["Store", "new_token", "write_atomic", "EXPLANATION_RESPONSES", "TOKEN_BYTES"]
 
@@ -65,6 +67,7 @@ class Store:
         self._engine = database.connect(self.url)
         self.revision = database.migrate(self._engine)
         self._explaining = threading.Lock()  # one explanation written at a time here: its two files stay a pair
+        self.staging = Staging(self.root / "imports")  # uploads waiting for the import step
 
     @property
     def backend(self) -> str:
@@ -108,6 +111,23 @@ class Store:
         path = self.dataset_path(dataset_id)
         data, geometry, name, _ = read_npz(path.read_bytes(), f"stored dataset {path}")
         return data, geometry, row[0] if name is None else name
+
+    # ---- structure models (one per dataset, replaced when saved again) ------------------------------------
+    def _model_path(self, dataset_id: str) -> Path | None:
+        return self.root / "models" / f"{dataset_id}.json" if _ID.fullmatch(dataset_id) else None
+
+    def set_model(self, dataset_id: str, stored: dict) -> None:
+        """Keep a dataset's structure model ({"model": era.frame table, "source", "name", "saved"}), replacing the
+        one before in one atomic write (a reader sees the old model or the new one)."""
+        path = self._model_path(dataset_id)
+        if path is None:
+            raise ValueError(f"{dataset_id!r} is not a dataset id.")
+        write_atomic(path, json.dumps(stored, separators=(",", ":")).encode())
+
+    def model(self, dataset_id: str) -> dict | None:
+        """The stored structure model of a dataset, or None."""
+        path = self._model_path(dataset_id)
+        return json.loads(path.read_bytes()) if path is not None and path.is_file() else None
 
     # ---- analyses ----------------------------------------------------------------------------------
     def add_analysis(self, dataset_id: str, params: dict) -> str:
@@ -233,6 +253,26 @@ class Store:
                                 .where(viewer_keys.c.key.in_(keys), viewer_keys.c.state.is_not(None)))
             return {k: (json.loads(st), int(rev)) for k, st, rev in rows}
 
+    # ---- campaigns (app/campaigns.py runs them; the row is their state, the files their result) ---------------
+    def campaign_dir(self, campaign_id: str) -> Path | None:
+        """The folder of a campaign's result files; None for a string that is no id."""
+        return self.root / "campaigns" / campaign_id if _ID.fullmatch(campaign_id) else None
+
+    def add_campaign(self, campaign_id: str, name: str, total: int) -> None:
+        now = time.time()
+        self._insert(campaigns, id=campaign_id, name=name, state="queued", done=0, total=int(total), message=None,
+                     created=now, updated=now)
+
+    def set_campaign(self, campaign_id: str, **values) -> None:
+        """Update a campaign's state, done, total or message (and its ``updated`` time)."""
+        with self._engine.begin() as conn:
+            conn.execute(campaigns.update().where(campaigns.c.id == campaign_id).values(updated=time.time(), **values))
+
+    def campaign(self, campaign_id: str) -> dict | None:
+        """The campaign's row {id, name, state, done, total, message, created, updated}, or None."""
+        row = self._one(sa.select(campaigns).where(campaigns.c.id == campaign_id))
+        return None if row is None else dict(row._mapping)
+
     # ---- housekeeping -----------------------------------------------------------------------------------
     def expire(self, before: float) -> dict:
         """Delete the analyses made before ``before`` (Unix s) that no report uses, with their explanations, then
@@ -255,6 +295,7 @@ class Store:
                 path.unlink(missing_ok=True)
         for dataset_id in dropped:
             self.dataset_path(dataset_id).unlink(missing_ok=True)
+            self._model_path(dataset_id).unlink(missing_ok=True)
         return {"analyses": len(gone), "datasets": len(dropped)}
 
     def usage(self) -> dict:
@@ -262,7 +303,8 @@ class Store:
         with self._engine.connect() as conn:
             rows = {t.name: conn.execute(sa.select(sa.func.count()).select_from(t)).scalar_one()
                     for t in (datasets, analyses, reports, explanations)}
-        folders = {name: _folder_bytes(self.root / name) for name in ("datasets", "reports", "explanations")}
+        folders = {name: _folder_bytes(self.root / name)
+                   for name in ("datasets", "reports", "explanations", "imports", "models")}
         return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
 
 

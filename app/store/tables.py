@@ -49,3 +49,15 @@ viewer_keys = sa.Table(
     sa.Column("revision", sa.Integer, nullable=False, server_default="0"),  # bumped on every state change
     sa.Column("created", sa.Float, nullable=False),
 )
+
+campaigns = sa.Table(
+    "campaigns", metadata,
+    sa.Column("id", sa.String(64), primary_key=True),
+    sa.Column("name", sa.Text, nullable=False),
+    sa.Column("state", sa.String(16), nullable=False),   # queued, running, done or failed
+    sa.Column("done", sa.Integer, nullable=False),        # records finished (analysed or failed)
+    sa.Column("total", sa.Integer, nullable=False),       # records in the campaign
+    sa.Column("message", sa.Text, nullable=True),         # why a campaign failed as a whole, or null
+    sa.Column("created", sa.Float, nullable=False),
+    sa.Column("updated", sa.Float, nullable=False),       # last progress: a stale "running" row lost its process
+)

@@ -186,14 +186,18 @@ def _select_modes(nominal, specs, measured: MeasuredModes, n_model: int) -> np.n
 
 def _expand(fm: MeasuredModes, pairing: ModePairing, f_model, s_model, w_nodes) -> np.ndarray:
     """SEREP expansion of each measured shape with a local basis: its partner and the model modes nearest to it
-    in frequency, p − 2 in all (fewer modes than sensors keeps Φ_s⁺ well conditioned). (n_nodes, k)."""
+    in frequency, p − 2 in all (fewer modes than sensors keeps Φ_s⁺ well conditioned), among the modes the
+    sensors see (a frame's out-of-plane modes are zero at in-plane sensors: in Φ_s they would be a singular
+    value of 1e-15 that Φ_s⁺ inflates to nonsense off the sensors). (n_nodes, k)."""
     p = fm.shapes.shape[0]
-    n_basis = max(1, min(p - 2, f_model.size))
+    norm = np.linalg.norm(s_model, axis=0)
+    seen = np.flatnonzero(norm > 1e-6 * norm.max())
+    n_basis = max(1, min(p - 2, seen.size))
     out = np.zeros((w_nodes.shape[0], fm.n_modes))
     for i in range(fm.n_modes):
         hit = np.flatnonzero(pairing.measured_index == i)
         centre = f_model[pairing.model_index[hit[0]]] if hit.size else fm.frequency_hz[i]
-        basis = np.argsort(np.abs(f_model - centre), kind="stable")[:n_basis]
+        basis = seen[np.argsort(np.abs(f_model[seen] - centre), kind="stable")[:n_basis]]
         out[:, i] = serep(fm.shapes[:, i], s_model[:, basis], w_nodes[:, basis])
     return out
 

@@ -11,7 +11,7 @@ import os
 import struct
 import tempfile
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from .lvm import read_lvm
 from .mat import read_mat
 from .npy import read_npy
 from .npz import npz_bytes, read_npz, save_npz
+from .choices import choose, renumber
 from .records import Records, merge, to_response
 from .signalcalc import is_signalcalc, read_signalcalc
 from .tdms import read_tdms
@@ -56,8 +57,8 @@ class Dataset:
     data : ResponseData, or None when the file holds only geometry and/or modes (UFF 15/82/55).
     geometry : Geometry or None; its channels are the outputs of ``data``.
     source : dict with "file", "format", "kind" (conversion used), "records" (what was read), "conversions"
-        (what was done to it, in order), "outputs"/"inputs" with units: for reports; for NPZ also "name", the
-        dataset name stored in the file (or None).
+        (what was done to it, in order), "outputs"/"inputs" with units, "channels_read" (every channel as read,
+        before any was dropped): for reports; for NPZ also "name", the dataset name stored in the file (or None).
     modes : ModeSet or None, modes stored in the file (UFF 55), e.g. from a finite-element program.
     """
 
@@ -119,7 +120,7 @@ def sniff(raw: bytes, name: str) -> str:
 
 
 def load(source, format: str | None = None, *, name: str | None = None, kind: str = "auto",
-         dt: float | None = None, **options) -> Dataset:
+         dt: float | None = None, start_sample: int | None = None, drop=None, forces=None, **options) -> Dataset:
     """Read test data and turn it into Markov parameters for :func:`era.identify`.
 
     Parameters
@@ -134,14 +135,60 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
     dt : sampling interval in s, used only when a file carries none (text without a time column, an LVM file
         without X_Value column or Delta_X, .npy, .mat/HDF5 without fs/dt/time, TDMS without wf_increment)
+    start_sample, drop, forces : the person's choices (era.io.choices.choose): samples skipped at the start of
+        every record (pre-trigger), channels left out, the channels that measure the excitation (names or 0-based
+        positions)
     orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
     group : the TDMS group to read, when groups hold different channels
     options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
 
-    Raises DataError naming the file, record or line and what is wrong.
+    Raises DataError naming the file, record or line and what is wrong (``option`` names the parameter that fixes
+    it, when one does).
     """
+    how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
+    got = read(source, format, name=name, dt=dt, **how)
+    if got.npz is not None:
+        if start_sample or drop or forces is not None:
+            raise DataError(f"{got.labels[0]}: an NPZ file holds era's pulse responses; start_sample, drop and forces "
+                            "apply to records as measured. Leave them out.")
+        return got.npz
+    rec = got.records
+    if rec is not None:
+        if options.get("references") is not None:  # NExT references are named as read, like drop and forces
+            options["references"] = renumber(rec, drop, options["references"], "references")
+        rec = _guarded(got, lambda: choose(rec, start_sample=start_sample, drop=drop, forces=forces))
+    out = _guarded(got, lambda: _convert(rec, got.parts, got.modes, got.labels, got.format, kind, options))
+    if got.records is not None:
+        out.source["channels_read"] = list(got.records.outputs)  # what drop/forces/references positions name
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Read:
+    """What the files hold before any choice or conversion (:func:`read`).
+
+    labels : the file names; format : the format read; records : Records or None (a UFF file of geometry/modes
+    only); parts, modes : UFF geometry parts and mode sets (or None); npz : the Dataset of an NPZ file (era's own
+    format holds Markov parameters already), else None.
+    """
+
+    labels: list
+    format: str
+    records: Records | None = None
+    parts: object = None
+    modes: ModeSet | None = None
+    npz: Dataset | None = None
+
+
+def read(source, format: str | None = None, *, name: str | None = None, dt: float | None = None, **how) -> Read:
+    """Read files as they are: the first half of :func:`load` (same ``source``, ``format``, ``name``, ``dt`` and
+    reader options ``orientation``, ``variable``, ``group``), for a preview before anything is converted."""
+    unknown = set(how) - set(_READER_OPTIONS)
+    if unknown:
+        raise DataError(f"Unknown reading option(s) {sorted(unknown)}; the readers take {sorted(_READER_OPTIONS)}.")
+    how = {k: v for k, v in how.items() if v is not None}
     sources = list(source) if isinstance(source, (list, tuple)) else [source]
     if not sources:
         raise DataError("No file given.")
@@ -149,15 +196,14 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     labels = [lab for _, lab in raws]
     fmt = format.lower() if format else sniff(raws[0][0], labels[0])
     if fmt not in FORMATS:
-        raise DataError(f"`format` must be one of {FORMATS} or None, got {format!r}.")
+        raise DataError(f"`format` must be one of {FORMATS} or None, got {format!r}.", option="format")
     for raw, lab in raws:
         if not raw.strip():
             raise DataError(f"{lab}: the file is empty.")
-    how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
     for k in how:
         if fmt not in _READER_OPTIONS[k]:
             raise DataError(f"{labels[0]}: `{k}` applies to {'/'.join(_READER_OPTIONS[k]).upper()} files, not to "
-                            f"{fmt.upper()}; leave it out.")
+                            f"{fmt.upper()}; leave it out.", option=k)
     if len(raws) > 1 and fmt == "npz":
         raise DataError(f"{', '.join(labels)}: NPZ files hold a whole dataset each; load them one by one.")
     if len(raws) > 1 and format is None:
@@ -166,30 +212,41 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
             if other != fmt and {other, fmt} != {"csv", "text"}:
                 raise DataError(f"{lab} is {other.upper()} but {labels[0]} is {fmt.upper()}; the files of one "
                                 "dataset must share one format.")
+    got = Read(labels, fmt)
     if fmt == "npz":
         data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
-        return Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data), name=stored_name), None)
-    try:
+        return replace(got, npz=Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data),
+                                                             name=stored_name), None))
+
+    def records():
         if fmt in _TIME_READERS:
-            read = _TIME_READERS[fmt]
-            rec = merge([read(_payload(fmt, raw, src), lab, dt, **how) for (raw, lab), src in zip(raws, sources)],
-                        labels)
-            return _convert(rec, None, None, labels, fmt, kind, options)
+            reader = _TIME_READERS[fmt]
+            return replace(got, records=merge([reader(_payload(fmt, raw, src), lab, dt, **how)
+                                               for (raw, lab), src in zip(raws, sources)], labels))
         if fmt == "signalcalc":
-            rec = read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)], labels)
-            return _convert(rec, None, None, labels, fmt, kind, options)
+            return replace(got, records=read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)],
+                                                        labels))
         with _on_disk([r for r, _ in raws], sources) as paths:  # messages may count lines until the end
             rec, parts, modes = read_uff(paths if len(paths) > 1 else paths[0],
                                          labels if len(paths) > 1 else labels[0])
-            return _convert(rec, parts, modes, labels, fmt, kind, options)
+        return replace(got, records=rec, parts=parts, modes=modes)
+
+    return _guarded(got, records)
+
+
+def _guarded(got: Read, work):
+    """``work()``, with a malformed file's stray exception turned into a DataError naming the file."""
+    try:
+        return work()
     except EraError:
         raise
     except MemoryError:
-        raise DataError(f"{labels[0]}: too large to read into memory; load a part of it.") from None
+        raise DataError(f"{got.labels[0]}: too large to read into memory; load a part of it.") from None
     except (ValueError, TypeError, IndexError, KeyError, OverflowError, struct.error, OSError, EOFError,
             RuntimeError) as exc:
         # last resort: a malformed file that slipped past the checks must still not surface as a stack trace
-        raise DataError(f"{labels[0]}: cannot be read as {fmt.upper()} ({type(exc).__name__}: {exc}).") from None
+        raise DataError(f"{got.labels[0]}: cannot be read as {got.format.upper()} ({type(exc).__name__}: {exc}).") \
+            from None
 
 
 def _convert(rec, parts, modes, labels, fmt, kind, options) -> Dataset:
@@ -240,5 +297,5 @@ def _source(labels, fmt, kind, described, data) -> dict:
     return out
 
 
-__all__ = ["load", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes",
+__all__ = ["load", "read", "Read", "choose", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes",
            "sniff"]

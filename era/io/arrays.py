@@ -10,7 +10,8 @@ checks the bytes are there before it allocates); :func:`records_from_vars` picks
 - data: every other real numeric array of 1 or 2 dimensions; one is taken as it is, several 1-D arrays of one length
   as channels; anything else is ambiguous and the caller says ``variable="acc"`` (or a list of names, read side by
   side as channels);
-- a 2-D array holds its channels along the shorter side unless ``orientation`` ("rows"/"columns") says otherwise.
+- a 2-D array holds its channels along the shorter side unless ``orientation`` ("rows"/"columns") says otherwise;
+  a first channel that increases at every sample is a time axis (checked even), as in headerless text.
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ def _pick(vars_: list[Var], variable, label: str) -> list[Var]:
         missing = [w for w in wanted if w not in by_name]
         if missing:
             raise DataError(f"{label}: no array named {', '.join(map(repr, missing))}; the file holds "
-                            f"{_listing(vars_)}.")
+                            f"{_listing(vars_)}.", option="variable")
         return [by_name[w] for w in wanted]
     data = [v for v in vars_ if v.key not in timing and v.kind in "fiu" and 1 <= len(v.shape) <= 2
             and max(v.shape, default=0) >= MIN_SAMPLES]
@@ -93,7 +94,7 @@ def _pick(vars_: list[Var], variable, label: str) -> list[Var]:
                           and len({max(v.shape) for v in data}) == 1):
         return data
     raise DataError(f"{label}: several arrays could be the data: {_listing(data)}; choose with "
-                    f"variable={data[0].name!r} (or a list of names read side by side as channels).")
+                    f"variable={data[0].name!r} (or a list of names read side by side as channels).", option="variable")
 
 
 def _listing(vars_: list[Var]) -> str:
@@ -144,13 +145,30 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
             [v.name.lstrip("/")] if b.shape[1] == 1 else [f"{v.name.lstrip('/')} {i + 1}" for i in range(b.shape[1])])
         unit = [str(x) for x in np.atleast_1d(v.attrs.get("units", ""))]
         units += unit if len(unit) == b.shape[1] else [unit[0]] * b.shape[1]
-    step, start, how = _sampling(vars_, chosen, len(y), label, dt)
+    lead = _time_channel(y, vars_, label)
+    if lead is not None:  # a time axis stored as the first channel (np.vstack([t, force, acc]) and the like)
+        step, start = lead
+        how = f"Δt = {step:.9g} s from the first channel, a time axis"
+        y, names, units = y[:, 1:], names[1:], units[1:]
+    else:
+        step, start, how = _sampling(vars_, chosen, len(y), label, dt)
     force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() or "hammer" in nm.lower()
                       for nm, u in zip(names, units)])
     return Records(domain="time", values=[y], step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units) if any(units) else (), force=force,
                    described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as {y.shape[1]} channel(s) × "
                               f"{len(y)} samples, {how}"])
+
+
+def _time_channel(y: np.ndarray, vars_: list[Var], label: str) -> tuple[float, float] | None:
+    """(Δt, start) when the first of several channels increases at every sample (a time axis: checked even, else
+    DataError naming the step), and no variable is named as the time; else None."""
+    if y.shape[1] < 2 or len(y) < 3 or any(v.key in TIME_NAMES for v in vars_):
+        return None
+    t = y[:, 0]
+    if not np.all(np.diff(t) > 0):
+        return None
+    return even_step(t, binary_resolution(t), f"{label}: first channel (time)"), float(t[0])
 
 
 def _sampling(vars_: list[Var], chosen: list[Var], n: int, label: str, dt) -> tuple[float, float, str]:
@@ -182,4 +200,4 @@ def _sampling(vars_: list[Var], chosen: list[Var], n: int, label: str, dt) -> tu
     if dt is not None:
         return float(dt), 0.0, f"Δt = {float(dt):.9g} s given"
     raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...), or store it in the file as "
-                    "fs (Hz), dt (s) or a time vector t.")
+                    "fs (Hz), dt (s) or a time vector t.", option="dt")

@@ -49,6 +49,10 @@ def _is_data(cells: list[str]) -> bool:
     return sum(bool(_NUMBER.match(c)) for c in cells) > len(cells) / 2
 
 
+#: A complex number as Python or MATLAB print it: (a+bj), a+bi.
+_COMPLEX = re.compile(r"\(?[-+]?[\d.]+(?:e[-+]?\d+)?[-+][\d.]+(?:e[-+]?\d+)?[ij]\)?", re.IGNORECASE)
+
+
 def _sniff_delimiter(lines: list[str]) -> str | None:
     for delim in ("\t", ";", ","):
         counts = {ln.count(delim) for ln in lines}
@@ -73,6 +77,11 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     while numbered and not _is_data(_split(numbered[0][1][:8000], delim)):
         header.append(_split(numbered.pop(0)[1], delim))
     if not numbered:
+        first = header[0][0] if header and header[0] else ""
+        if _COMPLEX.fullmatch(first.strip()):
+            raise DataError(f"{label}: complex numbers ({first.strip()!r} ...): FRFs without a frequency axis, which "
+                            "text files cannot give era. Write them as UFF 58 with their frequency axis (pyuff's "
+                            "write_sets, as its README shows); text is read as real time records.")
         raise DataError(f"{label}: a header but no numeric data lines.")
     if not header:
         body = "\n".join(ln for _, ln in numbered)
@@ -82,7 +91,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
                                body.replace(",", ".") if comma else body, delim, label, dt, orientation, notes)
     if orientation is not None:
         raise DataError(f"{label}: `orientation` is for text without a header; this file has a header line, so its "
-                        "columns are the channels. Leave orientation out.")
+                        "columns are the channels. Leave orientation out.", option="orientation")
     first_line = numbered[0][0]
     n_cols = len(_split(numbered[0][1], delim))
     names = header[0] if header else [f"c{i + 1}" for i in range(n_cols)]

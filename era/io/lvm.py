@@ -228,7 +228,7 @@ def _read_segment(text: str, seg: _Segment, sep: str, decimal: str, label: str, 
     elif dt is not None:
         step, t0, dt_from = float(dt), None, "dt given"
     else:
-        raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...).")
+        raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...).", option="dt")
     if not (np.isfinite(step) and step > 0):
         raise DataError(f"{where}: the sampling interval {step!r} is not a positive number.")
     samples = _number(_value(seg, "Samples", y_cols[0], shift), decimal, where, "Samples")

@@ -1,4 +1,5 @@
-"""NumPy .npy: one array, samples × channels (or channels × samples); the sampling interval comes from ``dt``.
+"""NumPy .npy: one array, samples × channels (or channels × samples); the sampling interval comes from a first
+channel that is a time axis (era/io/arrays.py), else from ``dt``.
 
 The header is checked against the bytes the file holds before anything is allocated; object arrays (pickles) are
 refused. era/io/arrays.py turns the array into records.
@@ -8,6 +9,7 @@ from __future__ import annotations
 
 import io
 import os
+from dataclasses import replace
 
 import numpy as np
 
@@ -46,5 +48,6 @@ def read_npy(raw, label: str, dt: float | None = None, orientation: str | None =
             return a.reshape(shape, order="F" if fortran else "C")
 
         name = os.path.splitext(label)[0] or "array"
-        return records_from_vars([Var(name, tuple(shape), dtype.kind if dtype.fields is None else "?", read)],
-                                 label, "NumPy .npy", dt, None, orientation)
+        rec = records_from_vars([Var(name, tuple(shape), dtype.kind if dtype.fields is None else "?", read)],
+                                label, "NumPy .npy", dt, None, orientation)
+        return replace(rec, named=False)  # the names come from the file's name: several files match by position

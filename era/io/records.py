@@ -35,6 +35,8 @@ class Records:
     nodes : (c or p,) int node label of each channel (0 = unknown); directions : (c or p, 3) unit vectors.
     frf_type : "accelerance", "mobility", "receptance" or None.
     described : list of str, what was read (for Dataset.source).
+    named : False when the channel names were made up from the file name (an .npy file names nothing): files of
+        one dataset then match by channel count, and the first file's names are used.
     """
 
     domain: str
@@ -50,6 +52,7 @@ class Records:
     directions: np.ndarray | None = None
     frf_type: str | None = None
     described: list = field(default_factory=list)
+    named: bool = True
 
 
 def guess_kind(rec: Records) -> str:
@@ -79,12 +82,12 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
     """
     kind = guess_kind(rec) if kind == "auto" else kind
     if kind not in KINDS:
-        raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.")
+        raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.", option="kind")
     wrong = {"frf": "frequency", "pulse": "pulse"}
     if kind in wrong and rec.domain != wrong[kind]:
-        raise DataError(f"The file holds {rec.domain} records; they cannot be converted as {kind!r}.")
+        raise DataError(f"The file holds {rec.domain} records; they cannot be converted as {kind!r}.", option="kind")
     if kind not in wrong and rec.domain != "time":
-        raise DataError(f"The file holds {rec.domain} records; {kind!r} needs time histories.")
+        raise DataError(f"The file holds {rec.domain} records; {kind!r} needs time histories.", option="kind")
     units = list(rec.output_units) if rec.output_units else None
     if kind == "frf":
         f = rec.start + rec.step * np.arange(rec.values[0].shape[0])
@@ -114,7 +117,7 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
                     force[rec.outputs.index(c) if isinstance(c, str) else int(c)] = True
             if not force.any() or force.all():
                 raise DataError("OKID needs both excitation and response channels; none of the channels is marked "
-                                "as force (unit N/lbf or name 'force'). Say which with inputs=[channel, ...].")
+                                "as force (unit N/lbf or name 'force'). Say which with forces=[channel, ...].", option="forces")
             names = np.array(rec.outputs)
             u_units = [rec.output_units[i] for i in np.flatnonzero(force)] if rec.output_units else None
             y_units = [rec.output_units[i] for i in np.flatnonzero(~force)] if rec.output_units else None
@@ -186,7 +189,8 @@ def merge(records: list[Records], labels: list[str]) -> Records:
         return first
     n = len(first.values[0])
     for r, lab in zip(records[1:], labels[1:]):
-        if r.outputs != first.outputs:
+        if (r.outputs if r.named and first.named else len(r.outputs)) != \
+                (first.outputs if r.named and first.named else len(first.outputs)):
             raise DataError(f"{lab}: channels {list(r.outputs)} differ from those of {labels[0]} "
                             f"{list(first.outputs)}; every file must hold the same channels.")
         if abs(r.step - first.step) > 1e-6 * first.step:

@@ -39,14 +39,14 @@ def read_tdms(raw, label: str, dt: float | None = None, group: str | None = None
             raise DataError(f"{label}: no channels in any group.")
         if group is not None:
             if group not in groups:
-                raise DataError(f"{label}: no group {group!r} with channels; the file has {sorted(groups)}.")
+                raise DataError(f"{label}: no group {group!r} with channels; the file has {sorted(groups)}.", option="group")
             chosen = [group]
         elif len({tuple(c.name for c in chans) for chans in groups.values()}) == 1:
             chosen = list(groups)  # the same channels in every group: repeated runs
         else:
             listing = "; ".join(f"{g!r}: {[c.name for c in chans][:6]}" for g, chans in groups.items())
             raise DataError(f"{label}: groups with different channels ({listing}); choose one with "
-                            f"group={next(iter(groups))!r}.")
+                            f"group={next(iter(groups))!r}.", option="group")
         records = [records_from_vars([_var(c, size, label, g) for c in groups[g]], f"{label} [{g}]", "NI TDMS",
                                      dt) for g in chosen]
     return merge(records, [f"{label} [{g}]" for g in chosen]) if len(records) > 1 else records[0]

@@ -61,7 +61,7 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
     elif dt is None:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...). The file is a bare matrix "
                         f"({n_rows} lines × {n_cols} values, read as {y.shape[1]} channel(s) in {chosen}; say "
-                        f"orientation='rows' or 'columns' if that is wrong).")
+                        f"orientation='rows' or 'columns' if that is wrong).", option="dt")
     else:
         step, start, found = float(dt), 0.0, f"Δt = {float(dt):.9g} s given"
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))

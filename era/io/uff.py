@@ -15,7 +15,8 @@ import pyuff
 from ..errors import DataError
 from ..markov._common import uneven_step
 from .records import Records, check_finite, merge
-from .uff_geometry import build_geometry, geometry_parts, in_global_directions, merge_parts, unit_factors  # noqa: F401
+from .uff_geometry import (build_geometry, geometry_parts, in_global_directions, merge_parts,  # noqa: F401
+                           modes_in_global, unit_factors)
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
 _DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
@@ -251,7 +252,8 @@ class ModeSet:
     """Modes from UFF 55 (e.g. from a finite-element program), for comparison with identified ones.
 
     frequency_hz (modes,) natural frequency; damping_ratio (modes,) (0 for normal modes); node_ids (n,);
-    shapes (n, 3, modes) complex translations x, y, z at each node; names (modes,) the sets' id lines.
+    shapes (n, 3, modes) complex translations along global X, Y, Z at each node, in m (the file's UFF 164 length
+    unit and its nodes' displacement systems, UFF 18/2420, applied); names (modes,) the sets' id lines.
     """
 
     frequency_hz: np.ndarray
@@ -281,7 +283,7 @@ def _modes(sets: list[tuple[int, int, dict]], label: str) -> ModeSet | None:
         if any(c.size != nodes.size for c in columns):
             raise DataError(f"{where}: {[c.size for c in columns]} x/y/z values for {nodes.size} nodes; the data "
                             "set is truncated or corrupt.")
-        shape = np.stack(columns, 1)
+        shape = np.stack(columns, 1) / unit_factors(sets, label)[0]  # displacements in the file's length unit -> m
         check_finite(shape, where, row_name="node row")
         freq.append(f)
         zeta.append(z)
@@ -337,7 +339,7 @@ def read_uff(path, label):
     if len(modes) > 1:
         raise DataError(f"{', '.join(labels)}: mode shapes (UFF 55) in more than one file; read mode files one by one "
                         "(era.read_modes_uff).")
-    return records, parts, modes[0] if modes else None
+    return records, parts, modes_in_global(modes[0], parts) if modes else None
 
 
 _SI_LABEL = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s^2", "force": "N"}
@@ -371,9 +373,10 @@ def _same_units(funcs: list[dict]) -> None:
 
 
 def read_modes_uff(path) -> ModeSet:
-    """The modes (UFF 55) in a file. Raises DataError when it holds none."""
+    """The modes (UFF 55) in a file, in m along global X/Y/Z (ModeSet). Raises DataError when it holds none."""
     label = os.path.basename(str(path))
-    modes = _modes(read_sets(str(path), label), label)
+    sets = read_sets(str(path), label)
+    modes = _modes(sets, label)
     if modes is None:
         raise DataError(f"{label}: no UFF 55 mode shapes (normal or complex modes) in this file.")
-    return modes
+    return modes_in_global(modes, geometry_parts(sets, label))

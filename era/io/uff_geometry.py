@@ -101,3 +101,16 @@ def in_global_directions(rec: Records, parts) -> Records:
     directions = np.array([d @ frames[row[int(n)]] if int(n) in row else d for n, d in zip(rec.nodes, rec.directions)])
     return dataclasses.replace(rec, directions=directions, described=rec.described + [
         "measurement directions given in the nodes' own coordinate systems (UFF 18/2420) turned into global X/Y/Z"])
+
+
+def modes_in_global(modes, parts):
+    """``modes`` (a ModeSet, shapes (n, 3, k) in each node's displacement system) with the shapes in global X/Y/Z;
+    the same rotation as :func:`in_global_directions` gives the channels."""
+    if parts is None:
+        return modes
+    ids, _, _, frames = parts
+    if np.allclose(frames, np.eye(3)):
+        return modes
+    row = {int(n): k for k, n in enumerate(ids)}
+    local = np.stack([frames[row[int(n)]] if int(n) in row else np.eye(3) for n in modes.node_ids])
+    return dataclasses.replace(modes, shapes=np.einsum("nak,nab->nbk", modes.shapes, local))

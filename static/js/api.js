@@ -1,4 +1,5 @@
-// Calls to the backend. Errors come back as {error: message}; they are thrown as Error(message).
+// Calls to the backend. Errors come back as {error: message, option?}; they are thrown as Error(message)
+// with .option.
 
 // A busy server (503) or a rate limit (429) says when to come back (Retry-After): the page waits and sends the
 // request again by itself, at most RETRIES times, saying so through `progress`.
@@ -25,12 +26,19 @@ export async function api(path, { method = "GET", body, progress } = {}) {
         await sleep(wait);
         continue;
       }
-      if (!res.ok) throw new Error((payload && payload.error) || `${res.status} ${res.statusText}`);
+      if (!res.ok) throw refusal(payload, `${res.status} ${res.statusText}`);
       return payload;
     }
   } finally {
     stop();
   }
+}
+
+// An Error with the server's sentence; ``option`` names the form control that fixes it (schemas.Error).
+function refusal(payload, fallback) {
+  const err = new Error((payload && payload.error) || fallback);
+  err.option = (payload && payload.option) || null;
+  return err;
 }
 
 export function describe(p) {
@@ -57,7 +65,8 @@ function watch(headers, callback) {
   return () => { active = false; clearTimeout(timer); };
 }
 
-// Multipart upload with progress (fetch cannot report upload progress; XMLHttpRequest can).
+// Multipart upload of one File or an array of them, with progress (fetch cannot report upload progress;
+// XMLHttpRequest can).
 // onProgress(fraction) while the bytes go up; onWork(text) while the server reads the file.
 export async function upload(path, file, onProgress, onWork, fields = {}) {
   for (let attempt = 0; ; attempt++) {
@@ -84,7 +93,7 @@ function uploadOnce(path, file, onProgress, onWork, fields) {
       let payload = null;
       try { payload = JSON.parse(xhr.responseText); } catch { /* not JSON */ }
       if (xhr.status >= 200 && xhr.status < 300) { resolve(payload); return; }
-      const err = new Error((payload && payload.error) || `${xhr.status} ${xhr.statusText}`);
+      const err = refusal(payload, `${xhr.status} ${xhr.statusText}`);
       if (xhr.status === 503 || xhr.status === 429) {
         err.retryAfter = Math.min(60, Math.max(1, Number(xhr.getResponseHeader("Retry-After")) || 2));
       }
@@ -92,7 +101,7 @@ function uploadOnce(path, file, onProgress, onWork, fields) {
     };
     xhr.onerror = () => reject(new Error("The upload failed: the server could not be reached."));
     const form = new FormData();
-    form.append("file", file, file.name);
+    for (const f of [].concat(file)) form.append("file", f, f.name);  // several files: one dataset
     for (const [k, v] of Object.entries(fields)) form.append(k, v);
     xhr.send(form);
   });

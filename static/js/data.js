@@ -1,5 +1,6 @@
-// Panel 1: upload (drag and drop, progress), examples, the dataset summary and the records.
-import { api, upload } from "./api.js";
+// Panel 1: drop files (-> the import step, import.js), examples, the dataset summary and the records.
+import { api } from "./api.js";
+import * as importer from "./import.js";
 import { state, emit, on, el, showError, plotConfig, plain } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
@@ -8,6 +9,7 @@ function setStatus(text) { $("data-status").textContent = text; }
 
 async function loadDataset(promise, label) {
   showError("data-error", null);
+  $("import").hidden = true;
   setStatus(label);
   try {
     const ds = await promise;
@@ -20,17 +22,6 @@ async function loadDataset(promise, label) {
   } finally {
     $("upload-progress").hidden = true;
   }
-}
-
-function uploadFile(file) {
-  const bar = $("upload-progress");
-  bar.hidden = false;
-  bar.value = 0;
-  const p = upload("/api/datasets", file, (f) => {
-    bar.value = f;
-    setStatus(f < 1 ? `Uploading ${file.name}: ${Math.round(100 * f)} %` : `Reading ${file.name}…`);
-  }, setStatus, { kind: $("kind").value });
-  return loadDataset(p, `Uploading ${file.name}…`);
 }
 
 function renderSummary(ds) {
@@ -48,6 +39,8 @@ function renderSummary(ds) {
   if (src.format) rows.push(["Read as", `${src.format.toUpperCase()}${src.kind ? `, ${src.kind}` : ""}` +
                                           (src.records ? `: ${src.records.join("; ")}` : "")]);
   if (src.conversions && src.conversions.length) rows.push(["Converted", src.conversions.join("; ")]);
+  const said = window.EraFormat.importChoices(src);
+  if (said) rows.push(["Import choices", said]);
   for (const [k, v] of rows) dl.append(el("dt", { text: k }), el("dd", { text: v }));
   dl.hidden = false;
 }
@@ -71,9 +64,13 @@ export function init() {
   drop.addEventListener("drop", (e) => {
     e.preventDefault();
     drop.classList.remove("over");
-    if (e.dataTransfer.files.length) uploadFile(e.dataTransfer.files[0]);
+    if (e.dataTransfer.files.length) importer.start([...e.dataTransfer.files], setStatus);
   });
-  $("file").addEventListener("change", (e) => { if (e.target.files.length) uploadFile(e.target.files[0]); e.target.value = ""; });
+  $("file").addEventListener("change", (e) => {
+    if (e.target.files.length) importer.start([...e.target.files], setStatus);
+    e.target.value = "";
+  });
+  importer.init((ds) => { state.dataset = ds; emit("dataset", ds); });
 
   api("/api/examples").then((list) => {
     for (const ex of list) {

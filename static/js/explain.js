@@ -1,5 +1,6 @@
-// Panel "Simulation vs test" (issue 5): runs era.explain on the current analysis (its H(0); the modes stable over
-// several orders, or the modes kept in the table at the current order) against the NASA grid model, then draws
+// Panel "Simulation vs test" (issues 5, 9): runs era.explain on the current analysis (its H(0); the modes stable over
+// several orders, or the modes kept in the table at the current order) against the dataset's structure model
+// (model.js) or, for the grid example without one, the NASA grid model, then draws
 // the result with explain_view.js, which says what was used (basis). The server stores it with the analysis, so a reload shows it
 // again and a report created afterwards includes it. The 3-D viewers show the measured shapes expanded to all
 // joints (SEREP) and the updated model's, side by side.
@@ -9,6 +10,7 @@ import { state, on, el, showError } from "./state.js";
 const $ = (id) => document.getElementById(id);
 let shown = null;    // analysis id whose result is drawn
 let viewers = null;  // [{mode_url}, {mode_url}] when the viser viewer is available
+let model = null;    // the dataset's structure model (model.js), or null
 
 function request() {
   const body = { nominal: $("explain-gravity").checked ? {} : { gravity: false }, modes: $("explain-which").value };
@@ -79,11 +81,15 @@ async function restore(a) {
 
 export function init() {
   $("explain-run").addEventListener("click", run);
-  on("dataset", (ds) => {
-    const grid = ds.n_outputs === 9 && ds.geometry;
-    $("explain-hint").textContent = grid ? "" :
-      "This needs the NASA grid's nine sensors in order, with the grid geometry (open the grid example).";
-  });
+  const hint = () => {
+    const ds = state.dataset, grid = ds && ds.n_outputs === 9 && ds.geometry;
+    $("explain-gravity").disabled = !!model;
+    $("explain-hint").textContent = model ? `Compares with this dataset's model: ${model.text}.`
+      : grid ? "Compares with the NASA grid's model (this dataset has no model of its own)."
+      : "Describe the structure in the Model panel above (or upload a model file) first.";
+  };
+  on("dataset", () => { model = null; hint(); });
+  on("model", (m) => { model = m; hint(); });
   on("analysis", (a) => {
     $("explain-run").disabled = false;
     if (shown !== a.id) { $("explain-result").hidden = true; $("explain-result").replaceChildren(); $("explain-status").textContent = ""; showError("explain-error", null); }

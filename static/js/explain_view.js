@@ -22,15 +22,6 @@
     loose_joint_stiffness: ["loose-joint stiffness", "N·m/rad"], gravity: ["gravity stiffening fraction", ""],
     member_factor: ["member stiffness factor", ""],
   };
-  // A place: a joint [x, y] ft, a member [[x1, y1], [x2, y2]] ft, or (frames) a node id / [node i, node j].
-  function placeText(l) {
-    if (l === null || l === undefined) return "";
-    if (typeof l === "string") return `node ${l}`;
-    if (Array.isArray(l[0])) return `member (${l[0][0]}, ${l[0][1]})–(${l[1][0]}, ${l[1][1]}) ft`;
-    if (typeof l[0] === "string") return `member ${l.join("–")}`;
-    return `joint (x = ${l[0]} ft, y = ${l[1]} ft)`;
-  }
-
   function el(tag, text, attrs) {
     const n = document.createElement(tag);
     if (text !== undefined && text !== null) n.textContent = text;  // text only, never HTML
@@ -50,6 +41,15 @@
       t.tBodies[0].append(row);
     }
     return el("div", null, { class: "tablewrap" }).appendChild(t).parentNode;
+  }
+
+  // Where a located effect is: a grid joint (x, y) ft, or on a frame a node id or a member (its two end nodes).
+  // A place: a grid joint [x, y] ft or member [[x1, y1], [x2, y2]] ft; a frame's node id or member [i, j].
+  function where(loc) {
+    if (typeof loc === "string") return `node ${loc}`;
+    if (Array.isArray(loc) && Array.isArray(loc[0])) return `member (${loc[0][0]}, ${loc[0][1]})–(${loc[1][0]}, ${loc[1][1]}) ft`;
+    if (Array.isArray(loc) && typeof loc[0] === "string") return loc[0] === "*" ? "every member" : `member ${loc[0]}–${loc[1]}`;
+    return `joint (x = ${loc[0]} ft, y = ${loc[1]} ft)`;
   }
 
   function value(name, v) {
@@ -88,9 +88,9 @@
       const shown = effects.length > 1 && Object.keys(own).length ? own : e.parameters;
       add("Parameters (± 1σ)", paramText(shown, e.uncertainty, e.interval));
       if (e.location) {
-        add("Location", placeText(e.location) +
+        add("Location", where(e.location) +
           (e.location_probability !== null && e.location_probability !== undefined ? `, ${num(100 * e.location_probability, 0)} % certain` : "") +
-          ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `${placeText(l)} ${num(100 * q, 0)} %`).join(", ")}` : ""));
+          ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `${where(l)} ${num(100 * q, 0)} %`).join(", ")}` : ""));
       }
       add(k === 0 ? "Posterior probability" : "Posterior probability (given the effects before)", `${num(100 * e.probability, 1)} %`);
       if (e.gap_after) add("Gap after this step", `max |Δf| ${num(e.gap_after.max_abs_freq_error_pct, 2)} %, min MAC ${num(e.gap_after.min_mac, 3)}`);
@@ -116,7 +116,7 @@
   function rankingTable(s, id) {
     const rows = s.ranking.map((r) => [r.name, `${num(100 * r.probability, 1)} %`, num(r.log_evidence, 1),
       r.name === "none" ? "(reference)" : num(r.log_bayes_factor, 1),
-      paramText(r.parameters) + (r.location ? `; ${placeText(r.location)}` : ""),
+      paramText(r.parameters) + (r.location ? `; at ${where(r.location)}` : ""),
       r.adequate ? "yes" : "no", num(r.max_abs_freq_error_pct, 2), num(r.min_mac, 3)]);
     return table(`${id}-ranking`, [["candidate"], ["posterior", "probability given the data, within this library"],
       ["ln evidence", "Laplace approximation (Beck & Yuen 2004)"], ["ln Bayes factor vs none", "against the nominal model with a global stiffness factor"],
@@ -166,12 +166,45 @@
     return { xs, ys, z };
   }
 
+  // A frame's shape (rows "node:x", ...) drawn in the plane of its two largest extents: the undeformed members
+  // in grey, the deformed ones in colour (largest displacement 12 % of the size), ○ at the sensors' nodes.
+  function frameTraces(s, column, sign) {
+    const f = s.frame, ids = Object.keys(f.nodes), xyz = ids.map((n) => f.nodes[n]);
+    const span = [0, 1, 2].map((a) => Math.max(...xyz.map((p) => p[a])) - Math.min(...xyz.map((p) => p[a])));
+    const [a, b] = [0, 1, 2].sort((i, j) => span[j] - span[i] || i - j).slice(0, 2).sort();
+    const u = Object.fromEntries(ids.map((n) => [n, [0, 0, 0]]));
+    f.node_labels.forEach((label, r) => { const [n, d] = [label.slice(0, label.lastIndexOf(":")), label.slice(-1)]; u[n]["xyz".indexOf(d)] = column[r]; });
+    const big = Math.max(1e-300, ...column.map((v) => Math.abs(v))), scale = sign * 0.12 * Math.max(...span) / big;
+    const line = (moved) => { const x = [], y = [], t = [];
+      for (const [i, j] of f.members) for (const n of [i, j, null]) {
+        if (n === null) { x.push(null); y.push(null); t.push(null); continue; }
+        const p = f.nodes[n], d = moved ? u[n] : [0, 0, 0];
+        x.push(p[a] + scale * d[a]); y.push(p[b] + scale * d[b]); t.push(`node ${n}`);
+      }
+      return { x, y, t }; };
+    const rest = line(false), moved = line(true), seen = [...new Set(f.sensors.map((q) => q[0]))];
+    return { axes: ["xyz"[a], "xyz"[b]], traces: [
+      { type: "scatter", mode: "lines", x: rest.x, y: rest.y, line: { color: "#c5cbd6", width: 1 }, hoverinfo: "skip" },
+      { type: "scatter", mode: "lines+markers", x: moved.x, y: moved.y, text: moved.t.map((t) => t === null ? null : plain(t)),
+        line: { color: "#e4572e", width: 2 }, marker: { size: 4 }, hovertemplate: "%{text}<extra></extra>" },
+      { type: "scatter", mode: "markers+text", x: seen.map((n) => f.nodes[n][a]), y: seen.map((n) => f.nodes[n][b]),
+        text: seen.map(plain), textposition: "top left", marker: { symbol: "circle-open", size: 9, color: "#1d2330", line: { width: 2 } }, hoverinfo: "skip" }] };
+  }
+
   function drawShapes(s, divs, k) {
     const meas = s.expanded_measured.map((r) => r[k]), model = s.expanded_model.map((r) => r[k]);
     const dot = meas.reduce((a, v, n) => a + v * model[n], 0);
     const m = s.modes[k];
     const panels = [[divs[0], shapeGrid(s, meas, 1), `measured ${num(m.measured_hz, 3)} Hz (SEREP-expanded)`],
                     [divs[1], shapeGrid(s, model, dot < 0 ? -1 : 1), `updated model ${num(m.updated_hz, 3)} Hz, MAC ${num(m.updated_mac, 3)}`]];
+    if (s.frame) {
+      for (const [div, column, sign, title] of [[divs[0], meas, 1, panels[0][2]], [divs[1], model, dot < 0 ? -1 : 1, panels[1][2]]]) {
+        const g = frameTraces(s, column, sign);
+        Plotly.react(div, g.traces, { title: { text: title, font: { size: 13 } }, margin: { l: 40, r: 10, t: 30, b: 35 }, showlegend: false,
+          xaxis: { title: { text: `${g.axes[0]} (m)` }, constrain: "domain" }, yaxis: { title: { text: `${g.axes[1]} (m)` }, scaleanchor: "x" } }, cfg);
+      }
+      return;
+    }
     for (const [div, g, title] of panels) {
       Plotly.react(div, [
         { type: "contour", x: g.xs, y: g.ys, z: g.z, zmin: -1, zmax: 1, colorscale: "RdBu", reversescale: true,
@@ -205,6 +238,7 @@
 
     root.append(verdictBox(s, id));
     if (s.basis) root.append(el("p", `Compared: ${s.basis.text}`, { class: "note", id: `${id}-basis` }));
+    if (s.model_text) root.append(el("p", `Nominal model: this dataset's structure model (${s.model_text}).`, { class: "note", id: `${id}-model` }));
     if (s.nominal_params && Object.keys(s.nominal_params).length) {
       root.append(el("p", `Nominal model: nasa_grid(${Object.entries(s.nominal_params).map(([k, v]) => `${k}=${JSON.stringify(v)}`).join(", ")})`, { class: "note" }));
     }
@@ -245,9 +279,11 @@
     const shM = half(), shU = half();
     shM.id = `${id}-shape-measured`; shU.id = `${id}-shape-model`;
     const viewers = el("div", null, { id: `${id}-viewers` });
-    root.append(h("Mode shapes over the whole grid: measured (SEREP expansion of the nine sensors) and updated model"),
+    root.append(h(s.frame ? `Mode shapes over the whole structure: measured (SEREP expansion of the ${s.outputs.length} sensors) and updated model`
+                          : "Mode shapes over the whole grid: measured (SEREP expansion of the nine sensors) and updated model"),
                 shapeRow, viewers, pair(shM, shU),
-                el("p", "Colour: out-of-plane displacement w, largest = 1 (the model's sign matched to the measured). ○ sensors.", { class: "note" }));
+                el("p", s.frame ? "Grey: the frame at rest; colour: displaced, largest 12 % of its size (the model's sign matched to the measured). ○ sensors' nodes."
+                                : "Colour: out-of-plane displacement w, largest = 1 (the model's sign matched to the measured). ○ sensors.", { class: "note" }));
     macPlots(s, macB, "before");
     macPlots(s, macA, "after");
     if (s.modes.length) drawShapes(s, [shM, shU], 0);

@@ -19,5 +19,25 @@
     { key: "is_pair", label: "type", title: "complex pair or real pole", value: (m, k) => m.is_pair[k] ? 1 : 0,
       text: (m, k) => m.is_pair[k] ? "pair" : "real" },
   ];
-  window.EraFormat = { num, columns };
+  // What the person said at the import step (dataset.source.options), in words; null when nothing was said.
+  // Channels are positions as read; source.channels (when present) names them.
+  function importChoices(src) {
+    const o = (src && src.options) || {};
+    const names = src && src.channels_read;
+    const ch = (list) => list.map((i) => (names && names[i] !== undefined ? names[i] : `#${i}`)).join(", ");
+    const out = [];
+    if (o.kind) out.push(`records read as ${o.kind}`);
+    if (o.dt) out.push(`sample rate ${Number((1 / o.dt).toPrecision(10))} Hz (Δt ${o.dt} s)`);
+    if (o.orientation) out.push(`channels in ${o.orientation}`);
+    if (o.format) out.push(`format ${o.format}`);
+    if (o.variable) out.push(`array ${o.variable}`);
+    if (o.group) out.push(`group ${o.group}`);
+    if (o.frf_sign && o.frf_sign !== "auto") out.push(`FRF sign ${o.frf_sign}`);
+    if (o.start_sample) out.push(`records start at sample ${o.start_sample}`);
+    if (o.drop && o.drop.length) out.push(`left out: ${ch(o.drop)}`);
+    if (o.forces) out.push(o.forces.length ? `force channels: ${ch(o.forces)}` : "no force channel");
+    if (o.references && o.references.length) out.push(`NExT references: ${ch(o.references)}`);
+    return out.length ? out.join("; ") : null;
+  }
+  window.EraFormat = { num, columns, importChoices };
 })();

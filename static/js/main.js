@@ -9,6 +9,7 @@ import * as table from "./table.js";
 import * as reconstruction from "./reconstruction.js";
 import * as shapes from "./shapes.js";
 import * as share from "./share.js";
+import * as model from "./model.js";
 import * as explain from "./explain.js";
 
 // Timing of the last slider updates (ms from the order change to table and reconstruction drawn), for tests.
@@ -76,6 +77,7 @@ table.init();
 reconstruction.init();
 shapes.init();
 share.init();
+model.init();
 explain.init();
 api("/api/health").then((h) => { document.getElementById("version").textContent = h.version; }).catch(() => {});
 

@@ -34,6 +34,9 @@
     const rows = [
       ["Dataset", `${d.name}: ${d.n_outputs} outputs × ${d.n_inputs} inputs, ${d.n_samples} samples, Δt = ${d.dt} s`],
       ["Dataset SHA-256", d.sha256],
+      ...(d.source && d.source.format ? [["Read as", `${d.source.format.toUpperCase()}${d.source.kind ? `, ${d.source.kind}` : ""}` +
+                                                     (d.source.records ? `: ${d.source.records.join("; ")}` : "")]] : []),
+      ...(window.EraFormat.importChoices(d.source) ? [["Import choices", window.EraFormat.importChoices(d.source)]] : []),
       ["Hankel matrix", `rows r = ${a.rows}, columns s = ${a.cols}, H(0) ${a.hankel_shape[0]} × ${a.hankel_shape[1]}, ${a.svd_method} SVD`],
       ["Order", `n = ${r.order} (max ${a.max_order}, suggested ${a.suggested_order})`],
       ["Kept modes", `${kept.size} of ${r.modes.n_modes}`],
@@ -42,6 +45,12 @@
     ];
     const dl = $("report-meta");
     for (const [k, v] of rows) { dl.append(el("dt", k), el("dd", v)); }
+    if (r.structure_model) {  // the dataset's structure model when the report was made (issue 9), frozen here
+      const m = r.structure_model, dd = el("dd", `${m.source === "file" ? `file ${m.name}: ` : ""}${m.text} `, { id: "report-model" });
+      const blob = new Blob([JSON.stringify(m.model, null, 1)], { type: "application/json" });
+      dd.append(el("a", "model (JSON)", { href: URL.createObjectURL(blob), download: "model.json" }));
+      dl.append(el("dt", "Model of the structure"), dd);
+    }
     if (!r.standalone) {
       const links = el("dd");
       for (const [text, href] of [["report (HTML)", `/api/reports/${r.token}/report.html`],

@@ -47,7 +47,7 @@ def test_headerless_rows_need_the_sample_rate_and_nothing_is_stored_until_given(
         assert ok.status_code == 200, ok.text
         ds = ok.json()
         assert ds["n_outputs"] == 3 and ds["dt"] == pytest.approx(0.04)
-        assert ds["source"]["options"] == {"dt": pytest.approx(0.04), "orientation": "rows"}
+        assert ds["source"]["options"] == {"dt": pytest.approx(0.04), "orientation": "rows", "kind": "ambient"}
         assert c.get(f"/api/datasets/{ds['id']}").json()["source"]["options"]["orientation"] == "rows"
 
 

@@ -18,7 +18,7 @@ from app.store import Store
 from app.store.database import connect, migrate
 from era.examples.paper_cases import case_2
 
-NEWEST = "0003"
+NEWEST = "0004"
 
 
 @pytest.fixture(params=["sqlite", "postgresql"])

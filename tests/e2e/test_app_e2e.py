@@ -124,8 +124,11 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         page.on("pageerror", lambda e: errors.append(str(e)))
         page.goto(server.base + "/")
 
-        # 1. upload through the drop zone's file input; the defaults identify at once
+        # 1. upload through the drop zone's file input, see what was read, use it; the defaults identify at once
         page.set_input_files("#file", str(upload))
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        assert page.text_content("#import-channels tbody tr td:nth-child(2)") == EVIL  # a name, shown as text
+        page.click("#import-use")
         page.wait_for_selector("#summary:not([hidden])")
         page.wait_for_selector("#modes-table tbody tr")
         summary = page.text_content("#summary")

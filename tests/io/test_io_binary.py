@@ -16,16 +16,13 @@ from nptdms import ChannelObject, GroupObject, RootObject, TdmsWriter
 import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
-from chain_sim import chain, simulate  # noqa: E402
+from chain_sim import hammer_decay  # noqa: E402
 
 DT = 0.01
 
 
 def decay(n=1500, hit=2):
-    ad, bd, cd, dd, f_modes, _ = chain(DT)
-    u = np.zeros((n, 3))
-    u[20, hit] = 1.0
-    return simulate(ad, bd, cd, dd, u), f_modes
+    return hammer_decay(n, hit, DT)
 
 
 def modes_of(ds, f_modes):

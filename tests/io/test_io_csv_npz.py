@@ -11,17 +11,14 @@ import pytest
 import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
-from chain_sim import chain, simulate  # noqa: E402
+from chain_sim import chain, hammer_decay, simulate  # noqa: E402
 
 DT = 0.01
 
 
 def free_decays(n=1500, hit_mass=2):
     """Acceleration of the chain after a hammer pulse on one mass, with 20 pre-trigger samples: (N, 3)."""
-    ad, bd, cd, dd, f_modes, zeta = chain(DT)
-    u = np.zeros((n, 3))
-    u[20, hit_mass] = 1.0
-    return simulate(ad, bd, cd, dd, u), f_modes
+    return hammer_decay(n, hit_mass, DT)
 
 
 def csv_text(t, y, header, delim=",", decimal="."):

@@ -102,3 +102,24 @@ def test_unit_exponents_with_the_files_unit_factors_give_si_values(tmp_path):
     np.testing.assert_allclose(mm.data.markov, si.data.markov, rtol=1e-5, atol=1e-9 * np.abs(si.data.markov).max())
     assert mm.data.output_units == ("m/s^2/N",) and "converted to SI" in " ".join(mm.source["records"])
     np.testing.assert_allclose(mm.geometry.coordinates, [[0.5, 0, 0]])
+
+
+def test_finite_element_modes_in_mm_and_local_systems_come_out_in_m_along_global_axes(tmp_path):
+    """UFF 55 shapes written in mm (UFF 164) at a node whose displacement system is turned 90° about Z (UFF 2420):
+    era.read_modes_uff gives them in m along global X/Y/Z, as the test's channels are."""
+    import pyuff
+
+    units_mm = pyuff.prepare_164(units_code=5, units_description="mm", temp_mode=1, length=1000.0, force=1.0,
+                                 temp=1.0, temp_offset=273.15)
+    local = np.array([[2.0, 0.0, 1.0], [0.0, 0.0, 3.0]])  # mm, at nodes 1 and 2, in their own systems
+    mode = pyuff.prepare_55(id1="FE mode 1", id2="NONE", id3="NONE", id4="NONE", id5="NONE", model_type=1,
+                            analysis_type=2, data_ch=2, spec_data_type=8, data_type=2, n_data_per_node=3,
+                            r1=local[:, 0], r2=local[:, 1], r3=local[:, 2], node_nums=[1, 2], load_case=1,
+                            mode_n=1, freq=12.5, modal_m=1.0, modal_damp_vis=0.0, modal_damp_his=0.0)
+    sets = [units_mm, cs2420([5], [np.vstack([ROT_Z90, [0.0, 0.0, 0.0]])]),
+            nodes([1, 2], [[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0]], def_cs=[0, 0], disp_cs=[5, 0]), mode]
+    U.write(tmp_path / "fe.uff", sets)
+    fe = era.read_modes_uff(tmp_path / "fe.uff")
+    assert fe.frequency_hz.tolist() == [12.5] and fe.node_ids.tolist() == [1, 2]
+    # node 1: local x (2 mm) is global +Y, local z (1 mm) is +Z; node 2 is in the global system already
+    np.testing.assert_allclose(fe.shapes[:, :, 0].real, [[0.0, 0.002, 0.001], [0.0, 0.0, 0.003]], atol=1e-15)

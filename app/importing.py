@@ -1,0 +1,85 @@
+"""The import step: uploaded files are kept as they came (store.staging), shown as read (era.io.preview.preview)
+with the person's options, and become a dataset only when the person says so.
+
+Every function is plain: files in ((name, bytes)), dicts out (schemas.Import, schemas.ImportPreview).
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+import era
+from era.io.preview import preview
+
+from .loading import KINDS, MAX_FILES
+from .payloads import floats
+
+#: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
+READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "frf_sign", "start_sample", "drop", "forces",
+                "references")
+
+
+def check_files(files: list[tuple[str, bytes]]) -> None:
+    """DataError for an upload with no file, too many files, or an empty file."""
+    if not files:
+        raise era.DataError("No file in the upload: add at least one file part named `file`.")
+    if len(files) > MAX_FILES:
+        raise era.DataError(f"{len(files)} files in one upload; at most {MAX_FILES} are read as one dataset.")
+    for name, blob in files:
+        if not blob:
+            raise era.DataError(f"{name!r} is empty: choose a file with the measured records.")
+
+
+def given(options: dict) -> dict:
+    """The options the person set (None left out; ``kind`` "auto" too)."""
+    out = {k: v for k, v in options.items() if v is not None and k in READ_OPTIONS + ("kind",)}
+    if out.get("kind") == "auto":
+        del out["kind"]
+    return out
+
+
+def _sources(files: list[tuple[str, bytes]]) -> list:
+    sources = []
+    for name, blob in files:
+        src = io.BytesIO(blob)
+        src.name = name  # era names the file in its messages
+        sources.append(src)
+    return sources
+
+
+def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int) -> tuple[dict, str | None,
+                                                                                        str | None]:
+    """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
+    stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
+    be read at all."""
+    reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k != "references"}
+    sources = _sources(files)
+    pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
+                 max_points=max_points, **{k: v for k, v in reading.items() if k != "frf_sign"})
+    time_like = pv.domain != "frequency"
+    x_label = ("sample" if pv.step is None else "time (s)") if time_like else "frequency (Hz)"
+    return {
+        "files": pv.files, "format": pv.format, "domain": pv.domain, "dt": pv.step,
+        "sample_rate_hz": (1.0 / pv.step) if pv.step and time_like else None, "start": float(pv.start),
+        "channels": [vars(c) for c in pv.channels], "references": pv.references, "n_records": pv.n_records,
+        "n_samples": pv.n_samples, "kind": pv.kind, "described": pv.described, "x": floats(pv.x),
+        "x_label": x_label, "traces": floats(np.asarray(pv.traces)), "geometry_nodes": pv.geometry_nodes,
+    }, pv.problem, pv.problem_option
+
+
+def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, max_points: int) -> dict:
+    """schemas.Import: the preview, or the reason there is none, with the option that fixes it."""
+    out = {"id": upload_id, "files": [n for n, _ in files], "bytes": sum(len(b) for _, b in files),
+           "options": given(options), "preview": None, "error": None, "option": None}
+    try:
+        out["preview"], out["error"], out["option"] = preview_json(files, options, max_points)
+    except era.EraError as exc:
+        out["error"], out["option"] = str(exc), getattr(exc, "option", None)
+    return out
+
+
+def check_kind(kind: str) -> None:
+    if kind not in KINDS:
+        raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")

@@ -1,0 +1,225 @@
+"""The engineer's model of their structure (issue 9): an era.Frame described in the browser from the dataset's
+geometry, or uploaded as a model file, checked against the dataset's channels, kept with the dataset.
+
+The model is kept as the person described it, in era.structure's file format (a section may stay
+{"shape": "rectangle", "width": m, "depth": m, "material": "steel"}, so the panel can show it again as typed);
+:func:`frame` turns it into an era.Frame. Units: SI (m, kg, N, Pa) as in the file format; the browser converts
+its millimetres. Blocking functions (a model's modes): call them through app.jobs.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+
+import numpy as np
+
+import era
+from era.structure import DIRECTIONS, MATERIALS, UNITS_M
+
+#: Frequencies of a saved model shown beside the test's, and computed to check it (a mechanism fails here).
+N_MODES = 10
+#: Largest model file accepted, bytes.
+MAX_MODEL_BYTES = 2_000_000
+SHAPES = ("rectangle", "tube", "square_tube", "circle")
+TABLES = ("nodes", "sections", "supports", "masses", "joint_springs", "added_mass_per_length")
+LISTS = ("members", "sensors")
+
+
+def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
+    """What the model step starts from: the geometry's nodes (m), one member per trace line with a default group
+    by direction ("vertical", "along x", "along y", "inclined"), and one sensor per channel (node, direction).
+
+    Raises era.DataError when there is no geometry, no trace line, or a channel without a node or a direction
+    (the message says what to do instead: upload a model file)."""
+    if geometry is None:
+        raise era.DataError("This dataset has no test geometry (nodes and trace lines), so there is nothing to "
+                            "build the model from: upload a model file (era.Frame JSON or TOML) instead.")
+    scale = UNITS_M.get(str(geometry.units).strip().lower())
+    if scale is None:
+        raise era.DataError(f"The geometry's length unit {geometry.units!r} is not one of {sorted(UNITS_M)}.")
+    ids = [str(i) for i in geometry.node_ids]
+    edges = sorted({tuple(sorted(map(int, e))) for e in geometry.edges if e[0] != e[1]})
+    if not edges:
+        raise era.DataError("The geometry has nodes but no trace lines, so there are no members to draw: add trace "
+                            "lines (UFF 82) to the file, or upload a model file.")
+    xyz = np.asarray(geometry.coordinates, float) * scale
+    members = [[ids[a], ids[b], _group(xyz[b] - xyz[a])] for a, b in edges]
+    used = sorted({i for e in edges for i in e})
+    sensors = []
+    for ch, (node, d) in enumerate(zip(geometry.channel_nodes, geometry.channel_directions)):
+        name = outputs[ch] if ch < len(outputs) else f"channel {ch + 1}"
+        if node < 0 or not np.any(d):
+            raise era.DataError(f"Output {ch + 1} ({name}) has no node or direction in the geometry, so the model "
+                                "cannot place its sensor: upload a model file that lists the sensors.")
+        if node not in used:
+            raise era.DataError(f"Output {ch + 1} ({name}) measures node {ids[node]}, which is on no trace line, so "
+                                "no member carries its sensor: add the trace lines to it in the file, or upload a "
+                                "model file.")
+        axis = [k for k, v in DIRECTIONS.items() if np.allclose(v, d, atol=1e-9)]
+        sensors.append([ids[node], axis[0] if axis else [float(v) for v in d]])
+    return {"nodes": {ids[i]: [float(v) for v in xyz[i]] for i in used}, "members": members,
+            "sensors": sensors, "outputs": list(outputs), "units": "m",
+            "groups": sorted({m[2] for m in members}), "materials": sorted(MATERIALS), "shapes": list(SHAPES)}
+
+
+def _group(d: np.ndarray) -> str:
+    a = np.abs(d) / max(np.linalg.norm(d), 1e-300)
+    if a[2] > 0.999:
+        return "vertical"
+    if a[0] > 0.999:
+        return "along x"
+    if a[1] > 0.999:
+        return "along y"
+    return "inclined"
+
+
+def _check_sections(sections) -> None:
+    """A shape section must say its material (or E, G and density): the helpers' default steel would be a guess."""
+    if not isinstance(sections, dict) or not sections:
+        raise era.DataError("The model has no sections: give every member group a section and a material.")
+    for name, s in sections.items():
+        if not isinstance(s, dict):
+            raise era.DataError(f"Section {name!r} must be a table (shape and sizes, or area, iy, iz, j, e, g, "
+                                "density).")
+        if "shape" in s:
+            if s["shape"] not in SHAPES:
+                raise era.DataError(f"Section {name!r}: shape {s['shape']!r} is not one of {', '.join(SHAPES)}.")
+            if not s.get("material") and not all(k in s for k in ("e", "density")):
+                raise era.DataError(f"Section {name!r} has no material: choose one ({', '.join(sorted(MATERIALS))}) "
+                                    "or give e (Pa) and density (kg/m³).")
+            sizes = [k for k in s if k not in ("shape", "material", "e", "g", "density")]
+            bad = [k for k in sizes if not (isinstance(s[k], (int, float)) and not isinstance(s[k], bool)
+                                            and math.isfinite(s[k]) and s[k] > 0)]
+            if bad:
+                raise era.DataError(f"Section {name!r}: {bad[0]} must be a positive size in m, got {s[bad[0]]!r}.")
+
+
+def frame(model: dict) -> era.Frame:
+    """The era.Frame of a stored model (the file format); era.DataError with the reason when it is not one."""
+    if not isinstance(model, dict):
+        raise era.DataError("A model must be a table of nodes, members, sections, supports, masses and sensors.")
+    for key in TABLES:
+        if key in model and not isinstance(model[key], dict):
+            raise era.DataError(f"The model's {key} must be a table {{node or name: ...}}, got "
+                                f"{type(model[key]).__name__}.")
+    for key in LISTS:
+        if key in model and not isinstance(model[key], list):
+            raise era.DataError(f"The model's {key} must be a list, got {type(model[key]).__name__}.")
+        if not all(isinstance(x, list) for x in model.get(key, [])):
+            form = "[node i, node j, section]" if key == "members" else "[node, direction]"
+            raise era.DataError(f"Each of the model's {key} must be a list: {form}.")
+    g = model.get("gravity")
+    if g is not None and not (isinstance(g, list) and len(g) == 3 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in g)):
+        raise era.DataError(f"The model's gravity must be null or [gx, gy, gz] in m/s², got {g!r}.")
+    _check_sections(model.get("sections"))
+    try:
+        return era.Frame.from_dict(model)
+    except (TypeError, ValueError) as exc:          # a value of the wrong kind somewhere era did not expect it
+        raise era.DataError(f"The model is not in era.Frame's file format: {exc}.") from None
+
+
+def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None) -> None:
+    """The model's sensors must be the dataset's outputs, in order: as many, and, when the model's nodes carry the
+    geometry's labels, at the node and along the direction each channel measures. era.DataError otherwise."""
+    p = len(outputs)
+    if len(fr.sensors) != p:
+        raise era.DataError(f"The model has {len(fr.sensors)} sensor(s) but this dataset has {p} output(s) "
+                            f"({', '.join(outputs)}): list one sensor (node, direction) per output, in the "
+                            "outputs' order.")
+    if geometry is None or geometry.channel_nodes.size != p:
+        return
+    labels = [str(i) for i in geometry.node_ids]
+    if not all(n in labels for n, _ in fr.sensors):
+        return                                   # the model names its nodes its own way: only the count is checked
+    for ch, ((node, d), at, where) in enumerate(zip(fr.sensors, geometry.channel_nodes,
+                                                    geometry.channel_directions)):
+        if at < 0:
+            continue
+        along = DIRECTIONS[d] if isinstance(d, str) else np.asarray(d, float)
+        if labels[at] != node or not np.allclose(along, where, atol=1e-3):
+            raise era.DataError(f"Sensor {ch + 1} of the model is at node {node} along {_dir_text(d)}, but output "
+                                f"{ch + 1} ({outputs[ch]}) measures node {labels[at]} along {_dir_text(where)}: "
+                                "list the sensors in the outputs' order.")
+
+
+def check_channels_of(model: dict, outputs: tuple, geometry: era.Geometry | None) -> None:
+    """:func:`check_channels` of a stored model: a quick refusal before an explanation is queued."""
+    check_channels(frame(model), outputs, geometry)
+
+
+def _dir_text(d) -> str:
+    if isinstance(d, str):
+        return d
+    axis = [k for k, v in DIRECTIONS.items() if np.allclose(v, d, atol=1e-3)]
+    return axis[0] if axis else "(" + ", ".join(f"{float(v):.3g}" for v in d) + ")"
+
+
+def read_file(name: str, blob: bytes) -> dict:
+    """A model file's table: TOML when the name ends in .toml, else JSON. era.DataError for anything else."""
+    if len(blob) > MAX_MODEL_BYTES:
+        raise era.DataError(f"{name}: a model file of {len(blob)} bytes is larger than {MAX_MODEL_BYTES}.")
+    try:
+        text = blob.decode("utf-8")
+        return tomllib.loads(text) if name.lower().endswith(".toml") else json.loads(text)
+    except (UnicodeDecodeError, ValueError) as exc:          # JSONDecodeError and TOMLDecodeError are ValueErrors
+        raise era.DataError(f"{name}: not a readable model file (era.Frame JSON, or TOML named .toml): {exc}") from None
+
+
+def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple[era.Frame, np.ndarray]:
+    """(Frame, its lowest N_MODES frequencies in Hz) of a model for this dataset, or era.DataError: a member to a
+    missing node, a section without a material, a mechanism (the solver names the free DOF), sensors that are
+    not the dataset's channels. Blocking (one eigen-solution)."""
+    fr = frame(model)
+    check_channels(fr, outputs, geometry)
+    f_hz, _ = fr.modes(N_MODES)
+    return fr, f_hz
+
+
+def summary(stored: dict, fr: era.Frame, f_hz) -> dict:
+    """The answer for a stored model (schemas.StructureModel): the model as described, where it came from, and
+    what it is (counts, mass in kg, lowest frequencies in Hz, a one-line description)."""
+    return {"model": stored["model"], "source": stored["source"], "name": stored.get("name"),
+            "saved": stored.get("saved"), "n_nodes": len(fr.nodes), "n_members": len(fr.members),
+            "n_sensors": len(fr.sensors), "total_mass_kg": fr.total_mass_kg,
+            "frequency_hz": [float(f) for f in f_hz], "text": describe(stored["model"])}
+
+
+def describe(model: dict) -> str:
+    """The model in one line, for the panel and the report: counts, sections, supports, masses."""
+    nodes, members = model.get("nodes", {}), model.get("members", [])
+    secs = []
+    for name, s in model.get("sections", {}).items():
+        if "shape" in s:
+            sizes = " × ".join(f"{1000 * s[k]:g}" for k in ("width", "depth", "diameter", "wall") if k in s)
+            secs.append(f"{name}: {s['shape'].replace('_', ' ')} {sizes} mm {s.get('material', '')}".rstrip())
+        else:
+            secs.append(f"{name}: A {s.get('area', 0):.3g} m², E {s.get('e', 0):.3g} Pa")
+    sup = [f"{n} {s if isinstance(s, str) else 'springs'}" for n, s in model.get("supports", {}).items()]
+    mass = [f"{n} {m:g} kg" for n, m in model.get("masses", {}).items()]
+    return (f"{len(nodes)} nodes, {len(members)} members; sections {'; '.join(secs) or 'none'}; supports "
+            f"{', '.join(sup) or 'none (free-free)'}; masses {', '.join(mass) or 'none'}; "
+            f"{len(model.get('sensors', []))} sensors" + ("; gravity" if model.get("gravity") else ""))
+
+
+def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
+    """The model's modes beside the test's (schemas.ModelComparison): frequencies (Hz), the MAC matrix (test
+    modes × model modes) at the sensors, and each test mode's partner (era.correlation.pair_modes: frequency and
+    MAC together, as explain pairs them; null when none is acceptable). frequency_hz (k,), shapes (p, k) complex:
+    the test's modes, e.g. those kept at one order. The model gives 6 modes more than the test, so a mode that
+    moved can still be found."""
+    from era.correlation import pair_modes, real_shapes
+
+    f_test = np.asarray(frequency_hz, float)
+    test = real_shapes(np.asarray(shapes))
+    f_model, s_model = fr.modes(max(N_MODES, test.shape[1] + 6))
+    p = pair_modes(f_test, test, f_model, s_model)
+    partner = {int(i): k for k, i in enumerate(p.measured_index)}
+    best = [None if i not in partner else {"model_mode": int(p.model_index[partner[i]]),
+                                           "mac": float(p.mac[partner[i]]),
+                                           "frequency_error_pct": float(p.frequency_error_pct[partner[i]])}
+            for i in range(f_test.size)]
+    return {"test_hz": [float(f) for f in f_test], "model_hz": [float(f) for f in f_model],
+            "mac": [[float(v) for v in row] for row in p.mac_matrix], "best": best}

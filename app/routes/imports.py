@@ -1,0 +1,77 @@
+"""The import step: upload files, see what was read, say what the files could not, then make the dataset."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, File, Form, Request, UploadFile
+
+from .. import schemas
+from ..errors import NotFound
+from ..importing import check_kind, given, import_json
+from ..loading import channel_list, new_dataset
+from ..store import new_token
+from .datasets import read_parts
+from .deps import cache, jobs, progress_key, store
+
+router = APIRouter(prefix="/api/imports", tags=["datasets"])
+
+
+def _staged(request: Request, upload_id: str) -> list[tuple[str, bytes]]:
+    files = store(request).staging.files(upload_id)
+    if files is None:
+        raise NotFound(f"No upload {upload_id!r} waiting to be imported (uploads are kept a day, and only until they "
+                       "become a dataset); drop the files again.")
+    return files
+
+
+async def _run(request: Request, files, fn, *args, message: str):
+    """Small uploads on the quick pool, large ones queued on the heavy one with progress."""
+    if sum(len(b) for _, b in files) <= cache(request).settings.small_upload_bytes:
+        return await jobs(request).quick(fn, *args)
+    return await jobs(request).heavy(fn, *args, progress=progress_key(request), message=message)
+
+
+@router.post("", summary="Upload files for the import step: they are kept and shown as read, not yet a dataset",
+             response_model=schemas.Import)
+async def upload(request: Request, file: list[UploadFile] = File(description="one part per file; several are read "
+                                                                             "as one dataset"),
+                 dt: float | None = Form(None, gt=0, description="sampling interval, s, when the files carry none"),
+                 format: str | None = Form(None, description="the format when sniffing should not decide"),
+                 orientation: str | None = Form(None, description="rows or columns: channels of a headerless table"),
+                 variable: str | None = Form(None, description="the array to read in a MAT or HDF5 file"),
+                 group: str | None = Form(None, description="the TDMS group to read"),
+                 start_sample: int | None = Form(None, ge=0, description="samples skipped at the start of records"),
+                 drop: str | None = Form(None, description="channels left out: positions as read, e.g. 0,3")):
+    """Multipart parts ``file``; optional first options. Returns the upload's id and what was read (or what stops
+    reading it, with the option that fixes it). The files are kept a day for POST /api/imports/{id}/preview and
+    POST /api/imports/{id}/dataset."""
+    files = await read_parts(file)
+    options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group,
+                   start_sample=start_sample, drop=channel_list(drop, "drop"))
+    upload_id = new_token()
+    await jobs(request).quick(store(request).staging.add, upload_id, files)
+    points = cache(request).settings.max_plot_points
+    return await _run(request, files, import_json, upload_id, files, options, points,
+                      message=f"Reading {files[0][0]}")
+
+
+@router.post("/{upload_id}/preview", summary="Read the staged files again with the person's options",
+             response_model=schemas.Import)
+async def preview(request: Request, upload_id: str, options: schemas.ImportOptions):
+    files = _staged(request, upload_id)
+    points = cache(request).settings.max_plot_points
+    return await _run(request, files, import_json, upload_id, files, options.model_dump(), points,
+                      message=f"Reading {files[0][0]}")
+
+
+@router.post("/{upload_id}/dataset", summary="Make the dataset from the staged files with the person's options",
+             response_model=schemas.Dataset)
+async def commit(request: Request, upload_id: str, options: schemas.ImportOptions):
+    """The dataset (as POST /api/datasets returns it); its summary keeps the options. The staged files are then
+    deleted. A refusal (422) names the option that fixes it in ``option``; the files stay staged."""
+    files = _staged(request, upload_id)
+    check_kind(options.kind)
+    said = {k: v for k, v in given(options.model_dump()).items() if k != "kind"}
+    summary = await _run(request, files, new_dataset, cache(request), files, options.kind, said,
+                         message=f"Reading {files[0][0]}")
+    store(request).staging.remove(upload_id)
+    return summary

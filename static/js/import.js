@@ -1,0 +1,216 @@
+// The import step: after a drop, what was read (channels, units, nodes, sampling, a plot of every channel) and
+// the controls for what the files could not say (sample rate, rows/columns, record kind, start sample, channel
+// roles, channels left out). Every change reads the staged files again (POST /api/imports/{id}/preview); "Use
+// these records" makes the dataset (POST /api/imports/{id}/dataset). A refusal is shown next to its control.
+import { api, upload } from "./api.js";
+import { el, plotConfig, plain, showError } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+
+// The option a refusal names -> the element that shows it (next to its control).
+const ERROR_BOX = { dt: "import-error-dt", orientation: "import-error-orientation", kind: "import-error-kind",
+                    start_sample: "import-error-start_sample", variable: "import-error-variable",
+                    group: "import-error-group", frf_sign: "import-error-frf_sign",
+                    forces: "import-error-channels", references: "import-error-channels",
+                    drop: "import-error-channels" };
+const ROLES = { response: "response", force: "force (excitation, input)", reference: "NExT reference response",
+                drop: "left out" };
+
+let current = null;        // the last answer of /api/imports (id, files, preview, error, option)
+let roles = [];            // role of each channel as read: response | force | reference | drop
+let fileForces = "";       // the channels the files themselves mark as forces (units N, names), as "0,3"
+let fileRate = false;      // the files carry their own sampling interval
+let onDataset = null;      // callback(dataset summary)
+let rereading = null;      // debounce timer
+let generation = 0;        // answers to older previews are ignored
+
+function clearErrors() {
+  for (const id of new Set(Object.values(ERROR_BOX))) showError(id, null);
+  for (const label of document.querySelectorAll("#import label.field.problem")) label.classList.remove("problem");
+  showError("import-error", null);
+}
+
+// Show a refusal next to the control that fixes it (or below the panel when no control does).
+function showProblem(message, option) {
+  const box = ERROR_BOX[option];
+  if (!box) { showError("import-error", new Error(message)); return; }
+  showError(box, new Error(message));
+  const label = $(box).closest("label.field");
+  if (label) {
+    label.classList.add("problem");
+    const input = label.querySelector("input, select");
+    if (input && document.activeElement !== input) input.focus({ preventScroll: true });
+  }
+}
+
+// The options of the form, as POST /api/imports/{id}/preview and /dataset take them (schemas.ImportOptions).
+export function options() {
+  const o = { kind: $("kind").value };
+  const rate = parseFloat($("import-rate").value);
+  if (!fileRate && rate > 0) o.dt = 1 / rate;
+  if ($("import-orientation").value) o.orientation = $("import-orientation").value;
+  const start = parseInt($("import-start").value, 10);
+  if (start > 0) o.start_sample = start;
+  if (!$("field-variable").hidden && $("import-variable").value.trim()) o.variable = $("import-variable").value.trim();
+  if (!$("field-group").hidden && $("import-group").value.trim()) o.group = $("import-group").value.trim();
+  if (!$("field-frf-sign").hidden && $("import-frf-sign").value !== "auto") o.frf_sign = $("import-frf-sign").value;
+  const pick = (role) => roles.flatMap((r, i) => (r === role ? [i] : []));
+  if (pick("drop").length) o.drop = pick("drop");
+  const pv = current && current.preview;
+  if (pv && pv.domain === "time" && pick("force").join() !== fileForces) o.forces = pick("force");  // changed marks
+  if (pick("reference").length) o.references = pick("reference");
+  return o;
+}
+
+function renderChannels(pv) {
+  const body = $("import-channels").tBodies[0];
+  const kind = $("kind").value === "auto" ? pv.kind : $("kind").value;
+  const allowed = pv.domain !== "time" ? ["response", "drop"]
+    : ["response", "force", ...(kind === "ambient" ? ["reference"] : []), "drop"];
+  body.replaceChildren(...pv.channels.map((c) => {
+    if (!allowed.includes(roles[c.index])) roles[c.index] = "response";
+    const select = el("select", { "data-channel": c.index, "aria-label": `role of ${c.name}`,
+                                  onchange: (e) => { roles[c.index] = e.target.value; reread(); } },
+                      ...allowed.map((r) => el("option", { value: r, text: ROLES[r], selected: r === roles[c.index] })));
+    return el("tr", { class: roles[c.index] === "drop" ? "dropped" : null, "data-channel": c.index },
+              el("td", { text: String(c.index) }), el("td", { text: c.name }), el("td", { text: c.unit || "–" }),
+              el("td", { text: c.node === null ? "–" : String(c.node) }),
+              el("td", { text: c.direction || "–" }), el("td", {}, select));
+  }));
+}
+
+function renderRead(answer) {
+  const pv = answer.preview;
+  $("import-files").textContent = `${answer.files.length} file(s): ${answer.files.join(", ")} · ` +
+    `${(answer.bytes / 1e6).toFixed(2)} MB`;
+  if (!pv) {
+    $("import-read").textContent = "";
+    $("import-channels").tBodies[0].replaceChildren();
+    Plotly.purge("import-plot");
+    return;
+  }
+  const timeLike = pv.domain !== "frequency";
+  fileRate = pv.dt !== null && !("dt" in answer.options) && timeLike;
+  const rate = $("import-rate");
+  rate.disabled = fileRate || !timeLike;
+  if (fileRate) rate.value = String(Number(pv.sample_rate_hz.toPrecision(10)));
+  rate.title = fileRate ? "read from the file" : timeLike ? "the files carry no sampling interval: give it" : "FRFs";
+  $("field-orientation").hidden = !["csv", "text", "npy", "mat", "hdf5"].includes(pv.format);
+  $("field-variable").hidden = !["mat", "hdf5"].includes(pv.format) && answer.option !== "variable";
+  $("field-group").hidden = pv.format !== "tdms";
+  $("field-frf-sign").hidden = pv.domain !== "frequency";
+  $("import-start").disabled = pv.domain === "frequency";
+  const step = pv.dt === null ? "no sampling interval yet"
+    : timeLike ? `Δt ${pv.dt} s (${Number(pv.sample_rate_hz.toPrecision(8))} Hz)` : `Δf ${pv.dt} Hz`;
+  const kept = pv.channels.filter((c) => !c.dropped).length;
+  $("import-read").textContent = `${pv.format.toUpperCase()}, ${pv.domain} records: ${pv.channels.length} channel(s)` +
+    `${kept < pv.channels.length ? ` (${kept} kept)` : ""}` +
+    `${pv.references.length ? ` × ${pv.references.length} reference(s)` : ""}, ${pv.n_records} record(s) of ` +
+    `${[...new Set(pv.n_samples)].join("/")} samples, ${step}; read as “${pv.kind}” unless you say otherwise` +
+    `${pv.geometry_nodes ? `; geometry of ${pv.geometry_nodes} nodes` : ""}. ${pv.described.join(" · ")}`;
+  renderChannels(pv);
+  const traces = pv.traces.map((y, i) => ({
+    x: pv.x, y, name: plain(pv.channels[i].name), type: "scatter", mode: "lines",
+    line: { width: 1, dash: roles[i] === "drop" ? "dot" : "solid" }, opacity: roles[i] === "drop" ? 0.35 : 1,
+  }));
+  const start = parseInt($("import-start").value, 10) || 0;
+  const shapes = start > 0 && timeLike ? [{ type: "line", xref: "x", yref: "paper", y0: 0, y1: 1,
+                                          x0: pv.start, x1: pv.start, line: { color: "#b3261e", width: 2 } }] : [];
+  Plotly.react("import-plot", traces, {
+    margin: { l: 55, r: 10, t: 10, b: 30 }, xaxis: { title: { text: pv.x_label, standoff: 4 } },
+    yaxis: { type: timeLike ? "linear" : "log" }, shapes, legend: { orientation: "h", y: -0.25 },
+    showlegend: pv.traces.length <= 12,
+  }, plotConfig);
+}
+
+function show(answer) {
+  current = answer;
+  const pv = answer.preview;
+  if (pv && roles.length !== pv.channels.length) {  // the first reading (no options yet): the files' own marks
+    roles = pv.channels.map((c) => (c.dropped ? "drop" : c.force ? "force" : "response"));
+    fileForces = pv.channels.filter((c) => c.force).map((c) => c.index).join();
+  }
+  clearErrors();
+  renderRead(answer);
+  if (answer.error) showProblem(answer.error, answer.option);
+  $("import-use").disabled = !!answer.error || !pv;
+  $("import").hidden = false;
+}
+
+function setStatus(text) { $("import-status").textContent = text; }
+
+// Read the staged files again with the form's options (debounced: typing a rate is one request).
+function reread() {
+  clearTimeout(rereading);
+  $("import-use").disabled = true;
+  rereading = setTimeout(async () => {
+    if (!current) return;
+    const mine = ++generation;
+    setStatus("Reading again…");
+    try {
+      const answer = await api(`/api/imports/${current.id}/preview`, { method: "POST", body: options(),
+                                                                        progress: setStatus });
+      if (mine === generation) show(answer);
+    } catch (err) {
+      if (mine === generation) { clearErrors(); showProblem(err.message, err.option); }
+    } finally {
+      if (mine === generation) setStatus("");
+    }
+  }, 350);
+}
+
+// Upload dropped files (one dataset) and show what was read.
+export async function start(files, setDataStatus) {
+  const bar = $("upload-progress");
+  const label = files.length === 1 ? files[0].name : `${files.length} files`;
+  bar.hidden = false;
+  bar.value = 0;
+  showError("data-error", null);
+  roles = [];
+  $("import-rate").value = "";
+  $("import-orientation").value = "";
+  $("import-start").value = "0";
+  $("import-variable").value = "";
+  $("import-group").value = "";
+  $("import-frf-sign").value = "auto";
+  try {
+    const answer = await upload("/api/imports", files, (f) => {
+      bar.value = f;
+      setDataStatus(f < 1 ? `Uploading ${label}: ${Math.round(100 * f)} %` : `Reading ${label}…`);
+    }, setDataStatus);
+    setDataStatus("");
+    show(answer);
+  } catch (err) {
+    setDataStatus("");
+    showError("data-error", err);
+  } finally {
+    bar.hidden = true;
+  }
+}
+
+async function use() {
+  if (!current) return;
+  clearErrors();
+  $("import-use").disabled = true;
+  setStatus("Making the dataset…");
+  try {
+    const ds = await api(`/api/imports/${current.id}/dataset`, { method: "POST", body: options(),
+                                                                  progress: setStatus });
+    current = null;
+    $("import").hidden = true;
+    onDataset(ds);
+  } catch (err) {
+    showProblem(err.message, err.option);
+    $("import-use").disabled = false;
+  } finally {
+    setStatus("");
+  }
+}
+
+export function init(datasetReady) {
+  onDataset = datasetReady;
+  for (const id of ["import-rate", "import-start", "import-variable", "import-group"]) $(id).addEventListener("input", reread);
+  for (const id of ["import-orientation", "kind", "import-frf-sign"]) $(id).addEventListener("change", reread);
+  $("import-use").addEventListener("click", use);
+  $("import-cancel").addEventListener("click", () => { current = null; $("import").hidden = true; clearErrors(); });
+}

@@ -1,0 +1,331 @@
+// Panel "Model of the structure" (issue 9): the era.Frame simulation vs test compares the test with. Described
+// here from the dataset's geometry (one member per trace line; a section and material per group of members;
+// supports and lumped masses set by clicking nodes in the drawing or in the node table; the sensors are the
+// dataset's channels) or uploaded as a model file (era.Frame JSON/TOML). The server checks and keeps it with the
+// dataset (PUT /api/datasets/{id}/model): a reload or the analysis link shows it again, a report freezes it.
+// Sizes are typed in mm and sent in m (era.structure's SI file format).
+import { api, upload } from "./api.js";
+import { state, on, emit, el, showError, plotConfig, plain } from "./state.js";
+
+const $ = (id) => document.getElementById(id);
+const SIZES = { rectangle: ["width", "depth"], tube: ["diameter", "wall"], square_tube: ["width", "wall"], circle: ["diameter"] };
+const SHAPE_WORDS = { rectangle: "solid rectangle", tube: "round tube", square_tube: "square tube", circle: "solid round bar" };
+const DEFAULT_MM = { width: 50, depth: 6, diameter: 30, wall: 3 };
+const SUPPORTS = ["free", "fixed", "pinned"];
+
+let draft = null;   // GET .../model/draft: nodes (m), members [i, j, group], sensors, materials, shapes
+let desc = null;    // what the person describes: members, sections {group: {shape, sizes (m), material}}, supports, masses
+let saved = null;   // the stored model's summary (schemas.StructureModel), or null
+
+function datasetUrl() { return `/api/datasets/${encodeURIComponent(state.dataset.id)}/model`; }
+
+// ---- the description -> era.Frame's file format ----------------------------------------------------------------
+function frameModel() {
+  const groups = [...new Set(desc.members.map((m) => m[2]))];
+  const sections = {};
+  for (const g of groups) sections[g] = { ...desc.sections[g] };
+  const supports = Object.fromEntries(Object.entries(desc.supports).filter(([, s]) => s !== "free"));
+  const masses = Object.fromEntries(Object.entries(desc.masses).filter(([, m]) => m > 0));
+  return { nodes: draft.nodes, members: desc.members.map((m) => [...m]), sections, supports, masses,
+           sensors: draft.sensors, ...(desc.gravity ? { gravity: desc.gravity } : {}) };
+}
+
+function newSection() {
+  return { shape: "rectangle", width: DEFAULT_MM.width / 1000, depth: DEFAULT_MM.depth / 1000, material: "" };
+}
+
+// A stored model described from this geometry (same nodes) is edited again; anything else starts from the draft.
+function startFrom(stored) {
+  const same = stored && stored.source === "geometry" &&
+    JSON.stringify(Object.keys(stored.model.nodes || {}).sort()) === JSON.stringify(Object.keys(draft.nodes).sort());
+  const m = same ? stored.model : null;
+  desc = { members: (m ? m.members : draft.members).map((x) => [String(x[0]), String(x[1]), String(x[2])]),
+           sections: {}, supports: {}, masses: {}, gravity: m ? m.gravity || null : null };
+  for (const [g, s] of Object.entries(m ? m.sections : {})) if (s.shape) desc.sections[g] = { ...s };
+  for (const [n, s] of Object.entries(m ? m.supports || {} : {})) desc.supports[n] = s;
+  for (const [n, kg] of Object.entries(m ? m.masses || {} : {})) desc.masses[n] = kg;
+  for (const g of new Set(desc.members.map((x) => x[2]))) desc.sections[g] ||= newSection();
+  $("model-gravity").checked = !!desc.gravity;
+}
+
+// ---- drawing: sections, nodes, members, the clickable view ----------------------------------------------------------
+function head(table, names) {
+  const tr = el("tr");
+  for (const n of names) tr.append(el("th", { text: n }));
+  table.tHead.replaceChildren(tr);
+  table.tBodies[0].replaceChildren();
+}
+
+function select(options, value, attrs) {
+  const s = el("select", attrs);
+  for (const [v, t] of options) s.append(el("option", { value: v, text: t }));
+  s.value = value;
+  return s;
+}
+
+function drawSections() {
+  const t = $("model-sections");
+  head(t, ["group", "members", "shape", "sizes (mm)", "material"]);
+  const count = {};
+  for (const m of desc.members) count[m[2]] = (count[m[2]] || 0) + 1;
+  for (const g of Object.keys(count).sort()) {
+    const sec = desc.sections[g];
+    const shape = select(draft.shapes.map((s) => [s, SHAPE_WORDS[s] || s]), sec.shape, { class: "shape", "aria-label": `shape of ${g}` });
+    const sizes = el("span");
+    const drawSizes = () => sizes.replaceChildren(...SIZES[sec.shape].map((k) => {
+      const input = el("input", { type: "number", min: "0", step: "any", "data-size": k, "aria-label": `${k} of ${g} (mm)`,
+                                  value: String(+((sec[k] ?? DEFAULT_MM[k] / 1000) * 1000).toPrecision(6)), style: "width:80px" });
+      input.addEventListener("change", () => { sec[k] = Number(input.value) / 1000; });
+      return el("label", { class: "note", style: "margin-right:8px" }, `${k} `, input);
+    }));
+    shape.addEventListener("change", () => {
+      for (const k of SIZES[sec.shape]) delete sec[k];
+      sec.shape = shape.value;
+      for (const k of SIZES[sec.shape]) sec[k] = DEFAULT_MM[k] / 1000;
+      drawSizes();
+    });
+    const material = select([["", "— choose —"], ...draft.materials.map((m) => [m, m.replace(/_/g, " ")])], sec.material || "",
+                            { class: "material", "aria-label": `material of ${g}` });
+    material.addEventListener("change", () => { sec.material = material.value; });
+    drawSizes();
+    const tr = el("tr", { "data-group": g });
+    for (const c of [el("td", { text: g }), el("td", { text: String(count[g]) }), el("td", {}, shape), el("td", {}, sizes), el("td", {}, material)]) tr.append(c);
+    t.tBodies[0].append(tr);
+  }
+}
+
+function supportOf(n) {
+  const s = desc.supports[n];
+  return s === undefined ? "free" : typeof s === "string" ? s : "springs";
+}
+
+function drawNodes() {
+  const t = $("model-nodes");
+  head(t, ["node", "x, y, z (m)", "support", "mass (kg)", "sensors"]);
+  const sensors = {};
+  draft.sensors.forEach(([n, d], i) => { (sensors[n] ||= []).push(`${draft.outputs[i]} (${Array.isArray(d) ? "oblique" : d})`); });
+  for (const [n, xyz] of Object.entries(draft.nodes)) {
+    const kind = supportOf(n);
+    const options = SUPPORTS.map((s) => [s, s]).concat(kind === "springs" ? [["springs", "springs (kept)"]] : []);
+    const sup = select(options, kind, { class: "support", "aria-label": `support at node ${n}` });
+    sup.addEventListener("change", () => { setSupport(n, sup.value); drawPlot(); });
+    const mass = el("input", { type: "number", min: "0", step: "any", class: "mass", "aria-label": `mass at node ${n} (kg)`,
+                               value: desc.masses[n] ? String(desc.masses[n]) : "", style: "width:80px" });
+    mass.addEventListener("change", () => { desc.masses[n] = Number(mass.value) || 0; drawPlot(); });
+    const tr = el("tr", { "data-node": n });
+    for (const c of [el("td", { text: n }), el("td", { text: xyz.map((v) => v.toFixed(3)).join(", ") }), el("td", {}, sup),
+                     el("td", {}, mass), el("td", { text: (sensors[n] || []).join(", ") })]) tr.append(c);
+    t.tBodies[0].append(tr);
+  }
+}
+
+function setSupport(n, kind) {
+  if (kind === "free") delete desc.supports[n];
+  else if (kind !== "springs") desc.supports[n] = kind;
+}
+
+function drawMembers() {
+  const t = $("model-members");
+  head(t, ["member", "group (type a new name to make a group)"]);
+  desc.members.forEach((m, k) => {
+    const input = el("input", { value: m[2], class: "group", "aria-label": `group of member ${m[0]}-${m[1]}`, style: "width:140px" });
+    input.addEventListener("change", () => {
+      const g = input.value.trim();
+      if (!g) { input.value = m[2]; return; }
+      m[2] = g;
+      desc.sections[g] ||= newSection();
+      drawSections();
+    });
+    const tr = el("tr", { "data-member": String(k) });
+    tr.append(el("td", { text: `${m[0]} – ${m[1]}` }), el("td", {}, input));
+    t.tBodies[0].append(tr);
+  });
+}
+
+// The two axes of the view: chosen, or those along which the structure is largest (a portal in x-z: the front).
+function plane() {
+  const chosen = $("model-view").value;
+  if (chosen !== "auto") return chosen.split(",").map(Number);
+  const xyz = Object.values(draft.nodes);
+  const span = [0, 1, 2].map((a) => Math.max(...xyz.map((p) => p[a])) - Math.min(...xyz.map((p) => p[a])));
+  return [0, 1, 2].sort((i, j) => span[j] - span[i] || i - j).slice(0, 2).sort();
+}
+
+function drawPlot() {
+  const [a, b] = plane();
+  const ids = Object.keys(draft.nodes), P = draft.nodes;
+  const x = [], y = [];
+  for (const [i, j] of desc.members) { x.push(P[i][a], P[j][a], null); y.push(P[i][b], P[j][b], null); }
+  const symbol = (n) => ({ fixed: "square", pinned: "triangle-up", springs: "star" }[supportOf(n)] || (desc.masses[n] > 0 ? "diamond" : "circle"));
+  const colour = (n) => supportOf(n) !== "free" ? "#b3261e" : desc.masses[n] > 0 ? "#9a6700" : "#1f5fbf";
+  const sensed = [...new Set(draft.sensors.map((s) => s[0]))];
+  Plotly.react("model-plot", [
+    { type: "scatter", mode: "lines", x, y, line: { color: "#8a93a3", width: 2 }, hoverinfo: "skip", name: "members" },
+    { type: "scatter", mode: "markers", x: sensed.map((n) => P[n][a]), y: sensed.map((n) => P[n][b]), hoverinfo: "skip", name: "sensors",
+      marker: { symbol: "circle-open", size: 18, color: "#1d2330", line: { width: 1.5 } } },
+    { type: "scatter", mode: "markers+text", x: ids.map((n) => P[n][a]), y: ids.map((n) => P[n][b]), text: ids.map(plain),
+      textposition: "top right", customdata: ids.map((n) => `${supportOf(n)}${desc.masses[n] > 0 ? `, ${desc.masses[n]} kg` : ""}`),
+      hovertemplate: "node %{text}: %{customdata}<extra></extra>", name: "nodes",
+      marker: { size: 12, symbol: ids.map(symbol), color: ids.map(colour) } },
+  ], { margin: { l: 50, r: 10, t: 10, b: 40 }, showlegend: false, hovermode: "closest",
+       xaxis: { title: { text: `${"xyz"[a]} (m)` }, constrain: "domain" }, yaxis: { title: { text: `${"xyz"[b]} (m)` }, scaleanchor: "x" } },
+  plotConfig).then((div) => {
+    if (div._eraClick) return;
+    div._eraClick = true;
+    div.on("plotly_click", (ev) => {
+      const p = (ev.points || []).find((q) => q.curveNumber === 2);
+      if (p) clickNode(Object.keys(draft.nodes)[p.pointNumber]);
+    });
+  });
+}
+
+function clickNode(n) {
+  const what = $("model-click").value;
+  if (what === "mass") desc.masses[n] = (desc.masses[n] || 0) + (Number($("model-click-mass").value) || 0);
+  else setSupport(n, what);
+  drawNodes();
+  drawPlot();
+  const row = document.querySelector(`#model-nodes tr[data-node="${CSS.escape(n)}"]`);
+  if (row) { row.classList.add("selected"); row.scrollIntoView({ block: "nearest" }); }
+}
+
+async function openEditor() {
+  showError("model-error", null);
+  $("model-status").textContent = "Reading the geometry…";
+  try {
+    draft = await api(`${datasetUrl()}/draft`);
+    startFrom(saved);
+    $("model-sensors").textContent = draft.sensors.map(([n, d], i) => `${draft.outputs[i]} → node ${n} ${Array.isArray(d) ? "oblique" : d}`).join(", ");
+    $("model-editor").hidden = false;
+    drawSections();
+    drawNodes();
+    drawMembers();
+    drawPlot();
+    $("model-status").textContent = `${Object.keys(draft.nodes).length} nodes and ${draft.members.length} members from the trace lines. Choose a section and material per group, the supports and any lumped masses, then save.`;
+  } catch (err) {
+    $("model-status").textContent = "";
+    showError("model-error", err);
+  }
+}
+
+// ---- saving, uploading, showing the stored model -----------------------------------------------------------------
+function show(summary) {
+  saved = summary;
+  render();
+  if (summary) {
+    const blob = new Blob([JSON.stringify(summary.model, null, 1)], { type: "application/json" });
+    if ($("model-download").href.startsWith("blob:")) URL.revokeObjectURL($("model-download").href);
+    $("model-download").href = URL.createObjectURL(blob);
+  }
+  $("model-download").hidden = !summary;
+  emit("model", summary);
+}
+
+// The stored model beside the test: its lowest frequencies, and the test's kept modes at the current order.
+function render() {
+  const summary = saved, dl = $("model-summary");
+  canCompare();
+  dl.replaceChildren();
+  dl.hidden = !summary;
+  if (!summary) return;
+  const rows = [["Model", summary.source === "file" ? `from the file ${summary.name}` : "described from the test geometry"],
+    ["Structure", summary.text], ["Mass", `${summary.total_mass_kg.toPrecision(4)} kg`],
+    ["Model's lowest modes (Hz)", summary.frequency_hz.filter((f) => f !== null && f > 1e-6).map((f) => f.toPrecision(4)).join(", ")]];
+  if (state.modes && state.modes.n_modes) {
+    const kept = [...state.kept].sort((a, b) => a - b).map((k) => state.modes.frequency_hz[k]).filter((f) => f !== null);
+    rows.push([`Test's kept modes at order ${state.order} (Hz)`, kept.map((f) => f.toPrecision(4)).join(", ") || "none kept"]);
+  }
+  for (const [k, v] of rows) dl.append(el("dt", { text: k }), el("dd", { text: v }));
+}
+
+async function save() {
+  showError("model-error", null);
+  $("model-save").disabled = true;
+  $("model-status").textContent = "Checking the model…";
+  try {
+    const r = await api(datasetUrl(), { method: "PUT", body: { model: frameModel(), source: "geometry" },
+                                        progress: (text) => { $("model-status").textContent = text; } });
+    $("model-status").textContent = "Saved with this dataset: simulation vs test now compares with it.";
+    show(r);
+  } catch (err) {
+    $("model-status").textContent = "";
+    showError("model-error", err);   // the stored model, if any, is unchanged
+  } finally {
+    $("model-save").disabled = false;
+  }
+}
+
+async function uploadModel(file) {
+  showError("model-file-error", null);
+  showError("model-error", null);
+  $("model-status").textContent = `Reading ${file.name}…`;
+  try {
+    const r = await upload(`${datasetUrl()}/file`, file, () => {}, (text) => { $("model-status").textContent = text; });
+    $("model-status").textContent = `Saved ${file.name} with this dataset: simulation vs test now compares with it.`;
+    $("model-editor").hidden = true;
+    show(r);
+  } catch (err) {
+    $("model-status").textContent = "";
+    showError("model-file-error", err);
+  } finally {
+    $("model-file").value = "";
+  }
+}
+
+// The saved model's modes beside the test's kept modes at the current order: MAC at the sensors.
+async function compare() {
+  showError("model-compare-error", null);
+  const kept = [...state.kept].sort((a, b) => a - b);
+  if (!kept.length) { showError("model-compare-error", new Error("Keep at least one mode in the table first.")); return; }
+  $("model-compare").disabled = true;
+  try {
+    const q = new URLSearchParams({ order: state.order, modes: kept.join(",") });
+    const r = await api(`/api/analyses/${state.analysis.id}/model/mac?${q}`,
+                        { progress: (text) => { $("model-compare-note").textContent = text; } });
+    $("model-mac").hidden = false;
+    await Plotly.react("model-mac", [{ type: "heatmap", z: r.mac, zmin: 0, zmax: 1,
+      colorscale: [[0, "#ffffff"], [0.5, "#9ab8e6"], [1, "#123e85"]],
+      x: r.model_hz.map((f, j) => `${j + 1}: ${f === null ? "–" : f.toFixed(3)}`), y: r.test_hz.map((f, i) => `${i + 1}: ${f.toFixed(3)}`),
+      hovertemplate: "test %{y} Hz<br>model %{x} Hz<br>MAC %{z:.3f}<extra></extra>" }],
+      { title: { text: `MAC: the test's kept modes at order ${state.order} against the model`, font: { size: 13 } },
+        margin: { l: 80, r: 10, t: 30, b: 70 }, xaxis: { title: { text: "model mode (Hz)" }, tickangle: -45 },
+        yaxis: { title: { text: "test mode (Hz)" }, autorange: "reversed" } }, plotConfig);
+    $("model-compare-note").textContent = r.best.map((b, i) => b === null ? `test ${r.test_hz[i].toFixed(3)} Hz: no model partner` :
+      `test ${r.test_hz[i].toFixed(3)} Hz ↔ model ${r.model_hz[b.model_mode].toFixed(3)} Hz (MAC ${b.mac.toFixed(3)}, ${b.frequency_error_pct >= 0 ? "+" : ""}${b.frequency_error_pct.toFixed(1)} %)`).join("; ");
+  } catch (err) {
+    $("model-compare-note").textContent = "";
+    showError("model-compare-error", err);
+  } finally {
+    canCompare();
+  }
+}
+
+function canCompare() { $("model-compare").disabled = !(saved && state.analysis && state.modes); }
+
+async function load(ds) {
+  saved = null; draft = null; desc = null;
+  $("model-editor").hidden = true;
+  $("model-mac").hidden = true;
+  $("model-compare-note").textContent = "";
+  $("model-status").textContent = "";
+  for (const id of ["model-error", "model-file-error", "model-compare-error"]) showError(id, null);
+  $("model-from-geometry").disabled = !(ds.geometry && ds.geometry.n_edges > 0);
+  $("model-from-geometry").title = $("model-from-geometry").disabled ? "This dataset has no trace lines: upload a model file." : "";
+  try {
+    const r = await api(`/api/datasets/${encodeURIComponent(ds.id)}/model`);
+    if (state.dataset && state.dataset.id === ds.id) show(r);
+  } catch {
+    if (state.dataset && state.dataset.id === ds.id) show(null);  // none yet
+  }
+}
+
+export function init() {
+  $("model-from-geometry").addEventListener("click", openEditor);
+  $("model-save").addEventListener("click", save);
+  $("model-compare").addEventListener("click", compare);
+  $("model-view").addEventListener("change", () => { if (draft) drawPlot(); });
+  $("model-gravity").addEventListener("change", () => { desc.gravity = $("model-gravity").checked ? [0, 0, -9.81] : null; });
+  $("model-file").addEventListener("change", () => { const f = $("model-file").files[0]; if (f) uploadModel(f); });
+  on("dataset", load);
+  on("modes", render);
+}

@@ -1,0 +1,178 @@
+"""The import step in a real browser, with real files: drop the USC cantilever's LabVIEW file and see its modes;
+drop the Carini rows file, read the refusal next to the sample rate, say 25 Hz and channels in rows, see its modes
+near 2.31 / 4.96 / 7.37 Hz; drop three UFF files of a roving-hammer test at once and see one dataset of three
+references. The choices are in the summary and in the report.
+
+Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
+import uff_files as U  # noqa: E402
+from chain_sim import continuous_chain  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
+
+pytestmark = pytest.mark.e2e
+
+CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
+USC = SHARED_DATASETS / "usc_cantilever_free_decay" / "timeseries_data.lvm"
+
+
+def coherent_modes(page) -> list[float]:
+    """Frequencies (Hz) of the suggested coherent modes: the faint vertical lines of the stabilization diagram."""
+    page.wait_for_function("(document.getElementById('stab-plot').layout?.shapes || []).length > 0", timeout=120000)
+    return page.evaluate("document.getElementById('stab-plot').layout.shapes.map(s => s.x0)")
+
+
+def near(found: list[float], targets, rtol: float) -> list[float]:
+    """The found frequency closest to each target, asserting it is within rtol."""
+    out = []
+    for f in targets:
+        best = min(found, key=lambda x: abs(x - f))
+        assert abs(best - f) <= rtol * f, (f, sorted(found))
+        out.append(best)
+    return out
+
+
+def open_page(server, browser):  # noqa: F811
+    page = browser.new_page(viewport={"width": 1400, "height": 1100})
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(server.base + "/")
+    return page, errors
+
+
+def test_drop_the_lvm_and_see_its_modes(tmp_path, browser, shots):  # noqa: F811
+    lvm = require_shared(USC)
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser)
+        page.set_input_files("#file", str(lvm))
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        cells = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
+        assert cells[1:3] == ["Acceleration", "g"]  # the channel and its unit, as LabVIEW wrote them
+        assert float(page.input_value("#import-rate")) == pytest.approx(1 / 0.00060546875, rel=1e-6)  # the file's
+        assert page.is_disabled("#import-rate")  # read from the file: nothing to say
+        assert "LVM, time records" in page.text_content("#import-read")
+        page.wait_for_function("document.getElementById('import-plot').data?.length === 1")
+        page.screenshot(path=str(shots / "import-1-lvm.png"), full_page=True)
+        assert page.locator("#summary").is_hidden()  # nothing identified before the person says so
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(coherent_modes(page), [6.614, 41.36, 116.85], 0.005)  # the published frequencies
+        assert page.locator("#import").is_hidden() and not errors, errors
+    finally:
+        server.stop()
+
+
+def test_the_rows_file_asks_for_its_sample_rate_next_to_the_control(tmp_path, browser, shots):  # noqa: F811
+    yk = require_shared(CARINI)
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser)
+        page.set_input_files("#file", str(yk))
+        page.wait_for_selector("#import-error-dt:not([hidden])")
+        assert "no sampling interval in yk.txt: give the sample rate" in page.text_content("#import-error-dt")
+        assert page.is_disabled("#import-use")
+        assert page.eval_on_selector("#field-rate", "l => l.classList.contains('problem')")
+        assert page.locator("#import-channels tbody tr").count() == 3  # read anyway, against the sample number
+        page.fill("#import-rate", "25")
+        page.select_option("#import-orientation", "rows")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        assert page.locator("#import-error-dt").is_hidden()
+        assert "Δt 0.04 s (25 Hz)" in page.text_content("#import-read")
+        assert "ambient" in page.text_content("#import-read")  # what "detected" will read it as
+        page.screenshot(path=str(shots / "import-2-rows.png"), full_page=True)
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        summary = page.text_content("#summary")
+        assert "sample rate 25 Hz (Δt 0.04 s); channels in rows" in summary  # the choices, kept with the dataset
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(coherent_modes(page), [2.31, 4.96, 7.37], 0.01)
+        page.click("#create-report")
+        page.wait_for_selector("#report-link-box:not([hidden])", timeout=120000)
+        report = browser.new_page()
+        report.goto(server.base + page.get_attribute("#report-link", "href"))
+        report.wait_for_selector("body[data-ready='1']", timeout=60000)
+        assert "sample rate 25 Hz (Δt 0.04 s); channels in rows" in report.text_content("#report-meta")
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, browser, shots):  # noqa: F811
+    a, b, f_modes, _ = continuous_chain()
+    f = np.arange(0, 50.0 + 1e-9, 0.01)
+    w = 2j * np.pi * f
+    h = np.stack([np.linalg.solve(x * np.eye(6) - a, b)[:3] * x ** 2 for x in w])
+    nodes = U.nodes15([1, 2, 3], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+    paths = []
+    for hit in (1, 2, 3):
+        paths.append(tmp_path / f"hit{hit}.uff")
+        U.write(paths[-1], [nodes, U.record58(h[:, 0, hit - 1], 0.0, 0.01, (1, 3), (hit, 3), func_type=4,
+                                              denominator=U.FORCE, den_unit="N")])
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser)
+        page.set_input_files("#file", [str(p) for p in paths])
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        assert "3 file(s): hit1.uff, hit2.uff, hit3.uff" in page.text_content("#import-files")
+        read = page.text_content("#import-read")
+        assert "UFF, frequency records: 1 channel(s) × 3 reference(s)" in read and "geometry of 3 nodes" in read
+        row = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
+        assert row[3:5] == ["1", "+Z"]  # node and direction from the files
+        assert page.is_disabled("#import-start")  # FRFs have no pre-trigger, but a sign convention
+        assert page.is_visible("#field-frf-sign") and page.input_value("#import-frf-sign") == "auto"
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        assert page.locator("#records-input option").count() == 3  # one dataset, three references
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(coherent_modes(page), list(f_modes), 0.005)
+        page.screenshot(path=str(shots / "import-3-roving.png"), full_page=True)
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_path, browser, shots):  # noqa: F811
+    from chain_sim import chain, simulate
+
+    ad, bd, cd, dd, f_modes, _ = chain(0.01)
+    u = np.random.default_rng(3).standard_normal((3000, 3)) * np.array([0.0, 0.0, 1.0])
+    y = simulate(ad, bd, cd, dd, u)
+    table = np.column_stack([np.arange(3000) * 0.01, u[:, 2], y])
+    path = tmp_path / "shaker.csv"
+    np.savetxt(path, table, delimiter=",", header="time [s],drive [V],a1 [V],a2 [V],a3 [V]", comments="", fmt="%.10g")
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser)
+        page.set_input_files("#file", str(path))
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        page.select_option("#kind", "io")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        page.click("#import-use")  # nothing says which channel is the force: refused under the channel table
+        page.wait_for_selector("#import-error-channels:not([hidden])")
+        assert "forces=" in page.text_content("#import-error-channels")
+        page.select_option("#import-channels select[data-channel='0']", "force")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        assert page.locator("#records-input option").all_text_contents() == ["drive"]
+        assert "force channels: drive" in page.text_content("#summary")
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(coherent_modes(page), list(f_modes), 0.01)
+        assert not errors, errors
+    finally:
+        server.stop()
