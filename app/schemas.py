@@ -302,26 +302,40 @@ class Explained(Schema):
     model_config = ConfigDict(extra="allow")
 
 
+class Gap(Explained):
+    max_abs_freq_error_pct: float | None = Field(description="largest |Δf| between paired modes, %")
+    rms_freq_error_pct: float | None = Field(description="rms Δf, %")
+    min_mac: float | None = Field(description="smallest MAC of a pair, fraction")
+    mean_mac: float | None = Field(description="mean MAC, fraction")
+    n_pairs: int = Field(description="paired modes")
+
+
+#: a place: on the grid a joint (x_ft, y_ft) or a member ((x1, y1), (x2, y2)) ft; on a frame a node id or a
+#: member [node i, node j] (["*"]: every member)
+Place = list[float] | list[list[float]] | str | list[str]
+
+
 class NamedEffect(Explained):
     name: str = Field(description="the effect the data support, e.g. point_mass")
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value} (incl. "
                                                             "stiffness_factor), in the keyword's unit")
     uncertainty: dict[str, float | None] = Field(description="1σ of each parameter, same units")
-    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft) of a located effect on the "
-                                                                       "grid, ft; on a frame a node id or a member "
-                                                                       "[node i, node j] ([\"*\"]: every member); "
-                                                                       "or null")
+    location: Place | None = Field(description="(x_ft, y_ft) of a located effect on the grid, ((x1, y1), "
+                                                "(x2, y2)) of a grid member, ft; on a frame a node id or a member "
+                                                "[node i, node j] ([\"*\"]: every member); or null")
     location_probability: float | None = Field(description="posterior of that location, fraction")
-    other_locations: list[tuple[list[float] | str | list[str], float | None]] = Field(
-        description="[location, probability] of locations that tie (as `location`)")
+    other_locations: list[tuple[Place, float | None]] = Field(description="[place, probability] of "
+                                                                        "locations that tie")
     interval: dict[str, list[float | None]] = Field(description="{keyword: [low, high]} 95 % interval of the "
                                                                 "effect's parameter; null on an unbounded side")
     probability: float | None = Field(description="posterior probability of the effect, fraction")
     description: str = Field(description="the verdict in one sentence")
+    gap_after: Gap | None = Field(None, description="the gap with the effects named up to this one")
 
 
 class LocatedEvidence(Explained):
-    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft), ft; a frame's node id or member")
+    location: Place | None = Field(description="(x_ft, y_ft) or a member ((x1, y1), (x2, y2)), ft; a frame's "
+                                                "node id or member")
     log_evidence: float | None
     probability: float | None = Field(description="posterior of this location, fraction")
 
@@ -332,8 +346,8 @@ class RankedEffect(Explained):
     probability: float | None = Field(description="posterior probability among the candidates, fraction")
     log_bayes_factor: float | None = Field(description="ln Bayes factor against the nominal model")
     parameters: dict[str, float | None] = Field(description="fitted parameters {keyword: value}")
-    location: list[float] | str | list[str] | None = Field(description="(x_ft, y_ft) of the best location, ft (a "
-                                                                       "frame's node id or member), or null")
+    location: Place | None = Field(description="(x_ft, y_ft) or a member ((x1, y1), (x2, y2)) of the best "
+                                               "location, ft (a frame's node id or member), or null")
     chi2: float | None = Field(description="χ² of the fit")
     adequate: bool = Field(description="the fit is consistent with the error levels")
     max_abs_freq_error_pct: float | None = Field(description="largest |Δf| after the fit, %")
@@ -341,14 +355,6 @@ class RankedEffect(Explained):
     locations: list[LocatedEvidence] = Field(description="evidence per location (located effects)")
     seconds: float | None = Field(description="time the candidate took, s")
     n_solves: int = Field(description="finite-element solutions it took")
-
-
-class Gap(Explained):
-    max_abs_freq_error_pct: float | None = Field(description="largest |Δf| between paired modes, %")
-    rms_freq_error_pct: float | None = Field(description="rms Δf, %")
-    min_mac: float | None = Field(description="smallest MAC of a pair, fraction")
-    mean_mac: float | None = Field(description="mean MAC, fraction")
-    n_pairs: int = Field(description="paired modes")
 
 
 class ExplainedMode(Explained):
@@ -394,7 +400,9 @@ class Explanation(Explained):
                                                          "was recorded)")
     verdict: str = Field(description="explained, no_significant_discrepancy, ambiguous or unexplained")
     message: str = Field(description="the verdict in words")
-    effect: NamedEffect | None = Field(description="the named effect, or null")
+    effect: NamedEffect | None = Field(description="the named effect (the first when several), or null")
+    effects: list[NamedEffect] = Field(default_factory=list, description="every named effect, most important "
+                                                                         "first (empty unless explained)")
     ranking: list[RankedEffect] = Field(description="every candidate, most probable first")
     before: Gap = Field(description="test against the nominal model")
     after: Gap = Field(description="test against the updated model")

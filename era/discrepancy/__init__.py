@@ -2,7 +2,9 @@
 
 explain() runs ERA, pairs the modes with the model, fits every candidate effect of a library (the nominal plus a
 global stiffness nuisance plus the effect's parameters), compares them by Bayesian evidence (Laplace, Beck &
-Yuen 2004) and names one only when the data clearly support it.
+Yuen 2004) and names one only when the data clearly support it; while the model with the named effects still
+misses the test, a further effect is sought on top of them (search.py, at most three), and nothing is named
+unless the named set fits within the measurement error (a χ² test, ranking.adequacy).
 """
 
 from .effects import EffectSpec, Param, grid_effects

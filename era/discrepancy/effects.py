@@ -53,6 +53,10 @@ class EffectSpec:
         residual change grows with the value (a mass), −1 when it grows with its inverse (a joint's compliance).
     summary : a phrase for descriptions, e.g. "the riveted joints are semi-rigid".
     caveat : a sentence appended to the description when the effect is named (what the data cannot tell).
+    prior_log_odds : ln of the candidate's prior probability relative to the others' (0: equal odds); the
+        posterior probabilities use it, the Bayes factors (the data's say) do not.
+    start : transformed values u of the leading parameters to start every fit from (the fitted values of the
+        effects already named, see :func:`combined`); the others start at their prior means.
     """
 
     name: str
@@ -64,10 +68,43 @@ class EffectSpec:
     trial_power: float = 1.0
     summary: str = ""
     caveat: str = ""
+    start: tuple = ()
+    prior_log_odds: float = 0.0
 
     @property
     def located(self) -> bool:
         return self.location_keyword is not None
+
+
+def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
+    """``spec`` on top of effects already named: their parameters fitted again with its own, their places kept.
+
+    named : ((EffectSpec, location, u), ...) the named effects, their places (None when not located) and their
+        fitted transformed parameters (the effect's own, without the stiffness factor), most important first.
+    The result carries spec's name, place keyword and places; its parameters are the named effects' then spec's
+    (so the evidence weighs every parameter against its own prior), and its fits start from the named values.
+    """
+    fixed, params, start = {}, [], []
+    for s, loc, u in named:
+        fixed.update(s.fixed)
+        if s.location_keyword is not None:
+            fixed[s.location_keyword] = as_location(loc)
+        params += list(s.params)
+        start += [float(x) for x in u]
+    fixed.update(spec.fixed)
+    return EffectSpec(spec.name, tuple(params) + tuple(spec.params), fixed, spec.location_keyword, spec.locations,
+                      spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds)
+
+
+def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,
+                     prior_log_odds: float = 0.0) -> EffectSpec:
+    """The member_stiffness candidate (design/effects.md): one member's element stiffness (E and G together)
+    scaled by a factor θ, fitted as ln θ with prior N(ln prior_factor, prior_std²), at any of ``locations``
+    (model keywords member_at, member_factor; the grid and era.Frame models both take them)."""
+    return EffectSpec("member_stiffness", (Param("member_factor", True, np.log(prior_factor), prior_std, ""),),
+                      location_keyword="member_at", locations=tuple(locations),
+                      trial={"member_factor": prior_factor}, trial_power=-1.0, summary=summary,
+                      prior_log_odds=prior_log_odds)
 
 
 def nuisance(model, prior_std: float = 0.015) -> Param:
@@ -121,21 +158,32 @@ def grid_effects(model) -> tuple:
                    caveat="Below about 50 N·m/rad the joint acts as a hinge and the modes hardly change with its "
                           "stiffness: the data say where the joint is and bound how stiff it can be, not its value.",
                    summary="one joint is loose (a rotational spring instead of a rigid connection)"),
+        # damage is not what an engineer suspects first in a test article: prior odds 1:4 against each of the
+        # others, 157 places (each 1/157 a priori, against 1/88 for a joint) and a broad factor (1σ: 0.18-1.4
+        # around 0.5). A cracked member next to a joint looks much like a loose joint there: the odds keep the
+        # loose joint's detection, and a crack the data clearly prefer still wins by its evidence
+        member_stiffness(model.members_ft, 0.5, 1.0, "one member is less stiff than drawn (a crack, damage, a wrong "
+                                               "section)", prior_log_odds=float(np.log(0.25))),
     ]
     return tuple(out)
 
 
 def as_location(loc):
-    """A location as stored in results: a node id (str), a tuple of node ids (a member), or a tuple of floats
-    (the grid's (x_ft, y_ft))."""
+    """A location as stored in results: a node id (str), a tuple of node ids (a member), a tuple of floats
+    (the grid's joint (x_ft, y_ft)) or a pair of such tuples (the grid's member ((x1, y1), (x2, y2)))."""
     if loc is None or isinstance(loc, str):
         return loc
     loc = tuple(loc)
-    return loc if all(isinstance(v, str) for v in loc) else tuple(float(v) for v in loc)
+    if all(isinstance(v, str) for v in loc):
+        return loc
+    if all(np.ndim(v) == 1 for v in loc):
+        return tuple(tuple(float(x) for x in v) for v in loc)
+    return tuple(float(v) for v in loc)
 
 
 def place(loc) -> str:
-    """Where, in words: "at node 7", "on member 3-4", "at joint (x = 2 ft, y = 7 ft)"."""
+    """Where, in words: "at node 7", "on member 3-4", "at joint (x = 2 ft, y = 7 ft)",
+    "on the member (4, 0)-(5, 0) ft"."""
     loc = as_location(loc)
     if isinstance(loc, str):
         return f"at node {loc}"
@@ -143,11 +191,25 @@ def place(loc) -> str:
         return "on every member"
     if all(isinstance(v, str) for v in loc):
         return f"on member {'-'.join(loc)}"
+    if isinstance(loc[0], tuple):
+        return f"on the member ({loc[0][0]:g}, {loc[0][1]:g})-({loc[1][0]:g}, {loc[1][1]:g}) ft"
     return f"at joint (x = {loc[0]:g} ft, y = {loc[1]:g} ft)"
 
 
+def short_place(loc) -> str:
+    """Where, briefly, for lists of alternatives: "(2, 7) ft", "(4, 0)-(5, 0) ft", "node 7", "member 3-4"."""
+    loc = as_location(loc)
+    if isinstance(loc, str):
+        return f"node {loc}"
+    if all(isinstance(v, str) for v in loc):
+        return "every member" if loc == ("*",) else f"member {'-'.join(loc)}"
+    if isinstance(loc[0], tuple):
+        return f"({loc[0][0]:g}, {loc[0][1]:g})-({loc[1][0]:g}, {loc[1][1]:g}) ft"
+    return f"({loc[0]:g}, {loc[1]:g}) ft"
+
+
 def describe(spec: EffectSpec, parameters: dict, location, probability: float, uncertainty=None,
-             interval=None) -> str:
+             interval=None, lead: str = "The test data are best explained if") -> str:
     """A sentence an engineer understands: what is missing, how big (± 1σ), where, and how sure.
 
     interval : {name: (low, high)} 95 % posterior interval, None on a side the data do not bound; a one-sided
@@ -172,5 +234,5 @@ def describe(spec: EffectSpec, parameters: dict, location, probability: float, u
     where = f" {place(location)}" if location is not None else ""
     size = f" ({', '.join(shown)})" if shown else ""
     extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
-    return (f"The test data are best explained if {spec.summary}{where}{size}{extra}; "
+    return (f"{lead} {spec.summary}{where}{size}{extra}; "
             f"posterior probability {probability:.0%}." + (f" {spec.caveat}" if spec.caveat else ""))

@@ -1,7 +1,8 @@
-"""era.explain: from test data and a nominal model to a named missing effect (or an honest "don't know").
+"""era.explain: from test data and a nominal model to the named missing effects (or an honest "don't know").
 
 ERA modes (several orders) → pairing with the model → every candidate effect fitted and weighed by its evidence
-→ a verdict, the updated model, and the gap before and after.
+→ further effects on top of the first while the gap stays beyond the noise (search.py) → a verdict, the updated
+model, and the gap before, after each named effect, and after.
 """
 
 from __future__ import annotations
@@ -17,11 +18,13 @@ from ..data import ResponseData
 from ..errors import DataError
 from ..realization import Identification
 from ..structure import Frame
-from .effects import describe, grid_effects, nuisance, place
+from .effects import describe, grid_effects, nuisance, short_place
 from .frame_model import FrameModel, frame_effects
 from .fitting import ErrorLevels, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, rank_effects
+from .search import Search, search_effects
+from .verdict import message_for, too_few_data, verdict_of
 
 VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
 
@@ -34,7 +37,10 @@ class NamedEffect:
     {keyword: value} of each parameter (Laplace posterior), and for located effects the probability of the
     location given the effect and the other places still in contention (location, probability);
     interval {keyword: (low, high)}: the effect parameter's 95 % profile-posterior interval, None on a side the
-    data do not bound (then the description gives a bound, not a value)."""
+    data do not bound (then the description gives a bound, not a value); gap_after : the Gap of the model with
+    the effects named up to this one; log_bayes_factor : against the model with the effects named before it;
+    step : 1 for the first named, 2 for the second, ...
+    With several effects, parameters, uncertainty and interval come from the fit of the whole named set."""
 
     name: str
     parameters: dict
@@ -45,16 +51,34 @@ class NamedEffect:
     location_probability: float | None = None
     other_locations: tuple = ()
     interval: dict = field(default_factory=dict)
+    gap_after: Gap | None = None
+    log_bayes_factor: float | None = None
+    step: int = 1
+
+    def as_dict(self) -> dict:
+        loc = self.location
+
+        def js(v):
+            return [js(x) for x in v] if isinstance(v, tuple) else (v if isinstance(v, str) else float(v))
+        return {"name": self.name, "parameters": self.parameters, "uncertainty": self.uncertainty,
+                "location": None if loc is None else js(loc), "location_probability": self.location_probability,
+                "other_locations": [[js(loc), q] for loc, q in self.other_locations],
+                "interval": {k: list(v) for k, v in self.interval.items()},
+                "probability": self.probability, "description": self.description,
+                "gap_after": None if self.gap_after is None else self.gap_after.as_dict(),
+                "log_bayes_factor": self.log_bayes_factor, "step": self.step}
 
 
 @dataclass(frozen=True, eq=False)
 class Explanation:
     """Result of :func:`explain`.
 
-    verdict : one of VERDICTS; effect : NamedEffect or None; message : one paragraph for the report.
-    ranking : RankedEffect per candidate, most probable first.
+    verdict : one of VERDICTS; effects : the NamedEffects, most important first (empty unless "explained");
+    effect : the first of them or None; message : one paragraph for the report.
+    ranking : RankedEffect per candidate, most probable first (step 1: each alone against the nominal);
+    rankings : the ranking of every step of the search for several effects (rankings[0] is ranking).
     before, after : Gap of the nominal and of the updated model over the paired modes.
-    updated_model : the best-supported model (the named effect fitted, else the nominal with the fitted
+    updated_model : the best-supported model (the named effects fitted, else the nominal with the fitted
         global stiffness factor); nominal_model : the model given.
     measured : every mode ERA found; fit_modes : (k,) indices of those used (paired with some candidate);
     unpaired_measured : indices of measured modes no candidate could pair (set aside).
@@ -95,6 +119,8 @@ class Explanation:
     expanded_model: np.ndarray
     timing_s: dict
     node_labels: tuple = ()
+    effects: tuple = ()
+    rankings: tuple = ()
 
     def candidate(self, name: str) -> RankedEffect:
         """The ranking entry of one candidate, by name."""
@@ -122,13 +148,8 @@ class Explanation:
         e = self.effect
         return {
             "verdict": self.verdict, "message": self.message,
-            "effect": None if e is None else {
-                "name": e.name, "parameters": e.parameters, "uncertainty": e.uncertainty,
-                "location": _location_json(e.location),
-                "location_probability": e.location_probability,
-                "other_locations": [[_location_json(loc), q] for loc, q in e.other_locations],
-                "interval": {k: list(v) for k, v in e.interval.items()},
-                "probability": e.probability, "description": e.description},
+            "effect": None if e is None else e.as_dict(),
+            "effects": [x.as_dict() for x in self.effects],
             "ranking": [r.as_dict() for r in self.ranking],
             "before": self.before.as_dict(), "after": self.after.as_dict(),
             "updated_params": {k: (list(v) if isinstance(v, tuple) else v)
@@ -143,13 +164,6 @@ class Explanation:
             "expanded_model": np.where(np.isfinite(self.expanded_model), self.expanded_model, 0.0).tolist(),
             "timing_s": dict(self.timing_s),
         }
-
-
-def _location_json(loc):
-    """A location for JSON: (x_ft, y_ft) as floats on the grid; a frame's node id (str) or member (i, j) as is."""
-    if loc is None or isinstance(loc, str):
-        return loc
-    return [v if isinstance(v, str) else float(v) for v in loc]
 
 
 def _pair(model, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
@@ -237,43 +251,44 @@ def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_mod
     return dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
 
 
-def _too_few_data(fm: MeasuredModes, best) -> str | None:
-    """A sentence when the data hold no more numbers than the best candidate has unknowns (its parameters, the
-    stiffness factor and, for a located effect, its place): it then fits them whatever the truth, and no name is
-    warranted (one sensor on a cantilever: k frequencies, unit shapes that say nothing). None otherwise."""
-    p, k = fm.shapes.shape
-    n_data = k * p                      # k frequencies and k unit-norm shapes of p − 1 free components each
-    n_unknown = len(best.fit.params) + (1 if len(best.locations) > 1 or best.location is not None else 0)
-    if n_data > n_unknown:
-        return None
-    return (f"The data are {n_data} numbers ({k} modes at {p} sensor{'s' if p > 1 else ''}), no more than the "
-            f"{n_unknown} unknowns of the best candidate ({best.name}, its stiffness factor"
-            f"{' and its place' if best.location is not None else ''}): it fits them whatever the truth, so the "
-            "data cannot name it or tell it from the others; more sensors or more modes are needed.")
-
-
-def _verdict(ranking, min_probability, min_log_bayes):
-    best = ranking[0]
-    none = next(r for r in ranking if r.name == "none")
-    if best.name == "none":
-        return ("no_significant_discrepancy" if none.adequate else "unexplained"), None
-    strong = best.probability >= min_probability and best.log_bayes_factor >= min_log_bayes
-    if strong and best.adequate:
-        return "explained", best
-    if not best.adequate and not none.adequate:
-        return "unexplained", None
-    if best.log_bayes_factor < min_log_bayes and none.adequate:
-        return "no_significant_discrepancy", None
-    if not best.adequate:
-        return "unexplained", None
-    return "ambiguous", None
+def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, close: float) -> tuple:
+    """A NamedEffect per named effect, most important first: its own parameters (and the stiffness factor)
+    from the fit of the whole set, their 95 % intervals, its place, and the gap after the step that named it."""
+    out, k = [], 1
+    fit = found.fit
+    for i, (r, spec) in enumerate(zip(found.named, found.specs)):
+        idx = range(k, k + len(spec.params))
+        k += len(spec.params)
+        interval = {}
+        for j in idx:
+            iv = profile_interval(model, fit, fm, w, n_model, index=j)
+            if iv is not None:
+                interval[fit.params[j].name] = iv
+        params = {**found.own(i), "stiffness_factor": fit.parameters["stiffness_factor"]}
+        unc = {n: fit.uncertainty[n] for n in params}
+        p_loc = r.locations[0][2] if r.locations else None
+        others = tuple((loc, q) for loc, _, q in r.locations[1:] if q >= 0.05)
+        step = r.fit.model
+        f_s, s_s = step.modes(n_model)
+        pairing = _pair(step, fm, n_model, max_freq_error=1.0)
+        g = gap(pairing, subspace_mac(pairing, fm.shapes, s_s, f_s, close))
+        lead = ("The test data are best explained if" if i == 0 else
+                "With that, the rest of the gap is best explained if")
+        text = describe(spec, params, r.location, r.probability, unc, interval, lead=lead)
+        if others:
+            text += (f" The place is not certain ({p_loc:.0%}); also possible: "
+                     + ", ".join(f"{short_place(loc)} {q:.0%}" for loc, q in others) + ".")
+        text += (f" Gap after this step: max |Δf| {g.max_abs_freq_error_pct:.2f} %, min MAC {g.min_mac:.3f}.")
+        out.append(NamedEffect(r.name, params, r.location, r.probability, text, unc, p_loc, others, interval,
+                               gap_after=g, log_bayes_factor=r.log_bayes_factor, step=i + 1))
+    return tuple(out)
 
 
 def explain(data: ResponseData | Identification | MeasuredModes, model, *, effects: tuple | None = None,
             errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), kept: tuple | None = None,
             min_probability: float = 0.9,
             min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4,
-            extra_model_modes: int = 6) -> Explanation:
+            extra_model_modes: int = 6, max_effects: int = 3, adequacy_test: dict | None = None) -> Explanation:
     """Find which candidate physical effect, missing from ``model``, the test data support.
 
     Parameters
@@ -295,13 +310,16 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     kept : (order, indices) with an Identification: compare exactly the modes a person kept at that order
         (see :func:`measured_modes`) instead of every stable mode.
     min_probability, min_log_bayes : naming thresholds — posterior ≥ 0.9 and Bayes factor ≥ 100 against the
-        nominal (+ stiffness factor) by default; the fit must also be adequate.
+        nominal (+ stiffness factor), and for a further effect against the model with the effects named before
+        it; the named set must also pass the χ² adequacy test (ranking.adequacy) or nothing is named.
+    max_effects : at most this many effects are named (era.discrepancy.search).
+    adequacy_test : keyword arguments of ranking.adequacy (its levels), None for its defaults.
     refine_locations : located effects get a full fit at this many best-screened joints.
     extra_model_modes : model modes computed beyond the number measured, so a mode that moved can still pair.
 
     Returns
     -------
-    Explanation (see its docstring); verdict "explained" names ``result.effect``.
+    Explanation (see its docstring); verdict "explained" names ``result.effects`` (``result.effect`` the first).
     """
     t0 = time.perf_counter()
     timing = {}
@@ -339,40 +357,30 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
+    frames = isinstance(model, FrameModel)
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
-                           fine_scan=isinstance(model, FrameModel))
+                           fine_scan=frames, test=adequacy_test)
+    found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,
+                           min_probability=min_probability, min_log_bayes=min_log_bayes, max_effects=max_effects,
+                           refine=refine_locations, fine_scan=frames, test=adequacy_test)
     timing["ranking_s"] = time.perf_counter() - t1
-    verdict, named = _verdict(ranking, min_probability, min_log_bayes)
-    too_few = None
-    if named is not None:
-        too_few = _too_few_data(fm, named)
-        if too_few:
-            verdict, named = "ambiguous", None
-    t2 = time.perf_counter()           # the report: the named parameter's interval, pairings, expansion
+    verdict, why = verdict_of(ranking, found, min_probability, min_log_bayes)
+    if verdict == "explained":
+        why = too_few_data(fm, found)
+        if why:
+            verdict = "ambiguous"
+    t2 = time.perf_counter()           # the report: the named parameters' intervals, pairings, expansion
     none = next(r for r in ranking if r.name == "none")
-    chosen = named if named is not None else none
-    updated = chosen.fit.model
-    effect = None
-    if named is not None:
-        p_loc = named.locations[0][2] if named.locations else None
-        others = tuple((loc, q) for loc, _, q in named.locations[1:] if q >= 0.05)
-        iv = profile_interval(model, named.fit, fm, weights, n_model)
-        interval = {} if iv is None else {named.fit.params[1].name: iv}
-        text = describe(named.fit.spec, named.parameters, named.location, named.probability,
-                        named.fit.uncertainty, interval)
-        if others:
-            grid = not isinstance(named.location, str) and not isinstance(named.location[0], str)
-            text += (f" The {'joint' if grid else 'place'} is not certain ({p_loc:.0%}); also possible: "
-                     + ", ".join(f"({loc[0]:g}, {loc[1]:g}) ft {q:.0%}" if grid else f"{place(loc)} {q:.0%}"
-                                 for loc, q in others) + ".")
-        effect = NamedEffect(named.name, dict(named.parameters), named.location, named.probability, text,
-                             dict(named.fit.uncertainty), p_loc, others, interval)
+    chosen = found.fit if verdict == "explained" else none.fit
+    updated = chosen.model
+    effects = _named_effects(model, found, fm, weights, n_model, errors.close) if verdict == "explained" else ()
+    effect = effects[0] if effects else None
     before = _pair(model, fm, n_model, max_freq_error=1.0)
     after = _pair(updated, fm, n_model, max_freq_error=1.0)
     fa, sa = model.modes(n_model)
     fb, sb = updated.modes(n_model)
-    badness = np.abs(chosen.fit.freq_residual) + np.where(close, 0.0, (1 - chosen.fit.mac) / 0.1 * 3.0)
-    miss = np.flatnonzero((np.abs(chosen.fit.freq_residual) > 3.0) | ((chosen.fit.mac < 0.9) & ~close))
+    badness = np.abs(chosen.freq_residual) + np.where(close, 0.0, (1 - chosen.mac) / 0.1 * 3.0)
+    miss = np.flatnonzero((np.abs(chosen.freq_residual) > 3.0) | ((chosen.mac < 0.9) & ~close))
     miss = miss[np.argsort(-badness[miss], kind="stable")]
     comac_b = comac(fm.shapes[:, before.measured_index], sa[:, before.model_index]) if before.n_pairs else np.zeros(0)
     comac_a = comac(fm.shapes[:, after.measured_index], sb[:, after.model_index]) if after.n_pairs else np.zeros(0)
@@ -384,9 +392,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     timing["total_s"] = time.perf_counter() - t0
     g_b = gap(before, subspace_mac(before, fm.shapes, sa, fa, errors.close))
     g_a = gap(after, subspace_mac(after, fm.shapes, sb, fb, errors.close))
-    message = _message(verdict, effect, ranking, g_b, g_a, miss, fm, chosen.fit, comac_a, unpaired)
-    if too_few:
-        message = too_few + " " + message
+    message = message_for(verdict, effects, ranking, found, g_b, g_a, miss, fm, chosen, comac_a, unpaired)
+    if why:
+        message = why + " " + message
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
         updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,
@@ -394,30 +402,5 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         comac_before=comac_b, comac_after=comac_a, close_modes=close, residual_modes=tuple(int(i) for i in miss),
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
         node_xy_ft=joints, expanded_measured=expanded, expanded_model=model_nodes,
-        timing_s=timing, node_labels=tuple(getattr(model, "node_labels", ())))
-
-
-def _message(verdict, effect, ranking, g_b, g_a, miss, fm, fit, comac_a, unpaired) -> str:
-    top = "Ranking: " + ", ".join(f"{r.name} {r.probability:.0%}" for r in ranking[:3])
-    if verdict == "unexplained":
-        top += " (probabilities relative to the library only; none of these fits within the error levels)"
-    gaps = (f"Gap before: max |Δf| {g_b.max_abs_freq_error_pct:.2f} %, min MAC {g_b.min_mac:.3f}; after: "
-            f"max |Δf| {g_a.max_abs_freq_error_pct:.2f} %, min MAC {g_a.min_mac:.3f}.")
-    where = ""
-    if len(miss):
-        where = (" The residual lives mostly in the modes at "
-                 + ", ".join(f"{fm.frequency_hz[i]:.3f} Hz (model {fit.freq_error_pct[i]:+.2f} %, MAC {fit.mac[i]:.3f})"
-                             for i in miss[:4]) + (f" and {len(miss) - 4} more" if len(miss) > 4 else ""))
-        low = np.flatnonzero(comac_a < 0.9)
-        where += (" and at sensors " + ", ".join(str(i + 1) for i in low) if low.size else "") + "."
-    aside = f" {len(unpaired)} measured mode(s) had no model partner and were set aside." if unpaired else ""
-    head = {
-        "explained": effect.description if effect else "",
-        "no_significant_discrepancy": "The nominal model (with a global stiffness factor) agrees with the test "
-                                      "within its error levels; no candidate effect is needed.",
-        "ambiguous": "Several candidate effects explain the data about equally well; more sensors or modes are "
-                     "needed to tell them apart.",
-        "unexplained": "No candidate effect makes the model agree with the test within its error levels: the "
-                       "missing physics is outside the library.",
-    }[verdict]
-    return f"{head} {top}. {gaps}{where}{aside}"
+        timing_s=timing, node_labels=tuple(getattr(model, "node_labels", ())), effects=effects,
+        rankings=found.rankings)

@@ -115,7 +115,8 @@ class Fit:
     log parameters) and the parameter's model-form error (Param.model_form), in quadrature;
     log_evidence : ln p(D|M) up to a constant common to all candidates (Laplace);
     chi2 : data misfit Σ r² at θ̂; chi2_prior; occam : −½ ln det(diag(σ_prior)² H) (≤ 0 when data inform);
-    freq_residual : (n,) (f_model − f_measured)/σ_f at θ̂; freq_error_pct : (n,); mac : (n,);
+    freq_residual : (n,) (f_model − f_measured)/σ_f at θ̂; shape_residual : (n·p,) (ψ̂ − φ̂)/σ_s, mode-major;
+    freq_error_pct : (n,); mac : (n,);
     model_index : (n,) the model mode paired with each measured mode; model : the fitted model; n_evals : solves.
     """
 
@@ -130,6 +131,7 @@ class Fit:
     chi2_prior: float
     occam: float
     freq_residual: np.ndarray
+    shape_residual: np.ndarray
     freq_error_pct: np.ndarray
     mac: np.ndarray
     model_index: np.ndarray
@@ -190,10 +192,12 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
                n_model: int, location=None, u0=None, max_nfev: int = 60, scan: bool = False) -> Fit:
     """Most probable parameters of one candidate (least squares on data + prior residuals) and its evidence.
 
-    The parameters are the nuisance stiffness factor followed by the effect's own; the start is ``u0`` or the
-    best of a coarse scan of the effect's parameter over its prior (±2σ), so broad priors do not trap the fit in
-    the wrong valley; ``scan`` makes that scan finer (steps of σ/2) and, with a ``u0``, centres it on u0 (frames,
-    whose modes can cross as a parameter moves, making the misfit valley-rich).
+    The parameters are the nuisance stiffness factor followed by the effect's own (for a :func:`combined` spec,
+    the named effects' then the new one's); the start is ``u0`` or the prior means (spec.start for the named
+    effects' parameters), the new effect's one parameter taken from the best of a coarse scan over its prior
+    (±2σ), so broad priors do not trap the fit in the wrong valley; ``scan`` makes that scan finer (steps of
+    σ/2) and, with a ``u0``, centres it on u0 (frames, whose modes can cross as a parameter moves, making the
+    misfit valley-rich).
     """
     params = (nuisance,) + tuple(spec.params)
     lo = np.array([p.prior_mean - 5 * p.prior_std for p in params])
@@ -206,16 +210,22 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
         r, _ = mode_residuals(build_model(nominal, spec, params, u, location), measured, w, n_model)
         return np.concatenate([r, _prior_residuals(params, u)])
 
-    if u0 is None or (scan and len(params) == 2):
+    k = len(params) - 1                       # the scanned parameter: the last, when it is the only new one
+    one_new = len(spec.params) - len(spec.start) == 1
+    if u0 is None or (scan and one_new):
         start = u0
-        u0 = np.array([p.prior_mean for p in params]) if start is None else np.asarray(start, dtype=float)
-        if len(params) == 2:  # coarse scan of the one effect parameter, the nuisance fixed
+        if start is None:
+            u0 = np.array([p.prior_mean for p in params])
+            u0[1:1 + len(spec.start)] = spec.start
+        else:
+            u0 = np.asarray(start, dtype=float)
+        if one_new:  # coarse scan of the new effect's parameter, the others fixed
             best = None if start is None else (float(np.sum(total(u0) ** 2)), u0)
-            for k in (np.arange(-2.0, 2.01, 0.5) if scan else (-2.0, -1.0, 0.0, 1.0, 2.0)):
+            for step in (np.arange(-2.0, 2.01, 0.5) if scan else (-2.0, -1.0, 0.0, 1.0, 2.0)):
                 trial = u0.copy()
-                trial[1] = params[1].prior_mean + k * params[1].prior_std
+                trial[k] = params[k].prior_mean + step * params[k].prior_std
                 if start is not None:   # about the screened start, over the prior's width
-                    trial[1] = np.clip(start[1] + k * params[1].prior_std, lo[1], hi[1])
+                    trial[k] = np.clip(start[k] + step * params[k].prior_std, lo[k], hi[k])
                 c = float(np.sum(total(trial) ** 2))
                 if best is None or c < best[0]:
                     best = (c, trial)
@@ -241,53 +251,66 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
                parameters={p.name: p.value(x) for p, x in zip(params, u)}, uncertainty=unc,
                log_evidence=float(-0.5 * chi2 - 0.5 * chi2_prior + occam), chi2=chi2, chi2_prior=chi2_prior,
                occam=float(occam), freq_residual=r[: measured.n_modes],
+               shape_residual=r[measured.n_modes: measured.n_modes * (1 + measured.shapes.shape[0])],
                freq_error_pct=100 * (fa / measured.frequency_hz - 1),
                mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + 1)
 
 
 def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights, n_model: int,
-                     n_points: int = 15, span: float = 3.0) -> tuple | None:
-    """The 95 % posterior interval (low, high) of the effect's own parameter, when it has exactly one (else None).
+                     n_points: int = 15, span: float = 3.0, index: int | None = None) -> tuple | None:
+    """The 95 % posterior interval (low, high) of one effect parameter: fit.params[index] (default: the only
+    effect parameter; None when the fit has several and no index is given, or none).
 
     low or high is None on a side the data do not bound: the data misfit stays within 4 (e^{-2} in likelihood)
     of its best out to the edge of the profile, so only the prior limits the value there and the report gives a
     one-sided bound (a loose joint's stiffness: "≤ 60 N·m/rad", a hinge fits as well).
 
     The parameter is stepped over its prior mean ± ``span`` prior σ (transformed space u); at each step the
-    nuisance stiffness factor is re-optimised by one Gauss-Newton step from its fitted value (its sensitivity
-    from one extra solve), so this is the profile posterior, exp(−½ χ²_data − ½ χ²_prior), normalised on the
-    grid (the fitted value added to it). The Laplace σ of the Fit assumes a parabola; a parameter whose effect
-    saturates (a joint looser than the bars can feel) has a posterior that is flat on one side, which this shows.
-    About ``n_points`` + 13 model solves. The interval is the data's (with the priors); the model-form error
-    of Param.model_form is not in it.
+    other parameters (the stiffness factor, the other named effects') are re-optimised by one Gauss-Newton step
+    from their fitted values (their sensitivities from one extra solve each), so this is the profile posterior,
+    exp(−½ χ²_data − ½ χ²_prior), normalised on the grid (the fitted value added to it). The Laplace σ of the
+    Fit assumes a parabola; a parameter whose effect saturates (a joint looser than the bars can feel) has a
+    posterior that is flat on one side, which this shows. About ``n_points`` + 12 + (number of other
+    parameters) model solves. The interval is the data's (with the priors); the model-form error of
+    Param.model_form is not in it.
     """
-    if len(fit.params) != 2:
-        return None
-    nu, prm = fit.params
+    if index is None:
+        if len(fit.params) != 2:
+            return None
+        index = 1
+    params = fit.params
+    prm = params[index]
+    others = [i for i in range(len(params)) if i != index]
     spec, loc = fit.spec, fit.location
 
     def resid(u):
-        r, _ = mode_residuals(build_model(nominal, spec, fit.params, u, loc), measured, w, n_model)
+        r, _ = mode_residuals(build_model(nominal, spec, params, u, loc), measured, w, n_model)
         return r
 
     d = 1e-3
-    j_sf = (resid([fit.u[0] + d, fit.u[1]]) - resid(fit.u)) / d
+    r0 = resid(fit.u)
+    J = np.column_stack([(resid(fit.u + d * np.eye(len(params))[i]) - r0) / d for i in others])
+    sd_o = np.array([params[i].prior_std for i in others])
+    mu_o = np.array([params[i].prior_mean for i in others])
     lo, hi = prm.prior_mean - span * prm.prior_std, prm.prior_mean + span * prm.prior_std
     sd = fit.uncertainty[prm.name] / (fit.parameters[prm.name] if prm.log else 1.0)
     # a coarse grid over the prior, and a fine one over ±4 Laplace σ where a well-pinned posterior lives
-    grid_u = np.union1d(np.linspace(lo, hi, n_points), np.clip(fit.u[1] + sd * np.linspace(-4, 4, 11), lo, hi))
+    grid_u = np.union1d(np.linspace(lo, hi, n_points), np.clip(fit.u[index] + sd * np.linspace(-4, 4, 11), lo, hi))
     chi_data, log_post = [], []
-    for u in grid_u:
-        r = resid([fit.u[0], u])
-        # one Gauss-Newton step on the stiffness factor, its prior included
-        g = j_sf @ r + (fit.u[0] - nu.prior_mean) / nu.prior_std**2
-        h = j_sf @ j_sf + 1.0 / nu.prior_std**2
-        step = -g / h
-        r = r + j_sf * step
+    for x in grid_u:
+        u = fit.u.copy()
+        u[index] = x
+        r = resid(u)
+        # one Gauss-Newton step on the other parameters, their priors included
+        uo = fit.u[others]
+        g = J.T @ r + (uo - mu_o) / sd_o**2
+        h = J.T @ J + np.diag(1.0 / sd_o**2)
+        step = -np.linalg.solve(h, g)
+        r = r + J @ step
         c = float(r @ r)
         chi_data.append(c)
-        log_post.append(-0.5 * c - 0.5 * ((fit.u[0] + step - nu.prior_mean) / nu.prior_std) ** 2
-                        - 0.5 * ((u - prm.prior_mean) / prm.prior_std) ** 2)
+        log_post.append(-0.5 * c - 0.5 * float(np.sum(((uo + step - mu_o) / sd_o) ** 2))
+                        - 0.5 * ((x - prm.prior_mean) / prm.prior_std) ** 2)
     chi_data, log_post = np.array(chi_data), np.array(log_post)
     p = np.exp(log_post - log_post.max())
     # cumulative posterior by the trapezoid rule in u, the quantiles by linear interpolation

@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import DataError
 from ..fem import space
 from ..structure import Frame, Section
-from .effects import EffectSpec, Param
+from .effects import EffectSpec, Param, member_stiffness
 
 DEFAULTS = dict(stiffness_factor=1.0, gravity=True, support_at=None, support_rotation_stiffness=None,
                 support_vertical_stiffness=None, joint_at=None, joint_stiffness=None, point_mass_at=None,
@@ -250,11 +250,8 @@ def frame_effects(model) -> tuple:
                    location_keyword="point_mass_at", locations=moving, trial={"point_mass_kg": 0.05 * total},
                    summary="a concentrated mass is attached",
                    caveat="The mass is the equivalent point mass at the node."),
-        EffectSpec("member_stiffness", (Param("member_factor", True, np.log(0.7), 0.5, ""),),
-                   location_keyword="member_at",
-                   locations=tuple((m[0], m[1]) for m in fr.members if len(fr.members) > 1) + (ALL_MEMBERS,),
-                   trial={"member_factor": 0.7}, trial_power=-1.0,
-                   summary="a member is less stiff than drawn (damage, a crack, a wrong section)"),
+        member_stiffness(tuple((m[0], m[1]) for m in fr.members if len(fr.members) > 1) + (ALL_MEMBERS,), 0.7, 0.5,
+                         "a member is less stiff than drawn (damage, a crack, a wrong section)"),
         EffectSpec("distributed_mass", (Param("distributed_mass_kg", True, np.log(0.1 * total), 1.2, "kg"),),
                    summary="there is extra mass spread over the members",
                    caveat="Spread mass lowers the modes as a softer material would; only the prior on E (±1.5 %) "

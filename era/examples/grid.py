@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
+import scipy.linalg
 
 from .. import fem
 from ..errors import EraError
@@ -30,10 +31,13 @@ SAMPLE_RATE_HZ = 32.0
 TABLE1_HZ = np.array([0.362, 0.612, 1.425, 2.331, 2.826, 4.936, 5.476, 6.429, 7.047, 9.841])
 BAR = fem.flat_bar(width_m=2 * 0.0254, thickness_m=0.25 * 0.0254, E=68.9e9, nu=0.33, rho=2700.0)
 
-_WEIGHT_PARAMS = ("distributed_mass_kg", "point_mass_kg", "point_mass_at", "elements_per_bar")
+# parameters the in-plane self-weight solve depends on (its forces are reused when none of these change)
+_STATIC_PARAMS = ("distributed_mass_kg", "point_mass_kg", "point_mass_at", "elements_per_bar", "member_at",
+                  "member_factor")
 DEFAULTS = dict(gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_length_m=0.51,
                 distributed_mass_kg=0.0, point_mass_kg=0.0, point_mass_at=None, loose_joint_at=None,
-                loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1)
+                loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1, member_at=None,
+                member_factor=1.0)
 
 # 157 one-foot segments: 80 horizontal (row by row from the bottom, left to right), then 77 vertical
 # (column by column from the left, bottom to top). Joint index = iy * 11 + ix.
@@ -56,6 +60,24 @@ def joint_index(at) -> int:
         raise EraError(f"({x:g}, {y:g}) ft is not a joint of the grid: joints sit at whole feet, "
                        f"x in 0..{NX - 1}, y in 0..{NY - 1}.")
     return int(y) * NX + int(x)
+
+
+def segment_index(member) -> int:
+    """Index 0..156 (SEGMENT_JOINTS order) of the 1-ft segment between two neighbouring joints
+    ((x1, y1), (x2, y2)) in ft, either way round."""
+    try:
+        a, b = (joint_index(j) for j in member)
+    except (TypeError, ValueError):
+        raise EraError(f"A member must be its two joints ((x1, y1), (x2, y2)) in ft, got {member!r}.") from None
+    hit = np.flatnonzero(((SEGMENT_JOINTS[:, 0] == a) & (SEGMENT_JOINTS[:, 1] == b))
+                         | ((SEGMENT_JOINTS[:, 0] == b) & (SEGMENT_JOINTS[:, 1] == a)))
+    if hit.size == 0:
+        raise EraError(f"{member!r} is not a member of the grid: its two joints must be 1 ft apart along a bar.")
+    return int(hit[0])
+
+
+MEMBERS_FT = tuple((tuple(JOINTS_FT[i].tolist()), tuple(JOINTS_FT[j].tolist())) for i, j in SEGMENT_JOINTS.tolist())
+"""The 157 members ((x1, y1), (x2, y2)) ft, in SEGMENT_JOINTS order: the places of member_stiffness."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,6 +134,11 @@ def _check_params(p: dict) -> dict:
         if p[name] is not None:
             joint_index(p[name])
             p[name] = tuple(float(v) for v in p[name])
+    if p["member_at"] is not None:
+        segment_index(p["member_at"])
+        p["member_at"] = tuple(tuple(float(v) for v in j) for j in p["member_at"])
+    if not (np.isfinite(p["member_factor"]) and p["member_factor"] > 0):
+        raise EraError(f"member_factor must be a positive number, got {p['member_factor']!r}.")
     ne = p["elements_per_bar"]
     if isinstance(ne, bool) or not isinstance(ne, (int, np.integer)) or not 1 <= ne <= 8:
         raise EraError(f"elements_per_bar must be an integer from 1 to 8, got {ne!r}.")
@@ -158,14 +185,18 @@ def _build_frame(p: dict, pert: GridPerturbation) -> fem.Frame:
             raise EraError(f"A point mass at ({x:g}, {y:g}) ft is not on a node of this mesh "
                            f"(elements_per_bar={ne}); put it at a joint or refine the mesh.")
         node_mass[hit[0]] += kg
+    member = np.ones(N_SEGMENTS)            # member_stiffness: E and G of one segment scaled together
+    if p["member_at"] is not None:
+        member[segment_index(p["member_at"])] = p["member_factor"]
+    scale = member[seg_of_bar]
     ones = np.ones(bars.shape[0])
     with np.errstate(divide="ignore"):
         k_links = np.where(compliance[split] > 0, 1.0 / compliance[split], np.inf)
     frame = fem.Frame(
         nodes_m=nodes_ft * FT, bars=bars,
-        EI_out=E * BAR.i_out * np.asarray(pert.ei_factor)[seg_of_bar],
-        GJ=G * BAR.j_torsion * np.asarray(pert.gj_factor)[seg_of_bar],
-        EA=E * BAR.area * ones, EI_in=E * BAR.i_in * ones,
+        EI_out=E * BAR.i_out * np.asarray(pert.ei_factor)[seg_of_bar] * scale,
+        GJ=G * BAR.j_torsion * np.asarray(pert.gj_factor)[seg_of_bar] * scale,
+        EA=E * BAR.area * scale, EI_in=E * BAR.i_in * scale,
         mass_per_length=BAR.mass_per_length + seg_mass[seg_of_bar] / FT,
         rho_ip=BAR.rho * BAR.i_polar * ones, r2=BAR.i_polar / BAR.area * ones,
         links=np.stack([split, v_node[split]], axis=1),
@@ -189,6 +220,7 @@ class GridModel:
 
     sensors = property(lambda self: SENSORS_FT.copy(), doc="(9, 2) sensor (x_ft, y_ft), in channel order.")
     joints_ft = property(lambda self: JOINTS_FT.copy(), doc="(88, 2) joint (x_ft, y_ft), index iy·11 + ix.")
+    members_ft = property(lambda self: MEMBERS_FT, doc="The 157 members ((x1, y1), (x2, y2)) ft (member_at).")
 
     def with_params(self, **changes) -> "GridModel":
         """A new model with some parameters changed (the perturbation, if any, is kept).
@@ -197,7 +229,7 @@ class GridModel:
         on the weights and the mesh only (links are rigid in the plane; a uniform E scale leaves forces as they are).
         """
         params = _check_params({**self._params, **changes})
-        same_weights = all(params[k] == self._params[k] for k in _WEIGHT_PARAMS)
+        same_weights = all(params[k] == self._params[k] for k in _STATIC_PARAMS)
         reuse = self.__dict__["_system"][4] if same_weights and "_system" in self.__dict__ else None
         return GridModel(params, self.perturbation, reuse)
 
@@ -256,6 +288,41 @@ class GridModel:
         f, w = self.node_modes(n_modes)
         return f, w[[joint_index(s) for s in SENSORS_FT]]
 
+    def ritz(self, reference: "GridModel", n_modes: int) -> "RitzModes | None":
+        """This model's modes in the span of the ``reference`` model's lowest ``n_modes`` modes (Rayleigh-Ritz: a
+        small dense eigenproblem instead of a solve, for screening many places of a local change), or None when
+        this model is not the reference plus local changes (other mesh, or a joint of the reference's that
+        this one keeps rigid).
+
+        A joint this model splits (a loose joint) and the reference does not: the reference's shapes move both
+        bars' nodes together, and the split node's rotations are added as extra basis vectors (the relative
+        rotation the spring allows)."""
+        _, system, _, w_joint, _ = self._system
+        ref_frame, ref_system = reference._system[0], reference._system[1]
+        frame = self._system[0]
+        split, split_ref = frame.links[:, 0].tolist(), ref_frame.links[:, 0].tolist()
+        if (self._params["elements_per_bar"] != reference._params["elements_per_bar"]
+                or not set(split_ref) <= set(split)):
+            return None
+        n_joint, n_split, n_split_ref = NX * NY, len(split), len(split_ref)
+        # each node of this model ↔ the reference node that moves with it
+        node_ref = np.arange(frame.n_nodes)
+        node_ref[n_joint:n_joint + n_split] = [n_joint + split_ref.index(j) if j in split_ref else j for j in split]
+        node_ref[n_joint + n_split:] -= n_split - n_split_ref
+        dofs, dofs_ref = system.dofs, ref_system.dofs
+        phi = reference.dof_modes(n_modes)[1]
+        lifted = np.zeros((system.K.shape[0], phi.shape[1]))
+        lifted[dofs.ravel()] = phi[dofs_ref[node_ref].ravel()]
+        new = sorted(set(dofs[n_joint:n_joint + n_split].ravel().tolist())
+                     - set(dofs[[n_joint + k for k, j in enumerate(split) if j in split_ref]].ravel().tolist())
+                     - set(dofs[:n_joint].ravel().tolist()))
+        basis = np.column_stack([lifted, np.eye(lifted.shape[0])[:, new]]) if new else lifted
+        k = basis.T @ (system.K @ basis)
+        m = basis.T @ (system.M @ basis)
+        lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
+        f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+        return RitzModes(f, (basis @ v)[w_joint], np.array([joint_index(s) for s in SENSORS_FT]))
+
     def geometry(self) -> Geometry:
         """The 88 joints in metres (z = 0), the 157 segments as edges, the nine channels along +z."""
         xyz = np.column_stack([JOINTS_FT * FT, np.zeros(NX * NY)])
@@ -264,9 +331,26 @@ class GridModel:
                         channel_directions=np.tile([0.0, 0.0, 1.0], (len(SENSORS_FT), 1)), units="m")
 
 
+@dataclass(frozen=True, eq=False)
+class RitzModes:
+    """Approximate modes (GridModel.ritz): frequencies (r,) Hz and mass-normalised w at the joints (88, r);
+    .modes(n) and .node_modes(n) as a GridModel's."""
+
+    frequency_hz: np.ndarray
+    joint_w: np.ndarray
+    sensor_rows: np.ndarray
+
+    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.joint_w[:, :n_modes].copy()
+
+    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.joint_w[self.sensor_rows, :n_modes].copy()
+
+
 def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_length_m=0.51,
               distributed_mass_kg=0.0, point_mass_kg=0.0, point_mass_at=None, loose_joint_at=None,
-              loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1) -> GridModel:
+              loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1, member_at=None,
+              member_factor=1.0) -> GridModel:
     """The NASA Langley grid; each keyword switches on one candidate effect of issue 5.
 
     Parameters
@@ -297,6 +381,10 @@ def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_l
         Multiplier on E (so on EI, GJ and EA): the global-stiffness nuisance parameter.
     elements_per_bar : int
         Elements per 1-ft segment between joints (mesh refinement).
+    member_at, member_factor : ((x1, y1), (x2, y2)) ft, float
+        One member (the 1-ft segment between two neighbouring joints) with its element stiffness scaled by
+        member_factor: E and G together, so both bendings, torsion and axial ("member_stiffness", a damaged or
+        wrongly drawn member); mass unchanged.
 
     Returns
     -------
@@ -307,4 +395,5 @@ def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_l
         gravity=gravity, joint_stiffness=joint_stiffness, torsion_factor=torsion_factor,
         cable_length_m=cable_length_m, distributed_mass_kg=distributed_mass_kg, point_mass_kg=point_mass_kg,
         point_mass_at=point_mass_at, loose_joint_at=loose_joint_at, loose_joint_stiffness=loose_joint_stiffness,
-        stiffness_factor=stiffness_factor, elements_per_bar=elements_per_bar)))
+        stiffness_factor=stiffness_factor, elements_per_bar=elements_per_bar, member_at=member_at,
+        member_factor=member_factor)))

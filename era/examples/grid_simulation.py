@@ -16,11 +16,11 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import EraError
-from .grid import (AIR_JET_FT, JOINTS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ, SEGMENT_JOINTS,
-                   SENSORS_FT, GridModel, GridPerturbation, joint_index, nasa_grid)
+from .grid import (AIR_JET_FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ,
+                   SEGMENT_JOINTS, SENSORS_FT, GridModel, GridPerturbation, joint_index, nasa_grid, segment_index)
 
 EFFECTS = ("joint_flexibility", "torsion_stiffness", "cable_length", "distributed_mass", "point_mass",
-           "loose_joint", "gravity_stiffening")
+           "loose_joint", "gravity_stiffening", "member_stiffness")
 OUTSIDE_LIBRARY = ("damaged_bar", "ground_spring")
 DEFAULT_INPUTS_FT = ((10, 0), (0, 7), (3, 2), (7, 5), (0, 4), (6, 1))
 _BORDER_JOINTS = [tuple(float(v) for v in j) for j in JOINTS_FT.tolist()
@@ -49,7 +49,8 @@ def loose_joint_signature_pct(at, stiffness: float, n_modes: int = 12) -> float:
 _KEYS = {"none": (), "joint_flexibility": ("joint_stiffness",), "torsion_stiffness": ("torsion_factor",),
          "cable_length": ("cable_length_m",), "distributed_mass": ("distributed_mass_kg",),
          "point_mass": ("point_mass_kg", "point_mass_at"), "loose_joint": ("loose_joint_stiffness", "loose_joint_at"),
-         "gravity_stiffening": (), "damaged_bar": ("bar", "ei_factor"), "ground_spring": ("stiffness_n_per_m", "at")}
+         "gravity_stiffening": (), "member_stiffness": ("member_factor", "member_at"),
+         "damaged_bar": ("bar", "ei_factor"), "ground_spring": ("stiffness_n_per_m", "at")}
 
 
 def _parse(effect) -> tuple[str, dict]:
@@ -69,6 +70,36 @@ def _parse(effect) -> tuple[str, dict]:
     return name, dict(given)
 
 
+def _parse_all(effect) -> list:
+    """[(name, given), ...]: one effect, or a list/tuple of several hidden together (each at most once)."""
+    out = [_parse(e) for e in effect] if isinstance(effect, (list, tuple)) else [_parse(effect)]
+    names = [n for n, _ in out if n != "none"]
+    if len(set(names)) != len(names):
+        raise EraError(f"Each hidden effect can be given once, got {names}.")
+    return [(n, g) for n, g in out if n != "none"] or [("none", {})]
+
+
+MEMBER_LIMIT_PCT = 1.0
+
+
+@functools.lru_cache(maxsize=8)
+def member_signatures_pct(factor: float = 0.2, n_modes: int = 12) -> np.ndarray:
+    """(157,) how far one cracked member (EI × ``factor``, GJ × √factor) moves the modes beyond what a global stiffness
+    factor can take up: max over the first n_modes of |r_j / median(r) − 1|, r = f_member / f_nominal, %, per
+    member in MEMBERS_FT order. At factor 0.2: 0.1 % for the quietest interior members, 1.4 % at best; a
+    member is drawn as damaged only where this exceeds MEMBER_LIMIT_PCT (1 %; the bars' scatter leaves up to
+    ~0.4 % between the truth and the best nominal)."""
+    f0 = _rigid_frequencies(n_modes)
+    out = []
+    for k in range(N_SEGMENTS):
+        ei, gj = np.ones(N_SEGMENTS), np.ones(N_SEGMENTS)
+        ei[k], gj[k] = factor, np.sqrt(factor)
+        model = GridModel(nasa_grid().params, GridPerturbation(ei_factor=ei, gj_factor=gj))
+        r = model.modes(n_modes)[0] / f0
+        out.append(100 * np.max(np.abs(r / np.median(r) - 1)))
+    return np.array(out)
+
+
 def _segments_of_bar(orientation: str, at_ft: float) -> np.ndarray:
     """Segments of one physical bar: horizontal ('x', y_ft) or vertical ('y', x_ft)."""
     a = JOINTS_FT[SEGMENT_JOINTS[:, 0]]
@@ -78,84 +109,106 @@ def _segments_of_bar(orientation: str, at_ft: float) -> np.ndarray:
     return np.flatnonzero(~horizontal & (a[:, 0] == at_ft))
 
 
-def _truth_model(name: str, given: dict, rng, *, elements_per_bar: int, scatter: float, e_error: float):
-    """The truth GridModel, the effect's parameters in the candidate's terms, its location, the nominal params."""
+def _truth_model(effects: list, rng, *, elements_per_bar: int, scatter: float, e_error: float):
+    """The truth GridModel and, per hidden effect, (name, parameters in the candidate's terms, location,
+    description); the nominal params; the stiffness factor."""
     ei = np.exp(scatter * rng.standard_normal(N_SEGMENTS))
     gj = np.exp(scatter * rng.standard_normal(N_SEGMENTS))
     stiffness_factor = 1.0 + rng.choice([-1.0, 1.0]) * e_error * rng.uniform(0.7, 1.3)
     params = dict(elements_per_bar=elements_per_bar, stiffness_factor=stiffness_factor)
-    pert = dict(ei_factor=ei, gj_factor=gj)
+    pert = dict(ei_factor=ei, gj_factor=gj, joint_compliance=np.zeros((NX * NY, 2)))
     sign = rng.choice([-1.0, 1.0])
-    location, nominal, reported = None, {}, {}
-    how = "no hidden effect: only mesh, stiffness scatter and E error separate the truth from the nominal"
-    if name == "joint_flexibility":
-        k = float(given.get("joint_stiffness", np.exp(rng.uniform(np.log(200), np.log(800)))))
-        c = np.exp(0.3 * rng.standard_normal((NX * NY, 2)))           # per-joint, per-axis scatter ±30 %
-        pert["joint_compliance"] = c / c.mean() / k                       # mean compliance = 1/k exactly
-        reported = {"joint_stiffness": k}
-        how = f"every joint semi-rigid, springs scattered ±30 % per joint and axis, mean compliance 1/{k:.0f} rad/(N·m)"
-    elif name == "torsion_stiffness":
-        f = float(given.get("torsion_factor", 1 + sign * rng.uniform(0.07, 0.15)))
-        params["torsion_factor"] = f
-        reported = {"torsion_factor": f}
-        how = f"GJ of all bars × {f:.3f} (on top of the segment scatter)"
-    elif name == "cable_length":
-        L = float(given.get("cable_length_m", 0.51 * (1 + sign * rng.uniform(0.1, 0.25))))
-        d = rng.uniform(0.01, 0.03)
-        params["cable_length_m"] = L
-        pert["cable_factor"] = np.array([1 + d, 1 - d])                  # the two cables are not equal
-        reported = {"cable_length_m": L}
-        how = f"cables {L * (1 + d):.3f} m and {L * (1 - d):.3f} m long (mean {L:.3f} m)"
-    elif name == "distributed_mass":
-        kg = float(given.get("distributed_mass_kg", rng.uniform(1.5, 3.0)))
-        w = np.exp(0.3 * rng.standard_normal(N_SEGMENTS))                # uneven, not uniform
-        pert["segment_mass_kg"] = kg * w / w.sum()
-        reported = {"distributed_mass_kg": kg}
-        how = f"{kg:.2f} kg spread unevenly (±30 % per segment) over all bars"
-    elif name == "point_mass":
-        kg = float(given.get("point_mass_kg", rng.uniform(0.8, 2.0)))
-        at = tuple(given.get("point_mass_at", JOINTS_FT[rng.integers(NX * NY)]))
-        pert["point_masses"] = _mass_patch(at, kg, elements_per_bar)
-        reported, location = {"point_mass_kg": kg, "point_mass_at": tuple(map(float, at))}, tuple(map(float, at))
-        how = f"a {kg:.2f} kg patch: 70 % on joint {location}, 30 % on the nearest mesh nodes around it"
-    elif name == "loose_joint":
-        k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(3.0), np.log(30.0)))))
-        if "loose_joint_at" in given:
-            at = tuple(given["loose_joint_at"])
-        else:  # a border joint whose looseness stands above the bars' scatter (the detection limit)
-            seen = [j for j in _BORDER_JOINTS if loose_joint_signature_pct(j, k) >= LOOSE_JOINT_LIMIT_PCT]
-            at = seen[rng.integers(len(seen))]
-        comp = np.zeros((NX * NY, 2))
-        comp[joint_index(at)] = 1.0 / (k * np.array([0.9, 1.1]))          # unequal about x and y
-        pert["joint_compliance"] = comp
-        reported, location = {"loose_joint_stiffness": k, "loose_joint_at": tuple(map(float, at))}, tuple(map(float, at))
-        how = f"joint {location} semi-rigid: {0.9 * k:.1f} N·m/rad about x, {1.1 * k:.1f} about y"
-    elif name == "gravity_stiffening":
-        nominal = {"gravity": False}        # the truth hangs in gravity; the model handed to explain() lacks it
-        reported = {"gravity": True}
-        how = "the grid hangs in gravity (as always); the nominal model to compare with omits the self-weight tension"
-    elif name == "damaged_bar":
-        orientation, at = given.get("bar", (("x", "y")[rng.integers(2)], None))
-        if at is None:
-            at = float(rng.integers(NY if orientation == "x" else NX))
-        factor = float(given.get("ei_factor", 0.5))
-        segs = _segments_of_bar(orientation, float(at))
-        if segs.size == 0:
-            raise EraError(f"damaged_bar: no bar ({orientation!r}, {at}); use ('x', y_ft) or ('y', x_ft).")
-        ei[segs] *= factor
-        reported = {"bar": (orientation, float(at)), "ei_factor": factor}
-        how = (f"outside the library: the {'horizontal' if orientation == 'x' else 'vertical'} bar at "
-               f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
-    elif name == "ground_spring":
-        k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(30.0), np.log(150.0)))))
-        at = tuple(given.get("at", JOINTS_FT[rng.integers(NX * NY)]))
-        springs = np.zeros(NX * NY)
-        springs[joint_index(at)] = k
-        pert["ground_springs"] = springs
-        reported, location = {"stiffness_n_per_m": k, "at": tuple(map(float, at))}, tuple(map(float, at))
-        how = f"outside the library: joint {location} tied to the ground by a {k:.0f} N/m spring (a snagged lead)"
+    nominal, hidden = {}, []
+    for name, given in effects:
+        location, reported = None, {}
+        how = "no hidden effect: only mesh, stiffness scatter and E error separate the truth from the nominal"
+        if name == "joint_flexibility":
+            k = float(given.get("joint_stiffness", np.exp(rng.uniform(np.log(200), np.log(800)))))
+            c = np.exp(0.3 * rng.standard_normal((NX * NY, 2)))           # per-joint, per-axis scatter ±30 %
+            pert["joint_compliance"] = pert["joint_compliance"] + c / c.mean() / k    # mean compliance 1/k exactly
+            reported = {"joint_stiffness": k}
+            how = (f"every joint semi-rigid, springs scattered ±30 % per joint and axis, mean compliance "
+                   f"1/{k:.0f} rad/(N·m)")
+        elif name == "torsion_stiffness":
+            f = float(given.get("torsion_factor", 1 + sign * rng.uniform(0.07, 0.15)))
+            params["torsion_factor"] = f
+            reported = {"torsion_factor": f}
+            how = f"GJ of all bars × {f:.3f} (on top of the segment scatter)"
+        elif name == "cable_length":
+            L = float(given.get("cable_length_m", 0.51 * (1 + sign * rng.uniform(0.1, 0.25))))
+            d = rng.uniform(0.01, 0.03)
+            params["cable_length_m"] = L
+            pert["cable_factor"] = np.array([1 + d, 1 - d])                  # the two cables are not equal
+            reported = {"cable_length_m": L}
+            how = f"cables {L * (1 + d):.3f} m and {L * (1 - d):.3f} m long (mean {L:.3f} m)"
+        elif name == "distributed_mass":
+            kg = float(given.get("distributed_mass_kg", rng.uniform(1.5, 3.0)))
+            w = np.exp(0.3 * rng.standard_normal(N_SEGMENTS))                # uneven, not uniform
+            pert["segment_mass_kg"] = kg * w / w.sum()
+            reported = {"distributed_mass_kg": kg}
+            how = f"{kg:.2f} kg spread unevenly (±30 % per segment) over all bars"
+        elif name == "point_mass":
+            kg = float(given.get("point_mass_kg", rng.uniform(0.8, 2.0)))
+            at = tuple(given.get("point_mass_at", JOINTS_FT[rng.integers(NX * NY)]))
+            pert["point_masses"] = _mass_patch(at, kg, elements_per_bar)
+            reported, location = {"point_mass_kg": kg, "point_mass_at": tuple(map(float, at))}, tuple(map(float, at))
+            how = f"a {kg:.2f} kg patch: 70 % on joint {location}, 30 % on the nearest mesh nodes around it"
+        elif name == "loose_joint":
+            k = float(given.get("loose_joint_stiffness", np.exp(rng.uniform(np.log(3.0), np.log(30.0)))))
+            if "loose_joint_at" in given:
+                at = tuple(given["loose_joint_at"])
+            else:  # a border joint whose looseness stands above the bars' scatter (the detection limit)
+                seen = [j for j in _BORDER_JOINTS if loose_joint_signature_pct(j, k) >= LOOSE_JOINT_LIMIT_PCT]
+                at = seen[rng.integers(len(seen))]
+            pert["joint_compliance"] = pert["joint_compliance"].copy()
+            pert["joint_compliance"][joint_index(at)] += 1.0 / (k * np.array([0.9, 1.1]))   # unequal about x, y
+            reported, location = ({"loose_joint_stiffness": k, "loose_joint_at": tuple(map(float, at))},
+                                  tuple(map(float, at)))
+            how = f"joint {location} semi-rigid: {0.9 * k:.1f} N·m/rad about x, {1.1 * k:.1f} about y"
+        elif name == "gravity_stiffening":
+            nominal = {"gravity": False}    # the truth hangs in gravity; the model handed to explain() lacks it
+            reported = {"gravity": True}
+            how = ("the grid hangs in gravity (as always); the nominal model to compare with omits the self-weight "
+                   "tension")
+        elif name == "member_stiffness":
+            # a cracked member: bending stiffness mostly gone, torsion less (√ of the bending factor), where it
+            # stands above the bars' scatter (the candidate scales E and G together: a different parametrisation)
+            f = float(given.get("member_factor", round(rng.uniform(0.1, 0.3), 2)))
+            if "member_at" in given:
+                at = tuple(tuple(float(v) for v in j) for j in given["member_at"])
+            else:
+                seen = np.flatnonzero(member_signatures_pct(f) >= MEMBER_LIMIT_PCT)
+                at = MEMBERS_FT[seen[rng.integers(seen.size)]]
+            k = segment_index(at)
+            ei[k] *= f
+            gj[k] *= np.sqrt(f)
+            reported, location = {"member_factor": f, "member_at": at}, at
+            how = (f"the member between joints {at[0]} and {at[1]} ft is cracked: EI × {f:.2f}, GJ × "
+                   f"{np.sqrt(f):.2f}")
+        elif name == "damaged_bar":
+            orientation, at = given.get("bar", (("x", "y")[rng.integers(2)], None))
+            if at is None:
+                at = float(rng.integers(NY if orientation == "x" else NX))
+            factor = float(given.get("ei_factor", 0.5))
+            segs = _segments_of_bar(orientation, float(at))
+            if segs.size == 0:
+                raise EraError(f"damaged_bar: no bar ({orientation!r}, {at}); use ('x', y_ft) or ('y', x_ft).")
+            ei[segs] *= factor
+            reported = {"bar": (orientation, float(at)), "ei_factor": factor}
+            how = (f"outside the library: the {'horizontal' if orientation == 'x' else 'vertical'} bar at "
+                   f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
+        elif name == "ground_spring":
+            k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(30.0), np.log(150.0)))))
+            at = tuple(given.get("at", JOINTS_FT[rng.integers(NX * NY)]))
+            springs = np.zeros(NX * NY)
+            springs[joint_index(at)] = k
+            pert["ground_springs"] = springs
+            reported, location = {"stiffness_n_per_m": k, "at": tuple(map(float, at))}, tuple(map(float, at))
+            how = f"outside the library: joint {location} tied to the ground by a {k:.0f} N/m spring (a snagged lead)"
+        hidden.append({"name": name, "parameters": reported, "location": location, "description": how,
+                       "in_library": name not in OUTSIDE_LIBRARY})
     truth = GridModel(nasa_grid(**params).params, GridPerturbation(**pert))
-    return truth, reported, location, nominal, stiffness_factor, how
+    return truth, hidden, nominal, stiffness_factor
 
 
 def _mass_patch(at, kg: float, elements_per_bar: int) -> tuple:
@@ -192,12 +245,15 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
 
     Parameters
     ----------
-    effect : None, str or dict
+    effect : None, str, dict, or a list of them (several effects hidden together, drawn in that order)
         None (no effect), one of EFFECTS, or one outside the library: "damaged_bar" (one whole bar, EI × 0.5)
-        or "ground_spring" (one joint's w tied to the ground, 30-150 N/m);
+        or "ground_spring" (one joint's w tied to the ground, 30-150 N/m); "member_stiffness" is a cracked
+        member (EI × 0.1-0.3, GJ × its square root) where its signature exceeds MEMBER_LIMIT_PCT
+        (member_signatures_pct);
         a dict {"name": ..., parameter: value} fixes parameters, named as nasa_grid's keywords
         (joint_stiffness, torsion_factor, cable_length_m, distributed_mass_kg, point_mass_kg and point_mass_at,
-        loose_joint_stiffness and loose_joint_at; damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor;
+        loose_joint_stiffness and loose_joint_at; member_stiffness: member_factor (of EI), member_at
+        ((x1, y1), (x2, y2)); damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor;
         ground_spring: at=(x_ft, y_ft), stiffness_n_per_m).
         Parameters not given are drawn from ``seed``, above the detection limits of issue 5; a loose joint
         (3-30 N·m/rad) only where its signature exceeds LOOSE_JOINT_LIMIT_PCT (see loose_joint_signature_pct).
@@ -225,17 +281,18 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
     truth : dict with "frequency_hz" (r,), "damping_ratio" (r,), "shapes" (9, r) and "node_shapes" (88, r)
         mass-normalised (1/√kg, no gain errors) for every mode in the band, "effect" {name ("none" when
         no effect), parameters (in the candidate's terms), location, description, in_library (False only for
-        effects the candidate library cannot represent)}, "nominal_params" (for nasa_grid), "stiffness_factor", "gains" (9,),
+        effects the candidate library cannot represent)} of the first hidden effect, "effects" (one such dict per
+        hidden effect, in the order given), "nominal_params" (for nasa_grid), "stiffness_factor", "gains" (9,),
         "inputs_ft", "model" (the truth GridModel), "seed".
     """
-    name, given = _parse(effect)
+    effects = _parse_all(effect)
     if excitation not in ("impulse", "dwell"):
         raise EraError(f"excitation must be 'impulse' or 'dwell', got {excitation!r}.")
     if not (duration_s > 0 and 0 <= noise < 1):
         raise EraError("duration_s must be positive and noise a fraction in [0, 1).")
     rng = np.random.default_rng(seed)
-    truth_model, reported, location, nominal, sf, how = _truth_model(
-        name, given, rng, elements_per_bar=elements_per_bar, scatter=scatter, e_error=e_error)
+    truth_model, hidden, nominal, sf = _truth_model(
+        effects, rng, elements_per_bar=elements_per_bar, scatter=scatter, e_error=e_error)
     dt = 1.0 / SAMPLE_RATE_HZ
     f_all, phi_nodes = truth_model.node_modes(30)
     band = f_all < 0.85 * SAMPLE_RATE_HZ / 2
@@ -267,8 +324,7 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
                         meta={"source": "era.examples.grid_simulation.simulate_grid_test", "seed": seed, "excitation": excitation,
                               "input_locations": tuple(inputs)})
     truth = {"frequency_hz": f, "damping_ratio": zeta, "shapes": phi_sens, "node_shapes": phi_nodes,
-             "effect": {"name": name, "parameters": reported, "location": location, "description": how,
-                        "in_library": name not in OUTSIDE_LIBRARY},
+             "effect": hidden[0], "effects": tuple(hidden),
              "nominal_params": nominal, "stiffness_factor": sf, "gains": gains, "inputs_ft": tuple(inputs),
              "noise": noise, "model": truth_model, "seed": seed}
     return data, truth

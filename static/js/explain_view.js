@@ -20,8 +20,8 @@
     torsion_factor: ["torsion (GJ) factor", ""], cable_length_m: ["cable length", "m"],
     distributed_mass_kg: ["distributed mass", "kg"], point_mass_kg: ["point mass", "kg"],
     loose_joint_stiffness: ["loose-joint stiffness", "N·m/rad"], gravity: ["gravity stiffening fraction", ""],
+    member_factor: ["member stiffness factor", ""],
   };
-
   function el(tag, text, attrs) {
     const n = document.createElement(tag);
     if (text !== undefined && text !== null) n.textContent = text;  // text only, never HTML
@@ -44,8 +44,10 @@
   }
 
   // Where a located effect is: a grid joint (x, y) ft, or on a frame a node id or a member (its two end nodes).
+  // A place: a grid joint [x, y] ft or member [[x1, y1], [x2, y2]] ft; a frame's node id or member [i, j].
   function where(loc) {
     if (typeof loc === "string") return `node ${loc}`;
+    if (Array.isArray(loc) && Array.isArray(loc[0])) return `member (${loc[0][0]}, ${loc[0][1]})–(${loc[1][0]}, ${loc[1][1]}) ft`;
     if (Array.isArray(loc) && typeof loc[0] === "string") return loc[0] === "*" ? "every member" : `member ${loc[0]}–${loc[1]}`;
     return `joint (x = ${loc[0]} ft, y = ${loc[1]} ft)`;
   }
@@ -74,26 +76,37 @@
     const box = el("div", null, { id: `${id}-verdict`, "data-verdict": s.verdict,
       style: `background:${bg};border-left:4px solid ${ink};padding:8px 12px;border-radius:5px;margin:6px 0` });
     const head = el("div", null, { style: `font-weight:600;color:${ink};font-size:15px` });
-    head.textContent = s.effect ? `${title}: ${s.effect.name.replace(/_/g, " ")}` : title;
+    // several effects (result.effects, most important first); results stored before them carry one
+    const effects = (s.effects && s.effects.length) ? s.effects : (s.effect ? [s.effect] : []);
+    head.textContent = effects.length ? `${title}: ${effects.map((e) => e.name.replace(/_/g, " ")).join(" + ")}` : title;
     box.append(head, el("div", s.message, { style: "margin-top:4px" }));
-    if (s.effect) {
-      const e = s.effect, dl = el("dl", null, { class: "summary", id: `${id}-effect` });
-      const add = (k, v) => dl.append(el("dt", k), el("dd", v));
-      add("Effect", e.name);
-      add("Parameters (± 1σ)", paramText(e.parameters, e.uncertainty, e.interval));
+    effects.forEach((e, k) => {
+      const dl = el("dl", null, { class: "summary", id: k === 0 ? `${id}-effect` : `${id}-effect-${k + 1}` });
+      const add = (key, v) => dl.append(el("dt", key), el("dd", v));
+      add(effects.length > 1 ? `Effect ${k + 1}` : "Effect", e.name);
+      const own = Object.fromEntries(Object.entries(e.parameters || {}).filter(([n]) => n !== "stiffness_factor"));
+      const shown = effects.length > 1 && Object.keys(own).length ? own : e.parameters;
+      add("Parameters (± 1σ)", paramText(shown, e.uncertainty, e.interval));
       if (e.location) {
         add("Location", where(e.location) +
           (e.location_probability !== null && e.location_probability !== undefined ? `, ${num(100 * e.location_probability, 0)} % certain` : "") +
           ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `${where(l)} ${num(100 * q, 0)} %`).join(", ")}` : ""));
       }
-      add("Posterior probability", `${num(100 * e.probability, 1)} %`);
+      add(k === 0 ? "Posterior probability" : "Posterior probability (given the effects before)", `${num(100 * e.probability, 1)} %`);
+      if (e.gap_after) add("Gap after this step", `max |Δf| ${num(e.gap_after.max_abs_freq_error_pct, 2)} %, min MAC ${num(e.gap_after.min_mac, 3)}`);
       box.append(dl);
+    });
+    if (effects.length > 1 && effects[0].parameters && "stiffness_factor" in effects[0].parameters) {
+      box.append(el("div", `Global stiffness factor (nuisance): ${num(effects[0].parameters.stiffness_factor, 3)}`));
     }
     return box;
   }
 
   function gapTable(s, id) {
-    const rows = [["before (nominal model)", s.before], ["after (updated model)", s.after]].map(([k, g]) =>
+    const steps = (s.effects || []).length > 1
+      ? s.effects.map((e, k) => [`after step ${k + 1} (+ ${e.name.replace(/_/g, " ")})`, e.gap_after]).filter(([, g]) => g)
+      : [["after (updated model)", s.after]];
+    const rows = [["before (nominal model)", s.before], ...steps].map(([k, g]) =>
       [k, num(g.max_abs_freq_error_pct, 2), num(g.rms_freq_error_pct, 2), num(g.min_mac, 3), num(g.mean_mac, 3), String(g.n_pairs ?? "–")]);
     return table(`${id}-gap`, [["model"], ["max |Δf| (%)", "largest frequency error over the paired modes"],
       ["rms Δf (%)"], ["min MAC", "worst shape agreement (nearly repeated modes compared as a plane)"], ["mean MAC"],

@@ -1,0 +1,86 @@
+"""The verdict of explain() and its words: whether the named set may be named, and the message for the report."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .effects import short_place
+from .measured import MeasuredModes
+from .search import Search
+
+
+def too_few_data(fm: MeasuredModes, found: Search) -> str | None:
+    """A sentence when the data hold no more numbers than the named set has unknowns (its parameters, the
+    stiffness factor and, for located effects, their places): it then fits them whatever the truth, and no name
+    is warranted (one sensor on a cantilever: k frequencies, unit shapes that say nothing). None otherwise."""
+    p, k = fm.shapes.shape
+    n_data = k * p                      # k frequencies and k unit-norm shapes of p − 1 free components each
+    n_places = sum(1 for r in found.named if len(r.locations) > 1 or r.location is not None)
+    n_unknown = len(found.fit.params) + n_places
+    if n_data > n_unknown:
+        return None
+    names = " + ".join(r.name for r in found.named)
+    return (f"The data are {n_data} numbers ({k} modes at {p} sensor{'s' if p > 1 else ''}), no more than the "
+            f"{n_unknown} unknowns of the best candidate ({names}, its stiffness factor"
+            f"{' and its place' if n_places else ''}): it fits them whatever the truth, so the "
+            "data cannot name it or tell it from the others; more sensors or more modes are needed.")
+
+
+def verdict_of(ranking, found: Search, min_probability: float, min_log_bayes: float) -> tuple:
+    """(verdict, a sentence to put first in the message or None) from the step-1 ranking and the search."""
+    if found.named and found.not_needed:
+        return "ambiguous", (f"{' and '.join(r.name for r in found.named)} together fit the test, but "
+                             f"{', '.join(found.not_needed)} is not needed beside the other"
+                             f"{'s' if len(found.named) > 2 else ''}: the data cannot tell which effects are "
+                             "really there.")
+    if found.named:
+        if found.named[-1].adequate:
+            return "explained", None
+        last = found.rankings[-1][0]
+        if (len(found.rankings) > len(found.named) and last.name != "none" and last.adequate
+                and last.log_bayes_factor >= min_log_bayes):
+            return "ambiguous", None
+        return "unexplained", None
+    best = ranking[0]
+    none = next(r for r in ranking if r.name == "none")
+    if best.name == "none" or (best.log_bayes_factor < min_log_bayes and none.adequate):
+        return ("no_significant_discrepancy" if none.adequate else "unexplained"), None
+    return ("ambiguous" if best.adequate else "unexplained"), None
+
+
+def message_for(verdict, effects, ranking, found, g_b, g_a, miss, fm, fit, comac_a, unpaired) -> str:
+    top = "Ranking: " + ", ".join(f"{r.name} {r.probability:.0%}" for r in ranking[:3])
+    if verdict == "unexplained":
+        top += " (probabilities relative to the library only; none of these fits within the error levels)"
+    gaps = (f"Gap before: max |Δf| {g_b.max_abs_freq_error_pct:.2f} %, min MAC {g_b.min_mac:.3f}; after: "
+            f"max |Δf| {g_a.max_abs_freq_error_pct:.2f} %, min MAC {g_a.min_mac:.3f}.")
+    where = ""
+    if len(miss):
+        where = (" The residual lives mostly in the modes at "
+                 + ", ".join(f"{fm.frequency_hz[i]:.3f} Hz (model {fit.freq_error_pct[i]:+.2f} %, MAC {fit.mac[i]:.3f})"
+                             for i in miss[:4]) + (f" and {len(miss) - 4} more" if len(miss) > 4 else ""))
+        low = np.flatnonzero(comac_a < 0.9)
+        where += (" and at sensors " + ", ".join(str(i + 1) for i in low) if low.size else "") + "."
+    aside = f" {len(unpaired)} measured mode(s) had no model partner and were set aside." if unpaired else ""
+    partial = ""
+    if verdict != "explained" and found.named:
+        t = found.named[-1].test
+        partial = (" The best the library can do, " + " then ".join(
+            f"{r.name}{' ' + short_place(r.location) if r.location is not None else ''}" for r in found.named)
+            + f", leaves max |Δf| {found.named[-1].max_abs_freq_error_pct:.2f} % and min MAC "
+            f"{found.named[-1].min_mac:.3f} (frequency χ² {t.chi2_freq:.0f} over {fm.n_modes} modes), beyond "
+            "the error levels, so nothing is named.")
+    if verdict == "explained" and len(effects) > 1:
+        head = (f"{len(effects)} effects explain the test data, most important first: "
+                + " ".join(f"({i + 1}) {e.description}" for i, e in enumerate(effects)))
+    else:
+        head = {
+            "explained": effects[0].description if effects else "",
+            "no_significant_discrepancy": "The nominal model (with a global stiffness factor) agrees with the "
+                                          "test within its error levels; no candidate effect is needed.",
+            "ambiguous": "Several candidate effects explain the data about equally well; more sensors or modes "
+                         "are needed to tell them apart.",
+            "unexplained": "No candidate effect makes the model agree with the test within its error levels: the "
+                           "missing physics is outside the library.",
+        }[verdict]
+    return f"{head}{partial} {top}. {gaps}{where}{aside}"
