@@ -99,12 +99,14 @@ def table_rows(page, selector: str) -> list[dict]:
 
 
 def pole_position(page, order: int):
-    """Page coordinates of a pole of the given order that is stable in frequency, damping and shape."""
+    """Page coordinates of a pole of the given order that is stable in frequency, damping and shape, and not drawn
+    on top of another (the two poles of a repeated pair share one place: a click there picks either)."""
     return page.evaluate("""(order) => {
         const div = document.getElementById('stab-plot'), fl = div._fullLayout;
         const t = div.data.find(tr => tr.name.startsWith('stable f'));
-        const k = t.y.findIndex(y => y === order);
-        if (k < 0) return null;
+        const at = t.y.flatMap((y, k) => (y === order ? [k] : []));
+        const k = at.find(k => !at.some(j => j !== k && Math.abs(t.x[j] - t.x[k]) < 1e-3 * t.x[k]));
+        if (k === undefined) return null;
         const box = div.getBoundingClientRect();
         return { x: box.left + fl.xaxis._offset + fl.xaxis.l2p(t.x[k]), y: box.top + fl.yaxis._offset + fl.yaxis.l2p(t.y[k]),
                  order: t.customdata[k][0], index: t.customdata[k][1], frequency: t.x[k] };
