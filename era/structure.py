@@ -28,6 +28,7 @@ from collections.abc import Mapping
 from types import MappingProxyType
 
 import numpy as np
+import scipy.linalg
 
 from .errors import DataError
 from .fem import space
@@ -397,6 +398,34 @@ class Frame:
             sign = np.where(ref @ u.reshape(-1, target) < 0, -1.0, 1.0)
             cache[target] = (mesh, space.SpaceModes(result.frequency_hz, result.shapes * sign, result.axial_force))
         return cache[target]
+
+    def ritz_modes(self, reference: "Frame", n_basis: int = 30) -> tuple[np.ndarray, np.ndarray] | None:
+        """This frame's modes in the span of ``reference``'s lowest ``n_basis`` modes (Rayleigh-Ritz: one small
+        dense eigenproblem instead of a sparse solve), for screening many places of a local change. Frequencies
+        (r,) Hz and translations (n_nodes, 3, r) as :meth:`node_modes`; frequencies are bounds from above, within
+        0.5 % for a local mass or stiffness change. None unless both frames are meshed the same (a fixed
+        ``elements_per_member``, the same joint springs: a spring adds nodes) and this frame holds every DOF the
+        reference holds (a flexible support needs shapes that bend at the base: solve it)."""
+        counts = self.elements_per_member
+        if (counts is None or counts != reference.elements_per_member
+                or set(self.joint_springs) != set(reference.joint_springs)):
+            return None
+        ref_mesh, ref = reference.solution(n_basis)
+        mesh = space.subdivide(self.space_frame(), np.broadcast_to(counts, len(self.members)))
+        if mesh.n_nodes != ref_mesh.n_nodes:
+            return None
+        K, M, _ = space.system(mesh, None if self.gravity is None else np.array(self.gravity))
+        free = ~mesh.restrained.ravel()
+        if np.any(free & ref_mesh.restrained.ravel()):  # a support made flexible: the reference's shapes, all
+            return None                                   # still at its base, cannot bend there; solve instead
+        basis = ref.shapes.reshape(6 * mesh.n_nodes, -1)[:, :n_basis].copy()
+        basis[~free] = 0.0  # what this frame holds does not move
+        b = basis[free]
+        k = b.T @ (K[free][:, free] @ b)
+        m = b.T @ (M[free][:, free] @ b)
+        lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
+        shapes = (basis @ v).reshape(mesh.n_nodes, 6, -1)
+        return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi), shapes[:len(self.nodes), :3]
 
     def element_counts(self, n_modes: int = 10) -> tuple:
         """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order."""

@@ -143,6 +143,18 @@ class FrameModel:
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         return self.updated_frame.modes(n_modes)
 
+    def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameRitz | None":
+        """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
+        screening places (ranking.screen_locations); None when the two are not meshed alike."""
+        got = self.updated_frame.ritz_modes(reference.updated_frame, n_modes)
+        if got is None:
+            return None
+        f, u = got
+        frame = self.updated_frame
+        index = {n: k for k, n in enumerate(frame.nodes)}
+        rows = [index[n] for n, _ in frame.sensors]
+        return FrameRitz(f, u.reshape(-1, u.shape[-1]), np.einsum("sc,scn->sn", frame.sensor_directions, u[rows]))
+
     @property
     def node_labels(self) -> tuple:
         """Label of each row of :meth:`node_modes`: "node:x", "node:y", "node:z"."""
@@ -267,3 +279,19 @@ def _collinear(frame: Frame, node: str) -> bool:
             d = np.subtract(frame.nodes[j], frame.nodes[i])
             dirs.append(d / np.linalg.norm(d))
     return all(np.linalg.norm(np.cross(dirs[0], d)) < 1e-6 for d in dirs[1:])
+
+
+@dataclass(frozen=True, eq=False)
+class FrameRitz:
+    """Approximate modes (FrameModel.ritz): frequencies (r,) Hz, node translations (3·n_nodes, r) and the sensors'
+    shapes (n_sensors, r), mass-normalised; .node_modes(n) and .modes(n) as a FrameModel's."""
+
+    frequency_hz: np.ndarray
+    node_w: np.ndarray
+    sensor_w: np.ndarray
+
+    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.node_w[:, :n_modes].copy()
+
+    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        return self.frequency_hz[:n_modes].copy(), self.sensor_w[:, :n_modes].copy()

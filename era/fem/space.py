@@ -336,18 +336,24 @@ def _mechanism_error(frame: SpaceFrame, zero: np.ndarray, free: np.ndarray) -> D
                      f"a member{rigid_note}; {basis.shape[1]} zero-stiffness motion(s) among the lowest modes.")
 
 
-def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = None) -> SpaceModes:
-    """The ``n_modes`` lowest modes of the meshed frame, with the geometric stiffness of the self-weight when
-    ``gravity`` (3,) m/s² is given. A free structure (no support, spring or cable) may have its six rigid-body
-    modes at 0 Hz; any other zero-stiffness motion raises a DataError naming a free DOF; a negative eigenvalue
-    (buckling under the self-weight) raises too."""
+def system(frame: SpaceFrame, gravity: np.ndarray | None = None) -> tuple:
+    """(K, M, axial force (e,) N): the meshed frame's stiffness (with the self-weight's geometric stiffness and the
+    cables' pendulum springs when ``gravity`` (3,) m/s² is given) and mass, over all 6·n_nodes DOFs."""
     axial = np.zeros(frame.elements.shape[0])
     K = stiffness(frame)
     if gravity is not None:
         statics = self_weight(frame, gravity)
         axial = statics.axial_force
         K = stiffness(frame, axial) + scipy.sparse.diags(cable_springs(frame, gravity, statics.reactions))
-    M = mass(frame)
+    return K, mass(frame), axial
+
+
+def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = None) -> SpaceModes:
+    """The ``n_modes`` lowest modes of the meshed frame, with the geometric stiffness of the self-weight when
+    ``gravity`` (3,) m/s² is given. A free structure (no support, spring or cable) may have its six rigid-body
+    modes at 0 Hz; any other zero-stiffness motion raises a DataError naming a free DOF; a negative eigenvalue
+    (buckling under the self-weight) raises too."""
+    K, M, axial = system(frame, gravity)
     free = ~frame.restrained.ravel()
     kff, mff = K[free][:, free], M[free][:, free]
     n_free = int(free.sum())
