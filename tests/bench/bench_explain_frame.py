@@ -6,10 +6,11 @@ Run: python3 tests/bench/bench_explain_frame.py 0,1,2        (the matrix for the
      python3 tests/bench/bench_explain_frame.py 0 time        (explain on the 200-node frame, per candidate)
      python3 -m pytest tests/bench/bench_explain_frame.py -s  (the 200-node timing, and seed 0 of the matrix)
 Measured here (2 shared cores, one BLAS thread): seeds 0, 1: no wrong name in 54 cases; the 200-node frame
-(bench_frame.py's building, 1000 kg hidden at a top corner, named there) takes 164-227 s, ~1500 solves of
-0.13 s (Lanczos 65 %, factorization 11 %, meshing 15 %, Frame checks 6 %): member_stiffness screens 456
-members, point_mass and joint_flexibility 175 nodes each. The issue's 10 s needs screening without solves
-(first-order perturbation from the nominal's modes) and cheaper fits; not done.
+(bench_frame.py's building, 1000 kg hidden at a top corner, named there) took 164-227 s with a sparse solve per
+screened place (0.13 s each: Lanczos 65 %); with the places screened by Rayleigh-Ritz in the nominal's 30 modes
+(FrameModel.ritz, 2026-11-23) it takes 134.7 s: point_mass 10.6 s, member_stiffness 30.8 s (591 screened),
+joint_flexibility 59.5 s and support_flexibility 20.2 s (a joint spring adds nodes and a flexible support frees
+the base: both still solved per place). The issue's 10 s needs those two screened too and cheaper fits.
 The truth (era.examples.frame_simulation): every member's E and G scattered 2 % (1σ), twice the nominal's mesh,
 0.1 % frequency noise, 1 % shape noise, 2 % sensor gains; six modes the sensors see. "two" hides two effects at
 once (outside the library): it must not get a confident name.
