@@ -6,30 +6,17 @@ Every function is plain: files in ((name, bytes)), dicts out (schemas.Import, sc
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 import era
 from era.io.preview import preview
 
-from .loading import KINDS, MAX_FILES
+from .loading import named_sources
 from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
 READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "frf_sign", "start_sample", "drop", "forces",
                 "references")
-
-
-def check_files(files: list[tuple[str, bytes]]) -> None:
-    """DataError for an upload with no file, too many files, or an empty file."""
-    if not files:
-        raise era.DataError("No file in the upload: add at least one file part named `file`.")
-    if len(files) > MAX_FILES:
-        raise era.DataError(f"{len(files)} files in one upload; at most {MAX_FILES} are read as one dataset.")
-    for name, blob in files:
-        if not blob:
-            raise era.DataError(f"{name!r} is empty: choose a file with the measured records.")
 
 
 def given(options: dict) -> dict:
@@ -40,22 +27,13 @@ def given(options: dict) -> dict:
     return out
 
 
-def _sources(files: list[tuple[str, bytes]]) -> list:
-    sources = []
-    for name, blob in files:
-        src = io.BytesIO(blob)
-        src.name = name  # era names the file in its messages
-        sources.append(src)
-    return sources
-
-
 def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int) -> tuple[dict, str | None,
                                                                                         str | None]:
     """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
     stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
     be read at all."""
     reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k != "references"}
-    sources = _sources(files)
+    sources = named_sources(files)
     pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
                  max_points=max_points, **{k: v for k, v in reading.items() if k != "frf_sign"})
     time_like = pv.domain != "frequency"
@@ -79,7 +57,3 @@ def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, m
         out["error"], out["option"] = str(exc), getattr(exc, "option", None)
     return out
 
-
-def check_kind(kind: str) -> None:
-    if kind not in KINDS:
-        raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")

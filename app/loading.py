@@ -13,21 +13,34 @@ KINDS = ("auto", "pulse", "decay", "frf", "io", "ambient")
 MAX_FILES = 256
 
 
+def check_files(files: list[tuple[str, bytes]]) -> None:
+    """DataError for an upload with no file, too many files, or an empty file."""
+    if not files:
+        raise era.DataError("No file in the upload: add at least one file part named `file`.")
+    if len(files) > MAX_FILES:
+        raise era.DataError(f"{len(files)} files in one upload; at most {MAX_FILES} are read as one dataset.")
+    for name, blob in files:
+        if not blob:
+            raise era.DataError(f"{name!r} is empty: choose a file with the measured records.")
+
+
+def named_sources(files: list[tuple[str, bytes]]) -> list:
+    """File objects of uploaded (name, bytes), each named so that era names the file in its messages."""
+    sources = []
+    for name, blob in files:
+        src = io.BytesIO(blob)
+        src.name = name
+        sources.append(src)
+    return sources
+
+
 def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
     variable, group, frf_sign, start_sample, drop, forces, references; None means not given). Raises an
     era.EraError (shown to the person as is)."""
     if kind not in KINDS:
         raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")
-    if not files:
-        raise era.DataError("No file in the upload: add at least one file part named `file`.")
-    if len(files) > MAX_FILES:
-        raise era.DataError(f"{len(files)} files in one upload; at most {MAX_FILES} are read as one dataset.")
-    sources = []
-    for name, blob in files:
-        src = io.BytesIO(blob)
-        src.name = name  # era.load names the file in its messages
-        sources.append(src)
+    sources = named_sources(files)  # checked on arrival (routes/datasets.read_parts)
     given = {k: v for k, v in options.items() if v is not None}
     ds = era.load(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
                   kind=kind, **given)

@@ -6,9 +6,8 @@ from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 
 from .. import payloads, schemas
 from ..cache import Dataset
-from ..importing import check_files
-from ..loading import channel_list, new_dataset
-from .deps import cache, dataset, jobs, progress_key
+from ..loading import channel_list, check_files, new_dataset
+from .deps import cache, dataset, jobs, read_files
 
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
 
@@ -47,11 +46,7 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
     options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group, frf_sign=frf_sign,
                    start_sample=start_sample, drop=channel_list(drop, "drop"),
                    forces=channel_list(forces, "forces"), references=channel_list(references, "references"))
-    c = cache(request)
-    if sum(len(b) for _, b in files) <= c.settings.small_upload_bytes:  # cheap: never queued behind SVDs
-        return await jobs(request).quick(new_dataset, c, files, kind, options)
-    return await jobs(request).heavy(new_dataset, c, files, kind, options, progress=progress_key(request),
-                                     message=f"Reading {files[0][0]}")
+    return await read_files(request, files, new_dataset, cache(request), files, kind, options)
 
 
 @router.get("/{dataset_id}", summary="The summary of a stored dataset", response_model=schemas.Dataset)

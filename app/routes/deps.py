@@ -51,3 +51,11 @@ async def analysis(request: Request, analysis_id: str) -> Analysis:
 async def dataset(request: Request, dataset_id: str) -> Dataset:
     """Dependency: the dataset named by the path's {dataset_id}."""
     return await find_dataset(request, dataset_id)
+
+
+async def read_files(request: Request, files: list[tuple[str, bytes]], fn, *args):
+    """``fn(*args)`` reading uploaded ``files``: small uploads on the quick pool (never queued behind SVDs), large
+    ones queued on the heavy pool with progress."""
+    if sum(len(b) for _, b in files) <= cache(request).settings.small_upload_bytes:
+        return await jobs(request).quick(fn, *args)
+    return await jobs(request).heavy(fn, *args, progress=progress_key(request), message=f"Reading {files[0][0]}")

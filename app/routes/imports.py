@@ -6,11 +6,11 @@ from fastapi import APIRouter, File, Form, Request, UploadFile
 
 from .. import schemas
 from ..errors import NotFound
-from ..importing import check_kind, given, import_json
+from ..importing import given, import_json
 from ..loading import channel_list, new_dataset
 from ..store import new_token
 from .datasets import read_parts
-from .deps import cache, jobs, progress_key, store
+from .deps import cache, jobs, read_files, store
 
 router = APIRouter(prefix="/api/imports", tags=["datasets"])
 
@@ -21,13 +21,6 @@ def _staged(request: Request, upload_id: str) -> list[tuple[str, bytes]]:
         raise NotFound(f"No upload {upload_id!r} waiting to be imported (uploads are kept a day, and only until they "
                        "become a dataset); drop the files again.")
     return files
-
-
-async def _run(request: Request, files, fn, *args, message: str):
-    """Small uploads on the quick pool, large ones queued on the heavy one with progress."""
-    if sum(len(b) for _, b in files) <= cache(request).settings.small_upload_bytes:
-        return await jobs(request).quick(fn, *args)
-    return await jobs(request).heavy(fn, *args, progress=progress_key(request), message=message)
 
 
 @router.post("", summary="Upload files for the import step: they are kept and shown as read, not yet a dataset",
@@ -50,8 +43,7 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
     upload_id = new_token()
     await jobs(request).quick(store(request).staging.add, upload_id, files)
     points = cache(request).settings.max_plot_points
-    return await _run(request, files, import_json, upload_id, files, options, points,
-                      message=f"Reading {files[0][0]}")
+    return await read_files(request, files, import_json, upload_id, files, options, points)
 
 
 @router.post("/{upload_id}/preview", summary="Read the staged files again with the person's options",
@@ -59,8 +51,7 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
 async def preview(request: Request, upload_id: str, options: schemas.ImportOptions):
     files = _staged(request, upload_id)
     points = cache(request).settings.max_plot_points
-    return await _run(request, files, import_json, upload_id, files, options.model_dump(), points,
-                      message=f"Reading {files[0][0]}")
+    return await read_files(request, files, import_json, upload_id, files, options.model_dump(), points)
 
 
 @router.post("/{upload_id}/dataset", summary="Make the dataset from the staged files with the person's options",
@@ -69,9 +60,7 @@ async def commit(request: Request, upload_id: str, options: schemas.ImportOption
     """The dataset (as POST /api/datasets returns it); its summary keeps the options. The staged files are then
     deleted. A refusal (422) names the option that fixes it in ``option``; the files stay staged."""
     files = _staged(request, upload_id)
-    check_kind(options.kind)
     said = {k: v for k, v in given(options.model_dump()).items() if k != "kind"}
-    summary = await _run(request, files, new_dataset, cache(request), files, options.kind, said,
-                         message=f"Reading {files[0][0]}")
+    summary = await read_files(request, files, new_dataset, cache(request), files, options.kind, said)
     store(request).staging.remove(upload_id)
     return summary

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import DataError
+from . import read
 from .choices import channel_indices, choose
 from .records import Records, guess_kind
 
@@ -106,8 +107,6 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
     Raises DataError when the files cannot be read at all; a missing sampling interval is not raised but returned
     in ``problem`` (the records are then shown against the sample number).
     """
-    from . import read  # the package's reader (era/io/__init__.py imports this module's users lazily)
-
     problem = option = None
     try:
         got = read(source, format, name=name, dt=dt, **how)
