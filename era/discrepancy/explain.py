@@ -261,7 +261,8 @@ def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, clo
         k += len(spec.params)
         interval = {}
         for j in idx:
-            iv = profile_interval(model, fit, fm, w, n_model, index=j)
+            iv = profile_interval(model, fit, fm, w, n_model, index=j,     # frames: solved steps, as before
+                                  ritz_modes=0 if isinstance(model, FrameModel) else 30)
             if iv is not None:
                 interval[fit.params[j].name] = iv
         params = {**found.own(i), "stiffness_factor": fit.parameters["stiffness_factor"]}

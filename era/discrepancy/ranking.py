@@ -34,7 +34,10 @@ class RankedEffect:
     locations : for located effects, the fully fitted places as (location, log_evidence, probability of
         the location given the effect), best first; a location is (x_ft, y_ft) on the grid, a node id (str) or
         a member (node i, node j) on an era.Frame.
-    seconds : wall-clock time spent on this candidate (screening + fits); n_solves : model solves it took.
+    screen : located effects screened at every place: (n_places, n_r) the change each place makes at the trial
+        size (screen_locations), for a later step's pre-screening; else None.
+    seconds : wall-clock time spent on this candidate (screening + fits); n_solves : model evaluations it took (a solve, or a
+        Rayleigh-Ritz approximation in a solved model's modes).
     """
 
     name: str
@@ -52,6 +55,7 @@ class RankedEffect:
     seconds: float = 0.0
     n_solves: int = 0
     test: Adequacy | None = None
+    screen: np.ndarray | None = None
 
     def as_dict(self) -> dict:
         return {"name": self.name, "log_evidence": self.log_evidence, "probability": self.probability,
@@ -121,7 +125,7 @@ def adequacy(fit: Fit, w: ModeWeights, alpha: float = 0.01, max_sigma: float = 4
 
 def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
                      w: ModeWeights, n_model: int, locations, with_prior: bool = False,
-                     ritz_modes: int = 0) -> tuple:
+                     ritz_modes: int = 0, prior: np.ndarray | None = None, keep: int = 12) -> tuple:
     """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
     and the size a (n_loc,) of the effect, relative to its trial size, that the linearised fit wants.
 
@@ -131,6 +135,11 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     factor's prior enters as one more residual (frames: the group of every member is a pure scaling, which the
     bare linearisation would score as a perfect, free fit). ritz_modes > 0: on models with a ``ritz`` method,
     each place's modes come from the reference's lowest ``ritz_modes`` modes (Rayleigh-Ritz) instead of a solve.
+
+    prior : (n_loc, n_r) the changes Δ_ℓ of an earlier screening of the same effect and places against another
+        reference (the search's first step); they pre-screen every place against this reference, and only the
+        best ``keep`` are screened again (a solve or Ritz each); the others score +inf (not fitted).
+    Returns (χ² (n_loc,), a (n_loc,), Δ (n_loc, n_r): the changes, NaN rows where not screened here).
     """
     u_sf = base.u[0]
     trial_u = [p.u(spec.trial[p.name]) for p in spec.params[len(spec.start):]]
@@ -143,27 +152,34 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     nudge = np.zeros(base.u.size)
     nudge[0] = 1e-3
     j_sf = (resid(build_model(nominal, base.spec, base.params, base.u + nudge, base.location)) - r0) / 1e-3
-    out = np.empty(len(locations))
+    out = np.full(len(locations), np.inf)
     size = np.zeros(len(locations))
+    changes = np.full((len(locations), n_r), np.nan)
     if with_prior:   # the stiffness factor's prior as one more residual: a pure scaling is not free
         r0 = np.r_[r0, (u_sf - nuisance.prior_mean) / nuisance.prior_std]
         j_sf = np.r_[j_sf, 1.0 / nuisance.prior_std]
-    # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
-    ritz = bool(ritz_modes) and hasattr(base.model, "ritz")
-    for i, loc in enumerate(locations):
-        u = [*base.u, *trial_u]
-        trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, loc)
-        approx = trial.ritz(base.model, ritz_modes) if ritz else None
-        d = resid(trial if approx is None else approx) - r0[:n_r]
+
+    def score(d):
         if with_prior:
             d = np.r_[d, 0.0]
         A = np.column_stack([d, j_sf])
         coef, *_ = np.linalg.lstsq(A, -r0, rcond=None)
         if coef[0] < 0:  # only the stiffness factor then
             coef = np.array([0.0, -(j_sf @ r0) / max(j_sf @ j_sf, 1e-300)])
-        out[i] = float(np.sum((r0 + A @ coef) ** 2))
-        size[i] = coef[0]
-    return out, size
+        return float(np.sum((r0 + A @ coef) ** 2)), coef[0]
+
+    todo = range(len(locations))
+    if prior is not None and prior.shape == changes.shape and np.isfinite(prior).all() and len(locations) > keep:
+        todo = np.argsort([score(d)[0] for d in prior], kind="stable")[:keep]
+    # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
+    ritz = bool(ritz_modes) and hasattr(base.model, "ritz")
+    for i in todo:
+        u = [*base.u, *trial_u]
+        trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
+        approx = trial.ritz(base.model, ritz_modes) if ritz else None
+        changes[i] = resid(trial if approx is None else approx) - r0[:n_r]
+        out[i], size[i] = score(changes[i])
+    return out, size, changes
 
 
 def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
@@ -176,7 +192,8 @@ def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
 
 def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, test: dict | None = None,
-                 fine_scan: bool = False, ritz_modes: int = 30) -> tuple:
+                 fine_scan: bool = False, ritz_modes: int = 30, base: Fit | None = None,
+                 screens: dict | None = None) -> tuple:
     """Fit every candidate, marginalise located ones, and return RankedEffects by decreasing probability.
 
     locations : candidate places of located effects whose spec gives none (the grid's joints, (n_loc, 2) x_ft,
@@ -185,6 +202,9 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     test : keyword arguments of :func:`adequacy` (its levels).
     ritz_modes : screen places in the span of this many of the reference's modes, on models that can
         (screen_locations); 0: a solve per place.
+    base : the fit of specs[0] when the caller has it (the search's last step), else it is fitted here.
+    screens : {effect name: (n_places, n_r) changes} of an earlier step's screening (RankedEffect.screen):
+        they pre-screen the places, and only the best dozen are screened again against this step's reference.
     fine_scan : (frames) start every fit from a finer scan of its parameter (located: about the screened size),
         and screen with the stiffness factor's prior as a residual; False keeps the grid's path as it was.
     The first spec must be "none", the reference (the nominal plus the nuisance, or the :func:`combined` effects
@@ -193,36 +213,43 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     if not specs or specs[0].name != "none":
         raise ValueError("rank_effects: the first candidate must be 'none' (nominal + stiffness factor).")
     t0 = time.perf_counter()
-    base = fit_effect(nominal, specs[0], nuisance, measured, w, n_model)
+    fit_ritz = 0 if fine_scan else ritz_modes      # frames keep their solved fits (fine_scan)
+    base_evals = 0
+    if base is None:
+        base = fit_effect(nominal, specs[0], nuisance, measured, w, n_model, ritz_modes=fit_ritz)
+        base_evals = base.n_evals
     rows = []  # (spec, log_evidence, best fit, locations, seconds, solves)
     for spec in specs:
         t = time.perf_counter()
         if spec.name == "none":
-            rows.append((spec, base.log_evidence, base, (), t - t0, base.n_evals))
+            rows.append((spec, base.log_evidence, base, (), t - t0, base_evals, None))
         elif not spec.located:
-            f = fit_effect(nominal, spec, nuisance, measured, w, n_model, scan=fine_scan)
-            rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals))
+            f = fit_effect(nominal, spec, nuisance, measured, w, n_model, scan=fine_scan, ritz_modes=fit_ritz)
+            rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals, None))
         else:
             places = locations if spec.locations is None else spec.locations
-            chi2, size = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
-                                          with_prior=fine_scan, ritz_modes=ritz_modes)
+            chi2, size, changes = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
+                                                   with_prior=fine_scan, ritz_modes=ritz_modes,
+                                                   prior=(screens or {}).get(spec.name))
             top = np.argsort(chi2, kind="stable")[:refine]
             # places the linearised misfit puts far behind the best are not worth a full fit: their evidence
             # is below the best's by more than e^{-12}, well within the marginal's rounding
             top = top[chi2[top] - chi2[top[0]] <= max(25.0, 0.5 * chi2[top[0]])]
             fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
-                               u0=_start(spec, base, size[i]), scan=fine_scan) for i in top]
+                               u0=_start(spec, base, size[i]), scan=fine_scan, ritz_modes=fit_ritz)
+                    for i in top]
             fits.sort(key=lambda f: -f.log_evidence)
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))
             p_loc = np.exp(les - logsumexp(les))
             locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
-            rows.append((spec, log_ev, fits[0], locs,
-                         time.perf_counter() - t, len(places) + 2 + sum(f.n_evals for f in fits)))
+            screened = int(np.isfinite(chi2).sum())
+            rows.append((spec, log_ev, fits[0], locs, time.perf_counter() - t,
+                         screened + 2 + sum(f.n_evals for f in fits), changes if screened == len(places) else None))
     log_post = np.array([r[1] + r[0].prior_log_odds for r in rows])
     prob = np.exp(log_post - logsumexp(log_post))
     out = []
-    for (spec, le, f, locs, sec, solves), p in zip(rows, prob):
+    for (spec, le, f, locs, sec, solves, screen), p in zip(rows, prob):
         t = adequacy(f, w, **(test or {}))
         out.append(RankedEffect(
             name=spec.name, log_evidence=float(le), probability=float(p),
@@ -230,6 +257,6 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             parameters={k: v for k, v in f.parameters.items()}, location=f.location, chi2=f.chi2,
             adequate=t.ok, test=t,
             max_abs_freq_error_pct=float(np.max(np.abs(f.freq_error_pct))), min_mac=float(np.min(f.mac)),
-            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves)))
+            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen))
     out.sort(key=lambda r: -r.probability)
     return tuple(out)

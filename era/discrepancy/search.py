@@ -15,6 +15,7 @@ counted. If one is not needed the search says so and names nothing (the caller's
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,8 +95,11 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
         if len(step) == 1:
             break
         # on top of named effects the residual is smaller and its places clearer: half the full fits
+        # the reference of this step is the last step's best fit (the same model and parameters): not re-fitted
+        base = dataclasses.replace(best.fit, spec=step[0], location=None)
         ranking = rank_effects(model, step, nuisance, measured, w, n_model, locations,
-                               refine=max(1, refine // 2), fine_scan=fine_scan, test=test)
+                               refine=max(1, refine // 2), fine_scan=fine_scan, test=test, base=base,
+                               screens={r.name: r.screen for r in first if r.screen is not None})
         rankings.append(ranking)
     if not named:
         return Search(tuple(rankings), (), (), None)
@@ -105,7 +109,11 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
         chain = _chain(tuple(specs), tuple(named), fit)
         for i in range(len(named)):
             rest = chain[:i] + chain[i + 1:]
-            without = fit_effect(model, combined(rest, EffectSpec("none")), nuisance, measured, w, n_model)
+            if i == len(named) - 1:     # without the last: the set before it, as fitted in its own step
+                without = named[-2].fit
+            else:
+                without = fit_effect(model, combined(rest, EffectSpec("none")), nuisance, measured, w, n_model,
+                                     ritz_modes=0 if fine_scan else 30)
             gain = fit.log_evidence + _location_cost(named[i]) - without.log_evidence
             if gain < min_log_bayes:
                 not_needed.append(named[i].name)

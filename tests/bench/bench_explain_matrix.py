@@ -114,24 +114,46 @@ def matrix(seeds=(0, 1), groups=tuple(GROUPS)):
     return rows
 
 
+def _cpu_median(fn, repeat: int = 9) -> float:
+    times = []
+    for _ in range(repeat):
+        t = time.process_time()
+        fn()
+        times.append(time.process_time() - t)
+    return float(sorted(times)[repeat // 2])
+
+
 def test_one_two_effect_case_time():
     """One blind case with two hidden effects (the search runs two steps): the issue asks for < 10 s on 2 cores.
-    Prints where the time goes; fails above 30 s (a regression, or a machine shared with other heavy work)."""
+    Prints where the time goes, the machine-independent counts (full solves, Rayleigh-Ritz evaluations,
+    self-weight solves), the wall-clock and the CPU seconds of this (single-threaded) process, and the CPU time
+    as a multiple of one grid solve's CPU time in the same process: on a shared machine the wall clock waits
+    for the others, the CPU seconds are what an idle 2-core machine would take (explain uses one core), and the
+    ratio travels between machines. Fails above 600 solves' worth (1319 before the Ritz fits, 13.6 s) or 30 s."""
     model = nasa_grid()
     k = iter(range(1, 100))
-    ref = median_time(lambda: model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16), repeat=9)
-    c = run_case(("point_mass", "cable_length"), 0)
-    r = c["result"]
-    print(f"\none grid solve (build + modes(16)) here: {1e3 * ref:.1f} ms; the case took {c['seconds'] / ref:.0f} × that")
-    print(f"two-effect case (point_mass + cable_length, seed 0): {c['seconds']:.1f} s, {c['solves']} solves "
-          f"(screening by Rayleigh-Ritz counted as one each); ERA {r.timing_s['era_s']:.2f} s, search "
-          f"{r.timing_s['ranking_s']:.1f} s, report {r.timing_s['report_s']:.2f} s; named "
-          f"{[e.name for e in r.effects]}")
+
+    def one_solve():
+        return _cpu_median(lambda: model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16))
+
+    ref = one_solve()
+    data, truth = simulate_grid_test(("point_mass", "cable_length"), seed=0)
+    nominal = nasa_grid(**truth["nominal_params"])
+    t, c = time.perf_counter(), time.process_time()
+    r = era.explain(data, nominal)
+    seconds, cpu = time.perf_counter() - t, time.process_time() - c
+    ref = min(ref, one_solve())
+    counts = nominal.cache.counts()
+    print(f"\none grid solve (build + modes(16)) here: {1e3 * ref:.1f} ms CPU; the case took {cpu / ref:.0f} × that")
+    print(f"two-effect case (point_mass + cable_length, seed 0): {seconds:.1f} s wall, {cpu:.1f} s CPU; "
+          f"{counts['solves']} solves, {counts['ritz']} Rayleigh-Ritz, {counts['statics']} self-weight solves, "
+          f"{counts['hits']} cache hits; ERA {r.timing_s['era_s']:.2f} s, search {r.timing_s['ranking_s']:.1f} s, "
+          f"report {r.timing_s['report_s']:.2f} s (wall); named {[e.name for e in r.effects]}")
     for k, ranking in enumerate(r.rankings):
         for x in ranking:
-            print(f"   step {k + 1} {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} solves")
-    assert c["outcome"] == "right"
-    assert c["seconds"] < 30.0
+            print(f"   step {k + 1} {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} evaluations")
+    assert classify(r, truth) == "right"
+    assert cpu / ref < 600 and seconds < 30.0
 
 
 def test_no_confident_wrong_name():
