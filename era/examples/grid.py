@@ -474,6 +474,10 @@ class GridModel:
     def _attachments(self, nodes: np.ndarray, phi: np.ndarray) -> np.ndarray:
         """Static responses (K + M)⁻¹ e of this model to unit loads on every DOF of ``nodes``, with their part in
         the span of the mass-normalised modes ``phi`` removed and scaled to unit norm; (n_dof, ≤ 3·len(nodes))."""
+        kept = self.__dict__.setdefault("_attached", {})     # a fit's trials change the same few nodes
+        key = (nodes.tobytes(), phi.shape[1])
+        if key in kept:
+            return kept[key]
         _, system, *_ = self._system
         lu = self.__dict__.get("_shifted_lu")
         if lu is None:   # K + M: non-singular even with a free swing (gravity off), and the same span
@@ -485,7 +489,10 @@ class GridModel:
         a -= phi @ (phi.T @ (system.M @ a))
         q, r = np.linalg.qr(a)
         keep = np.abs(np.diag(r)) > 1e-8 * max(np.abs(np.diag(r)).max(), 1e-300)
-        return q[:, keep]
+        if len(kept) > 64:
+            kept.clear()
+        kept[key] = q[:, keep]
+        return kept[key]
 
     def geometry(self) -> Geometry:
         """The 88 joints in metres (z = 0), the 157 segments as edges, the nine channels along +z."""
@@ -514,16 +521,15 @@ def _changed_nodes(frame: fem.Frame, ref: fem.Frame, node_ref: np.ndarray, new_s
                       else np.inf)
     if sprung > most // 2:     # the springs of many joints changed: a few per cent is for the modes to carry,
         return np.zeros(0, int) if rel <= 0.05 else None     # more needs every joint's relative rotation
-    for name in ("EI_out", "GJ", "mass_per_length", "rho_ip"):
-        ratio = getattr(frame, name) / getattr(ref, name)
-        odd = np.flatnonzero(np.abs(ratio - np.median(ratio)) > 1e-9 * np.abs(np.median(ratio)))
-        if odd.size > most:
-            return np.zeros(0, int)
-        out |= set(node_ref[frame.bars[odd].ravel()].tolist())
-    mass = np.zeros(ref.n_nodes)
-    np.add.at(mass, node_ref, frame.node_mass)
-    springs = np.zeros((ref.n_nodes, 3))
-    np.add.at(springs, node_ref, frame.node_springs)
+    ratio = (np.stack([frame.EI_out, frame.GJ, frame.mass_per_length, frame.rho_ip])
+             / np.stack([ref.EI_out, ref.GJ, ref.mass_per_length, ref.rho_ip]))
+    shared = np.median(ratio, axis=1, keepdims=True)
+    odd = np.flatnonzero(np.any(np.abs(ratio - shared) > 1e-9 * np.abs(shared), axis=0))
+    if odd.size > most:
+        return np.zeros(0, int)
+    out |= set(node_ref[frame.bars[odd].ravel()].tolist())
+    mass = np.bincount(node_ref, frame.node_mass, ref.n_nodes)
+    springs = np.stack([np.bincount(node_ref, frame.node_springs[:, i], ref.n_nodes) for i in range(3)], axis=1)
     out |= set(np.flatnonzero(np.abs(mass - ref.node_mass) > 1e-12).tolist())
     out |= set(np.flatnonzero(np.any(np.abs(springs - ref.node_springs) > 1e-9 * np.abs(ref.node_springs).max(),
                                      axis=1)).tolist())
