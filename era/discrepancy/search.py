@@ -10,7 +10,8 @@ and weighed against the model with the named effect alone, by the same threshold
 A greedy order can pick first an effect that a later one makes redundant (two effects that together mimic a
 third). So when two or more are named, each must still be needed: the set without it, re-fitted, must lose by
 the same Bayes factor, the named place's Occam cost (log p(location | effect), from its step's marginalisation)
-counted. If one is not needed the search says so and names nothing (the caller's verdict is "ambiguous").
+counted. If one is not needed the search says so and names nothing (the caller's verdict is "ambiguous"). The set
+without the last named effect is the previous step's fit itself; the others are re-fitted.
 """
 
 from __future__ import annotations
@@ -76,7 +77,9 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
     """Name up to ``max_effects`` effects greedily (see the module docstring).
 
     library : the candidate EffectSpecs, "none" first; first : the step-1 ranking of them (rank_effects).
-    The other arguments are rank_effects'. About one step-1 ranking's worth of solves per further step.
+    The other arguments are rank_effects'. A further step costs less than the first: its reference is the last
+    step's best fit (not fitted again), its places are pre-screened by the first step's per-place changes
+    (RankedEffect.screen, only the best dozen screened again), and half as many places are fitted in full.
     """
     rankings, named, specs = [first], [], []
     ranking = first
@@ -99,7 +102,7 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
         base = dataclasses.replace(best.fit, spec=step[0], location=None)
         ranking = rank_effects(model, step, nuisance, measured, w, n_model, locations,
                                refine=max(1, refine // 2), fine_scan=fine_scan, test=test, base=base,
-                               screens={r.name: r.screen for r in first if r.screen is not None})
+                               screens=None if fine_scan else {r.name: r.screen for r in first if r.screen is not None})
         rankings.append(ranking)
     if not named:
         return Search(tuple(rankings), (), (), None)

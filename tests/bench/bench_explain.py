@@ -7,7 +7,7 @@ Prints one row per case: truth, verdict, named effect, parameter error ± the re
 or, when the data bound the parameter on one side only (a loose joint's stiffness), the bound and whether it holds,
 location, after-gap, seconds; and, for
 one case, where the time goes (ERA, each candidate). Reference for the timing ratio: one nominal grid solve
-(build + modes(16)) in the same process — explain costs a few hundred to a thousand of them.
+(build + modes(16)) in the same process, in CPU seconds — explain costs a few hundred of them.
 """
 
 from __future__ import annotations
@@ -107,22 +107,37 @@ def limits(seeds=(0, 1)):
 
 
 def test_one_blind_case_time():
-    """One blind case costs a few hundred nominal grid solves (427 measured in session 2; 2.7 s): the ranking's
-    solves dominate. Fails if it costs more than 700 (a regression of the fitting or of the solve itself)."""
+    """One blind case costs a few hundred nominal grid solves' worth of CPU (427 solves in session 2, 2.7 s; a
+    few hundred Rayleigh-Ritz evaluations and a few dozen solves since the Ritz fits). CPU seconds of this
+    single-threaded process, against one solve's CPU seconds in the same process: the machine is shared.
+    Fails above 600 solves' worth (a regression of the fitting or of the solve itself)."""
     model = nasa_grid()
     k = iter(range(1, 100))
-    ref = median_time(lambda: model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16), repeat=9)
+
+    def one_solve():
+        times = []
+        for _ in range(9):
+            c = time.process_time()
+            model.with_params(stiffness_factor=1.0 + 1e-4 * next(k)).modes(16)
+            times.append(time.process_time() - c)
+        return sorted(times)[4]
+
+    ref = one_solve()
+    c0 = time.process_time()
     c = run_case({"name": "point_mass", "point_mass_kg": 1.0, "point_mass_at": (7.0, 2.0)}, 3)
+    cpu = time.process_time() - c0
+    ref = min(ref, one_solve())
     r = c["result"]
-    ratio = c["seconds"] / ref
-    print(f"\none blind case (point_mass, seed 3): {c['seconds']:.1f} s = {ratio:.0f} × one grid solve "
-          f"({ref * 1e3:.1f} ms); ERA {r.timing_s['era_s']:.2f} s, ranking {r.timing_s['ranking_s']:.1f} s, "
-          f"report {r.timing_s['report_s']:.2f} s")
+    ratio = cpu / ref
+    counts = r.nominal_model.cache.counts()
+    print(f"\none blind case (point_mass, seed 3): {c['seconds']:.1f} s wall, {cpu:.1f} s CPU = {ratio:.0f} × one "
+          f"grid solve ({ref * 1e3:.1f} ms CPU); {counts['solves']} solves, {counts['ritz']} Rayleigh-Ritz, "
+          f"{counts['statics']} self-weight solves; ERA {r.timing_s['era_s']:.2f} s, ranking "
+          f"{r.timing_s['ranking_s']:.1f} s, report {r.timing_s['report_s']:.2f} s")
     for x in r.ranking:
-        print(f"   {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} solves")
-    solves = sum(x.n_solves for x in r.ranking)
-    assert r.timing_s["ranking_s"] / ref < 2.0 * solves  # the ranking is its solves, not overhead around them
-    assert ratio < 700, f"one blind case took {ratio:.0f} grid solves"
+        print(f"   {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} evaluations")
+    assert c["named"] == "point_mass"
+    assert ratio < 600, f"one blind case took {ratio:.0f} grid solves"
 
 
 def test_blind_matrix():
