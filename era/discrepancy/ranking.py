@@ -176,7 +176,7 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     for i in todo:
         u = [*base.u, *trial_u]
         trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
-        approx = trial.ritz(base.model, ritz_modes) if ritz else None
+        approx = getattr(trial, "screening_ritz", trial.ritz)(base.model, ritz_modes) if ritz else None
         changes[i] = resid(trial if approx is None else approx) - r0[:n_r]
         out[i], size[i] = score(changes[i])
     return out, size, changes

@@ -360,6 +360,12 @@ class GridModel:
         self.cache.n_ritz += 1
         return RitzModes(f, (basis @ v)[w_joint], np.array([joint_index(s) for s in SENSORS_FT]))
 
+    def screening_ritz(self, reference: "GridModel", n_modes: int) -> "RitzModes | None":
+        """:meth:`ritz` in the reference's modes alone, without attachment modes: the approximation the place
+        screening (ranking.screen_locations) was calibrated with. With attachments, a loose joint's screened
+        misfit ranks places differently (a blind loose joint at (10, 2), seed 3, fell out of the places fitted)."""
+        return self.ritz(reference, n_modes, attach=False)
+
     def geometry(self) -> Geometry:
         """The 88 joints in metres (z = 0), the 157 segments as edges, the nine channels along +z."""
         xyz = np.column_stack([JOINTS_FT * FT, np.zeros(NX * NY)])
