@@ -57,6 +57,10 @@ class EffectSpec:
         posterior probabilities use it, the Bayes factors (the data's say) do not.
     start : transformed values u of the leading parameters to start every fit from (the fitted values of the
         effects already named, see :func:`combined`); the others start at their prior means.
+    place_temperature : the places' probabilities given the effect are ∝ exp(log evidence / T): T > 1 when the
+        candidate idealises the truth's form (a crack is not one member's E and G scaled together), whose
+        misfit then shifts between neighbouring places by a few nats; T = 2 is the error variance doubled for
+        comparing places. The effect's evidence (summed over places) is not tempered.
     """
 
     name: str
@@ -70,6 +74,7 @@ class EffectSpec:
     caveat: str = ""
     start: tuple = ()
     prior_log_odds: float = 0.0
+    place_temperature: float = 1.0
 
     @property
     def located(self) -> bool:
@@ -93,18 +98,22 @@ def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
         start += [float(x) for x in u]
     fixed.update(spec.fixed)
     return EffectSpec(spec.name, tuple(params) + tuple(spec.params), fixed, spec.location_keyword, spec.locations,
-                      spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds)
+                      spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds,
+                      spec.place_temperature)
 
 
 def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,
                      prior_log_odds: float = 0.0) -> EffectSpec:
     """The member_stiffness candidate (design/effects.md): one member's element stiffness (E and G together)
     scaled by a factor θ, fitted as ln θ with prior N(ln prior_factor, prior_std²), at any of ``locations``
-    (model keywords member_at, member_factor; the grid and era.Frame models both take them)."""
+    (model keywords member_at, member_factor; the grid and era.Frame models both take them). Its places are
+    compared at T = 2 (EffectSpec.place_temperature): a blind crack (EI × 0.1-0.3, GJ × its root) in a grid
+    member was fitted better one parallel member over, by 3.3 nats (tests/bench/bench_explain_matrix.py, member +
+    torsion, seed 5), which untempered read as 96 % for the wrong member."""
     return EffectSpec("member_stiffness", (Param("member_factor", True, np.log(prior_factor), prior_std, ""),),
                       location_keyword="member_at", locations=tuple(locations),
                       trial={"member_factor": prior_factor}, trial_power=-1.0, summary=summary,
-                      prior_log_odds=prior_log_odds)
+                      prior_log_odds=prior_log_odds, place_temperature=2.0)
 
 
 def nuisance(model, prior_std: float = 0.015) -> Param:

@@ -241,7 +241,8 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             fits.sort(key=lambda f: -f.log_evidence)
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))
-            p_loc = np.exp(les - logsumexp(les))
+            t_place = spec.place_temperature    # the places' probabilities, with the candidate's model-form allowance
+            p_loc = np.exp(les / t_place - logsumexp(les / t_place))
             locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
             screened = int(np.isfinite(chi2).sum())
             rows.append((spec, log_ev, fits[0], locs, time.perf_counter() - t,
