@@ -138,3 +138,18 @@ def test_screening_in_the_references_modes_is_close_to_a_solve():
         assert np.min(era.mac(sa, s).diagonal()) > 0.99
     other_mesh = nasa_grid(elements_per_bar=2)
     assert other_mesh.ritz(ref, 30) is None
+
+
+def test_a_damaged_members_places_carry_the_model_form_allowance():
+    """member_stiffness compares its places at T = 2: probabilities ∝ exp(log evidence / 2), while the effect's
+    evidence stays the untempered marginal over all 157 members (EffectSpec.place_temperature)."""
+    from scipy.special import logsumexp
+    nominal = nasa_grid()
+    f, s = nominal.with_params(member_at=((9.0, 3.0), (9.0, 4.0)), member_factor=0.3).modes(12)
+    r = explain(modes_from_arrays(f * 1.002, s), nominal, effects=_library("member_stiffness"))
+    m = r.candidate("member_stiffness")
+    les = np.array([le for _, le, _ in m.locations])
+    q = np.array([p for *_, p in m.locations])
+    assert len(les) >= 2 and m.location == ((9.0, 3.0), (9.0, 4.0))
+    np.testing.assert_allclose(q, np.exp(les / 2 - logsumexp(les / 2)), rtol=1e-9)
+    assert m.log_evidence == pytest.approx(logsumexp(les) - np.log(len(MEMBERS_FT)), abs=1e-9)
