@@ -16,7 +16,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import EraError
-from .grid import (AIR_JET_FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ,
+from .grid import (AIR_JET_FT, CABLES_FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ,
                    SEGMENT_JOINTS, SENSORS_FT, GridModel, GridPerturbation, joint_index, nasa_grid, segment_index)
 
 EFFECTS = ("joint_flexibility", "torsion_stiffness", "cable_length", "distributed_mass", "point_mass",
@@ -199,7 +199,14 @@ def _truth_model(effects: list, rng, *, elements_per_bar: int, scatter: float, e
                    f"{'y' if orientation == 'x' else 'x'} = {float(at):g} ft has EI × {factor:g}")
         elif name == "ground_spring":
             k = float(given.get("stiffness_n_per_m", np.exp(rng.uniform(np.log(30.0), np.log(150.0)))))
-            at = tuple(given.get("at", JOINTS_FT[rng.integers(NX * NY)]))
+            at = given.get("at")
+            if at is None:
+                at = tuple(JOINTS_FT[rng.integers(NX * NY)])
+                # a spring to ground where a cable hangs is that cable's pendulum spring T/L made stiffer: in the
+                # library (cable_length), not outside it, so no random draw puts one there
+                while tuple(map(float, at)) in CABLES_FT:
+                    at = tuple(JOINTS_FT[rng.integers(NX * NY)])
+            at = tuple(at)
             springs = np.zeros(NX * NY)
             springs[joint_index(at)] = k
             pert["ground_springs"] = springs
