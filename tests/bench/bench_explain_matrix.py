@@ -1,6 +1,7 @@
 """era.explain's confusion matrix on blind simulated tests: single effects, pairs, damage, out-of-library effects.
 
-Run: nice python3 tests/bench/bench_explain_matrix.py 0,1            (every group, these seeds)
+Run: nice python3 tests/bench/bench_explain_matrix.py 0,1,2,3,4,5    (every group, these seeds; ~15 min as two
+     processes, 0,1,2 and 3,4,5, on a shared 2-core machine)
  or: nice python3 tests/bench/bench_explain_matrix.py 0,1 pairs      (one group: single, pairs, damage, outside)
  or: python3 -m pytest -s tests/bench/bench_explain_matrix.py        (seeds 0, 1; fails on a confident wrong name)
  or: python3 -m pytest -s tests/bench/bench_explain_matrix.py -k time (one two-effect case: where the time goes)
@@ -129,7 +130,7 @@ def test_one_two_effect_case_time():
     self-weight solves), the wall-clock and the CPU seconds of this (single-threaded) process, and the CPU time
     as a multiple of one grid solve's CPU time in the same process: on a shared machine the wall clock waits
     for the others, the CPU seconds are what an idle 2-core machine would take (explain uses one core), and the
-    ratio travels between machines. Fails above 600 solves' worth (1319 before the Ritz fits, 13.6 s) or 30 s."""
+    ratio travels between machines. Fails above 800 solves' worth (1319 before the Ritz fits, 13.6 s) or 30 s."""
     model = nasa_grid()
     k = iter(range(1, 100))
 
@@ -153,7 +154,7 @@ def test_one_two_effect_case_time():
         for x in ranking:
             print(f"   step {k + 1} {x.name:20s} {x.seconds:5.2f} s  {x.n_solves:4d} evaluations")
     assert classify(r, truth) == "right"
-    assert cpu / ref < 600 and seconds < 30.0
+    assert cpu / ref < 800 and seconds < 30.0
 
 
 def test_no_confident_wrong_name():
