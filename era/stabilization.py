@@ -3,7 +3,6 @@ that persist across orders."""
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,6 +10,7 @@ import numpy as np
 from .errors import EraError
 from .indicators import mac
 from .realization import Identification
+from .sweep import blas_threads, in_parallel, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9
@@ -140,27 +140,6 @@ def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
     return merged
 
 
-def blas_threads() -> int:
-    """Threads the loaded BLAS may use (threadpoolctl's view, so a ``threadpool_limits`` applies); 1 without
-    threadpoolctl. The sweep runs that many orders at a time: each order's eigensolution is too small for a
-    threaded BLAS, so threads across orders are what makes the sweep scale like the SVD does."""
-    try:
-        from threadpoolctl import threadpool_info
-    except ImportError:
-        return 1
-    counts = [int(lib.get("num_threads") or 1) for lib in threadpool_info() if lib.get("user_api") == "blas"]
-    return max(counts, default=1)
-
-
-def _single_threaded_blas():
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        from contextlib import nullcontext
-        return nullcontext()
-    return threadpool_limits(1, user_api="blas")
-
-
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
                   damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3,
                   uncertainty: bool = False, workers: int | None = None) -> Stabilization:
@@ -197,60 +176,30 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     if not req or req[0] < 1:
         raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
     done = [n for n in req if n <= ident.max_order]
-    d = ident.data
-    if done:
-        ident.projected(done[-1])  # one projection of H(1) for every order
     workers = blas_threads() if workers is None else max(1, int(workers))
-
-    def realize(n):
-        return ident._model(n, False)
-
-    def in_parallel(fn, items):
-        if workers > 1 and len(items) > 1:
-            # one BLAS thread per worker while they run: the cores go to orders, not to BLAS threads that
-            # would fight over them (threadpoolctl's limit is process-wide for the duration of the sweep)
-            with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
-                out = dict(zip(items[::-1], pool.map(fn, items[::-1])))  # largest first: ends on small ones
-            return [out[x] for x in items]
-        return [fn(x) for x in items]
-
-    realized = in_parallel(realize, done)
-    cols = []
-    prev = None
-    for n, (model, *_) in zip(done, realized):
-        f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
-        if prev is None or len(prev[0]) == 0 or len(f) == 0:  # nothing to compare with
-            sf = sd = ss = np.zeros(len(f), dtype=bool)
-        else:
-            df = _relative_change(f, prev[0])
-            near = np.argmin(df, axis=1)
-            rows = np.arange(len(f))
-            sf = df[rows, near] <= freq_tol
-            sd = _relative_change(z, prev[1])[rows, near] <= damping_tol
-            ss = mac(sh, prev[2])[rows, near] >= mac_min
-        prev = (f, z, sh)
-        nan = np.full(len(f), np.nan)
-        cols.append((np.full(len(f), n), np.arange(len(f)), f, z, model.emac, model.mpc, model.contribution,
-                     sf, sd, ss, nan, nan.copy(), sh))
+    sw = realize_orders(ident, done, workers)
+    order, freq, damp, gamma, mu, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.emac, sw.mpc, sw.shapes
+    sf, sd, ss = (np.zeros(freq.size, dtype=bool) for _ in range(3))
+    for k in range(1, len(done)):  # each order against the previous one
+        now, before = sw.of(k), sw.of(k - 1)
+        if now.start == now.stop or before.start == before.stop:  # nothing to compare with
+            continue
+        df = _relative_change(freq[now], freq[before])
+        near = np.argmin(df, axis=1)
+        rows = np.arange(df.shape[0])
+        sf[now] = df[rows, near] <= freq_tol
+        sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
+        ss[now] = mac(shapes[:, now], shapes[:, before])[rows, near] >= mac_min
+    stable = sf & sd & ss
+    f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
     if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
         def std_of_stable(k):
-            n, (model, raw, perm, clusters) = done[k], realized[k]
-            stable = np.flatnonzero(cols[k][7] & cols[k][8] & cols[k][9])
-            if stable.size:
-                cols[k][10][stable], cols[k][11][stable] = ident.mode_std(n, raw, perm[stable], clusters)
+            raw, perm, clusters = sw.raw[k]
+            at = np.flatnonzero(stable[sw.of(k)])
+            if at.size:
+                f_std[at + sw.start[k]], d_std[at + sw.start[k]] = ident.mode_std(done[k], raw, perm[at], clusters)
 
-        in_parallel(std_of_stable, list(range(len(done))))
-    p = d.n_outputs
-    if cols:
-        parts = list(zip(*cols))
-        arrays = [np.concatenate(x) for x in parts[:-1]]
-        shapes = np.concatenate(parts[-1], axis=1)
-    else:
-        arrays = [np.zeros(0, dtype=t)
-                  for t in (int, int, float, float, float, float, float, bool, bool, bool, float, float)]
-        shapes = np.zeros((p, 0), dtype=complex)
-    order, mode_index, freq, damp, gamma, mu, contrib, sf, sd, ss, f_std, d_std = arrays
-    stable = sf & sd & ss
+        in_parallel(std_of_stable, list(range(len(done))), workers)
     modes = []
     for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
         c = np.array(c)
@@ -261,7 +210,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy(),
             data_frequency_std_hz=float(f_std[c[-1]]), data_damping_std=float(d_std[c[-1]])))
     modes.sort(key=lambda m: m.frequency_hz)
-    return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=mode_index, frequency_hz=freq,
-                         damping_ratio=damp, emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf,
-                         stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
+    return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=sw.mode_index,
+                         frequency_hz=freq, damping_ratio=damp, emac=gamma, mpc=mu, contribution=sw.contribution,
+                         stable_frequency=sf, stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
                          frequency_std_hz=f_std, damping_std=d_std)

@@ -67,7 +67,8 @@ def randomized_svd(
     return (basis @ u_small[:, :rank]), d[:rank], vt[:rank].T
 
 
-def truncated_svd(h: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def truncated_svd(h: np.ndarray, rank: int,
+                  gram: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Leading ``rank`` singular triplets of ``h`` from the Gram matrix of its shorter side, refined by one
     Rayleigh-Ritz step on ``h`` itself.
 
@@ -89,16 +90,20 @@ def truncated_svd(h: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray, np.
     power iterations stall. Lanczos (scipy.sparse.linalg.svds with PROPACK or ARPACK) is as accurate but, at
     rank 120, is no faster than gesdd on these sizes.
 
+    ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds that of a block
+    Hankel matrix by a recursion, without the product).
+
     Returns
     -------
     P : (rows, rank), d : (rank,) descending, Q : (cols, rank).
     """
     rows, cols = h.shape
     if rows > cols:
-        Q, d, P = truncated_svd(h.T, rank)
+        Q, d, P = truncated_svd(h.T, rank, gram)
         return P, d, Q
     rank = int(min(rank, rows))
-    gram = h @ h.T
+    if gram is None:
+        gram = h @ h.T
     w, v = scipy.linalg.eigh(gram, subset_by_index=[rows - rank, rows - 1], driver="evr", check_finite=False)
     del gram
     w, v = w[::-1], v[:, ::-1]
