@@ -24,9 +24,9 @@ import numpy as np
 from . import indicators
 from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
 
-#: modes per batched product of the histories (bounds its memory: CHUNK_MODES · s·m complex numbers, 38 MB
+#: modes per batched product of the histories (bounds its memory: CHUNK_MODES · s·m complex numbers, 11 MB
 #: for s·m = 2392) — large enough to run at BLAS-3 speed.
-CHUNK_MODES = 1000
+CHUNK_MODES = 300
 
 
 @dataclass(frozen=True, eq=False)
