@@ -27,8 +27,8 @@ class Identification:
     row_shifts, col_shifts : int ndarray, shapes (r,) and (s,)
         (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
-        d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD, the computed rank for the
-        truncated and randomized ones.
+        d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD and for the truncated one of a
+        noisy H(0) (past K from the Gram matrix's eigenvalues: era.svd.truncated_svd), else the computed rank.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
     svd_method : "dense", "truncated" or "randomized"
@@ -372,9 +372,9 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
         P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape), hankel.gram(data.markov, js, ts, h0))
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
-    # keep the numerical rank (and no more than max_order) of the singular triplets
+    # keep the numerical rank (and no more than max_order) of the singular triplets computed
     tol = max(h0.shape) * np.finfo(float).eps * (d[0] if d.size else 0.0)
-    keep = int(np.count_nonzero(d > tol))
+    keep = int(np.count_nonzero(d[:P.shape[1]] > tol))
     if max_order is not None:
         keep = min(keep, max_order)
     del h0
