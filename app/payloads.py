@@ -18,9 +18,7 @@ from era.stabilization import COHERENT_MIN
 from era.suggest import hankel_size, order_cap, order_from_singular_values
 
 from .config import Settings
-
-#: The default largest order offered for a new dataset (the person may ask for more, up to ERA_MAX_ORDER).
-DEFAULT_MAX_ORDER = 200
+from .limits import DEFAULT_MAX_ORDER  # the default largest order offered for a new dataset
 
 
 def floats(values) -> list:

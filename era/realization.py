@@ -87,11 +87,18 @@ class Identification:
         if order < 1:
             raise OrderError(f"`order` must be at least 1, got {order}.")
         if order > self.max_order:
+            k = self.max_order
+            d = self.singular_values
+            capped = self.svd_method != "dense" or (d.size > k and d[k] > max(self.P.shape[0], self.Q.shape[0])
+                                                    * np.finfo(float).eps * d[0])
+            if capped:
+                raise OrderError(
+                    f"Order {order} is above this identification's max_order, {k}: only the leading {k} singular "
+                    f"triplets of H(0) were kept. Choose an order ≤ {k}, or identify again with a larger max_order "
+                    f"(at most min(r·p, s·m) = {min(self.P.shape[0], self.Q.shape[0])}).")
             raise OrderError(
-                f"Order {order} is above the numerical rank of H(0), {self.max_order}: singular values past it "
-                f"are round-off or were not computed. Choose an order ≤ {self.max_order}"
-                + (" (or identify with a larger max_order)." if self.svd_method != "dense" else ".")
-            )
+                f"Order {order} is above the numerical rank of H(0), {k}: the singular values past it are "
+                f"round-off. Choose an order ≤ {k}.")
         return order
 
     def projected(self, order: int) -> np.ndarray:

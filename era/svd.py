@@ -13,9 +13,10 @@ from .errors import EraError
 DENSE_SVD_WORK_LIMIT = 8e9
 
 #: "auto" takes the truncated SVD when the rank asked is at most this fraction of min(shape) ("far below"):
-#: its cost, min² · max / 2 for the Gram product plus an eigensolution of min(shape)², is then about a
-#: quarter of gesdd's (tests/bench/bench_sweep.py).
-TRUNCATED_RANK_FRACTION = 0.25
+#: its cost, the Gram matrix (era.hankel.gram: a recursion for a block Hankel H(0)) and one tridiagonal
+#: reduction of min(shape)², is then at most about 0.6 of gesdd's on a square H(0) (792 × 798: 0.48 at rank
+#: 200, 0.70 at rank 300) and less on an oblong one (900 × 2392 at rank 120: 0.15; tests/bench/bench_sweep.py).
+TRUNCATED_RANK_FRACTION = 1 / 3
 
 #: ... and min(shape) at most this: the Gram matrix's eigensolution grows as min(shape)³ (above it, randomized).
 TRUNCATED_MAX_SIDE = 6000
