@@ -94,6 +94,15 @@ def _relative_change(new: np.ndarray, old: np.ndarray) -> np.ndarray:
     return out
 
 
+def _pair_mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """MAC of each column of ``a`` (p, k) with the same column of ``b`` (p, k): (k,), as indicators.mac."""
+    num = np.abs(np.einsum("pk,pk->k", a.conj(), b)) ** 2
+    den = np.einsum("pk,pk->k", a.conj(), a).real * np.einsum("pk,pk->k", b.conj(), b).real
+    out = np.zeros(num.shape)
+    np.divide(num, den, out=out, where=den > 0)
+    return np.clip(out, 0.0, 1.0)
+
+
 def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list[list[int]]:
     """Track stable poles across orders: each joins the cluster whose latest pole is nearest in frequency,
     within freq_tol and MAC ≥ mac_min, at most one pole per cluster and order (so repeated or close modes
@@ -128,15 +137,21 @@ def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
     order where the pole was not stable): same mean frequency within freq_tol and no order in common.
     Only tracks that already pass min_orders are joined, so stray noise poles do not add up to a mode."""
     merged: list[list[int]] = []
+    means: list[float] = []  # of each merged track, kept with it
+    orders: list[set] = []
     for c in sorted(clusters, key=len, reverse=True):
         f = freq[c].mean()
-        for m in merged:
-            if abs(freq[m].mean() - f) <= freq_tol * max(abs(f), 1e-300) and not set(order[m]) & set(order[c]):
+        mine = set(order[c].tolist())
+        for k, m in enumerate(merged):
+            if abs(means[k] - f) <= freq_tol * max(abs(f), 1e-300) and not orders[k] & mine:
                 m.extend(c)
                 m.sort()
+                means[k], orders[k] = freq[m].mean(), orders[k] | mine
                 break
         else:
             merged.append(list(c))
+            means.append(f)
+            orders.append(mine)
     return merged
 
 
@@ -189,7 +204,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         rows = np.arange(df.shape[0])
         sf[now] = df[rows, near] <= freq_tol
         sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
-        ss[now] = mac(shapes[:, now], shapes[:, before])[rows, near] >= mac_min
+        ss[now] = _pair_mac(shapes[:, now], shapes[:, before][:, near]) >= mac_min
     stable = sf & sd & ss
     f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
     if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
