@@ -20,7 +20,7 @@
     { key: "mpc", label: "μ", title: "modal phase collinearity (eqs. 46-54)", value: (m, k) => m.mpc[k],
       text: (m, k) => num(m.mpc[k], 3) },
     { key: "shape_scatter", label: "1 − MAC",
-      title: "shape scatter from the data: the expected 1 − MAC between this shape and the true one (– until computed)",
+      title: "shape scatter from the data: expected 1 − MAC between this shape and the true one (– until computed)",
       value: (m, k) => std(m, "shape_scatter", k), text: (m, k) => num(std(m, "shape_scatter", k), 4) },
     { key: "emac_mpc", label: "γ·μ", title: "product, the colour of the stabilization diagram",
       value: (m, k) => m.emac_mpc[k], text: (m, k) => num(m.emac_mpc[k], 3) },
