@@ -352,12 +352,16 @@ class Frame:
 
     def beam_ends(self, node: str) -> list:
         """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``."""
-        out = []
-        for k, (i, j, *_) in enumerate(self.members):
-            axis = np.subtract(self.nodes[j], self.nodes[i])
-            if np.linalg.norm(np.cross(axis / np.linalg.norm(axis), self.vertical)) > 1e-6:
-                out += [(k, side) for side, n in enumerate((i, j)) if n == node]
-        return out
+        ends = self.__dict__.get("_beam_ends")
+        if ends is None:     # once per frame: explain asks for every node's, and for each candidate joint
+            xyz = np.array([np.subtract(self.nodes[j], self.nodes[i]) for i, j, *_ in self.members])
+            unit = xyz / np.linalg.norm(xyz, axis=1)[:, None]
+            beam = np.linalg.norm(np.cross(unit, self.vertical), axis=1) > 1e-6
+            ends = self.__dict__["_beam_ends"] = {}
+            for k in np.flatnonzero(beam):
+                for side, n in enumerate(self.members[k][:2]):
+                    ends.setdefault(n, []).append((int(k), side))
+        return list(ends.get(node, []))
 
     def _end_springs(self, xyz, ends):
         """(e, 2) end springs (inf = rigid) and (e, 2, 3) their axes, from joint_springs; None when all rigid."""

@@ -142,6 +142,7 @@ def time_200_nodes():
           f"verdict {r.verdict}, named {r.effect and (r.effect.name, r.effect.location)}")
     for c in r.ranking:
         print(f"  {c.name:20s} {c.seconds:6.1f} s  {c.n_solves:5d} solves")
+    print("  " + ", ".join(f"{k} {v:.1f} s" for k, v in r.timing_s.items()))
     return total, r
 
 
