@@ -440,7 +440,11 @@ class Frame:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
         ``node_ids`` order, columns x, y, z), 1/√kg."""
         _, result = self.solution(n_modes)
-        return result.frequency_hz[:n_modes].copy(), result.shapes[:len(self.nodes), :3, :n_modes].copy()
+        u = result.shapes[:len(self.nodes), :3, :n_modes].copy()
+        # the eigensolver's round-off (~1e-16 of the mode) where the motion is zero (a planar frame's out-of-plane
+        # modes at its nodes' in-plane DOFs) made exact: a unit-normalised sensor shape of it would be random
+        u[np.abs(u) < 1e-10 * np.abs(u).max(axis=(0, 1))] = 0.0
+        return result.frequency_hz[:n_modes].copy(), u
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor

@@ -71,14 +71,37 @@ CASES = {
 }
 
 
+EFFECT_OF = {"support": "support_flexibility", "joint": "joint_flexibility", "point": "point_mass",
+             "member": "member_stiffness", "distributed": "distributed_mass"}
+
+
+def hidden(params) -> set:
+    """{(effect name, place)} of the effects a case hides (place None for distributed mass)."""
+    out = {(EFFECT_OF[key.split("_")[0]], _place(at)) for key, at in params.items() if key.endswith("_at")}
+    return out | ({("distributed_mass", None)} if "distributed_mass_kg" in params else set())
+
+
+def _place(at):
+    return frozenset(at) if isinstance(at, tuple) else at
+
+
 def run_case(structure, effect, params, seed):
     frame = STRUCTURES[structure]()
     measured, _ = simulate_frame_test(frame, effect, dict(params), seed=seed)
     t = time.perf_counter()
     r = era.explain(measured, frame)
     seconds = time.perf_counter() - t
-    if effect in ("none", "two"):
-        ok = r.effect is None if effect == "two" else r.verdict == "no_significant_discrepancy"
+    if effect == "two":   # right: both named, each at its place; "one of two": a subset; WRONG: anything else
+        named = {(e.name, _place(e.location)) for e in r.effects}
+        truth = hidden(params)
+        outcome = ("right" if named == truth else "one of two" if named and named < truth else
+                   "WRONG" if named else r.verdict)
+        return dict(structure=structure, effect=effect, seed=seed, verdict=r.verdict,
+                    named=", ".join(f"{n}@{'-'.join(sorted(loc)) if isinstance(loc, frozenset) else loc}"
+                                    for n, loc in sorted(named, key=str)) or None, outcome=outcome,
+                    where="", error="", after=r.after.max_abs_freq_error_pct, s=seconds)
+    if effect == "none":
+        ok = r.verdict == "no_significant_discrepancy"
         return dict(structure=structure, effect=effect, seed=seed, verdict=r.verdict, named=None,
                     outcome="right" if ok else ("WRONG" if r.effect is not None else r.verdict),
                     where="", error="", after=r.after.max_abs_freq_error_pct, s=seconds)
@@ -109,7 +132,8 @@ def matrix(seeds, structures=tuple(CASES)):
                 rows.append(row)
                 print(f"{row['structure']:11s} {row['effect']:20s} seed {seed}: {row['verdict']:27s} "
                       f"{row['outcome']:8s} {row['where']:10s} {row['error']:28s} after {row['after']:.2f} % "
-                      f"{row['s']:.1f} s", flush=True)
+                      f"{row['s']:.1f} s" + (f"  named {row['named']}" if row["effect"] == "two" else ""),
+                      flush=True)
     print("\nstructure   effect               right / wrong / other (verdicts)")
     for structure in structures:
         for effect, _ in CASES[structure]:
