@@ -353,11 +353,14 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     unpaired = tuple(int(i) for i in np.setdiff1d(np.arange(measured.n_modes), fit_modes))
     fm = measured.take(fit_modes)
     n_model = fm.n_modes + extra_model_modes
+    frames = isinstance(model, FrameModel)
+    if frames:   # a frame's sensors miss many modes (out of plane, torsion): every model mode in the tested band
+        f_nominal = model.modes(n_model + 8)[0]
+        n_model = max(n_model, int(np.searchsorted(f_nominal, 1.2 * fm.frequency_hz.max())) + 2)
     close = _close_modes(model, fm, n_model, errors.close)
     weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
-    frames = isinstance(model, FrameModel)
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
                            fine_scan=frames, test=adequacy_test)
     found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,

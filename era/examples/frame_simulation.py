@@ -42,7 +42,8 @@ def truth_model(frame: Frame, params: dict, *, scatter: float = 0.02, rng=None, 
         sections[f"{sec}#{k}"] = dataclasses.replace(s, e=s.e * a, g=s.g * a)
         members.append((i, j, f"{sec}#{k}", orient))
     truth = dataclasses.replace(frame, sections=sections, members=members, elements_per_member=tuple(counts.tolist()))
-    return FrameModel.of(truth, gravity=params.pop("gravity", True) if params else True).with_params(**params), factors
+    return FrameModel.of(truth, gravity=params.pop("gravity", True) if params else True, reduced=False).with_params(
+        **params), factors
 
 
 def simulate_frame_test(frame: Frame, effect: str = "none", params: dict | None = None, *, seed: int = 0,
