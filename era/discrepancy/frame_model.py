@@ -156,7 +156,7 @@ class FrameModel:
         """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
         reduced model, gravity on, a parameter it does not cover, more modes than its basis answers well).
         screen: a changed member in the nominal's modes alone (to rank places), not with its attachment modes."""
-        if self._shared is None or n_modes > 20:
+        if self._shared is None:
             return None
         cache = self.__dict__.setdefault("_screen_modes" if screen else "_reduced_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
@@ -166,8 +166,10 @@ class FrameModel:
         if p["gravity"] and fr.gravity is not None:
             return None
         if "reduced" not in self._shared:
-            nominal = fr if fr.gravity is None else dataclasses.replace(fr, gravity=None)
-            self._shared["reduced"] = ReducedFrame(nominal) if reducible(nominal) else None
+            cables = any("cable" in s for s in fr.supports.values())
+            nominal = fr if fr.gravity is None or cables else dataclasses.replace(fr, gravity=None)
+            # the basis: 30 nominal modes, or 10 more than the first request asks (the modes explain compares)
+            self._shared["reduced"] = ReducedFrame(nominal, max(30, n_modes + 10)) if reducible(nominal) else None
         red = self._shared["reduced"]
         values = [p[k] for k in ("stiffness_factor", "member_factor", "point_mass_kg", "distributed_mass_kg",
                                  "support_rotation_stiffness", "support_vertical_stiffness", "joint_stiffness")]
@@ -213,10 +215,12 @@ class FrameModel:
 
     def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameModel | FrameRitz | None":
         """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
-        screening places (ranking.screen_locations); None when the two are not meshed alike. A model on the
-        reduced path is its own Rayleigh-Ritz approximation: itself."""
+        screening places (ranking.screen_locations); None when the two are not meshed alike. On the reduced path
+        (the reference's own reduced model), the reduced model's modes with a changed member in the nominal's
+        modes alone (ReducedFrame.pieces without its attachment modes), as many as its basis answers well."""
         if self._shared is not None and self._shared is reference._shared:
-            got = self._reduced(min(n_modes, 20), screen=True)
+            red = self._shared.get("reduced")     # as many modes as its basis answers well
+            got = self._reduced(red.n_basis - 10 if red is not None else max(1, n_modes - 10), screen=True)
             if got is not None:
                 f, u = got
                 index = {n: k for k, n in enumerate(self.frame.nodes)}

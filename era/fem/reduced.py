@@ -128,7 +128,7 @@ class ReducedFrame:
         got = self._cache.pop(key, None)
         if got is None:
             got = self._build(support, joint, mass_at, member)
-            while len(self._cache) >= 64:           # least recently used out: a configuration holds its basis
+            while len(self._cache) >= 32:           # least recently used out: a configuration holds its basis
                 self._cache.pop(next(iter(self._cache)))
         self._cache[key] = got
         return got
@@ -136,55 +136,43 @@ class ReducedFrame:
     def _build(self, support, joint, mass_at, member) -> Pieces:
         n = self.K.shape[0]
         index = {name: k for k, name in enumerate(self.frame.node_ids)}
-        cols, rot_dofs, vert_dofs, resprung = [], [], [], []
+        loads, rot_dofs, vert_dofs, resprung, released = [], [], [], [], []   # loads: the static vectors' rhs
         if support is not None:
             node, rot_keys, vert_keys = support
             for keys, dofs in ((rot_keys, rot_dofs), (vert_keys, vert_dofs)):
                 for key in keys:
                     d = 6 * index[node] + ("kx", "ky", "kz", "rx", "ry", "rz").index(key)
                     dofs.append(d)
-                    e = np.zeros(n)
-                    e[d] = 1.0
                     if self.free[d]:              # a DOF that already moved: the spring's static correction
                         resprung.append(d)
-                        cols.append(self._static(e))
-                    else:                         # a released DOF: its constraint mode
-                        x = -self._static(self.K[:, [d]].toarray().ravel())
-                        x[d] = 1.0
-                        cols.append(x)
+                        loads.append(np.eye(1, n, d).ravel())
+                    else:                         # a released DOF: its constraint mode (d moved by 1)
+                        released.append((len(loads), d))
+                        loads.append(-self.K[:, [d]].toarray().ravel())
         free = self.free.copy()
         free[rot_dofs + vert_dofs] = True
         hinges = self._hinges(joint) if joint is not None else []
-        theta_cols = []
-        for j, (el, side, axis) in enumerate(hinges):
+        for el, side, axis in hinges:       # θ = 1 at this end, the structure following statically
             a = np.zeros(12)
             a[6 * side + 3:6 * side + 6] = axis
             c = np.zeros(n)
             np.add.at(c, self.edofs[el], self.k_el[el] @ a)
-            x = -self._static(c)
-            cols.append(x)
-            theta_cols.append(j)
+            loads.append(-c)
         if mass_at is not None:
-            for d in 6 * index[mass_at] + np.arange(3):
-                if free[d]:
-                    e = np.zeros(n)
-                    e[d] = 1.0
-                    cols.append(self._static(e))
-        X = np.column_stack(cols) if cols else np.zeros((n, 0))
+            loads += [np.eye(1, n, d).ravel() for d in 6 * index[mass_at] + np.arange(3) if free[d]]
         if member is not None:
             dofs = np.unique(self.edofs[self.mesh.member == member])
-            dofs = dofs[free[dofs]]
-            loads = np.zeros((n, dofs.size))
-            loads[dofs, np.arange(dofs.size)] = 1.0
-            X = np.column_stack([X, self._static(loads)])
+            loads += [np.eye(1, n, d).ravel() for d in dofs[free[dofs]]]
+        X = self._static(np.column_stack(loads)) if loads else np.zeros((n, 0))   # one solve, every rhs
+        for k, d in released:
+            X[d, k] = 1.0
         T = np.column_stack([self.phi, X])
         T[~free] = 0.0
         q = T.shape[1]
-        theta = np.zeros((len(hinges), q))
-        first = self.phi.shape[1] + (len(rot_dofs) + len(vert_dofs) if support is not None else 0)
-        for j in range(len(hinges)):
-            theta[j, first + j] = 1.0
-        ke, m, m_spread = (self._project(A, X, T) for A in (self.K_el, self.M, self.M_spread))
+        theta = np.zeros((len(hinges), q))        # the ends' relative rotations in the basis' coordinates
+        first = self.n_basis + len(rot_dofs) + len(vert_dofs)
+        theta[np.arange(len(hinges)), first + np.arange(len(hinges))] = 1.0
+        ke, m, m_spread = (self._project(A, T) for A in (self.K_el, self.M, self.M_spread))
         kg = T.T @ (self.springs[:, None] * T)
         hinged = {}
         for j, (el, side, axis) in enumerate(hinges):
@@ -210,9 +198,10 @@ class ReducedFrame:
                       k_joint=P(theta.T @ theta), m=P(m), m_point=P(m_point), m_spread=P(m_spread),
                       user=T[self.user_rows] @ Q, basis={"Q": Q, "T": T, "ends": hinged, "members": {}})
 
-    def _project(self, A, X: np.ndarray, T: np.ndarray) -> np.ndarray:
-        """Tᵀ A T for T = [Φ, X] (rows held by the configuration's supports), from the cached Φ products."""
+    def _project(self, A, T: np.ndarray) -> np.ndarray:
+        """Tᵀ A T for T = [Φ, X], from the cached Φ products: only the static vectors X are multiplied."""
         a_phi, phi_a_phi = self._phi_products[id(A)]
+        X = T[:, self.n_basis:]
         ax = A @ X
         top = np.column_stack([phi_a_phi, a_phi.T @ X])
         return np.vstack([top, np.column_stack([top[:, self.n_basis:].T, T[:, self.n_basis:].T @ ax])])
