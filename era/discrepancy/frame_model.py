@@ -48,8 +48,8 @@ class FrameModel:
     joint_at + joint_stiffness (N·m/rad, Frame.joint_springs); point_mass_at + point_mass_kg; member_at (i, j) +
     member_factor (its E and G; member_at ALL_MEMBERS: every member); distributed_mass_kg (spread uniformly by
     length over every member).
-    _shared : {"reduced": ReducedFrame} shared by the nominal and every variant (built at the first solve), or
-    None: every parameter set solved in full (``.exact``).
+    _shared : {"gravity": the nominal's, "reduced": ReducedFrame} shared by the nominal and every variant (the
+    reduced model built at the first solve), or None: every parameter set solved in full (``.exact``).
     """
 
     frame: Frame
@@ -64,8 +64,8 @@ class FrameModel:
             raise DataError("explain: the Frame has no sensors: list (node, direction) for each output channel.")
         if frame.elements_per_member is None:
             frame = dataclasses.replace(frame, elements_per_member=frame.element_counts(n_mesh))
-        return cls(frame, {**DEFAULTS, "gravity": bool(gravity and frame.gravity is not None)},
-                   {} if reduced else None)
+        on = bool(gravity and frame.gravity is not None)
+        return cls(frame, {**DEFAULTS, "gravity": on}, {"gravity": on} if reduced else None)
 
     @property
     def exact(self) -> "FrameModel":
@@ -163,13 +163,15 @@ class FrameModel:
         if got is not None:
             return got[0][:n_modes], got[1][..., :n_modes]
         p, fr = self._params, self.frame
-        if p["gravity"] and fr.gravity is not None:
+        cables = any("cable" in s for s in fr.supports.values())
+        if cables and not p["gravity"]:
             return None
         if "reduced" not in self._shared:
-            cables = any("cable" in s for s in fr.supports.values())
-            nominal = fr if fr.gravity is None or cables else dataclasses.replace(fr, gravity=None)
-            # the basis: 30 nominal modes, or 10 more than the first request asks (the modes explain compares)
-            self._shared["reduced"] = ReducedFrame(nominal, max(30, n_modes + 10)) if reducible(nominal) else None
+            # the basis: the nominal's modes (its gravity as FrameModel.of was given it), 30 of them or 10 more
+            # than the first request asks (the modes explain compares)
+            basis = fr if self._shared["gravity"] or fr.gravity is None else dataclasses.replace(fr, gravity=None)
+            self._shared["reduced"] = ReducedFrame(basis, max(30, n_modes + 10), fr.gravity) if (
+                reducible(fr) and not (cables and not self._shared["gravity"])) else None
         red = self._shared["reduced"]
         values = [p[k] for k in ("stiffness_factor", "member_factor", "point_mass_kg", "distributed_mass_kg",
                                  "support_rotation_stiffness", "support_vertical_stiffness", "joint_stiffness")]
@@ -193,7 +195,8 @@ class FrameModel:
                         member=member, member_factor=p["member_factor"],
                         k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
                         k_joint=p["joint_stiffness"] or 0.0, point_mass_kg=p["point_mass_kg"] if mass_at else 0.0,
-                        spread_kg_per_m=p["distributed_mass_kg"] / self.total_length_m)
+                        spread_kg_per_m=p["distributed_mass_kg"] / self.total_length_m,
+                        gravity=bool(p["gravity"] and fr.gravity is not None))
         cache[n_modes] = got
         return got
 

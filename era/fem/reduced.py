@@ -15,10 +15,14 @@ basis, extended for each configuration of places by static vectors (Craig & Bamp
   ΔK = (θ - 1) Σ k_e acts there only), or, to screen many members, the modes alone (within ~2 %).
 
 Every parameter enters linearly, so each configuration's projected pieces are computed once and a trial is
-K_r = sf (K_e + (θ - 1) K_member) + K_springs + k_s K_support + k_j K_joint, M_r = M + m M_point + μ M_spread,
+K_r = sf (K_e + (θ - 1) K_member) + K_springs + k_s K_support + k_j K_joint [+ K_g + m K_g,point + μ K_g,spread],
+M_r = M + m M_point + μ M_spread,
 a dense generalized eigenproblem of ~30-40 unknowns. Frequencies are upper bounds (Rayleigh-Ritz); the accuracy
-against the full solve is tested per effect in tests/fem/test_reduced.py. Frames with gravity (geometric stiffness),
-cables or nominal joint springs are not reduced (:func:`reducible` is False): they are solved in full.
+against the full solve is tested per effect in tests/fem/test_reduced.py. Under gravity the self-weight's geometric
+stiffness (and hanging cables' pendulum springs) is linear in the weight: the nominal's, plus per kg of a point
+mass or per kg/m spread, each from one static solve (era.fem.space.self_weight's); the redistribution of the
+axial forces by a changed member or spring is left out (a second-order change). Frames with nominal joint
+springs are not reduced (:func:`reducible` is False): they are solved in full.
 """
 
 from __future__ import annotations
@@ -35,10 +39,9 @@ _SIGN_SEED = (1.7, 0.3)       # the same sign convention as era.Frame.solution
 
 
 def reducible(frame) -> bool:
-    """True when :class:`ReducedFrame` can stand for this era.Frame (fixed mesh; no gravity, cables or nominal
-    joint springs; supported)."""
-    return (frame.elements_per_member is not None and frame.gravity is None and not frame.joint_springs
-            and bool(frame.supports) and not any("cable" in s for s in frame.supports.values()))
+    """True when :class:`ReducedFrame` can stand for this era.Frame (a fixed mesh, no nominal joint springs,
+    supported)."""
+    return frame.elements_per_member is not None and not frame.joint_springs and bool(frame.supports)
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +58,9 @@ class Pieces:
     k_rot: np.ndarray
     k_vert: np.ndarray
     k_joint: np.ndarray
+    k_geo: np.ndarray
+    k_geo_point: np.ndarray
+    k_geo_spread: np.ndarray
     m: np.ndarray
     m_point: np.ndarray
     m_spread: np.ndarray
@@ -65,10 +71,12 @@ class Pieces:
 class ReducedFrame:
     """The reduced model of a nominal era.Frame (see the module docstring); :meth:`modes` for one parameter set.
 
-    frame : the nominal era.Frame (``reducible``); n_basis : nominal modes in the basis (fewer for a small model).
+    frame : the nominal era.Frame (``reducible``): its modes are the basis (with the geometric stiffness of its
+    self-weight when it has gravity); n_basis : nominal modes in the basis (fewer for a small model); gravity :
+    (3,) m/s² or None, the gravity whose geometric stiffness a parameter set may switch on (default the frame's).
     """
 
-    def __init__(self, frame, n_basis: int = 30):
+    def __init__(self, frame, n_basis: int = 30, gravity=None):
         counts = np.broadcast_to(frame.elements_per_member, len(frame.members))
         mesh = space.subdivide(frame.space_frame(), counts)
         self.mesh = mesh
@@ -84,6 +92,20 @@ class ReducedFrame:
         self.springs = mesh.springs.ravel().copy()
         self.free = ~mesh.restrained.ravel()
         K = (self.K_el + scipy.sparse.diags(self.springs)).tocsc()
+        g = frame.gravity if gravity is None else gravity
+        self.g = None if g is None else np.asarray(g, float)
+        self.K_geo = self.K_geo_spread = None
+        if self.g is not None:     # geometric stiffness (and cables' pendulum springs) of the weight, linear in it
+            free = self.free
+            kff = K[free][:, free]
+            self._elastic = space.factor(kff + scipy.sparse.diags(1e-11 * np.abs(kff.diagonal())))
+            nominal = space.self_weight(mesh, self.g)
+            self.K_geo = self._geometric(nominal.axial_force, nominal.reactions)
+            fe = beam3d.uniform_load(L, R, np.outer(np.ones_like(L), self.g))
+            unit = np.bincount(self.edofs.ravel(), weights=fe.ravel(), minlength=n)
+            self.K_geo_spread = self._geometric(*self._weight(unit))
+            if frame.gravity is not None:
+                K = (K + self.K_geo).tocsc()
         self.K = K
         self.lu = space.factor(K[self.free][:, self.free])
         r = int(min(n_basis, self.free.sum()))
@@ -91,11 +113,34 @@ class ReducedFrame:
         self.phi = modes.shapes.reshape(n, -1)[:, :r]
         # the modes' products with each operator, once: a configuration multiplies only its static vectors
         self._phi_products = {id(A): (A @ self.phi, self.phi.T @ (A @ self.phi))
-                              for A in (self.K_el, self.M, self.M_spread)}
+                              for A in (self.K_el, self.M, self.M_spread, self.K_geo, self.K_geo_spread)
+                              if A is not None}
         self.n_user = mesh.n_user
         self.user_rows = (6 * np.arange(self.n_user)[:, None] + np.arange(3)).ravel()
         self.frame = frame
         self._cache = {}
+
+    def _weight(self, f: np.ndarray) -> tuple:
+        """Axial forces (e,) N and reactions (n_nodes, 6) of a load f (6·n_nodes,) on the elastic structure
+        (era.fem.space.self_weight's regularised solve, linear)."""
+        u = np.zeros(f.size)
+        u[self.free] = self._elastic.solve(f[self.free])
+        L, R = self.mesh.axes
+        axial = beam3d.axial_force(L, R, self.mesh.EA, u[self.edofs])
+        reactions = np.where(self.mesh.restrained, (self.K_el @ u + self.springs * u - f).reshape(-1, 6), 0.0)
+        return axial, reactions
+
+    def _geometric(self, axial: np.ndarray, reactions: np.ndarray):
+        """The geometric stiffness of these axial forces plus the cables' pendulum springs T/L of these
+        reactions (era.fem.space.cable_springs, without its checks: a load's share may unload a cable)."""
+        L, R = self.mesh.axes
+        kg = space._scatter(beam3d.to_global(beam3d.local_geometric(L, axial, self.mesh.r2), R), self.edofs,
+                            self.K_el.shape[0])
+        down = self.g / np.linalg.norm(self.g)
+        cable = np.zeros((self.mesh.n_nodes, 6))
+        hang = self.mesh.cable_m > 0
+        cable[hang, :3] = (-(reactions[hang, :3] @ down) / self.mesh.cable_m[hang])[:, None] * (1.0 - down**2)
+        return (kg + scipy.sparse.diags(cable.ravel())).tocsc()
 
     @property
     def n_basis(self) -> int:
@@ -173,6 +218,14 @@ class ReducedFrame:
         first = self.n_basis + len(rot_dofs) + len(vert_dofs)
         theta[np.arange(len(hinges)), first + np.arange(len(hinges))] = 1.0
         ke, m, m_spread = (self._project(A, T) for A in (self.K_el, self.M, self.M_spread))
+        zero = np.zeros((q, q))
+        k_geo = k_geo_point = k_geo_spread = zero
+        if self.g is not None:
+            k_geo, k_geo_spread = self._project(self.K_geo, T), self._project(self.K_geo_spread, T)
+            if mass_at is not None:     # the weight of 1 kg there: its axial forces' geometric stiffness
+                f = np.zeros(n)
+                f[6 * index[mass_at] + np.arange(3)] = self.g
+                k_geo_point = T.T @ (self._geometric(*self._weight(f)) @ T)
         kg = T.T @ (self.springs[:, None] * T)
         hinged = {}
         for j, (el, side, axis) in enumerate(hinges):
@@ -195,7 +248,8 @@ class ReducedFrame:
         Q = scale[:, None] * V[:, keep] / np.sqrt(w[keep])
         P = lambda A: Q.T @ A @ Q   # noqa: E731
         return Pieces(ke=P(ke), kg=P(kg), k_rot=P(unit(rot_dofs)), k_vert=P(unit(vert_dofs)),
-                      k_joint=P(theta.T @ theta), m=P(m), m_point=P(m_point), m_spread=P(m_spread),
+                      k_joint=P(theta.T @ theta), k_geo=P(k_geo), k_geo_point=P(k_geo_point),
+                      k_geo_spread=P(k_geo_spread), m=P(m), m_point=P(m_point), m_spread=P(m_spread),
                       user=T[self.user_rows] @ Q, basis={"Q": Q, "T": T, "ends": hinged, "members": {}})
 
     def _project(self, A, T: np.ndarray) -> np.ndarray:
@@ -219,7 +273,7 @@ class ReducedFrame:
         return got
 
     def modes(self, n_modes: int, pieces: Pieces, stiffness_factor=1.0, member=None, member_factor=1.0,
-              k_rot=0.0, k_vert=0.0, k_joint=0.0, point_mass_kg=0.0, spread_kg_per_m=0.0):
+              k_rot=0.0, k_vert=0.0, k_joint=0.0, point_mass_kg=0.0, spread_kg_per_m=0.0, gravity=False):
         """Frequencies (n,) Hz and mass-normalised translations (n_user, 3, n) of the user nodes, 1/√kg.
 
         member : a user member index, "all" (every member) or None; the other arguments are SI (N·m/rad, N/m,
@@ -230,6 +284,10 @@ class ReducedFrame:
         elif member is not None and member_factor != 1.0:
             ke = ke + (member_factor - 1.0) * self.member_stiffness(pieces, member)
         K = stiffness_factor * ke + pieces.kg + k_rot * pieces.k_rot + k_vert * pieces.k_vert + k_joint * pieces.k_joint
+        if gravity:   # the axial forces of the nominal's weight and of the added masses' (their redistribution by
+            # a changed member, spring or joint is left out: second order for the screening, the fit's
+            # winner is re-fitted in full)
+            K = K + pieces.k_geo + point_mass_kg * pieces.k_geo_point + spread_kg_per_m * pieces.k_geo_spread
         M = pieces.m + point_mass_kg * pieces.m_point + spread_kg_per_m * pieces.m_spread
         n = min(int(n_modes), K.shape[0])
         lam, v = scipy.linalg.eigh(0.5 * (K + K.T), 0.5 * (M + M.T), subset_by_index=[0, n - 1],

@@ -11,7 +11,7 @@ import pytest
 import era
 from era.discrepancy.frame_model import FrameModel
 from era.examples.frame_simulation import simulate_frame_test
-from era.examples.frames import cantilever, portal, truss, two_storey
+from era.examples.frames import cantilever, nasa_grid_frame, portal, truss, two_storey
 from era.fem import space
 
 CASES = {
@@ -73,13 +73,30 @@ def test_the_reduced_model_solves_no_sparse_eigenproblem_per_trial(monkeypatch):
         nominal.with_params(point_mass_at="22", point_mass_kg=50.0).exact.modes(10)
 
 
-def test_frames_with_gravity_are_solved_in_full():
-    """Geometric stiffness is not in the reduced model: a frame with gravity on gets the full solve's modes."""
-    model = FrameModel.of(portal(gravity=(0.0, 0.0, -9.81))).with_params(point_mass_at="E", point_mass_kg=30.0)
-    f, s = model.modes(8)
-    fe, se = model.exact.modes(8)
-    np.testing.assert_array_equal(f, fe)
-    np.testing.assert_array_equal(s, se)
+def test_gravity_is_linear_in_the_reduced_model_too():
+    """The self-weight's geometric stiffness (and a cable's pendulum spring) on, off, and grown by added masses:
+    the portal under gravity with 3 t at mid-beam or spread, a softer column, a flexible base, gravity switched
+    on for a nominal without it; the NASA grid as a frame (hanging from cables, held out of plane by gravity
+    alone) with a point mass, spread mass, a softer bar: within 0.1 % and MAC > 0.999 of the full solve."""
+    g = (0.0, 0.0, -9.81)
+    cases = [(FrameModel.of(portal(gravity=g)), [dict(point_mass_at="E", point_mass_kg=3000.0),
+                                                  dict(distributed_mass_kg=3000.0),
+                                                  dict(member_at=("C", "G"), member_factor=0.6),
+                                                  dict(support_at="A", support_rotation_stiffness=3e5)]),
+             (FrameModel.of(portal(gravity=g), gravity=False), [dict(gravity=True),
+                                                                 dict(gravity=True, point_mass_at="E",
+                                                                      point_mass_kg=3000.0)]),
+             (FrameModel.of(nasa_grid_frame()), [dict(point_mass_at="7,2", point_mass_kg=1.5),
+                                                  dict(distributed_mass_kg=3.0),
+                                                  dict(member_at=("3,4", "4,4"), member_factor=0.5)])]
+    for nominal, changes in cases:
+        for kw in changes:
+            model = nominal.with_params(**kw)
+            f, u = model.node_modes(12)
+            fe, ue = model.exact.node_modes(12)
+            assert np.max(np.abs(f / fe - 1)) < 1e-3, (kw, f / fe - 1)
+            assert _mac_seen(u, ue).min() > 0.999, kw
+    assert nominal._shared["reduced"] is not None
 
 
 @pytest.mark.parametrize("structure, effect, params", [
