@@ -135,8 +135,9 @@ class FrameModel:
     def total_length_m(self) -> float:
         got = self.frame.__dict__.get("_total_length_m")     # the members do not change between variants
         if got is None:
+            nodes = self.frame.nodes
             got = self.frame.__dict__["_total_length_m"] = float(sum(
-                np.linalg.norm(np.subtract(self.frame.nodes[j], self.frame.nodes[i])) for i, j, *_ in self.frame.members))
+                np.linalg.norm(np.subtract(nodes[j], nodes[i])) for i, j, *_ in self.frame.members))
         return got
 
     def member_index(self, at) -> int:
@@ -154,7 +155,7 @@ class FrameModel:
     # the modes
     def _reduced(self, n_modes: int, screen: bool = False):
         """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
-        reduced model, gravity on, a parameter it does not cover, more modes than its basis answers well).
+        reduced model, nominal joint springs, a spring made rigid, more modes than its basis answers well).
         screen: a changed member in the nominal's modes alone (to rank places), not with its attachment modes."""
         if self._shared is None:
             return None
@@ -177,6 +178,21 @@ class FrameModel:
                                  "support_rotation_stiffness", "support_vertical_stiffness", "joint_stiffness")]
         if red is None or not all(v is None or math.isfinite(v) for v in values) or red.n_basis < n_modes + 10:
             return None
+        support, joint, mass_at, member = self._places()
+        pieces = red.pieces(support, joint, mass_at, None if screen or member in (None, "all") else member)
+        got = red.modes(n_modes, pieces, stiffness_factor=p["stiffness_factor"],
+                        member=member, member_factor=p["member_factor"],
+                        k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
+                        k_joint=p["joint_stiffness"] or 0.0, point_mass_kg=p["point_mass_kg"] if mass_at else 0.0,
+                        spread_kg_per_m=p["distributed_mass_kg"] / self.total_length_m,
+                        gravity=bool(p["gravity"] and fr.gravity is not None))
+        cache[n_modes] = got
+        return got
+
+    def _places(self) -> tuple:
+        """The reduced model's configuration of these parameters: support (node, released rotation keys, released
+        vertical keys) or None, joint node, point-mass node (or None each), member index, "all" or None."""
+        p, fr = self._params, self.frame
         support = None
         if p["support_at"] is not None:
             node = str(p["support_at"])
@@ -190,15 +206,7 @@ class FrameModel:
             member = "all"
         elif p["member_at"] is not None and p["member_factor"] != 1.0:
             member = self.member_index(p["member_at"])
-        pieces = red.pieces(support, joint, mass_at, None if screen or member in (None, "all") else member)
-        got = red.modes(n_modes, pieces, stiffness_factor=p["stiffness_factor"],
-                        member=member, member_factor=p["member_factor"],
-                        k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
-                        k_joint=p["joint_stiffness"] or 0.0, point_mass_kg=p["point_mass_kg"] if mass_at else 0.0,
-                        spread_kg_per_m=p["distributed_mass_kg"] / self.total_length_m,
-                        gravity=bool(p["gravity"] and fr.gravity is not None))
-        cache[n_modes] = got
-        return got
+        return support, joint, mass_at, member
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (3·n_nodes, n), rows node-major (x, y, z of each
