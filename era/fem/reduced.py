@@ -226,7 +226,8 @@ class ReducedFrame:
                 f = np.zeros(n)
                 f[6 * index[mass_at] + np.arange(3)] = self.g
                 k_geo_point = T.T @ (self._geometric(*self._weight(f)) @ T)
-        kg = T.T @ (self.springs[:, None] * T)
+        sprung = np.flatnonzero(self.springs)
+        kg = T[sprung].T @ (self.springs[sprung, None] * T[sprung])
         hinged = {}
         for j, (el, side, axis) in enumerate(hinges):
             a = np.zeros(12)
