@@ -28,6 +28,10 @@ CASES = {
                       dict(point_mass_at="b2", point_mass_kg=5.0), dict(member_at=("b2", "t3"), member_factor=0.5)]),
     "cantilever": (cantilever, [dict(support_at="0", support_rotation_stiffness=300.0),
                                 dict(point_mass_at="3", point_mass_kg=0.15)]),
+    # a base already on springs (ground springs in the nominal): the effect's spring replaces them
+    "sprung portal": (lambda: portal(supports={"A": {"kx": "fixed", "ky": "fixed", "kz": "fixed", "rx": 1e6,
+                                                     "ry": 1e6, "rz": 1e6}, "D": "fixed"}),
+                      [dict(support_at="A", support_rotation_stiffness=3e5), dict(point_mass_at="B", point_mass_kg=50.0)]),
 }
 
 
