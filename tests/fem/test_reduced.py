@@ -31,7 +31,8 @@ CASES = {
     # a base already on springs (ground springs in the nominal): the effect's spring replaces them
     "sprung portal": (lambda: portal(supports={"A": {"kx": "fixed", "ky": "fixed", "kz": "fixed", "rx": 1e6,
                                                      "ry": 1e6, "rz": 1e6}, "D": "fixed"}),
-                      [dict(support_at="A", support_rotation_stiffness=3e5), dict(point_mass_at="B", point_mass_kg=50.0)]),
+                      [dict(support_at="A", support_rotation_stiffness=3e5),
+                       dict(point_mass_at="B", point_mass_kg=50.0)]),
 }
 
 
