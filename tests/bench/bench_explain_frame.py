@@ -6,18 +6,20 @@ Run: python3 tests/bench/bench_explain_frame.py 0,1,2        (the matrix for the
      python3 tests/bench/bench_explain_frame.py 0 time        (explain on the 200-node frame, per candidate)
      python3 -m pytest tests/bench/bench_explain_frame.py -s  (the 200-node timing, and seed 0 of the matrix)
 Measured here (2 cores shared with three other jobs, one BLAS thread), 2026-11-24:
-- The 200-node frame (bench_frame.py's building, 1000 kg hidden at a top corner, named there): 5.4-8.2 s at load
-  4.3-5.2 (one run 6.6 s at load 4.4: full sparse solves 9 calls, 1.2 s, 19 %; reduced bases 386 calls, 2.4 s,
-  37 %; reduced eigenproblems 1371 calls, 1.0 s, 15 %; the rest the fits' and screening's Python). Per candidate:
-  point_mass 0.9 s (200 model evaluations), joint_flexibility 2.0 s (357), support_flexibility 0.5 s (161),
-  member_stiffness 0.7 s (591). It took 134.7 s on 2026-11-23 (a re-mesh and assembly per screened place, joint
-  springs and flexible supports solved in full, 0.13 s each) and 164-227 s before that. What dominates now: building
-  each place's reduced basis (its static vectors: a few solves with the nominal's factor, and their projections),
-  mostly for the ~100 candidate joints; then the full solves (the nominal, its 30 modes, and the re-fit of the
-  named effect in the full model, era.discrepancy.frame_model.refit_exact).
+- The 200-node frame (bench_frame.py's building, 1000 kg hidden at a top corner, named there): 4.1-8.2 s in five
+  runs at load 4.3-6.5 (the 2 cores oversubscribed 2-3×; one run 6.8 s at load 6.4: full sparse solves 9 calls,
+  0.8 s, 12 %; reduced bases 386 calls, 2.9 s, 42 %; reduced eigenproblems 1371 calls, 1.3 s, 19 %; the rest the
+  fits' and screening's Python). Per candidate (the 4.1 s run): point_mass 0.8 s (200 model evaluations),
+  joint_flexibility 1.1 s (357), support_flexibility 0.2 s (161), member_stiffness 0.6 s (591). It took 134.7 s on
+  2026-11-23 (a re-mesh and assembly per screened place, joint springs and flexible supports solved in full,
+  0.13 s each) and 164-227 s before that. What dominates now: building each place's reduced basis (its static
+  vectors, one multi-RHS solve with the nominal's factor, and their projections), mostly for the ~100 candidate
+  joints; then the dense eigenproblems; then the 9 full solves (the nominal's mesh and 30 modes, and the re-fit
+  of the named effect in the full model, era.discrepancy.frame_model.refit_exact).
 - How: era/fem/reduced.py (the nominal's 30 modes plus static vectors per place; every trial a dense ~35 × 35
-  eigenproblem), accurate to 0.1 % in frequency and MAC > 0.999 against the full solve (tests/fem/test_reduced.py);
-  explain with full solves everywhere ranks and names the same (same test).
+  eigenproblem; gravity's geometric stiffness linear in the weight), accurate to 0.1 % in frequency and MAC > 0.999
+  against the full solve (tests/fem/test_reduced.py); explain with full solves everywhere ranks, names, sizes
+  (σ, 95 % interval) and closes the gap the same (same test).
 - The matrix, seeds 0 and 1 (54 cases): no wrong name (before: one, the truss joint at seed 0 named as member
   t3-b4); 48 right, as before. Both hidden effects named at their places in all 8 "two" cases, before and after
   (the summary used to count any name there as wrong, from before explain named several effects). Spread mass on the
@@ -26,7 +28,7 @@ Measured here (2 cores shared with three other jobs, one BLAS thread), 2026-11-2
   (even a hinge at t2 moves one of them by 1.7 %), below the scatter's noise. It used to read "unexplained" with a
   26 % gap because explain computed the nominal's 12 lowest modes while the sensors' sixth mode is its 13th (out-of-
   plane modes in between): explain now computes every model mode up to 1.2 × the highest measured frequency.
-  The whole matrix ran in 78 s (219 s before), at load 1-3.
+  The whole matrix ran in 56 s at load 5-6 (219 s before, at load 1-2).
 The truth (era.examples.frame_simulation): every member's E and G scattered 2 % (1σ), twice the nominal's mesh,
 0.1 % frequency noise, 1 % shape noise, 2 % sensor gains; six modes the sensors see. "two" hides two effects at
 once: right when explain names both at their places (era/discrepancy/search.py), "one of two" a subset, WRONG any
