@@ -389,12 +389,29 @@ class FrameRitz:
         return self.frequency_hz[:n_modes].copy(), self.sensor_w[:, :n_modes].copy()
 
 
-def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model: int):
+def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model: int, min_share: float = 0.05):
     """The search's named set (era.discrepancy.search.Search) re-fitted in the full model, from the reduced
     model's optimum (a few Gauss-Newton steps, each 1 + n_parameters full solves): the reported parameters,
-    uncertainties and gap are the full model's; the screening, ranking and search stay the reduced model's."""
+    uncertainties and gap are the full model's. So are the last named effect's other places that hold at least
+    ``min_share`` of its place probability (re-fitted there too; the rest keep their reduced evidence). The
+    screening, the ranking of candidates and the search stay the reduced model's."""
     fit = found.fit
     if fit is None or not isinstance(fit.model, FrameModel) or fit.model._shared is None:
         return found
-    exact = fit_effect(model.exact, fit.spec, nuisance, measured, w, n_model, location=fit.location, u0=fit.u)
-    return dataclasses.replace(found, fit=exact)
+    refit = lambda at: fit_effect(model.exact, fit.spec, nuisance, measured, w, n_model,   # noqa: E731
+                                  location=at, u0=fit.u)
+    exact = refit(fit.location)
+    last = found.named[-1]
+    if len(last.locations) < 2 or all(q < min_share for _, _, q in last.locations[1:]):
+        return dataclasses.replace(found, fit=exact)
+    places = [(exact.location, exact.log_evidence)] + [
+        (at, refit(at).log_evidence if q >= min_share else le) for at, le, q in last.locations[1:]]
+    les = np.array([le for _, le in places])
+    share = np.exp(les - les.max())
+    share /= share.sum()
+    order = np.argsort(-les, kind="stable")
+    if order[0] != 0:    # (rare) the full model prefers another place: the named place and its probabilities stay
+        # the search's, its parameters are re-fitted there
+        return dataclasses.replace(found, fit=exact)
+    last = dataclasses.replace(last, locations=tuple((places[i][0], float(les[i]), float(share[i])) for i in order))
+    return dataclasses.replace(found, fit=exact, named=found.named[:-1] + (last,))

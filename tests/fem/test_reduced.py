@@ -136,3 +136,4 @@ def test_explain_ranks_effects_and_places_as_the_full_model_does(structure, effe
     # the 95 % interval is profiled in the reduced model: within 1 % of the full model's (0.15 % measured)
     np.testing.assert_allclose(fast.effect.interval[name], full.effect.interval[name], rtol=1e-2)
     assert fast.after.max_abs_freq_error_pct == pytest.approx(full.after.max_abs_freq_error_pct, abs=0.01)
+    assert fast.effect.location_probability == pytest.approx(full.effect.location_probability, abs=0.02)
