@@ -230,9 +230,12 @@ class Identification:
         its expectation is the sum over the independent blocks. Cost: n pole functionals per mode, so it is
         not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
 
+        A member of a repeated cluster (era.modal.repeated_clusters) leaves the cluster's other members out of the
+        sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.
+
         Returns
         -------
-        (len(modes),) fractions; the MAC between the estimate and the truth is about 1 minus this.
+        (len(modes),) fractions in [0, 1]; the MAC between the estimate and the truth is about 1 minus this.
         """
         n = self._check_order(order)
         model, raw, perm, clusters = self._model(n, False)
@@ -252,8 +255,13 @@ class Identification:
         block = correlation_length(residual, max(1, t // 20))
         s_cols = len(self.col_shifts)
         out = np.empty(len(chosen))
+        cluster_of = {int(j): set(int(k) for k in c) for c in clusters for j in c}
         for i, j in enumerate(chosen):
-            others = np.flatnonzero(np.abs(z_all - dec.z[j]) > 0)  # k ≠ j (and ≠ a repeated copy of it)
+            # k ≠ j, and not another member of j's repeated cluster: a change within the shared eigenspace is a
+            # change of its basis (align_repeated chooses that), not a scatter of the shape
+            same = np.zeros(z_all.size, dtype=bool)
+            same[list(cluster_of.get(int(j), {int(j)}))] = True
+            others = np.flatnonzero((np.abs(z_all - dec.z[j]) > 0) & ~same)
             c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
                                  np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
                                  residual[None])[:, 0]  # (others, T)
@@ -265,7 +273,7 @@ class Identification:
             dphi -= np.outer(unit, unit.conj() @ dphi)  # the part orthogonal to φ
             sums = _block_sums(dphi, block)  # (p, blocks)
             out[i] = float(np.sum(np.abs(sums) ** 2) / np.linalg.norm(phi) ** 2)
-        return out
+        return np.minimum(out, 1.0)  # 1 - MAC is at most 1 (first order no longer holds well before that)
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
