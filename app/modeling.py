@@ -9,6 +9,7 @@ its millimetres. Blocking functions (a model's modes): call them through app.job
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import tomllib
@@ -178,11 +179,49 @@ def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple
     return fr, f_hz
 
 
+def fingerprint(model: dict) -> str:
+    """A short hash of a model as described (its JSON with sorted keys): equal exactly when the model is, whatever
+    the order its tables were written in. Tells whether an explanation was made with the model stored now."""
+    text = json.dumps(model, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def used(stored: dict | None) -> dict:
+    """What an explanation was made with (schemas.UsedModel), kept in its summary: the stored model's source, name,
+    time saved, fingerprint and one-line description; or, with no stored model, the NASA grid's built-in model."""
+    if stored is None:
+        return {"source": "grid", "name": None, "saved": None, "fingerprint": None,
+                "text": "the NASA grid's built-in model (era.examples.grid.nasa_grid)"}
+    return {"source": stored["source"], "name": stored.get("name"), "saved": stored.get("saved"),
+            "fingerprint": fingerprint(stored["model"]), "text": describe(stored["model"])}
+
+
+def stale(summary: dict, stored: dict | None) -> str | None:
+    """Why an explanation (its stored summary) no longer matches the dataset's model ``stored`` now, in words; None
+    while it does. An explanation stored before its model was recorded is compared by its one-line description."""
+    was = summary.get("model_used")
+    if was is None:                                  # before model_used was kept: its description, if a frame
+        if stored is None:
+            return None
+        if summary.get("model_text") == describe(stored["model"]):
+            return None
+        was = {"source": "geometry" if summary.get("model_text") else "grid", "fingerprint": None,
+               "text": summary.get("model_text") or used(None)["text"]}
+    elif stored is None:
+        return None if was["source"] == "grid" else (
+            "This result was made with a structure model the dataset no longer has; run simulation vs test again.")
+    elif was.get("fingerprint") == fingerprint(stored["model"]):
+        return None
+    return (f"This result was made with an earlier model: {was['text']}. The dataset's model has changed since "
+            f"(now {describe(stored['model'])}): run simulation vs test again to compare with it.")
+
+
 def summary(stored: dict, fr: era.Frame, f_hz) -> dict:
     """The answer for a stored model (schemas.StructureModel): the model as described, where it came from, and
-    what it is (counts, mass in kg, lowest frequencies in Hz, a one-line description)."""
+    what it is (counts, mass in kg, lowest frequencies in Hz, a one-line description, its fingerprint)."""
     return {"model": stored["model"], "source": stored["source"], "name": stored.get("name"),
-            "saved": stored.get("saved"), "n_nodes": len(fr.nodes), "n_members": len(fr.members),
+            "saved": stored.get("saved"), "fingerprint": fingerprint(stored["model"]),
+            "n_nodes": len(fr.nodes), "n_members": len(fr.members),
             "n_sensors": len(fr.sensors), "total_mass_kg": fr.total_mass_kg,
             "frequency_hz": [float(f) for f in f_hz], "text": describe(stored["model"])}
 

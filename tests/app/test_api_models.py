@@ -18,7 +18,7 @@ from frame_test_file import write_uff
 import era
 from apiclient import client
 from test_schemas import exact
-from app import schemas
+from app import modeling, schemas
 from era.examples.frames import portal
 
 PLATE = {"shape": "rectangle", "width": 0.3, "depth": 0.05, "material": "steel"}   # the portal's 300 × 50 mm
@@ -160,11 +160,43 @@ def test_simulation_vs_test_names_the_hidden_mass_at_a_node_and_the_report_keeps
     assert made.status_code == 200, made.text
     report = exact(schemas.Report, c.get(f"/api/reports/{made.json()['token']}").json())
     assert report.structure_model.model == model and report.explanation.effect.location == s.effect.location
-    # the stored model changes afterwards; the report keeps the one it froze
+    assert s.stale is None and s.model_used.source == "geometry" and "7 nodes, 6 members" in s.model_used.text
+    assert s.model_used.fingerprint == c.get(url).json()["fingerprint"] == modeling.fingerprint(model)
+    # the stored model changes afterwards: the stored result is shown stale, with the model it was made with; the
+    # report keeps the model and the (then current) result it froze
     changed = dict(model, masses={"3": 5.0})
-    assert c.put(url, json={"model": changed}).status_code == 200
+    saved = c.put(url, json={"model": changed}).json()
+    assert saved["fingerprint"] != s.model_used.fingerprint
     again = c.get(f"/api/reports/{made.json()['token']}").json()
-    assert again["structure_model"]["model"] == model
+    assert again["structure_model"]["model"] == model and again["explanation"]["stale"] is None
+    now = exact(schemas.Explanation, c.get(f"/api/analyses/{a['id']}/explain").json())
+    assert "made with an earlier model" in now.stale and "masses 3 5 kg" in now.stale
+    assert now.model_used == s.model_used and now.effect.location == s.effect.location   # kept as it was
+    # a report frozen now keeps the new model, and the result marked stale beside the model it was made with
+    later = c.post("/api/reports", json={"analysis_id": a["id"], "order": 20, "modes": [0, 1]}).json()
+    frozen = exact(schemas.Report, c.get(f"/api/reports/{later['token']}").json())
+    assert frozen.structure_model.model == changed and frozen.explanation.stale == now.stale
+    assert frozen.explanation.model_used.fingerprint == modeling.fingerprint(model)
+    # the same model again (tables in another order): current again
+    same = dict(reversed(list(model.items())))
+    assert c.put(url, json={"model": same}).status_code == 200
+    assert c.get(f"/api/analyses/{a['id']}/explain").json()["stale"] is None
+
+
+def test_a_result_stored_before_its_model_was_recorded_is_judged_by_its_description():
+    from app import modeling
+
+    model = {"nodes": {"1": [0, 0, 0], "2": [1, 0, 0]}, "members": [["1", "2", "s"]],
+             "sections": {"s": PLATE}, "supports": {"1": "fixed"}, "sensors": [["2", "z"]]}
+    stored = {"model": model, "source": "geometry"}
+    old = {"model_text": modeling.describe(model)}            # a frame result from before model_used
+    assert modeling.stale(old, stored) is None
+    assert "has changed since" in modeling.stale(old, {"model": dict(model, masses={"2": 1.0}), "source": "file"})
+    grid = {"model_text": None}                               # a grid result; the dataset then got a model
+    assert modeling.stale(grid, None) is None
+    assert "NASA grid's built-in model" in modeling.stale(grid, stored)
+    assert modeling.stale({"model_used": modeling.used(None)}, None) is None
+    assert modeling.stale({"model_used": modeling.used(stored)}, stored) is None
 
 
 def test_a_model_is_replaced_whole_and_goes_with_its_dataset_when_that_expires(tmp_path):
