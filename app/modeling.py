@@ -29,8 +29,10 @@ LISTS = ("members", "sensors")
 
 
 def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
-    """What the model step starts from: the geometry's nodes (m), one member per trace line with a default group
-    by direction ("vertical", "along x", "along y", "inclined"), and one sensor per channel (node, direction).
+    """What the model step starts from: the geometry's nodes (m), one member per trace line segment, grouped by the
+    trace line it was drawn in (one group per named trace line, e.g. Test.Lab's "Stator"; members of unnamed trace
+    lines by direction: "vertical", "along x", "along y", "inclined"), and one sensor per channel (node,
+    direction). A segment drawn twice is one member, in the first trace line that draws it.
 
     Raises era.DataError when there is no geometry, no trace line, or a channel without a node or a direction
     (the message says what to do instead: upload a model file)."""
@@ -41,12 +43,16 @@ def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
     if scale is None:
         raise era.DataError(f"The geometry's length unit {geometry.units!r} is not one of {sorted(UNITS_M)}.")
     ids = [str(i) for i in geometry.node_ids]
-    edges = sorted({tuple(sorted(map(int, e))) for e in geometry.edges if e[0] != e[1]})
+    named: dict[tuple, str] = {}
+    for e, name in zip(geometry.edges, geometry.edge_names()):
+        if e[0] != e[1]:
+            named.setdefault(tuple(sorted(map(int, e))), name)
+    edges = sorted(named)
     if not edges:
         raise era.DataError("The geometry has nodes but no trace lines, so there are no members to draw: add trace "
                             "lines (UFF 82) to the file, or upload a model file.")
     xyz = np.asarray(geometry.coordinates, float) * scale
-    members = [[ids[a], ids[b], _group(xyz[b] - xyz[a])] for a, b in edges]
+    members = [[ids[a], ids[b], named[a, b] or _group(xyz[b] - xyz[a])] for a, b in edges]
     used = sorted({i for e in edges for i in e})
     sensors = []
     for ch, (node, d) in enumerate(zip(geometry.channel_nodes, geometry.channel_directions)):

@@ -616,7 +616,8 @@ class ModelDraft(Schema):
     """GET /api/datasets/{id}/model/draft: what the model step starts from, read from the dataset's geometry."""
 
     nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m (the geometry's labels)")
-    members: list[list[str]] = Field(description="[node i, node j, group] per trace line; group by direction: "
+    members: list[list[str]] = Field(description="[node i, node j, group] per trace line segment; the group is "
+                                                 "the trace line's name, or for an unnamed one its direction: "
                                                  "vertical, along x, along y, inclined")
     sensors: list[list[Any]] = Field(description="[node, direction] per output, in the outputs' order")
     outputs: list[str] = Field(description="(p,) output labels")

@@ -49,7 +49,8 @@ def test_the_draft_reads_members_groups_and_sensors_from_the_geometry(portal_tes
     assert len(d.nodes) == 7 and d.nodes["2"] == pytest.approx([0.0, 0.0, 3.0])     # mm in the file, m here
     assert {tuple(m[:2]) for m in d.members} == {("1", "6"), ("2", "6"), ("2", "3"), ("3", "4"), ("4", "7"),
                                                  ("5", "7")}
-    assert set(d.groups) == {"vertical", "along x"}
+    assert set(d.groups) == {"col", "beam"}           # the file's named trace lines, one group each
+    assert {tuple(m) for m in d.members if m[2] == "beam"} == {("2", "3", "beam"), ("3", "4", "beam")}
     assert d.sensors[:3] == [["6", "x"], ["2", "x"], ["3", "z"]] and len(d.sensors) == len(d.outputs) == 7
     assert c.get(f"/api/datasets/{ds['id']}/model").status_code == 404
 
@@ -86,11 +87,11 @@ def test_bad_models_are_refused_with_a_sentence_and_the_saved_one_is_kept(portal
         assert r.status_code == 422 and words in r.json()["error"], r.text
 
     bad = copy.deepcopy(good)
-    bad["members"].append(["3", "99", "vertical"])
+    bad["members"].append(["3", "99", "col"])
     refused(bad, "goes to node 99, which is not in nodes")
     bad = copy.deepcopy(good)
-    del bad["sections"]["vertical"]["material"]
-    refused(bad, "Section 'vertical' has no material")
+    del bad["sections"]["col"]["material"]
+    refused(bad, "Section 'col' has no material")
     bad = copy.deepcopy(good)
     bad["sensors"] = bad["sensors"][:6]
     refused(bad, "6 sensor(s) but this dataset has 7 output(s)")

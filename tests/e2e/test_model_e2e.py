@@ -47,12 +47,12 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         page.wait_for_selector("#modes-table tbody tr", timeout=60000)
         assert "Describe the structure in the Model panel" in page.text_content("#explain-hint")
 
-        # the model step: members from the trace lines, grouped by direction
+        # the model step: members from the trace lines, grouped by the file's trace line names
         page.wait_for_function("!document.getElementById('model-from-geometry').disabled")
         page.click("#model-from-geometry")
         page.wait_for_selector("#model-sections tbody tr")
         groups = page.eval_on_selector_all("#model-sections tbody tr", "rows => rows.map(r => r.dataset.group)")
-        assert groups == ["along x", "vertical"]
+        assert groups == ["beam", "col"]
         assert page.locator("#model-nodes tbody tr").count() == 7
         assert page.locator("#model-members tbody tr").count() == 6
         for g in groups:
@@ -62,7 +62,7 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
             row.locator("input[data-size=depth]").fill("50")
             row.locator("input[data-size=depth]").dispatch_event("change")
             row.locator("input[data-size=width]").dispatch_event("change")
-        page.locator("#model-sections tr[data-group='along x'] select.material").select_option("steel")
+        page.locator("#model-sections tr[data-group='beam'] select.material").select_option("steel")
 
         # supports: node 1 by clicking it in the drawing, node 5 in the table
         page.locator("#model-plot").scroll_into_view_if_needed()
@@ -77,8 +77,8 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         # a section without a material: refused next to the button, in words
         page.click("#model-save")
         page.wait_for_selector("#model-error:not([hidden])")
-        assert "Section 'vertical' has no material" in page.text_content("#model-error")
-        page.locator("#model-sections tr[data-group='vertical'] select.material").select_option("steel")
+        assert "Section 'col' has no material" in page.text_content("#model-error")
+        page.locator("#model-sections tr[data-group='col'] select.material").select_option("steel")
         page.click("#model-save")
         page.wait_for_selector("#model-summary:not([hidden])", timeout=60000)
         assert page.is_hidden("#model-error")
@@ -123,7 +123,7 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         with page.expect_download() as got:
             page.click("#report-model a")
         frozen = json.loads(Path(got.value.path()).read_text())
-        assert frozen["supports"] == {"1": "fixed", "5": "fixed"} and frozen["sections"]["vertical"]["width"] == 0.3
+        assert frozen["supports"] == {"1": "fixed", "5": "fixed"} and frozen["sections"]["col"]["width"] == 0.3
 
         # the analysis link reopens the dataset with its model
         page.goto(address)
