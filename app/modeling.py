@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 import tomllib
 
 import numpy as np
@@ -87,20 +88,23 @@ def _check_sections(sections) -> None:
     if not isinstance(sections, dict) or not sections:
         raise era.DataError("The model has no sections: give every member group a section and a material.")
     for name, s in sections.items():
+        at = f"section:{name}"
         if not isinstance(s, dict):
             raise era.DataError(f"Section {name!r} must be a table (shape and sizes, or area, iy, iz, j, e, g, "
-                                "density).")
+                                "density).", option=at)
         if "shape" in s:
             if s["shape"] not in SHAPES:
-                raise era.DataError(f"Section {name!r}: shape {s['shape']!r} is not one of {', '.join(SHAPES)}.")
+                raise era.DataError(f"Section {name!r}: shape {s['shape']!r} is not one of {', '.join(SHAPES)}.",
+                                    option=at)
             if not s.get("material") and not all(k in s for k in ("e", "density")):
                 raise era.DataError(f"Section {name!r} has no material: choose one ({', '.join(sorted(MATERIALS))}) "
-                                    "or give e (Pa) and density (kg/m³).")
+                                    "or give e (Pa) and density (kg/m³).", option=at)
             sizes = [k for k in s if k not in ("shape", "material", "e", "g", "density")]
             bad = [k for k in sizes if not (isinstance(s[k], (int, float)) and not isinstance(s[k], bool)
                                             and math.isfinite(s[k]) and s[k] > 0)]
             if bad:
-                raise era.DataError(f"Section {name!r}: {bad[0]} must be a positive size in m, got {s[bad[0]]!r}.")
+                raise era.DataError(f"Section {name!r}: {bad[0]} must be a positive size in m, got {s[bad[0]]!r}.",
+                                    option=at)
 
 
 def frame(model: dict) -> era.Frame:
@@ -124,8 +128,36 @@ def frame(model: dict) -> era.Frame:
     _check_sections(model.get("sections"))
     try:
         return era.Frame.from_dict(model)
+    except era.EraError as exc:                     # era.Frame's own refusal, placed at the control that fixes it
+        raise era.DataError(str(exc), option=exc.option or control(str(exc), model)) from None
     except (TypeError, ValueError) as exc:          # a value of the wrong kind somewhere era did not expect it
         raise era.DataError(f"The model is not in era.Frame's file format: {exc}.") from None
+
+
+#: era.Frame's refusals (era/structure.py, era/fem/space.py) -> the panel's control that fixes them.
+_CONTROLS = ((re.compile(r"^Frame: member (\d+) \("), "member:{}"),
+             (re.compile(r"\b(?:support|mass|joint spring) at node (.+?)(?::| must| which|, which)"), "node:{}"),
+             (re.compile(r"^Frame: node (.+?) (?:must have|is on no member)"), "node:{}"),
+             (re.compile(r"^Frame is a mechanism: node (.+?) (?:translation|rotation) "), "node:{}"),
+             (re.compile(r"^Frame: (?:a )?sensor"), "sensors"),
+             (re.compile(r"^Frame: gravity"), "gravity"))
+
+
+def control(message: str, model: dict) -> str | None:
+    """Which control of the Model panel fixes era.Frame's refusal ``message`` of ``model``: "member:k" (its index
+    in model["members"]), "node:id" (its support, mass or members), "section:name", "sensors", "gravity"; None
+    when the message names none of them."""
+    for pattern, option in _CONTROLS:
+        m = pattern.search(message)
+        if m:
+            return option.format(*m.groups())
+    if message.startswith("Section"):               # era.Section does not say which: find the one it refuses
+        for name, s in (model.get("sections") or {}).items():
+            try:
+                era.Section.from_dict(s)
+            except (era.EraError, TypeError, ValueError):
+                return f"section:{name}"
+    return None
 
 
 def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None) -> None:
@@ -135,7 +167,7 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
     if len(fr.sensors) != p:
         raise era.DataError(f"The model has {len(fr.sensors)} sensor(s) but this dataset has {p} output(s) "
                             f"({', '.join(outputs)}): list one sensor (node, direction) per output, in the "
-                            "outputs' order.")
+                            "outputs' order.", option="sensors")
     if geometry is None or geometry.channel_nodes.size != p:
         return
     labels = [str(i) for i in geometry.node_ids]
@@ -149,7 +181,7 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
         if labels[at] != node or not np.allclose(along, where, atol=1e-3):
             raise era.DataError(f"Sensor {ch + 1} of the model is at node {node} along {_dir_text(d)}, but output "
                                 f"{ch + 1} ({outputs[ch]}) measures node {labels[at]} along {_dir_text(where)}: "
-                                "list the sensors in the outputs' order.")
+                                "list the sensors in the outputs' order.", option="sensors")
 
 
 def check_channels_of(model: dict, outputs: tuple, geometry: era.Geometry | None) -> None:
@@ -181,7 +213,10 @@ def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple
     not the dataset's channels. Blocking (one eigen-solution)."""
     fr = frame(model)
     check_channels(fr, outputs, geometry)
-    f_hz, _ = fr.modes(N_MODES)
+    try:
+        f_hz, _ = fr.modes(N_MODES)
+    except era.EraError as exc:                     # a mechanism: at the node the solver names
+        raise era.DataError(str(exc), option=exc.option or control(str(exc), model)) from None
     return fr, f_hz
 
 

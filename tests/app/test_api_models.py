@@ -215,3 +215,76 @@ def test_a_model_is_replaced_whole_and_goes_with_its_dataset_when_that_expires(t
     assert store.usage()["bytes"]["models"] > 0
     store.expire(time.time() + 1)
     assert store.model(ds) is None and not (tmp_path / "models" / f"{ds}.json").exists()
+
+
+def test_edits_in_the_panel_springs_members_orientation_are_checked_by_era_frame_and_placed(portal_test):
+    """What the panel's editing sends: spring supports (N/m, N·m/rad), a member added between two nodes or removed,
+    a member's orientation vector. Each refusal is era.Frame's own sentence with the control that fixes it
+    (``option``: the member's index, the node, the section); the stored model stays as it was."""
+    c, ds = portal_test
+    url = f"/api/datasets/{ds['id']}/model"
+    good = described(c.get(f"{url}/draft").json())
+    base = c.put(url, json={"model": good}).json()
+    f0 = base["frequency_hz"][0]
+
+    def saved(model):
+        r = c.put(url, json={"model": model})
+        assert r.status_code == 200, r.text
+        return r.json()
+
+    def refused(model, words, option):
+        r = c.put(url, json={"model": model})
+        assert r.status_code == 422 and words in r.json()["error"] and r.json().get("option") == option, r.text
+        assert c.get(url).json()["model"] == kept            # nothing saved is lost
+
+    # very stiff springs on every DOF behave as the fixed bases; a soft rotational spring lowers the sway mode
+    stiff = {k: 1e13 for k in ("kx", "ky", "kz")} | {k: 1e12 for k in ("rx", "ry", "rz")}
+    springs = saved(dict(good, supports={"1": stiff, "5": stiff}))
+    assert springs["frequency_hz"][0] == pytest.approx(f0, rel=2e-3) and "1 springs" in springs["text"]
+    soft = saved(dict(good, supports={"1": dict(stiff, ry=2e5), "5": dict(stiff, ry=2e5)}))
+    assert soft["frequency_hz"][0] < 0.9 * f0
+    # a diagonal brace between two nodes stiffens the sway; removing it again gives the portal back
+    braced = saved(dict(good, members=good["members"] + [["1", "7", "col"]]))
+    assert braced["n_members"] == 7 and braced["frequency_hz"][0] > 1.5 * f0
+    # turning the columns' 300 × 50 plates by 90° about their axis (local z along y) changes the sway stiffness
+    turned = [m + [[0.0, 1.0, 0.0]] if m[2] == "col" else m for m in good["members"]]
+    assert abs(saved(dict(good, members=turned))["frequency_hz"][0] / f0 - 1) > 0.05
+    kept = saved(good)["model"]
+
+    k_col = next(k for k, m in enumerate(good["members"]) if m[2] == "col")
+    refused(dict(good, supports={"1": dict(stiff, ry=-5.0), "5": "fixed"}),
+            "support at node 1: ry must be a stiffness ≥ 0", "node:1")
+    refused(dict(good, supports={"1": {}, "5": "fixed"}), "support at node 1 must be 'fixed', 'pinned' or a table",
+            "node:1")
+    refused(dict(good, supports={"1": {"kq": 1.0}, "5": "fixed"}), "unknown key 'kq'", "node:1")
+    refused(dict(good, members=good["members"] + [["3", "3", "beam"]]), "has zero length", f"member:{len(good['members'])}")
+    vertical = [m + [[0.0, 0.0, 1.0]] if k == k_col else m for k, m in enumerate(good["members"])]
+    refused(dict(good, members=vertical), "must be a 3-vector not parallel to the member", f"member:{k_col}")
+    refused(dict(good, members=[m for m in good["members"] if "3" not in m[:2]]), "node 3 is on no member", "node:3")
+    refused(dict(good, masses={"3": -2.0}), "mass at node 3 must be a number of kg", "node:3")
+    r = c.put(url, json={"model": dict(good, supports={"1": "pinned", "5": "pinned"})})   # spins about 1-5
+    named = r.json()["error"].split("node ", 1)[1].split(" ", 1)[0]
+    assert r.status_code == 422 and "is a mechanism" in r.json()["error"] and r.json()["option"] == f"node:{named}"
+    no_wall = dict(good, sections=dict(good["sections"], col={"shape": "tube", "diameter": 0.05, "wall": 0.06,
+                                                              "material": "steel"}))
+    refused(no_wall, "Section", "section:col")
+
+
+def test_each_refusal_of_era_frame_names_its_control():
+    from app import modeling
+
+    model = {"members": [["1", "2", "s"], ["2", "3", "s"]], "sections": {"s": PLATE, "t": {"area": -1}}}
+    cases = {"Frame: member 1 (2-3) has zero length: its nodes coincide.": "member:1",
+             "Frame: support at node A 1: ry must be a stiffness ≥ 0 or 'fixed'": "node:A 1",
+             "Frame: support at node 7 must be 'fixed', 'pinned' or a table": "node:7",
+             "Frame: support at node 9, which is not in nodes.": "node:9",
+             "Frame: mass at node 3 must be a number of kg ≥ 0, got -2.": "node:3",
+             "Frame: joint spring at node 4 must be a number of N·m/rad > 0, got 0.": "node:4",
+             "Frame: node 6 is on no member: add a member or remove the node (1 such node(s)).": "node:6",
+             "Frame is a mechanism: node B rotation about z is free: add a support or a member": "node:B",
+             "Frame: sensor at node 2: direction 'q' is not one of": "sensors",
+             "Frame: gravity must be None or a non-zero (gx, gy, gz) in m/s², got 0.": "gravity",
+             "Section: area must be positive and finite, got -1.": "section:t",
+             "Frame: no members.": None}
+    for message, option in cases.items():
+        assert modeling.control(message, model) == option, message
