@@ -644,6 +644,16 @@ class StructureModel(Schema):
     text: str = Field(description="the model in one line")
 
 
+class ModelViewLink(Schema):
+    """POST /api/datasets/{id}/model/viewer: the model being described, in the 3-D viewer, its nodes clickable."""
+
+    key: str = Field(description="the view's key (random)")
+    url: str = Field(description="the viewer page for an <iframe>")
+    picks_url: str = Field(description="GET ?after=n: the nodes clicked there since pick n")
+    look_url: str = Field(description="POST {node}: turn the view to a node")
+    marks_url: str = Field(description="POST {marks: {node: fixed | pinned | springs | mass}}: the nodes' colours")
+
+
 class BestPartner(Schema):
     model_mode: int = Field(description="index of the model mode with the largest MAC, from 0")
     mac: float | None = Field(description="that MAC, fraction")

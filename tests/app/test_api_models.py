@@ -16,7 +16,7 @@ import pytest
 from frame_test_file import write_uff
 
 import era
-from apiclient import client
+from apiclient import case1_npz, client, upload
 from test_schemas import exact
 from app import modeling, schemas
 from era.examples.frames import portal
@@ -288,3 +288,35 @@ def test_each_refusal_of_era_frame_names_its_control():
              "Frame: no members.": None}
     for message, option in cases.items():
         assert modeling.control(message, model) == option, message
+
+
+def test_the_model_in_the_3d_view_hands_its_picks_to_the_panel(portal_test, tmp_path):
+    """POST .../model/viewer publishes the description being edited (its nodes clickable in viser); the page polls
+    the picks, turns the view to a node and recolours nodes. (The click itself, in viser's client, is in
+    tests/e2e/test_model_e2e.py.)"""
+    c, ds = portal_test
+    draft = c.get(f"/api/datasets/{ds['id']}/model/draft").json()
+    body = {"nodes": draft["nodes"], "members": [m[:2] for m in draft["members"]], "marks": {"1": "fixed"}}
+    link = exact(schemas.ModelViewLink, c.post(f"/api/datasets/{ds['id']}/model/viewer", json=body).json())
+    assert c.get(link.url).status_code == 200                        # viser's page for the iframe
+    assert c.get(link.picks_url).json() == {"picks": [], "last": 0}
+    viewer = c.app.state.viewer
+    for node in ("3", "5", "3"):                                     # what a click on a sphere records
+        viewer._live.pickable.add_pick(link.key, node)
+    assert c.get(link.picks_url, params={"after": 1}).json() == {
+        "picks": [{"seq": 2, "node": "5"}, {"seq": 3, "node": "3"}], "last": 3}
+    assert c.post(link.look_url, json={"node": "3"}).json() == {"views": 0}       # no browser open here
+    assert c.post(link.look_url, json={"node": "99"}).status_code == 404
+    assert c.post(link.marks_url, json={"marks": {"5": "springs", "3": "mass"}}).status_code == 200
+    bad = c.post(link.marks_url, json={"marks": {"5": "glued"}})
+    assert bad.status_code == 422 and "Unknown node mark 'glued'" in bad.json()["error"]
+    assert c.get("/viser/nokey/picks").status_code == 404
+    for wrong, words in (({"nodes": {}}, "needs the model's nodes"),
+                         ({"nodes": {"1": [0, 0, 0]}, "members": [["1", "2"]]}, "does not join two of its nodes"),
+                         ({"nodes": {"1": [0, 0]}}, "three finite coordinates")):
+        r = c.post(f"/api/datasets/{ds['id']}/model/viewer", json=wrong)
+        assert r.status_code == 422 and words in r.json()["error"], r.text
+    with client(tmp_path / "off") as off:                             # a server without the viewer says so
+        other = upload(off, case1_npz()).json()
+        r = off.post(f"/api/datasets/{other['id']}/model/viewer", json=body)
+        assert r.status_code == 503 and "pick nodes in the drawing" in r.json()["error"]
