@@ -257,7 +257,8 @@ def test_edits_in_the_panel_springs_members_orientation_are_checked_by_era_frame
     refused(dict(good, supports={"1": {}, "5": "fixed"}), "support at node 1 must be 'fixed', 'pinned' or a table",
             "node:1")
     refused(dict(good, supports={"1": {"kq": 1.0}, "5": "fixed"}), "unknown key 'kq'", "node:1")
-    refused(dict(good, members=good["members"] + [["3", "3", "beam"]]), "has zero length", f"member:{len(good['members'])}")
+    refused(dict(good, members=good["members"] + [["3", "3", "beam"]]), "has zero length",
+            f"member:{len(good['members'])}")
     vertical = [m + [[0.0, 0.0, 1.0]] if k == k_col else m for k, m in enumerate(good["members"])]
     refused(dict(good, members=vertical), "must be a 3-vector not parallel to the member", f"member:{k_col}")
     refused(dict(good, members=[m for m in good["members"] if "3" not in m[:2]]), "node 3 is on no member", "node:3")
