@@ -175,9 +175,7 @@ class LiveViewer:
         key = connection_path(self._server, client).rstrip("/").rpartition("/")[2]
         picking = self.pickable.get(key)
         if picking is not None:                    # a model to pick nodes in (picking.py), not a mode set
-            position, look_at = picking.look_from(picking.ids[0])
-            client.camera.position = picking.coordinates.mean(axis=0) + (position - look_at) * 2.5
-            client.camera.look_at = picking.coordinates.mean(axis=0)
+            client.camera.position, client.camera.look_at = picking.look_from()   # position first (see look)
             with client.atomic():
                 spheres = add_pick_nodes(client.scene, picking, lambda n: self.pickable.add_pick(key, n))
             client.gui.add_markdown("Click a node: the Model panel takes it as a click in its drawing.")

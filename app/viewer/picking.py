@@ -49,11 +49,14 @@ class PickScene:
         side = float(np.ptp(self.coordinates, axis=0).max()) if len(self.ids) else 0.0
         return side if side > 0 else 1.0
 
-    def look_from(self, node: str) -> tuple[np.ndarray, np.ndarray]:
+    def look_from(self, node: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(camera position, look_at) facing ``node`` from the three-quarter direction of scene.camera_pose, close
-        enough that its sphere is a target."""
-        at = self.coordinates[self.ids.index(node)]
+        enough that its sphere is a target; without a node, the whole structure from further away."""
         direction = np.array([0.45, -0.95, 0.75]) / np.linalg.norm([0.45, -0.95, 0.75])
+        if node is None:
+            centre = (self.coordinates.min(axis=0) + self.coordinates.max(axis=0)) / 2
+            return centre + 1.25 * self.size * direction, centre
+        at = self.coordinates[self.ids.index(node)]
         return at + 0.5 * self.size * direction, at
 
 
