@@ -13,13 +13,13 @@ Scenes and picks live in this process only (the app runs one viser server per pr
 from __future__ import annotations
 
 import secrets
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from era.errors import DataError
+
+from .recent import Recent
 
 #: Colour of a node by what it carries (RGB 0..255): free, fixed, pinned, springs, a lumped mass.
 MARK_RGB = {"": (31, 95, 191), "fixed": (179, 38, 30), "pinned": (179, 38, 30), "springs": (200, 80, 160),
@@ -88,30 +88,19 @@ def pick_scene(nodes: dict, members: list, marks: dict | None = None) -> PickSce
     return PickScene(ids, xyz, np.array(pairs, dtype=int).reshape(-1, 2), marks)
 
 
-class PickRegistry:
+class PickRegistry(Recent):
     """Thread-safe key -> PickScene (the routes publish and poll, viser's threads record clicks); the newest
     ``capacity`` keys are kept."""
 
     def __init__(self, capacity: int = 64):
-        self.capacity = capacity
-        self._items: OrderedDict[str, PickScene] = OrderedDict()
-        self._lock = threading.Lock()
+        super().__init__(capacity)
 
     def publish(self, scene: PickScene) -> str:
-        key = secrets.token_urlsafe(16)
-        with self._lock:
-            self._items[key] = scene
-            while len(self._items) > self.capacity:
-                self._items.popitem(last=False)
-        return key
+        return self._put(secrets.token_urlsafe(16), scene)
 
     def get(self, key: str) -> PickScene | None:
         with self._lock:
             return self._items.get(key)
-
-    def __contains__(self, key: str) -> bool:
-        with self._lock:
-            return key in self._items
 
     def add_pick(self, key: str, node: str) -> None:
         with self._lock:
