@@ -352,12 +352,16 @@ class Frame:
 
     def beam_ends(self, node: str) -> list:
         """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``."""
-        out = []
-        for k, (i, j, *_) in enumerate(self.members):
-            axis = np.subtract(self.nodes[j], self.nodes[i])
-            if np.linalg.norm(np.cross(axis / np.linalg.norm(axis), self.vertical)) > 1e-6:
-                out += [(k, side) for side, n in enumerate((i, j)) if n == node]
-        return out
+        ends = self.__dict__.get("_beam_ends")
+        if ends is None:     # once per frame: explain asks for every node's, and for each candidate joint
+            xyz = np.array([np.subtract(self.nodes[j], self.nodes[i]) for i, j, *_ in self.members])
+            unit = xyz / np.linalg.norm(xyz, axis=1)[:, None]
+            beam = np.linalg.norm(np.cross(unit, self.vertical), axis=1) > 1e-6
+            ends = self.__dict__["_beam_ends"] = {}
+            for k in np.flatnonzero(beam):
+                for side, n in enumerate(self.members[k][:2]):
+                    ends.setdefault(n, []).append((int(k), side))
+        return list(ends.get(node, []))
 
     def _end_springs(self, xyz, ends):
         """(e, 2) end springs (inf = rigid) and (e, 2, 3) their axes, from joint_springs; None when all rigid."""
@@ -436,7 +440,11 @@ class Frame:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
         ``node_ids`` order, columns x, y, z), 1/√kg."""
         _, result = self.solution(n_modes)
-        return result.frequency_hz[:n_modes].copy(), result.shapes[:len(self.nodes), :3, :n_modes].copy()
+        u = result.shapes[:len(self.nodes), :3, :n_modes].copy()
+        # the eigensolver's round-off (~1e-16 of the mode) where the motion is zero (a planar frame's out-of-plane
+        # modes at its nodes' in-plane DOFs) made exact: a unit-normalised sensor shape of it would be random
+        u[np.abs(u) < 1e-10 * np.abs(u).max(axis=(0, 1))] = 0.0
+        return result.frequency_hz[:n_modes].copy(), u
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor

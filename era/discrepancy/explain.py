@@ -19,7 +19,7 @@ from ..errors import DataError
 from ..realization import Identification
 from ..structure import Frame
 from .effects import describe, grid_effects, nuisance, short_place
-from .frame_model import FrameModel, frame_effects
+from .frame_model import FrameModel, frame_effects, refit_exact
 from .fitting import ErrorLevels, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, rank_effects
@@ -269,7 +269,7 @@ def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, clo
         unc = {n: fit.uncertainty[n] for n in params}
         p_loc = r.locations[0][2] if r.locations else None
         others = tuple((loc, q) for loc, _, q in r.locations[1:] if q >= 0.05)
-        step = r.fit.model
+        step = fit.model if i == len(found.named) - 1 else getattr(r.fit.model, "exact", r.fit.model)
         f_s, s_s = step.modes(n_model)
         pairing = _pair(step, fm, n_model, max_freq_error=1.0)
         g = gap(pairing, subspace_mac(pairing, fm.shapes, s_s, f_s, close))
@@ -354,16 +354,21 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     unpaired = tuple(int(i) for i in np.setdiff1d(np.arange(measured.n_modes), fit_modes))
     fm = measured.take(fit_modes)
     n_model = fm.n_modes + extra_model_modes
+    frames = isinstance(model, FrameModel)
+    if frames:   # a frame's sensors miss many modes (out of plane, torsion): every model mode in the tested band
+        f_nominal = model.modes(n_model + 8)[0]
+        n_model = max(n_model, int(np.searchsorted(f_nominal, 1.2 * fm.frequency_hz.max())) + 2)
     close = _close_modes(model, fm, n_model, errors.close)
     weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
-    frames = isinstance(model, FrameModel)
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
                            fine_scan=frames, test=adequacy_test)
     found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,
                            min_probability=min_probability, min_log_bayes=min_log_bayes, max_effects=max_effects,
                            refine=refine_locations, fine_scan=frames, test=adequacy_test)
+    if frames:    # ranked and searched in the reduced model: the named set's parameters from the full model
+        found = refit_exact(model, found, nuisance(model), fm, weights, n_model)
     timing["ranking_s"] = time.perf_counter() - t1
     verdict, why = verdict_of(ranking, found, min_probability, min_log_bayes)
     if verdict == "explained":
@@ -373,7 +378,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     t2 = time.perf_counter()           # the report: the named parameters' intervals, pairings, expansion
     none = next(r for r in ranking if r.name == "none")
     chosen = found.fit if verdict == "explained" else none.fit
-    updated = chosen.model
+    updated = getattr(chosen.model, "exact", chosen.model)     # a frame's full model, not its reduced one
     effects = _named_effects(model, found, fm, weights, n_model, errors.close) if verdict == "explained" else ()
     effect = effects[0] if effects else None
     before = _pair(model, fm, n_model, max_freq_error=1.0)

@@ -3,7 +3,10 @@
 explain() needs a model with .modes(n), .node_modes(n), .params, .with_params(**changes), .sensors and, for located
 effects, the candidate places of each (EffectSpec.locations). :class:`FrameModel` gives these to an era.Frame
 without changing it: each parameter set is a new Frame (a section scaled, a spring, a mass, ...) that keeps the
-nominal's mesh (``Frame.element_counts``), so a candidate costs one solve, not a convergence study.
+nominal's mesh (``Frame.element_counts``). Its modes come from the nominal's reduced model (era.fem.reduced: the
+nominal's 30 modes plus static vectors for the places the parameters name, one small dense eigenproblem per
+parameter set) when the frame allows it; ``.exact`` is the same parameter set solved in full, which explain uses
+for the finalists (:func:`refit_exact`) and the report.
 
 Locations: a node id (str) for effects at a node or a support, a tuple (node i, node j) for a member.
 Parameters are SI (design/effects.md says what each effect changes).
@@ -19,8 +22,10 @@ import numpy as np
 
 from ..errors import DataError
 from ..fem import space
+from ..fem.reduced import ReducedFrame, reducible
 from ..structure import Frame, Section
 from .effects import EffectSpec, Param, member_stiffness
+from .fitting import fit_effect
 
 DEFAULTS = dict(stiffness_factor=1.0, gravity=True, support_at=None, support_rotation_stiffness=None,
                 support_vertical_stiffness=None, joint_at=None, joint_stiffness=None, point_mass_at=None,
@@ -43,19 +48,29 @@ class FrameModel:
     joint_at + joint_stiffness (N·m/rad, Frame.joint_springs); point_mass_at + point_mass_kg; member_at (i, j) +
     member_factor (its E and G; member_at ALL_MEMBERS: every member); distributed_mass_kg (spread uniformly by
     length over every member).
+    _shared : {"gravity": the nominal's, "reduced": ReducedFrame} shared by the nominal and every variant (the
+    reduced model built at the first solve), or None: every parameter set solved in full (``.exact``).
     """
 
     frame: Frame
     _params: dict = field(default_factory=dict)
+    _shared: dict | None = None
 
     @classmethod
-    def of(cls, frame: Frame, n_mesh: int = 10, gravity: bool = True) -> "FrameModel":
-        """The nominal FrameModel of ``frame``, its mesh fixed to the automatic mesh for ``n_mesh`` modes."""
+    def of(cls, frame: Frame, n_mesh: int = 10, gravity: bool = True, reduced: bool = True) -> "FrameModel":
+        """The nominal FrameModel of ``frame``, its mesh fixed to the automatic mesh for ``n_mesh`` modes;
+        reduced: variants solved in the nominal's reduced model where it applies (era.fem.reduced)."""
         if not frame.sensors:
             raise DataError("explain: the Frame has no sensors: list (node, direction) for each output channel.")
         if frame.elements_per_member is None:
             frame = dataclasses.replace(frame, elements_per_member=frame.element_counts(n_mesh))
-        return cls(frame, {**DEFAULTS, "gravity": bool(gravity and frame.gravity is not None)})
+        on = bool(gravity and frame.gravity is not None)
+        return cls(frame, {**DEFAULTS, "gravity": on}, {"gravity": on} if reduced else None)
+
+    @property
+    def exact(self) -> "FrameModel":
+        """The same parameter set, solved in full (the mesh assembled and a sparse eigensolve)."""
+        return self if self._shared is None else FrameModel(self.frame, self._params, None)
 
     @property
     def params(self) -> dict:
@@ -69,7 +84,7 @@ class FrameModel:
         unknown = set(changes) - set(DEFAULTS)
         if unknown:
             raise DataError(f"FrameModel: unknown parameter(s) {sorted(unknown)}; known: {sorted(DEFAULTS)}.")
-        return FrameModel(self.frame, {**self._params, **changes})
+        return FrameModel(self.frame, {**self._params, **changes}, self._shared)
 
     @property
     def updated_frame(self) -> Frame:
@@ -118,8 +133,12 @@ class FrameModel:
 
     @property
     def total_length_m(self) -> float:
-        return float(sum(np.linalg.norm(np.subtract(self.frame.nodes[j], self.frame.nodes[i]))
-                         for i, j, *_ in self.frame.members))
+        got = self.frame.__dict__.get("_total_length_m")     # the members do not change between variants
+        if got is None:
+            nodes = self.frame.nodes
+            got = self.frame.__dict__["_total_length_m"] = float(sum(
+                np.linalg.norm(np.subtract(nodes[j], nodes[i])) for i, j, *_ in self.frame.members))
+        return got
 
     def member_index(self, at) -> int:
         a, b = (str(n) for n in at)
@@ -134,18 +153,91 @@ class FrameModel:
         return tuple(k for a, k in enumerate(("rx", "ry", "rz")) if a != up)
 
     # the modes
+    def _reduced(self, n_modes: int, screen: bool = False):
+        """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
+        reduced model, nominal joint springs, a spring made rigid, more modes than its basis answers well).
+        screen: a changed member in the nominal's modes alone (to rank places), not with its attachment modes."""
+        if self._shared is None:
+            return None
+        cache = self.__dict__.setdefault("_screen_modes" if screen else "_reduced_modes", {})
+        got = next((v for k, v in cache.items() if k >= n_modes), None)
+        if got is not None:
+            return got[0][:n_modes], got[1][..., :n_modes]
+        p, fr = self._params, self.frame
+        cables = any("cable" in s for s in fr.supports.values())
+        if cables and not p["gravity"]:
+            return None
+        if "reduced" not in self._shared:
+            # the basis: the nominal's modes (its gravity as FrameModel.of was given it), 30 of them or 10 more
+            # than the first request asks (the modes explain compares)
+            basis = fr if self._shared["gravity"] or fr.gravity is None else dataclasses.replace(fr, gravity=None)
+            self._shared["reduced"] = ReducedFrame(basis, max(30, n_modes + 10), fr.gravity) if (
+                reducible(fr) and not (cables and not self._shared["gravity"])) else None
+        red = self._shared["reduced"]
+        values = [p[k] for k in ("stiffness_factor", "member_factor", "point_mass_kg", "distributed_mass_kg",
+                                 "support_rotation_stiffness", "support_vertical_stiffness", "joint_stiffness")]
+        if red is None or not all(v is None or math.isfinite(v) for v in values) or red.n_basis < n_modes + 10:
+            return None
+        support, joint, mass_at, member = self._places()
+        pieces = red.pieces(support, joint, mass_at, None if screen or member in (None, "all") else member)
+        got = red.modes(n_modes, pieces, stiffness_factor=p["stiffness_factor"],
+                        member=member, member_factor=p["member_factor"],
+                        k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
+                        k_joint=p["joint_stiffness"] or 0.0, point_mass_kg=p["point_mass_kg"] if mass_at else 0.0,
+                        spread_kg_per_m=p["distributed_mass_kg"] / self.total_length_m,
+                        gravity=bool(p["gravity"] and fr.gravity is not None))
+        cache[n_modes] = got
+        return got
+
+    def _places(self) -> tuple:
+        """The reduced model's configuration of these parameters: support (node, released rotation keys, released
+        vertical keys) or None, joint node, point-mass node (or None each), member index, "all" or None."""
+        p, fr = self._params, self.frame
+        support = None
+        if p["support_at"] is not None:
+            node = str(p["support_at"])
+            up = ("kx", "ky", "kz")[int(np.argmax(np.abs(fr.vertical)))]
+            support = (node, self.bending_rotations(node) if p["support_rotation_stiffness"] is not None else (),
+                       (up,) if p["support_vertical_stiffness"] is not None else ())
+        joint = str(p["joint_at"]) if p["joint_at"] is not None and p["joint_stiffness"] is not None else None
+        mass_at = str(p["point_mass_at"]) if p["point_mass_at"] is not None and p["point_mass_kg"] > 0 else None
+        member = None
+        if tuple(p["member_at"] or ()) == ALL_MEMBERS:
+            member = "all"
+        elif p["member_at"] is not None and p["member_factor"] != 1.0:
+            member = self.member_index(p["member_at"])
+        return support, joint, mass_at, member
+
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (3·n_nodes, n), rows node-major (x, y, z of each
         node in Frame.node_ids order), 1/√kg."""
-        f, u = self.updated_frame.node_modes(n_modes)
+        got = self._reduced(n_modes)
+        f, u = self.updated_frame.node_modes(n_modes) if got is None else got
         return f, u.reshape(-1, u.shape[-1])
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        return self.updated_frame.modes(n_modes)
+        got = self._reduced(n_modes)
+        if got is None:
+            return self.updated_frame.modes(n_modes)
+        f, u = got
+        index = {n: k for k, n in enumerate(self.frame.nodes)}
+        rows = [index[n] for n, _ in self.frame.sensors]
+        return f, np.einsum("sc,scn->sn", self.frame.sensor_directions, u[rows])
 
-    def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameRitz | None":
+    def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameModel | FrameRitz | None":
         """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
-        screening places (ranking.screen_locations); None when the two are not meshed alike."""
+        screening places (ranking.screen_locations); None when the two are not meshed alike. On the reduced path
+        (the reference's own reduced model), the reduced model's modes with a changed member in the nominal's
+        modes alone (ReducedFrame.pieces without its attachment modes), as many as its basis answers well."""
+        if self._shared is not None and self._shared is reference._shared:
+            red = self._shared.get("reduced")     # as many modes as its basis answers well
+            got = self._reduced(red.n_basis - 10 if red is not None else max(1, n_modes - 10), screen=True)
+            if got is not None:
+                f, u = got
+                index = {n: k for k, n in enumerate(self.frame.nodes)}
+                rows = [index[n] for n, _ in self.frame.sensors]
+                return FrameRitz(f, u.reshape(-1, u.shape[-1]),
+                                 np.einsum("sc,scn->sn", self.frame.sensor_directions, u[rows]))
         got = self.updated_frame.ritz_modes(reference.updated_frame, n_modes)
         if got is None:
             return None
@@ -295,3 +387,31 @@ class FrameRitz:
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         return self.frequency_hz[:n_modes].copy(), self.sensor_w[:, :n_modes].copy()
+
+
+def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model: int, min_share: float = 0.05):
+    """The search's named set (era.discrepancy.search.Search) re-fitted in the full model, from the reduced
+    model's optimum (a few Gauss-Newton steps, each 1 + n_parameters full solves): the reported parameters,
+    uncertainties and gap are the full model's. So are the last named effect's other places that hold at least
+    ``min_share`` of its place probability (re-fitted there too; the rest keep their reduced evidence). The
+    screening, the ranking of candidates and the search stay the reduced model's."""
+    fit = found.fit
+    if fit is None or not isinstance(fit.model, FrameModel) or fit.model._shared is None:
+        return found
+    refit = lambda at: fit_effect(model.exact, fit.spec, nuisance, measured, w, n_model,   # noqa: E731
+                                  location=at, u0=fit.u)
+    exact = refit(fit.location)
+    last = found.named[-1]
+    if len(last.locations) < 2 or all(q < min_share for _, _, q in last.locations[1:]):
+        return dataclasses.replace(found, fit=exact)
+    places = [(exact.location, exact.log_evidence)] + [
+        (at, refit(at).log_evidence if q >= min_share else le) for at, le, q in last.locations[1:]]
+    les = np.array([le for _, le in places])
+    share = np.exp(les - les.max())
+    share /= share.sum()
+    order = np.argsort(-les, kind="stable")
+    if order[0] != 0:    # (rare) the full model prefers another place: the named place and its probabilities stay
+        # the search's, its parameters are re-fitted there
+        return dataclasses.replace(found, fit=exact)
+    last = dataclasses.replace(last, locations=tuple((places[i][0], float(les[i]), float(share[i])) for i in order))
+    return dataclasses.replace(found, fit=exact, named=found.named[:-1] + (last,))
