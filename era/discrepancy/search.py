@@ -97,12 +97,14 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
             combined(chain, s) for s in library[1:] if s.name not in done)
         if len(step) == 1:
             break
-        # as many places fitted in full as in the first step: a damaged member's neighbours come close (a blind
-        # crack one member away from the named one, point mass + member, seed 4, was never fitted with 2)
+        # the grid fits as many places in full as in the first step: a damaged member's neighbours come close (a
+        # blind crack one member away from the named one, point mass + member, seed 4, was never fitted with 2);
+        # frames (fine_scan) keep half, as their speed work was measured with
         # the reference of this step is the last step's best fit (the same model and parameters): not re-fitted
         base = dataclasses.replace(best.fit, spec=step[0], location=None)
         ranking = rank_effects(model, step, nuisance, measured, w, n_model, locations,
-                               refine=refine, fine_scan=fine_scan, test=test, base=base,
+                               refine=max(1, refine // 2) if fine_scan else refine, fine_scan=fine_scan,
+                               test=test, base=base,
                                screens=None if fine_scan else {r.name: r.screen for r in first if r.screen is not None})
         rankings.append(ranking)
     if not named:
