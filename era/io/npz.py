@@ -13,6 +13,7 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``input_locations``       (m, d)     float, the point each input acts at (e.g. grid joints (x_ft, y_ft));
                                      ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
 ``name``                  ()         the dataset's name (e.g. the uploaded file name); optional
+``records``               (n_b, N, p, m)  the pulse responses of each record (ResponseData.records); optional
 ``node_ids``              (n,)       int node labels                                 } the Geometry:
 ``coordinates``           (n, 3)     float x, y, z in ``geometry_units``             } all five or none
 ``edges``                 (e, 2)     int trace lines, row indices into ``node_ids``  }
@@ -55,7 +56,7 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", *_GEOMETRY, "geometry_units", *_LINES, *_FLAGS,
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", "records", *_GEOMETRY, "geometry_units", *_LINES, *_FLAGS,
           *_LEGACY_GEOMETRY)
 
 
@@ -136,7 +137,8 @@ def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str
     dt = _one(arrays, "dt", label, "one number (seconds)")
     labels = {k: [str(x) for x in arrays[k].reshape(-1)] for k in _LABELS if k in arrays}
     try:
-        data = ResponseData(markov=arrays["markov"], dt=dt, **labels, meta={"conversions": [], "source": "npz"})
+        data = ResponseData(markov=arrays["markov"], dt=dt, **labels, meta={"conversions": [], "source": "npz"},
+                            records=arrays.get("records"))
     except DataError as exc:
         raise DataError(f"{label}: {exc}") from None
     if "input_locations" in arrays:
@@ -182,6 +184,8 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
         arrays["input_locations"] = where
     if name is not None:
         arrays["name"] = np.array(str(name))
+    if data.records is not None:  # the records' scatter gives σ (era.uncertainty)
+        arrays["records"] = data.records
     if geometry is not None:
         arrays.update({k: getattr(geometry, k) for k in _GEOMETRY})
         arrays["geometry_units"] = np.array(geometry.units)
