@@ -231,8 +231,9 @@ class Identification:
         perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
         signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
         its expectation is the sum over the independent blocks (or, with records as in :meth:`records_used`,
-        the records' scatter divided by n_b (n_b - 1), as era.uncertainty.record_covariance). Cost: n pole functionals per mode, so it is
-        not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
+        the records' scatter divided by n_b (n_b - 1), as era.uncertainty.record_covariance). Cost: n pole
+        functionals per mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default
+        all).
 
         A member of a repeated cluster (era.modal.repeated_clusters) leaves the cluster's other members out of the
         sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.

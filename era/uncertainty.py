@@ -88,7 +88,8 @@ class PoleCovariance:
 
 
 def source_label(n_records: int) -> str:
-    """"σ from N records" when the scatter of n_records ≥ 2 records is used, else "σ from one record's residuals"."""
+    """"σ from N records" when the scatter of n_records ≥ 2 records is used, else "σ from one record's
+    residuals"."""
     return f"σ from {n_records} records" if n_records >= 2 else "σ from one record's residuals"
 
 

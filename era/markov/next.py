@@ -12,7 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, positive_int, records
+from ._common import check_dt, kept_records, positive_int, records
 
 #: Smallest FFT length of the block-wise correlation sum; blocks stay small (cache-friendly, bounded memory).
 _MIN_FFT = 1 << 15
@@ -104,7 +104,7 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
     # comparable records (lengths within 10 %: about equal variances) each give one estimate; their scatter is
     # the σ of the modes (era.uncertainty.record_covariance, from MIN_RECORDS of them)
     lengths = [len(y) for y in ys]
-    per_record = np.stack(each) if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) else None
+    per_record = kept_records(np.stack(each)) if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) else None
     labels = [str(n) for n in names] if names is not None else [f"y{i + 1}" for i in range(p)]
     units = None
     if output_units is not None:

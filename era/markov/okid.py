@@ -18,7 +18,7 @@ import scipy.linalg
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, positive_int, records
+from ._common import check_dt, kept_records, positive_int, records
 
 #: Rows of the regression factored at once; the QR of each chunk is stacked under the running R factor,
 #: so memory stays at chunk × columns whatever the record length.
@@ -125,8 +125,9 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
     lengths = [len(y) - l for y in ys]
     per_record = None
     if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) and min(lengths) >= 2 * n_cols:
-        per_record = np.stack([system_markov(observer_markov([u / scale_u], [y / scale_y], l)[0], m, p, n_markov)[1:]
-                               for u, y in zip(us, ys)]) * scale_y[None, None, :, None] / scale_u[None, None, None, :]
+        each = [system_markov(observer_markov([u / scale_u], [y / scale_y], l)[0], m, p, n_markov)[1:]
+                for u, y in zip(us, ys)]
+        per_record = kept_records(np.stack(each) * scale_y[None, None, :, None] / scale_u[None, None, None, :])
     return ResponseData(markov=y_sys[1:], dt=dt, outputs=output_names, inputs=input_names,
                         output_units=output_units, input_units=input_units, records=per_record,
                         meta={"direct_term": y_sys[0], "fit_residual": residual, "source": "okid",

@@ -14,7 +14,7 @@ ZETA = np.array([0.02, 0.03])
 
 
 def _coloured(rng, shape, rho=0.8):
-    """AR(1) noise along the samples (axis 1), unit variance: errors correlated in time, as a NExT or OKID estimate's."""
+    """AR(1) noise along the samples (axis 1), unit variance: errors correlated in time, as NExT's or OKID's."""
     e = rng.standard_normal(shape)
     for k in range(1, shape[1]):
         e[:, k] = rho * e[:, k - 1] + np.sqrt(1 - rho**2) * e[:, k]
@@ -117,3 +117,23 @@ def test_repeated_hits_by_okid_keep_each_hits_markov_parameters():
     model = era.identify(data, 15, 30).model(4)
     assert model.uncertainty_source == "σ from 5 records"
     assert np.all(np.isfinite(model.frequency_std_hz)) and np.all(model.frequency_std_hz > 0)
+
+
+def test_many_records_are_kept_as_group_means_whose_scatter_gives_the_same_sigma():
+    """40 records kept as 20 batch means (era.markov._common.kept_records): σ within the estimate's own scatter."""
+    from era.markov._common import MAX_KEPT_RECORDS, MAX_KEPT_VALUES, kept_records
+
+    clean, _ = modal_response(F_HZ, ZETA, 3, 2, 300, 0.05, seed=1)
+    y = clean.markov
+    rng = np.random.default_rng(5)
+    records = y + 0.3 * np.sqrt(np.mean(y**2)) * rng.standard_normal((40,) + y.shape)
+    kept = kept_records(records)
+    assert kept.shape == (MAX_KEPT_RECORDS,) + y.shape
+    np.testing.assert_allclose(kept.mean(axis=0), records.mean(axis=0), atol=1e-12)  # equal groups: same mean
+    mean = era.ResponseData(records.mean(axis=0), clean.dt)
+    every = era.identify(mean, 20, 40).model(4, records=records)
+    grouped = era.identify(era.ResponseData(records.mean(axis=0), clean.dt, records=kept), 20, 40).model(4)
+    assert grouped.uncertainty_source == f"σ from {MAX_KEPT_RECORDS} records"
+    np.testing.assert_allclose(grouped.frequency_std_hz / every.frequency_std_hz, 1.0, atol=0.45)
+    big = records[:6, :, :1, :1].repeat(MAX_KEPT_VALUES // y[:, :1, :1].size // 4 + 1, axis=1)
+    assert kept_records(big) is None  # 4 groups at most in MAX_KEPT_VALUES: fewer than MIN_RECORDS
