@@ -277,14 +277,48 @@ class FrameModel:
     def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray:
         """(n_members, n) each member's share of each mode's elastic strain energy (columns sum to 1 over the
         members; springs, hinges and geometric stiffness left out)."""
-        mesh, result = self.updated_frame.solution(n_modes)
-        L, R = mesh.axes
-        k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
-        u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n_modes]     # (e, 12, n)
-        energy = np.einsum("ein,eij,ejn->en", u, k, u)
-        out = np.zeros((len(self.frame.members), energy.shape[1]))
-        np.add.at(out, mesh.member, energy)
+        _, _, cross = self._member_modal_stiffness(n_modes)
+        out = np.einsum("ejj->ej", cross)[:, :n_modes]
         return out / np.maximum(out.sum(axis=0, keepdims=True), 1e-300)
+
+    def member_shape_sensitivity(self, n_modes: int = 10, n_basis: int = 30) -> np.ndarray:
+        """(n_members, p, n) d ψ_j / d a_e: how each unit-norm sensor shape ψ_j moves per unit relative change a_e
+        of member e's E and G (its elastic stiffness K_e), by modal superposition over the lowest
+        max(n, n_basis) modes (Fox & Kapoor 1968; mass unchanged): dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k),
+        then projected normal to ψ_j. Zero for modes the sensors do not see. With members known to ±σ each,
+        ψ_j's components scatter by σ √(Σ_e (dψ_j/da_e)²) (the shapes' share of the model-form error)."""
+        f, s, cross = self._member_modal_stiffness(max(n_modes, n_basis))
+        lam = (2 * np.pi * f) ** 2
+        diff = lam[None, :] - lam[:, None]                        # [k, j] = λ_j − λ_k
+        apart = np.abs(diff) > 1e-9 * lam.max()
+        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
+        ds = np.einsum("pk,ekj,kj->epj", s, cross, inv)[:, :, :n_modes]
+        s = s[:, :n_modes]
+        norm = np.linalg.norm(s, axis=0)
+        seen = norm > 1e-9 * max(norm.max(), 1e-300)
+        psi = s / np.where(seen, norm, 1.0)
+        dpsi = (ds - psi[None] * np.einsum("pj,epj->ej", psi, ds)[:, None, :]) / np.where(seen, norm, 1.0)
+        return np.where(seen[None, None, :], dpsi, 0.0)
+
+    def _member_modal_stiffness(self, n_modes: int) -> tuple:
+        """f (n,) Hz, the sensors' mass-normalised shapes (p, n) and Φᵀ K_e Φ (n_members, n, n) of each member's
+        elastic stiffness K_e, from one full solve of this parameter set (cached)."""
+        cache = self.__dict__.setdefault("_member_modal", {})
+        got = next((v for k, v in cache.items() if k >= n_modes), None)
+        if got is None:
+            frame = self.updated_frame
+            mesh, result = frame.solution(n_modes)
+            n = min(int(n_modes), result.frequency_hz.size)
+            L, R = mesh.axes
+            k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
+            u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n]     # (e, 12, n)
+            per_element = np.einsum("eik,eij,ejn->ekn", u, k, u)
+            cross = np.zeros((len(self.frame.members), n, n))
+            np.add.at(cross, mesh.member, per_element)
+            f, s = frame.modes(n)
+            got = cache[n] = (f, s, cross)
+        f, s, cross = got
+        return f[:n_modes], s[:, :n_modes], cross[:, :n_modes, :n_modes]
 
 
 def _member_ei_over_l(frame: Frame, ends, weak: bool = True) -> float:
