@@ -155,7 +155,7 @@ class FrameModel:
     # the modes
     def _reduced(self, n_modes: int, screen: bool = False):
         """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
-        reduced model, nominal joint springs, a spring made rigid, more modes than its basis answers well).
+        reduced model, a spring made rigid, more modes than its basis answers well).
         screen: a changed member in the nominal's modes alone (to rank places), not with its attachment modes."""
         if self._shared is None:
             return None
@@ -179,7 +179,11 @@ class FrameModel:
         if red is None or not all(v is None or math.isfinite(v) for v in values) or red.n_basis < n_modes + 10:
             return None
         support, joint, mass_at, member = self._places()
-        pieces = red.pieces(support, joint, mass_at, None if screen or member in (None, "all") else member)
+        if member == "all":     # every member: a scaling, but for nominal joint springs (hinges), which stay
+            extend = "all" if red.mesh.hinges else None
+        else:
+            extend = None if screen or member is None else member
+        pieces = red.pieces(support, joint, mass_at, extend)
         got = red.modes(n_modes, pieces, stiffness_factor=p["stiffness_factor"],
                         member=member, member_factor=p["member_factor"],
                         k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
@@ -377,9 +381,12 @@ def frame_effects(model) -> tuple:
                    and len(at_support(n)) >= 2 and not _collinear(fr, n))
     if joints:
         ei_l = np.median([_member_ei_over_l(fr, fr.beam_ends(n), weak=False) for n in joints])
+        # the screening's trial spring: softer than every joint drawn semi-rigid, so that at such a joint too
+        # it makes the connection more flexible than drawn (the linearised screening cannot act backwards)
+        trial = min([10 * ei_l] + [0.3 * fr.joint_springs[n] for n in joints if n in fr.joint_springs])
         out.append(EffectSpec(
             "joint_flexibility", (Param("joint_stiffness", True, np.log(10 * ei_l), 2.0, "N·m/rad"),),
-            location_keyword="joint_at", locations=joints, trial={"joint_stiffness": 10 * ei_l}, trial_power=-1.0,
+            location_keyword="joint_at", locations=joints, trial={"joint_stiffness": trial}, trial_power=-1.0,
             summary="a beam-to-column connection is semi-rigid"))
     moving = tuple(n for n in fr.node_ids if not (n in fr.supports and all(
         math.isinf(fr.supports[n].get(k, 0.0)) for k in ("kx", "ky", "kz"))))

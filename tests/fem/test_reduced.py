@@ -33,6 +33,17 @@ CASES = {
                                                      "ry": 1e6, "rz": 1e6}, "D": "fixed"}),
                       [dict(support_at="A", support_rotation_stiffness=3e5),
                        dict(point_mass_at="B", point_mass_kg=50.0)]),
+    # semi-rigid connections drawn in the nominal (hinges in its mesh): a joint effect there re-springs them
+    "semi-rigid portal": (lambda: portal(joint_springs={"B": 4e5, "C": 2e6}),
+                          [dict(joint_at="C", joint_stiffness=1e5), dict(joint_at="B", joint_stiffness=4e6),
+                           dict(support_at="D", support_rotation_stiffness=3e5),
+                           dict(point_mass_at="E", point_mass_kg=30.0), dict(member_at=("B", "E"), member_factor=0.6),
+                           dict(distributed_mass_kg=60.0, stiffness_factor=0.97),
+                           dict(member_at=("*",), member_factor=0.8)]),
+    "semi-rigid two_storey": (lambda: two_storey(joint_springs={"21": 5e5, "32": 5e5}),
+                              [dict(joint_at="21", joint_stiffness=2e4), dict(joint_at="22", joint_stiffness=1e5),
+                               dict(point_mass_at="32", point_mass_kg=100.0),
+                               dict(member_at=("21", "31"), member_factor=0.5)]),
 }
 
 
@@ -57,6 +68,8 @@ def test_reduced_modes_match_the_full_solve_for_every_effect(structure):
         assert np.max(np.abs(f / fe - 1)) < 1e-3, (kw, f / fe - 1)
         assert np.all(f >= fe * (1 - 1e-6)), kw     # a joint's ties: exact here, a 1e-5 penalty in full
         assert _mac_seen(u, ue).min() > 0.999, kw
+        assert model._reduced(12) is not None, kw        # the reduced path answered, not a full solve
+    assert nominal._shared["reduced"].mesh.hinges or not nominal.frame.joint_springs
 
 
 def test_the_reduced_model_solves_no_sparse_eigenproblem_per_trial(monkeypatch):
@@ -109,6 +122,8 @@ def test_gravity_is_linear_in_the_reduced_model_too():
     ("portal", "support_flexibility", dict(support_at="A", support_rotation_stiffness=3e5)),
     ("two_storey", "point_mass", dict(point_mass_at="32", point_mass_kg=100.0)),
     ("two_storey", "member_stiffness", dict(member_at=("20", "21"), member_factor=0.5)),
+    ("semi-rigid portal", "joint_flexibility", dict(joint_at="C", joint_stiffness=1e5)),
+    ("semi-rigid two_storey", "point_mass", dict(point_mass_at="22", point_mass_kg=100.0)),
 ])
 def test_explain_ranks_effects_and_places_as_the_full_model_does(structure, effect, params):
     """explain with the reduced model and with full solves everywhere: the same verdict, named effect and place;
