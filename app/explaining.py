@@ -196,11 +196,16 @@ def overlay_json(responses: dict, dt: float, output: int, input: int,
             **{k: payloads.floats(responses[k][sl, output, input]) for k in ("measured", "nominal", "updated")}}
 
 
-def for_report(summary: dict | None, stored: tuple[dict, float] | None) -> dict | None:
+def for_report(summary: dict | None, stored: tuple[dict, float] | None, model: dict | None = None) -> dict | None:
     """The explanation with every output's overlay for every input (coarser, 4 significant digits), for a report;
-    None if the panel never ran. ``stored``: (responses, dt) as Store.explanation_responses gives them."""
+    None if the panel never ran. ``stored``: (responses, dt) as Store.explanation_responses gives them; ``model``:
+    the dataset's structure model as stored now (the report freezes it): an explanation made with another one is
+    frozen with ``stale`` saying so, beside the model it was made with (``model_used``)."""
     if summary is None or stored is None:
         return None
+    from . import modeling
+
+    summary = dict(summary, stale=modeling.stale(summary, model))
     responses, dt = stored
     rounded = lambda v: [None if x is None else float(f"{x:.4g}") for x in v]  # noqa: E731
     n, p, m = responses["measured"].shape

@@ -9,8 +9,10 @@ its millimetres. Blocking functions (a model's modes): call them through app.job
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
+import re
 import tomllib
 
 import numpy as np
@@ -28,8 +30,10 @@ LISTS = ("members", "sensors")
 
 
 def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
-    """What the model step starts from: the geometry's nodes (m), one member per trace line with a default group
-    by direction ("vertical", "along x", "along y", "inclined"), and one sensor per channel (node, direction).
+    """What the model step starts from: the geometry's nodes (m), one member per trace line segment, grouped by the
+    trace line it was drawn in (one group per named trace line, e.g. Test.Lab's "Stator"; members of unnamed trace
+    lines by direction: "vertical", "along x", "along y", "inclined"), and one sensor per channel (node,
+    direction). A segment drawn twice is one member, in the first trace line that draws it.
 
     Raises era.DataError when there is no geometry, no trace line, or a channel without a node or a direction
     (the message says what to do instead: upload a model file)."""
@@ -40,12 +44,16 @@ def draft(geometry: era.Geometry | None, outputs: tuple) -> dict:
     if scale is None:
         raise era.DataError(f"The geometry's length unit {geometry.units!r} is not one of {sorted(UNITS_M)}.")
     ids = [str(i) for i in geometry.node_ids]
-    edges = sorted({tuple(sorted(map(int, e))) for e in geometry.edges if e[0] != e[1]})
+    named: dict[tuple, str] = {}
+    for e, name in zip(geometry.edges, geometry.edge_names()):
+        if e[0] != e[1]:
+            named.setdefault(tuple(sorted(map(int, e))), name)
+    edges = sorted(named)
     if not edges:
         raise era.DataError("The geometry has nodes but no trace lines, so there are no members to draw: add trace "
                             "lines (UFF 82) to the file, or upload a model file.")
     xyz = np.asarray(geometry.coordinates, float) * scale
-    members = [[ids[a], ids[b], _group(xyz[b] - xyz[a])] for a, b in edges]
+    members = [[ids[a], ids[b], named[a, b] or _group(xyz[b] - xyz[a])] for a, b in edges]
     used = sorted({i for e in edges for i in e})
     sensors = []
     for ch, (node, d) in enumerate(zip(geometry.channel_nodes, geometry.channel_directions)):
@@ -80,20 +88,23 @@ def _check_sections(sections) -> None:
     if not isinstance(sections, dict) or not sections:
         raise era.DataError("The model has no sections: give every member group a section and a material.")
     for name, s in sections.items():
+        at = f"section:{name}"
         if not isinstance(s, dict):
             raise era.DataError(f"Section {name!r} must be a table (shape and sizes, or area, iy, iz, j, e, g, "
-                                "density).")
+                                "density).", option=at)
         if "shape" in s:
             if s["shape"] not in SHAPES:
-                raise era.DataError(f"Section {name!r}: shape {s['shape']!r} is not one of {', '.join(SHAPES)}.")
+                raise era.DataError(f"Section {name!r}: shape {s['shape']!r} is not one of {', '.join(SHAPES)}.",
+                                    option=at)
             if not s.get("material") and not all(k in s for k in ("e", "density")):
                 raise era.DataError(f"Section {name!r} has no material: choose one ({', '.join(sorted(MATERIALS))}) "
-                                    "or give e (Pa) and density (kg/m³).")
+                                    "or give e (Pa) and density (kg/m³).", option=at)
             sizes = [k for k in s if k not in ("shape", "material", "e", "g", "density")]
             bad = [k for k in sizes if not (isinstance(s[k], (int, float)) and not isinstance(s[k], bool)
                                             and math.isfinite(s[k]) and s[k] > 0)]
             if bad:
-                raise era.DataError(f"Section {name!r}: {bad[0]} must be a positive size in m, got {s[bad[0]]!r}.")
+                raise era.DataError(f"Section {name!r}: {bad[0]} must be a positive size in m, got {s[bad[0]]!r}.",
+                                    option=at)
 
 
 def frame(model: dict) -> era.Frame:
@@ -117,8 +128,36 @@ def frame(model: dict) -> era.Frame:
     _check_sections(model.get("sections"))
     try:
         return era.Frame.from_dict(model)
+    except era.EraError as exc:                     # era.Frame's own refusal, placed at the control that fixes it
+        raise era.DataError(str(exc), option=exc.option or control(str(exc), model)) from None
     except (TypeError, ValueError) as exc:          # a value of the wrong kind somewhere era did not expect it
         raise era.DataError(f"The model is not in era.Frame's file format: {exc}.") from None
+
+
+#: era.Frame's refusals (era/structure.py, era/fem/space.py) -> the panel's control that fixes them.
+_CONTROLS = ((re.compile(r"^Frame: member (\d+) \("), "member:{}"),
+             (re.compile(r"\b(?:support|mass|joint spring) at node (.+?)(?::| must| which|, which)"), "node:{}"),
+             (re.compile(r"^Frame: node (.+?) (?:must have|is on no member)"), "node:{}"),
+             (re.compile(r"^Frame is a mechanism: node (.+?) (?:translation|rotation) "), "node:{}"),
+             (re.compile(r"^Frame: (?:a )?sensor"), "sensors"),
+             (re.compile(r"^Frame: gravity"), "gravity"))
+
+
+def control(message: str, model: dict) -> str | None:
+    """Which control of the Model panel fixes era.Frame's refusal ``message`` of ``model``: "member:k" (its index
+    in model["members"]), "node:id" (its support, mass or members), "section:name", "sensors", "gravity"; None
+    when the message names none of them."""
+    for pattern, option in _CONTROLS:
+        m = pattern.search(message)
+        if m:
+            return option.format(*m.groups())
+    if message.startswith("Section"):               # era.Section does not say which: find the one it refuses
+        for name, s in (model.get("sections") or {}).items():
+            try:
+                era.Section.from_dict(s)
+            except (era.EraError, TypeError, ValueError):
+                return f"section:{name}"
+    return None
 
 
 def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None) -> None:
@@ -128,7 +167,7 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
     if len(fr.sensors) != p:
         raise era.DataError(f"The model has {len(fr.sensors)} sensor(s) but this dataset has {p} output(s) "
                             f"({', '.join(outputs)}): list one sensor (node, direction) per output, in the "
-                            "outputs' order.")
+                            "outputs' order.", option="sensors")
     if geometry is None or geometry.channel_nodes.size != p:
         return
     labels = [str(i) for i in geometry.node_ids]
@@ -142,7 +181,7 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
         if labels[at] != node or not np.allclose(along, where, atol=1e-3):
             raise era.DataError(f"Sensor {ch + 1} of the model is at node {node} along {_dir_text(d)}, but output "
                                 f"{ch + 1} ({outputs[ch]}) measures node {labels[at]} along {_dir_text(where)}: "
-                                "list the sensors in the outputs' order.")
+                                "list the sensors in the outputs' order.", option="sensors")
 
 
 def check_channels_of(model: dict, outputs: tuple, geometry: era.Geometry | None) -> None:
@@ -174,15 +213,56 @@ def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple
     not the dataset's channels. Blocking (one eigen-solution)."""
     fr = frame(model)
     check_channels(fr, outputs, geometry)
-    f_hz, _ = fr.modes(N_MODES)
+    try:
+        f_hz, _ = fr.modes(N_MODES)
+    except era.EraError as exc:                     # a mechanism: at the node the solver names
+        raise era.DataError(str(exc), option=exc.option or control(str(exc), model)) from None
     return fr, f_hz
+
+
+def fingerprint(model: dict) -> str:
+    """A short hash of a model as described (its JSON with sorted keys): equal exactly when the model is, whatever
+    the order its tables were written in. Tells whether an explanation was made with the model stored now."""
+    text = json.dumps(model, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def used(stored: dict | None) -> dict:
+    """What an explanation was made with (schemas.UsedModel), kept in its summary: the stored model's source, name,
+    time saved, fingerprint and one-line description; or, with no stored model, the NASA grid's built-in model."""
+    if stored is None:
+        return {"source": "grid", "name": None, "saved": None, "fingerprint": None,
+                "text": "the NASA grid's built-in model (era.examples.grid.nasa_grid)"}
+    return {"source": stored["source"], "name": stored.get("name"), "saved": stored.get("saved"),
+            "fingerprint": fingerprint(stored["model"]), "text": describe(stored["model"])}
+
+
+def stale(summary: dict, stored: dict | None) -> str | None:
+    """Why an explanation (its stored summary) no longer matches the dataset's model ``stored`` now, in words; None
+    while it does. An explanation stored before its model was recorded is compared by its one-line description."""
+    was = summary.get("model_used")
+    if was is None:                                  # before model_used was kept: its description, if a frame
+        if stored is None:
+            return None
+        if summary.get("model_text") == describe(stored["model"]):
+            return None
+        was = {"source": "geometry" if summary.get("model_text") else "grid", "fingerprint": None,
+               "text": summary.get("model_text") or used(None)["text"]}
+    elif stored is None:
+        return None if was["source"] == "grid" else (
+            "This result was made with a structure model the dataset no longer has; run simulation vs test again.")
+    elif was.get("fingerprint") == fingerprint(stored["model"]):
+        return None
+    return (f"This result was made with an earlier model: {was['text']}. The dataset's model has changed since "
+            f"(now {describe(stored['model'])}): run simulation vs test again to compare with it.")
 
 
 def summary(stored: dict, fr: era.Frame, f_hz) -> dict:
     """The answer for a stored model (schemas.StructureModel): the model as described, where it came from, and
-    what it is (counts, mass in kg, lowest frequencies in Hz, a one-line description)."""
+    what it is (counts, mass in kg, lowest frequencies in Hz, a one-line description, its fingerprint)."""
     return {"model": stored["model"], "source": stored["source"], "name": stored.get("name"),
-            "saved": stored.get("saved"), "n_nodes": len(fr.nodes), "n_members": len(fr.members),
+            "saved": stored.get("saved"), "fingerprint": fingerprint(stored["model"]),
+            "n_nodes": len(fr.nodes), "n_members": len(fr.members),
             "n_sensors": len(fr.sensors), "total_mass_kg": fr.total_mass_kg,
             "frequency_hz": [float(f) for f in f_hz], "text": describe(stored["model"])}
 

@@ -393,6 +393,18 @@ class ExplainBasis(Schema):
     text: str = Field(description="the same in one sentence, as the panel shows it")
 
 
+class UsedModel(Schema):
+    """The nominal model an explanation was made with, as it was then (issue 9)."""
+
+    source: Literal["grid", "geometry", "file"] = Field(description="the NASA grid's built-in model, a model described "
+                                                                    "in the panel, or a model file")
+    name: str | None = Field(description="the model file's name, or null")
+    saved: float | None = Field(description="when that model was saved, Unix s (null for the grid)")
+    fingerprint: str | None = Field(description="the model's fingerprint (StructureModel.fingerprint); null for "
+                                                "the grid")
+    text: str = Field(description="the model in one line")
+
+
 class Explanation(Explained):
     """The simulation-vs-test result stored with an analysis (POST/GET /api/analyses/{id}/explain)."""
 
@@ -429,6 +441,10 @@ class Explanation(Explained):
                                                            "[[i, j]], sensors: [[node, direction]], node_labels: "
                                                            "rows of the expanded shapes (\"7:x\", ...)}")
     model_text: str | None = Field(None, description="on a frame: the model compared, in one line")
+    model_used: UsedModel | None = Field(None, description="the model this result was made with (null for results "
+                                                           "stored before it was recorded)")
+    stale: str | None = Field(None, description="why this result no longer matches the dataset's model (it changed "
+                                                "since), in words; null while it does")
     outputs: list[str] = Field(description="(p,) output labels")
     inputs: list[str] = Field(description="(m,) input labels")
     overlay_fit_percent: dict[str, Matrix] = Field(description="{nominal, updated}: (p, m) fit of the simulated "
@@ -600,7 +616,8 @@ class ModelDraft(Schema):
     """GET /api/datasets/{id}/model/draft: what the model step starts from, read from the dataset's geometry."""
 
     nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m (the geometry's labels)")
-    members: list[list[str]] = Field(description="[node i, node j, group] per trace line; group by direction: "
+    members: list[list[str]] = Field(description="[node i, node j, group] per trace line segment; the group is "
+                                                 "the trace line's name, or for an unnamed one its direction: "
                                                  "vertical, along x, along y, inclined")
     sensors: list[list[Any]] = Field(description="[node, direction] per output, in the outputs' order")
     outputs: list[str] = Field(description="(p,) output labels")
@@ -617,12 +634,24 @@ class StructureModel(Schema):
     source: Literal["geometry", "file"] = Field(description="built from the geometry in the panel, or uploaded")
     name: str | None = Field(description="the uploaded file's name, or null")
     saved: float | None = Field(description="when it was saved, Unix s")
+    fingerprint: str = Field(description="a hash of the model as described: an explanation made with another "
+                                         "fingerprint is stale")
     n_nodes: int
     n_members: int
     n_sensors: int
     total_mass_kg: float = Field(description="members plus lumped masses, kg")
     frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
     text: str = Field(description="the model in one line")
+
+
+class ModelViewLink(Schema):
+    """POST /api/datasets/{id}/model/viewer: the model being described, in the 3-D viewer, its nodes clickable."""
+
+    key: str = Field(description="the view's key (random)")
+    url: str = Field(description="the viewer page for an <iframe>")
+    picks_url: str = Field(description="GET ?after=n: the nodes clicked there since pick n")
+    look_url: str = Field(description="POST {node}: turn the view to a node")
+    marks_url: str = Field(description="POST {marks: {node: fixed | pinned | springs | mass}}: the nodes' colours")
 
 
 class BestPartner(Schema):

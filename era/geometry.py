@@ -27,6 +27,13 @@ class Geometry:
         Unit vector of the measured direction of each output channel (global axes), zeros when unknown.
     units : str
         Length unit of the coordinates (e.g. "m", "ft").
+    edge_lines : int ndarray, shape (n_edges,)
+        Row index into ``line_ids``/``line_names`` of the trace line each edge was drawn in, -1 when unknown
+        (default: all unknown).
+    line_ids : int ndarray, shape (n_lines,)
+        The trace lines' numbers as in the source file (UFF 82 trace line number).
+    line_names : tuple of str, (n_lines,)
+        The trace lines' descriptions as in the source file (e.g. "Stator"); "" when the file gives none.
     """
 
     node_ids: np.ndarray
@@ -35,6 +42,9 @@ class Geometry:
     channel_nodes: np.ndarray
     channel_directions: np.ndarray
     units: str = "m"
+    edge_lines: np.ndarray | None = None
+    line_ids: np.ndarray = ()
+    line_names: tuple = ()
 
     def __post_init__(self):
         ids = np.asarray(self.node_ids, dtype=int).reshape(-1)
@@ -54,14 +64,33 @@ class Geometry:
         dirs = np.asarray(self.channel_directions, dtype=float).reshape(-1, 3)
         if dirs.shape[0] != nodes.size:
             raise DataError(f"Geometry: {nodes.size} channel nodes but {dirs.shape[0]} channel directions.")
+        line_ids = np.asarray(self.line_ids, dtype=int).reshape(-1)
+        names = tuple(str(n) for n in np.asarray(self.line_names, dtype=str).reshape(-1))
+        if len(names) != line_ids.size:
+            raise DataError(f"Geometry: {line_ids.size} trace line ids but {len(names)} trace line names.")
+        lines = np.full(len(edges), -1) if self.edge_lines is None else \
+            np.asarray(self.edge_lines, dtype=int).reshape(-1)
+        if lines.size != len(edges):
+            raise DataError(f"Geometry: {len(edges)} trace line segments but {lines.size} trace line indices.")
+        if lines.size and (lines.min() < -1 or lines.max() >= line_ids.size):
+            raise DataError("Geometry: a trace line segment refers to a trace line that does not exist.")
+        object.__setattr__(self, "line_names", names)
         for name, value in (("node_ids", ids), ("coordinates", xyz), ("edges", edges),
-                            ("channel_nodes", nodes), ("channel_directions", dirs)):
+                            ("channel_nodes", nodes), ("channel_directions", dirs), ("edge_lines", lines),
+                            ("line_ids", line_ids)):
             value.setflags(write=False)
             object.__setattr__(self, name, value)
 
     @property
     def n_nodes(self) -> int:
         return self.node_ids.size
+
+    def edge_names(self) -> list[str]:
+        """(n_edges,) the name of the trace line each edge was drawn in; "" when unnamed or unknown. Placeholder
+        descriptions (pyuff's "NONE") count as unnamed."""
+        names = [n.strip() for n in self.line_names]
+        names = ["" if n.upper() == "NONE" else n for n in names]
+        return [names[k] if k >= 0 else "" for k in self.edge_lines]
 
     def displaced(self, shape: np.ndarray, scale: float = 1.0) -> np.ndarray:
         """Node coordinates displaced by a real sensor shape (p,) along each channel's direction: (n_nodes, 3).

@@ -1,5 +1,5 @@
 """A simulated impact test of a small era.Frame written as UFF with its geometry, the way a test engineer brings one:
-UFF 15 nodes (mm), UFF 82 trace lines (the members), UFF 58 pulse responses at the sensors (m per N·s).
+UFF 15 nodes (mm), UFF 82 trace lines (the members, one trace line per section, named after it), UFF 58 pulse responses at the sensors (m per N·s).
 
 The truth is era.examples.frame_simulation.truth_model (2 % member scatter, twice the mesh, the hidden effect);
 the records are the sum of its lowest modes' impulse responses with 1 % modal damping and a little noise.
@@ -39,8 +39,8 @@ def pulse_responses(frame, params: dict, *, inputs=(0,), n_samples: int = 400, n
 
 
 def write_uff(path: Path, frame, params: dict | None = None, *, inputs=(0,), **kw) -> Path:
-    """The frame's test as one UFF file: nodes in mm (UFF 164 + 15), one trace line per member (82), one pulse
-    response per (sensor, input) (58)."""
+    """The frame's test as one UFF file: nodes in mm (UFF 164 + 15), one trace line per section (82, its members
+    pen-up apart, named after the section), one pulse response per (sensor, input) (58)."""
     y, dt = pulse_responses(frame, params or {}, inputs=inputs, **kw)
     num = node_numbers(frame)
     ids = list(num.values())
@@ -49,9 +49,10 @@ def write_uff(path: Path, frame, params: dict | None = None, *, inputs=(0,), **k
                               temp=1.0, temp_offset=273.15),
             pyuff.prepare_15(node_nums=ids, def_cs=[0] * len(ids), disp_cs=[0] * len(ids), color=[1] * len(ids),
                              x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
-    for k, (i, j, *_) in enumerate(frame.members):
-        sets.append({"type": 82, "trace_num": k + 1, "n_nodes": 2, "color": 1, "id": f"member {i}-{j}",
-                     "nodes": np.array([num[i], num[j]], dtype=int)})
+    for k, name in enumerate(dict.fromkeys(m[2] for m in frame.members)):   # one named trace line per section
+        seq = [n for i, j, sec, *_ in frame.members if sec == name for n in (num[i], num[j], 0)]
+        sets.append({"type": 82, "trace_num": k + 1, "n_nodes": len(seq), "color": 1, "id": name,
+                     "nodes": np.array(seq, dtype=int)})
     for m, a in enumerate(inputs):
         ref = frame.sensors[a]
         for p, (node, d) in enumerate(frame.sensors):

@@ -82,6 +82,7 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
         nominal, described = (body.nominal, None) if stored is None else ({}, stored["model"])
         summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=body.orders,
                                          kept=chosen, described=described, workers=c.settings.heavy_workers)
+        summary["model_used"] = modeling.used(stored)      # so a later model change shows this result as stale
         files.add_explanation(a.id, summary, responses, a.data.dt)
         return summary, responses
 
@@ -89,7 +90,8 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
         work, progress=progress_key(request),
         message="Simulation vs test: the analysis's modes over several orders, then fitting and weighing every "
                 "candidate effect")
-    return dict(summary, overlay=explaining.overlay_json(responses, a.data.dt, body.output, body.input))
+    return dict(summary, stale=modeling.stale(summary, store(request).model(a.dataset_id)),
+                overlay=explaining.overlay_json(responses, a.data.dt, body.output, body.input))
 
 
 @router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis",
@@ -99,7 +101,9 @@ async def read(request: Request, a: Analysis = Depends(analysis), output: int = 
                overlay_only: bool = Query(False, description="only the overlay of this output and input")):
     summary = None if overlay_only else _stored(request, a.id)
     overlay = await jobs(request).quick(_overlay, request, a.id, output, input)
-    return {"overlay": overlay} if overlay_only else dict(summary, overlay=overlay)
+    if overlay_only:
+        return {"overlay": overlay}
+    return dict(summary, stale=modeling.stale(summary, store(request).model(a.dataset_id)), overlay=overlay)
 
 
 @router.post("/{analysis_id}/explain/viewer",

@@ -9,7 +9,7 @@ import time
 from typing import Literal
 
 import numpy as np
-from fastapi import APIRouter, Depends, File, Query, Request, UploadFile
+from fastapi import APIRouter, Depends, File, HTTPException, Query, Request, UploadFile
 from pydantic import BaseModel, Field
 
 import era
@@ -83,6 +83,24 @@ async def upload(request: Request, file: UploadFile = File(description="the mode
     blob = await file.read(modeling.MAX_MODEL_BYTES + 1)
     model = modeling.read_file(name, blob)
     return await _save(request, ds, {"model": model, "source": "file", "name": name, "saved": time.time()})
+
+
+class ModelView(BaseModel):
+    nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m, as described so far")
+    members: list[list[str]] = Field(default_factory=list, description="[node i, node j] per member")
+    marks: dict[str, str] = Field(default_factory=dict, description="{node id: fixed | pinned | springs | mass} "
+                                                                    "(the node's colour)")
+
+
+@router.post("/api/datasets/{dataset_id}/model/viewer", summary="Show the model being described in the 3-D viewer, "
+             "where clicking a node picks it (GET /viser/{key}/picks)", response_model=schemas.ModelViewLink)
+async def view(request: Request, body: ModelView, ds: Dataset = Depends(dataset)):
+    viewer = request.app.state.viewer
+    if viewer is None:
+        raise HTTPException(503, "The 3-D viewer is not available on this server: pick nodes in the drawing.")
+    key = await jobs(request).quick(viewer.publish_model, body.nodes, body.members, body.marks)
+    return {"key": key, "url": viewer.iframe_url(key), "picks_url": f"/viser/{key}/picks",
+            "look_url": f"/viser/{key}/look", "marks_url": f"/viser/{key}/marks"}
 
 
 @router.get("/api/analyses/{analysis_id}/model/mac", summary="The dataset's model beside this analysis's modes of "

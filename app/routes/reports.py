@@ -42,10 +42,11 @@ async def create(request: Request, body: ReportRequest):
         recorded = kept.tolist()[:MAX_RECORDINGS] if viewer is not None else []
         files = {_recording_name(k): viewer.record(a.geometry, model.frequency_hz, model.shapes, k) for k in recorded}
         recordings = {str(k): _recording_name(k) for k in recorded}
-        explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id))
+        structure = c.store.model(a.dataset_id)
+        explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id), structure)
         report = reporting.build(a, ident, model, kept, c.stabilization(a), dataset=c.summary(a.dataset_id),
                                  explanation=explanation, recordings=recordings, version=version,
-                                 plot_points=c.settings.max_plot_points, structure=c.store.model(a.dataset_id))
+                                 plot_points=c.settings.max_plot_points, structure=structure)
         token = new_token()
         c.store.add_report(token, a.id, report, files)  # on disk before the link is returned
         return token

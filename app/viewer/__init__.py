@@ -7,9 +7,11 @@
     data = viewer.record(geometry, frequency_hz, shapes, mode_index)  # .viser bytes for a report
     <iframe src="{viewer.playback_url('/files/mode1.viser')}">      # plays it with no live Python session
     html = viewer.standalone_html(data)                              # or as one self-contained file, no server
+    key = viewer.publish_model(nodes, members, marks)  # a model to pick nodes in: GET /viser/{key}/picks?after=n
 
 Modules: scene.py (geometry + shape -> lines and colours, pure numpy), registry.py (keys and view state),
-live.py (viser server, per-browser scenes, animation thread), bridge.py (HTTP/websocket routes), record.py (.viser).
+live.py (viser server, per-browser scenes, animation thread), bridge.py (HTTP/websocket routes), record.py (.viser),
+picking.py (a model's nodes as clickable spheres, the clicks kept per key).
 One viser server per process: run the app with one uvicorn worker.
 """
 
@@ -25,6 +27,7 @@ from era.geometry import Geometry
 
 from .bridge import make_router
 from .live import LiveViewer
+from .picking import pick_scene
 from .record import record_mode, standalone_html
 from .registry import Registry
 
@@ -50,7 +53,7 @@ class ModeViewer:
 
     def ensure(self, key: str) -> bool:
         """The key is shown here: published in this process, or rebuilt through ``resolver``. Blocking."""
-        if key in self.registry:
+        if key in self.registry or key in self._live.pickable:
             return True
         built = self.resolver(key) if self.resolver is not None else None
         if built is None:
@@ -107,6 +110,23 @@ class ModeViewer:
             self.states.save(key, {"index": state.index, "amplitude": state.amplitude, "speed": state.speed,
                                    "interpolate": state.interpolate})
         return state
+
+    def publish_model(self, nodes: dict, members: list, marks: dict | None = None) -> str:
+        """Show a model to pick nodes in (picking.py): {node id: (x, y, z) m}, [(node i, node j)], {node id:
+        "fixed" | "pinned" | "springs" | "mass" | ""}; returns its key. era.DataError for a malformed model."""
+        return self._live.pickable.publish(pick_scene(nodes, members, marks))
+
+    def picks(self, key: str, after: int = 0) -> tuple[list[tuple[int, str]], int]:
+        """Nodes clicked in the views of ``key`` since pick ``after``: ([(seq, node id)], last seq); KeyError."""
+        return self._live.pickable.picks(key, after)
+
+    def look(self, key: str, node: str) -> int:
+        """Turn the views of ``key`` to ``node``; the number of views turned. KeyError."""
+        return self._live.look(key, node)
+
+    def mark(self, key: str, marks: dict) -> None:
+        """Colour the nodes of ``key`` by their marks; KeyError, era.DataError."""
+        self._live.mark(key, marks)
 
     def session_count(self, key: str | None = None) -> int:
         """Browsers currently showing `key` (all keys if None)."""

@@ -5,6 +5,8 @@ URL scheme (one port serves everything):
   GET  /viser/{key}/             the client page for a published key (the iframe)
   WS   /viser/{key}              bridged to the internal viser server at ws://127.0.0.1:{port}/viser/{key}
   POST /viser/{key}/mode         {index, amplitude?, speed?, phase_deg?, interpolate?}: what the key's clients show
+  GET  /viser/{key}/picks?after=n   nodes clicked since pick n in the views of a model (ModeViewer.publish_model)
+  POST /viser/{key}/look         {node}: turn those views to one node; POST /viser/{key}/marks {marks}: colours
 
 viser's client opens its websocket at its own page URL with http -> ws and the query string and trailing slash
 dropped, so the page /viser/{key}/ connects to /viser/{key}: the key travels in the websocket path.
@@ -22,7 +24,7 @@ from typing import TYPE_CHECKING
 
 import viser
 import websockets
-from fastapi import APIRouter, HTTPException, Request, WebSocket
+from fastapi import APIRouter, HTTPException, Query, Request, WebSocket
 from fastapi.responses import HTMLResponse, RedirectResponse, Response
 from pydantic import BaseModel, Field
 from starlette.websockets import WebSocketDisconnect
@@ -63,6 +65,14 @@ def page_response(request: Request) -> Response:
         headers["Content-Encoding"] = "gzip"
         return Response(packed, media_type="text/html; charset=utf-8", headers=headers)
     return Response(raw, media_type="text/html; charset=utf-8", headers=headers)
+
+
+class LookAt(BaseModel):
+    node: str = Field(max_length=200, description="the node to turn the view to")
+
+
+class NodeMarks(BaseModel):
+    marks: dict[str, str] = Field(description="{node id: fixed | pinned | springs | mass | \"\"} (the colour)")
 
 
 class ModeChoice(BaseModel):
@@ -129,6 +139,32 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
             raise HTTPException(422, str(exc)) from None
         return {"index": state.index, "amplitude": state.amplitude, "speed": state.speed,
                 "phase_deg": state.phase * 360.0, "interpolate": state.interpolate}
+
+    @router.get("/viser/{key}/picks")
+    def picks(key: str, after: int = Query(0, ge=0, description="the last pick seen (its seq)")) -> dict:
+        """Nodes clicked in the views of a model published with ModeViewer.publish_model since pick ``after``."""
+        try:
+            got, last = viewer.picks(key, after)
+        except KeyError:
+            raise HTTPException(404, "Unknown or expired 3-D view: open it again.") from None
+        return {"picks": [{"seq": seq, "node": node} for seq, node in got], "last": last}
+
+    @router.post("/viser/{key}/look")
+    def look(key: str, body: LookAt) -> dict:
+        """Turn the views of a model to one node (the row chosen in the node table)."""
+        try:
+            return {"views": viewer.look(key, body.node)}
+        except KeyError:
+            raise HTTPException(404, f"Unknown 3-D view, or no node {body.node!r} in it.") from None
+
+    @router.post("/viser/{key}/marks")
+    def marks(key: str, body: NodeMarks) -> dict:
+        """Colour a model's nodes by what they carry (support, springs, mass) in every view."""
+        try:
+            viewer.mark(key, body.marks)
+        except KeyError:
+            raise HTTPException(404, "Unknown or expired 3-D view: open it again.") from None
+        return {"nodes": len(body.marks)}
 
     @router.websocket("/viser/{key}")
     async def viser_socket(browser: WebSocket, key: str) -> None:

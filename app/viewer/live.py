@@ -16,6 +16,7 @@ import viser
 from viser import _messages
 
 from . import scene
+from .picking import MARK_RGB, PickRegistry, add_pick_nodes
 from .record import add_mode_nodes, quiet, update_mode_nodes
 from .registry import MAX_AMPLITUDE, MAX_SPEED, Published, Registry, ViewState
 
@@ -113,8 +114,10 @@ class Session:
 class LiveViewer:
     """The viser server, the sessions and the animation thread (`ModeViewer` adds the HTTP side)."""
 
-    def __init__(self, registry: Registry, fps: float = 30.0):
+    def __init__(self, registry: Registry, fps: float = 30.0, pickable: PickRegistry | None = None):
         self.registry = registry
+        self.pickable = pickable if pickable is not None else PickRegistry()
+        self._pickers: dict[int, tuple[str, viser.ClientHandle, dict]] = {}   # client -> (key, client, spheres)
         self.fps = fps
         self.frames_sent = 0                       # all sessions, since start (for measuring the frame rate)
         self._server: viser.ViserServer | None = None
@@ -170,6 +173,15 @@ class LiveViewer:
 
     def _connect(self, client: viser.ClientHandle) -> None:
         key = connection_path(self._server, client).rstrip("/").rpartition("/")[2]
+        picking = self.pickable.get(key)
+        if picking is not None:                    # a model to pick nodes in (picking.py), not a mode set
+            client.camera.position, client.camera.look_at = picking.look_from()   # position first (see look)
+            with client.atomic():
+                spheres = add_pick_nodes(client.scene, picking, lambda n: self.pickable.add_pick(key, n))
+            client.gui.add_markdown("Click a node: the Model panel takes it as a click in its drawing.")
+            with self._lock:
+                self._pickers[client.client_id] = (key, client, spheres)
+            return
         entry = self.registry.get(key)
         if entry is None:
             client.gui.add_markdown("**Unknown or expired viewer link.** Reload the page to show the modes again.")
@@ -181,6 +193,32 @@ class LiveViewer:
     def _disconnect(self, client: viser.ClientHandle) -> None:
         with self._lock:
             self._sessions.pop(client.client_id, None)
+            self._pickers.pop(client.client_id, None)
+
+    def _picking(self, key: str) -> list[tuple[viser.ClientHandle, dict]]:
+        with self._lock:
+            return [(c, spheres) for k, c, spheres in self._pickers.values() if k == key]
+
+    def look(self, key: str, node: str) -> int:
+        """Turn every view of pick scene ``key`` to ``node`` (picking.PickScene.look_from); the views turned.
+        KeyError for an unknown key or node."""
+        s = self.pickable.get(key)
+        if s is None or node not in s.ids:
+            raise KeyError(node)
+        position, look_at = s.look_from(node)
+        views = self._picking(key)
+        for client, _ in views:
+            client.camera.position = position      # position first: viser moves look_at along with it
+            client.camera.look_at = look_at
+        return len(views)
+
+    def mark(self, key: str, marks: dict) -> None:
+        """Colour the nodes of pick scene ``key`` by their marks in every view; KeyError, era.DataError."""
+        s = self.pickable.set_marks(key, marks)
+        for client, spheres in self._picking(key):
+            with client.atomic():
+                for n, h in spheres.items():
+                    h.color = MARK_RGB[s.marks.get(n, "")]
 
     def _animate(self) -> None:
         """Advance each shown key's phase by the elapsed time and draw every session, `fps` times a second."""

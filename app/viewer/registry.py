@@ -8,8 +8,6 @@ server does not grow without bound; a dropped key's iframe shows "unknown key" a
 from __future__ import annotations
 
 import secrets
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -17,6 +15,7 @@ import numpy as np
 from era.geometry import Geometry
 
 from . import scene
+from .recent import Recent
 
 MAX_AMPLITUDE = 0.5       # fraction of the structure size
 MAX_SPEED = 2.0           # animation cycles per second (display speed, not the mode's frequency)
@@ -84,13 +83,11 @@ def updated_state(state: ViewState, n_modes: int, index=None, amplitude=None, sp
     return new
 
 
-class Registry:
+class Registry(Recent):
     """Thread-safe map key -> Published (the FastAPI threads publish, viser's threads and the animator read)."""
 
     def __init__(self, capacity: int = 256):
-        self.capacity = capacity
-        self._items: OrderedDict[str, Published] = OrderedDict()
-        self._lock = threading.Lock()
+        super().__init__(capacity)
 
     def publish(self, geometry: Geometry | None, frequency_hz, shapes, labels=None, key: str | None = None) -> str:
         psi = np.asarray(shapes, dtype=complex)
@@ -101,12 +98,8 @@ class Registry:
             node_vectors=[scene.node_modal_vectors(geometry, psi[:, j]) for j in range(f.size)],
             spline_vectors=[scene.node_modal_vectors(geometry, psi[:, j], interpolate=True) for j in range(f.size)],
         )
-        key = key or secrets.token_urlsafe(16)      # 128 bits; a given key: rebuilt from what another process published
-        with self._lock:
-            self._items[key] = entry
-            while len(self._items) > self.capacity:
-                self._items.popitem(last=False)
-        return key
+        # 128 bits; a given key: rebuilt from what another process published
+        return self._put(key or secrets.token_urlsafe(16), entry)
 
     def get(self, key: str) -> Published | None:
         with self._lock:
@@ -148,10 +141,6 @@ class Registry:
             if s.speed > 0:
                 entry.state = replace(s, phase=(s.phase + s.speed * dt_s) % 1.0)
             return entry.state, entry.revision
-
-    def __contains__(self, key: str) -> bool:
-        with self._lock:
-            return key in self._items
 
     def __len__(self) -> int:
         with self._lock:

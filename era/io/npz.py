@@ -19,6 +19,9 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``channel_nodes``         (p,)       int row index of each output's node, -1 unknown }
 ``channel_directions``    (p, 3)     float unit vector of each output's direction    }
 ``geometry_units``        ()         length unit of ``coordinates``; absent: "m"
+``edge_lines``            (e,)       int trace line of each edge, row into ``line_ids``, -1 unknown } optional,
+``line_ids``              (t,)       int trace line numbers as in the source file              } all three
+``line_names``            (t,)       trace line descriptions ("" none)                         } or none
 ========================  =========  =====================================================================
 
 The web app's store wrote a layout of its own before it used this one; :func:`read_npz` reads it too, so old data
@@ -49,8 +52,10 @@ _LABELS = ("outputs", "inputs", "output_units", "input_units")
 _GEOMETRY = ("node_ids", "coordinates", "edges", "channel_nodes", "channel_directions")
 #: The old store layout's names for the geometry arrays.
 _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_units"}
+#: The geometry's trace lines by name (optional; archives written before them have none).
+_LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", *_GEOMETRY, "geometry_units", *_FLAGS,
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", *_GEOMETRY, "geometry_units", *_LINES, *_FLAGS,
           *_LEGACY_GEOMETRY)
 
 
@@ -148,8 +153,12 @@ def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str
             raise DataError(f"{label}: geometry arrays {present} without {sorted(set(_GEOMETRY) - set(present))}; "
                             "give all five or none.")
         units = str(_one(arrays, "geometry_units", label, "one string")) if "geometry_units" in arrays else "m"
+        lines = {k: arrays[k] for k in _LINES if k in arrays}
+        if lines and len(lines) != len(_LINES):
+            raise DataError(f"{label}: trace line arrays {sorted(lines)} without "
+                            f"{sorted(set(_LINES) - set(lines))}; give all three or none.")
         try:
-            geometry = Geometry(*(arrays[k] for k in _GEOMETRY), units=units)
+            geometry = Geometry(*(arrays[k] for k in _GEOMETRY), units=units, **lines)
         except DataError as exc:
             raise DataError(f"{label}: {exc}") from None
     return data, geometry, name, [f"{label}: markov {data.markov.shape}, dt = {data.dt:g} s"
@@ -176,6 +185,9 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
     if geometry is not None:
         arrays.update({k: getattr(geometry, k) for k in _GEOMETRY})
         arrays["geometry_units"] = np.array(geometry.units)
+        if geometry.line_ids.size:
+            arrays.update(edge_lines=geometry.edge_lines, line_ids=geometry.line_ids,
+                          line_names=np.array(geometry.line_names, dtype=str))
     buf = io.BytesIO()
     np.savez(buf, **arrays)
     return buf.getvalue()

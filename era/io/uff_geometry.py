@@ -41,7 +41,8 @@ def geometry_parts(sets, label: str):
                 cs = np.asarray(d.get(key, np.zeros(ids[-1].size)), dtype=float).reshape(-1)
                 into.append(cs if cs.size == ids[-1].size else np.zeros(ids[-1].size))
         elif d.get("type") == 82:
-            traces.append((i, line, np.asarray(d["nodes"], dtype=int)))
+            traces.append((i, line, np.asarray(d["nodes"], dtype=int), int(d.get("trace_num", len(traces) + 1)),
+                           str(d.get("id", "")).strip()))
     if not ids:
         return None
     ids = np.concatenate(ids)
@@ -56,18 +57,21 @@ def build_geometry(parts, nodes, directions, label: str) -> Geometry | None:
         return None
     ids, xyz, traces = parts[:3]
     row = {int(n): k for k, n in enumerate(ids)}
-    edges = []
-    for i, line, seq in traces:
+    edges, edge_lines = [], []
+    for t, (i, line, seq, *_) in enumerate(traces):
         for a, b in zip(seq[:-1], seq[1:]):
             if a and b:
                 if a not in row or b not in row:
                     raise DataError(f"{label}: trace line in data set #{i + 1} (UFF 82, line {line}) joins node "
                                     f"{a if a not in row else b}, which the file does not define.")
                 edges.append((row[a], row[b]))
+                edge_lines.append(t)
     if nodes is None:
         nodes, directions = np.zeros(0, int), np.zeros((0, 3))
     channel_rows = np.array([row.get(int(n), -1) for n in nodes], dtype=int)
-    return Geometry(ids, xyz, np.array(edges, dtype=int).reshape(-1, 2), channel_rows, directions)
+    return Geometry(ids, xyz, np.array(edges, dtype=int).reshape(-1, 2), channel_rows, directions,
+                    edge_lines=np.array(edge_lines, dtype=int), line_ids=[tr[3] for tr in traces],
+                    line_names=[tr[4] for tr in traces])
 
 
 def merge_parts(parts, labels):

@@ -52,12 +52,16 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
     sets = [pyuff.prepare_15(node_nums=[int(i) for i in ids], def_cs=[0] * len(ids), disp_cs=[0] * len(ids),
                              color=[1] * len(ids), x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
     if geometry is not None and geometry.edges.size:
-        seq = []
-        for a, b in geometry.edges:
-            seq += [int(ids[a]), int(ids[b]), 0]
-        # a plain dict: pyuff.prepare_82 insists on a list of nodes, its writer on an array
-        sets.append({"type": 82, "trace_num": 1, "n_nodes": len(seq), "color": 1, "id": "trace lines",
-                     "nodes": np.asarray(seq, dtype=int)})
+        # one trace line per line of the geometry, under its number and name; segments of no known line last
+        numbers = [int(n) for n in geometry.line_ids] + [int(geometry.line_ids.max(initial=0)) + 1]
+        names = [n or "NONE" for n in geometry.line_names] + ["NONE"]
+        for t in np.unique(geometry.edge_lines):
+            seq = []
+            for a, b in geometry.edges[geometry.edge_lines == t]:
+                seq += [int(ids[a]), int(ids[b]), 0]
+            # a plain dict: pyuff.prepare_82 insists on a list of nodes, its writer on an array
+            sets.append({"type": 82, "trace_num": numbers[t], "n_nodes": len(seq), "color": 1, "id": names[t],
+                         "nodes": np.asarray(seq, dtype=int)})
     for k, s in enumerate(np.asarray(model.eigenvalues, dtype=complex)):
         sets.append(pyuff.prepare_55(
             id1=f"{name} mode {k + 1}", id2=f"{abs(s) / 2 / np.pi:.6g} Hz, zeta {-s.real / abs(s):.4g}",

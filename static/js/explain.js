@@ -11,6 +11,7 @@ const $ = (id) => document.getElementById(id);
 let shown = null;    // analysis id whose result is drawn
 let viewers = null;  // [{mode_url}, {mode_url}] when the viser viewer is available
 let model = null;    // the dataset's structure model (model.js), or null
+let made = null;     // the model the drawn result was made with (summary.model_used), or null
 
 function request() {
   const body = { nominal: $("explain-gravity").checked ? {} : { gravity: false }, modes: $("explain-which").value };
@@ -46,9 +47,29 @@ async function moveViewers(k) {
   }
 }
 
+// The drawn result against the dataset's model now: a result made with another model (saved since, or a file
+// uploaded) is marked stale with the model it used, and offers to run again. ``why``: the server's sentence.
+function markStale(why) {
+  const box = $("explain-stale");
+  if (!box) return;
+  if (why === undefined) {
+    const fp = made ? made.fingerprint : undefined;
+    const current = model ? model.fingerprint : null;
+    why = made === null || fp === current ? null
+      : `This result was made with an earlier model: ${made.text}. The dataset's model has changed since (now ${model ? model.text : "none"}): run simulation vs test again to compare with it.`;
+  }
+  box.hidden = !why;
+  if (!why) return;
+  const again = el("button", { id: "explain-rerun", text: "Run again with the current model" });
+  again.addEventListener("click", run);
+  box.replaceChildren(why, again);
+}
+
 function draw(summary) {
   $("explain-result").hidden = false;
   const { viewers: box } = window.EraExplainView.render($("explain-result"), summary, { id: "explain", overlay, onShape: moveViewers });
+  made = summary.model_used || null;
+  markStale(summary.stale || null);
   shown = state.analysis.id;
   $("explain-status").textContent = `Done in ${summary.seconds.toFixed(1)} s (ERA ${summary.timing_s.era_s.toFixed(1)} s, ranking ${summary.timing_s.ranking_s.toFixed(1)} s). Stored with this analysis: a report created now includes it.`;
   showViewers(box, 0);
@@ -88,8 +109,8 @@ export function init() {
       : grid ? "Compares with the NASA grid's model (this dataset has no model of its own)."
       : "Describe the structure in the Model panel above (or upload a model file) first.";
   };
-  on("dataset", () => { model = null; hint(); });
-  on("model", (m) => { model = m; hint(); });
+  on("dataset", () => { model = null; made = null; hint(); });
+  on("model", (m) => { model = m; hint(); if (shown && made) markStale(); });
   on("analysis", (a) => {
     $("explain-run").disabled = false;
     if (shown !== a.id) { $("explain-result").hidden = true; $("explain-result").replaceChildren(); $("explain-status").textContent = ""; showError("explain-error", null); }

@@ -236,9 +236,14 @@
     const half = () => el("div", null, { class: "plot", style: "flex:1 1 420px;min-width:320px;height:340px" });
     const pair = (...kids) => { const d = el("div", null, { style: "display:flex;flex-wrap:wrap;gap:12px" }); d.append(...kids); return d; };
 
-    root.append(verdictBox(s, id));
+    // A result made with another model than the dataset's now (issue 9): said first, with the model it used.
+    const stale = el("div", s.stale || "", { class: "stale", id: `${id}-stale` });
+    stale.hidden = !s.stale;
+    root.append(stale, verdictBox(s, id));
     if (s.basis) root.append(el("p", `Compared: ${s.basis.text}`, { class: "note", id: `${id}-basis` }));
-    if (s.model_text) root.append(el("p", `Nominal model: this dataset's structure model (${s.model_text}).`, { class: "note", id: `${id}-model` }));
+    const made = s.model_used && s.model_used.saved ? `, saved ${new Date(1000 * s.model_used.saved).toLocaleString()}` : "";
+    const from = s.model_used && s.model_used.source === "file" ? `the file ${s.model_used.name}: ` : "";
+    if (s.model_text) root.append(el("p", `Nominal model: this dataset's structure model (${from}${s.model_text}${made}).`, { class: "note", id: `${id}-model` }));
     if (s.nominal_params && Object.keys(s.nominal_params).length) {
       root.append(el("p", `Nominal model: nasa_grid(${Object.entries(s.nominal_params).map(([k, v]) => `${k}=${JSON.stringify(v)}`).join(", ")})`, { class: "note" }));
     }

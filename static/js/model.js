@@ -1,17 +1,20 @@
 // Panel "Model of the structure" (issue 9): the era.Frame simulation vs test compares the test with. Described
-// here from the dataset's geometry (one member per trace line; a section and material per group of members;
-// supports and lumped masses set by clicking nodes in the drawing or in the node table; the sensors are the
+// here from the dataset's geometry (one member per trace line segment, grouped by named trace line; a section and
+// material per group; supports, springs and lumped masses set by clicking nodes in the drawing, in the 3-D view or in
+// the node table; members added, removed or turned in the member table (model_edit.js); the sensors are the
 // dataset's channels) or uploaded as a model file (era.Frame JSON/TOML). The server checks and keeps it with the
 // dataset (PUT /api/datasets/{id}/model): a reload or the analysis link shows it again, a report freezes it.
 // Sizes are typed in mm and sent in m (era.structure's SI file format).
 import { api, upload } from "./api.js";
 import { state, on, emit, el, showError, plotConfig, plain } from "./state.js";
+import { drawNodes as nodeTable, drawMembers as memberTable, drawAdd, usedNodes, supportOf as supportIn, placeRefusal,
+         clearRefusals, head, select } from "./model_edit.js";
+import { View3D } from "./model_view3d.js";
 
 const $ = (id) => document.getElementById(id);
 const SIZES = { rectangle: ["width", "depth"], tube: ["diameter", "wall"], square_tube: ["width", "wall"], circle: ["diameter"] };
 const SHAPE_WORDS = { rectangle: "solid rectangle", tube: "round tube", square_tube: "square tube", circle: "solid round bar" };
 const DEFAULT_MM = { width: 50, depth: 6, diameter: 30, wall: 3 };
-const SUPPORTS = ["free", "fixed", "pinned"];
 
 let draft = null;   // GET .../model/draft: nodes (m), members [i, j, group], sensors, materials, shapes
 let desc = null;    // what the person describes: members, sections {group: {shape, sizes (m), material}}, supports, masses
@@ -25,8 +28,8 @@ function frameModel() {
   const sections = {};
   for (const g of groups) sections[g] = { ...desc.sections[g] };
   const supports = Object.fromEntries(Object.entries(desc.supports).filter(([, s]) => s !== "free"));
-  const masses = Object.fromEntries(Object.entries(desc.masses).filter(([, m]) => m > 0));
-  return { nodes: draft.nodes, members: desc.members.map((m) => [...m]), sections, supports, masses,
+  const masses = Object.fromEntries(Object.entries(desc.masses).filter(([, m]) => m !== 0 && m !== ""));
+  return { nodes: usedNodes(desc, draft), members: desc.members.map((m) => [...m]), sections, supports, masses,
            sensors: draft.sensors, ...(desc.gravity ? { gravity: desc.gravity } : {}) };
 }
 
@@ -34,12 +37,13 @@ function newSection() {
   return { shape: "rectangle", width: DEFAULT_MM.width / 1000, depth: DEFAULT_MM.depth / 1000, material: "" };
 }
 
-// A stored model described from this geometry (same nodes) is edited again; anything else starts from the draft.
+// A stored model described from this geometry (its nodes among the geometry's) is edited again; anything else
+// starts from the draft.
 function startFrom(stored) {
-  const same = stored && stored.source === "geometry" &&
-    JSON.stringify(Object.keys(stored.model.nodes || {}).sort()) === JSON.stringify(Object.keys(draft.nodes).sort());
+  const same = stored && stored.source === "geometry" && Object.keys(stored.model.nodes || {}).every((n) => n in draft.nodes);
   const m = same ? stored.model : null;
-  desc = { members: (m ? m.members : draft.members).map((x) => [String(x[0]), String(x[1]), String(x[2])]),
+  desc = { members: (m ? m.members : draft.members).map((x) => [String(x[0]), String(x[1]), String(x[2]),
+                                                               ...(x[3] == null ? [] : [x[3]])]),
            sections: {}, supports: {}, masses: {}, gravity: m ? m.gravity || null : null };
   for (const [g, s] of Object.entries(m ? m.sections : {})) if (s.shape) desc.sections[g] = { ...s };
   for (const [n, s] of Object.entries(m ? m.supports || {} : {})) desc.supports[n] = s;
@@ -49,19 +53,6 @@ function startFrom(stored) {
 }
 
 // ---- drawing: sections, nodes, members, the clickable view ----------------------------------------------------------
-function head(table, names) {
-  const tr = el("tr");
-  for (const n of names) tr.append(el("th", { text: n }));
-  table.tHead.replaceChildren(tr);
-  table.tBodies[0].replaceChildren();
-}
-
-function select(options, value, attrs) {
-  const s = el("select", attrs);
-  for (const [v, t] of options) s.append(el("option", { value: v, text: t }));
-  s.value = value;
-  return s;
-}
 
 function drawSections() {
   const t = $("model-sections");
@@ -94,52 +85,35 @@ function drawSections() {
   }
 }
 
-function supportOf(n) {
-  const s = desc.supports[n];
-  return s === undefined ? "free" : typeof s === "string" ? s : "springs";
-}
+function supportOf(n) { return supportIn(desc, n); }
 
-function drawNodes() {
-  const t = $("model-nodes");
-  head(t, ["node", "x, y, z (m)", "support", "mass (kg)", "sensors"]);
-  const sensors = {};
-  draft.sensors.forEach(([n, d], i) => { (sensors[n] ||= []).push(`${draft.outputs[i]} (${Array.isArray(d) ? "oblique" : d})`); });
-  for (const [n, xyz] of Object.entries(draft.nodes)) {
-    const kind = supportOf(n);
-    const options = SUPPORTS.map((s) => [s, s]).concat(kind === "springs" ? [["springs", "springs (kept)"]] : []);
-    const sup = select(options, kind, { class: "support", "aria-label": `support at node ${n}` });
-    sup.addEventListener("change", () => { setSupport(n, sup.value); drawPlot(); });
-    const mass = el("input", { type: "number", min: "0", step: "any", class: "mass", "aria-label": `mass at node ${n} (kg)`,
-                               value: desc.masses[n] ? String(desc.masses[n]) : "", style: "width:80px" });
-    mass.addEventListener("change", () => { desc.masses[n] = Number(mass.value) || 0; drawPlot(); });
-    const tr = el("tr", { "data-node": n });
-    for (const c of [el("td", { text: n }), el("td", { text: xyz.map((v) => v.toFixed(3)).join(", ") }), el("td", {}, sup),
-                     el("td", {}, mass), el("td", { text: (sensors[n] || []).join(", ") })]) tr.append(c);
-    t.tBodies[0].append(tr);
-  }
-}
+// A support or mass changed: the drawing and the 3-D view follow.
+function changedNodes() { drawPlot(); view3d.mark(marks()); }
 
-function setSupport(n, kind) {
-  if (kind === "free") delete desc.supports[n];
-  else if (kind !== "springs") desc.supports[n] = kind;
+function drawNodes() { nodeTable($("model-nodes"), desc, draft, changedNodes, (n) => { selectNode(n); view3d.look(n); }); }
+
+// Members added, removed or regrouped: the tables, the drawing and the 3-D view follow.
+function changedMembers(groups) {
+  if (groups) drawSections();
+  drawMembers();
+  drawPlot();
+  if (groups) view3d.republish();
 }
 
 function drawMembers() {
-  const t = $("model-members");
-  head(t, ["member", "group (type a new name to make a group)"]);
-  desc.members.forEach((m, k) => {
-    const input = el("input", { value: m[2], class: "group", "aria-label": `group of member ${m[0]}-${m[1]}`, style: "width:140px" });
-    input.addEventListener("change", () => {
-      const g = input.value.trim();
-      if (!g) { input.value = m[2]; return; }
-      m[2] = g;
-      desc.sections[g] ||= newSection();
-      drawSections();
-    });
-    const tr = el("tr", { "data-member": String(k) });
-    tr.append(el("td", { text: `${m[0]} – ${m[1]}` }), el("td", {}, input));
-    t.tBodies[0].append(tr);
-  });
+  memberTable($("model-members"), desc, draft, changedMembers, newSection);
+  drawAdd($("model-member-add"), desc, draft, changedMembers, newSection);
+}
+
+function selectNode(n) {
+  for (const r of document.querySelectorAll("#model-nodes tr.selected")) r.classList.remove("selected");
+  const row = document.querySelector(`#model-nodes tr[data-node="${CSS.escape(n)}"]`);
+  if (row) { row.classList.add("selected"); row.scrollIntoView({ block: "nearest" }); }
+}
+
+// What the 3-D view colours: each node's support ("fixed", "pinned", "springs") or "mass", else "".
+function marks() {
+  return Object.fromEntries(Object.keys(draft.nodes).map((n) => [n, supportOf(n) !== "free" ? supportOf(n) : desc.masses[n] > 0 ? "mass" : ""]));
 }
 
 // The two axes of the view: chosen, or those along which the structure is largest (a portal in x-z: the front).
@@ -179,15 +153,24 @@ function drawPlot() {
   });
 }
 
+// A node clicked in the drawing or picked in the 3-D view: what "Clicking a node" says, then its row selected.
 function clickNode(n) {
+  if (!draft || !(n in draft.nodes)) return;
   const what = $("model-click").value;
-  if (what === "mass") desc.masses[n] = (desc.masses[n] || 0) + (Number($("model-click-mass").value) || 0);
-  else setSupport(n, what);
+  if (what === "mass") desc.masses[n] = (Number(desc.masses[n]) || 0) + (Number($("model-click-mass").value) || 0);
+  else if (what === "free") delete desc.supports[n];
+  else desc.supports[n] = what;
   drawNodes();
-  drawPlot();
-  const row = document.querySelector(`#model-nodes tr[data-node="${CSS.escape(n)}"]`);
-  if (row) { row.classList.add("selected"); row.scrollIntoView({ block: "nearest" }); }
+  changedNodes();
+  selectNode(n);
 }
+
+// The 3-D view of the description (viser): nodes picked there act as clicks in the drawing.
+const view3d = new View3D({
+  url: () => `${datasetUrl()}/viewer`,
+  scene: () => ({ nodes: usedNodes(desc, draft), members: desc.members.map((m) => [m[0], m[1]]), marks: marks() }),
+  picked: clickNode,
+});
 
 async function openEditor() {
   showError("model-error", null);
@@ -195,6 +178,8 @@ async function openEditor() {
   try {
     draft = await api(`${datasetUrl()}/draft`);
     startFrom(saved);
+    clearRefusals();
+    view3d.close();
     $("model-sensors").textContent = draft.sensors.map(([n, d], i) => `${draft.outputs[i]} → node ${n} ${Array.isArray(d) ? "oblique" : d}`).join(", ");
     $("model-editor").hidden = false;
     drawSections();
@@ -240,6 +225,7 @@ function render() {
 
 async function save() {
   showError("model-error", null);
+  clearRefusals();
   $("model-save").disabled = true;
   $("model-status").textContent = "Checking the model…";
   try {
@@ -249,7 +235,7 @@ async function save() {
     show(r);
   } catch (err) {
     $("model-status").textContent = "";
-    showError("model-error", err);   // the stored model, if any, is unchanged
+    if (!placeRefusal(err)) showError("model-error", err);   // under its row, else here; the stored model is unchanged
   } finally {
     $("model-save").disabled = false;
   }
@@ -304,6 +290,7 @@ function canCompare() { $("model-compare").disabled = !(saved && state.analysis 
 
 async function load(ds) {
   saved = null; draft = null; desc = null;
+  view3d.close();
   $("model-editor").hidden = true;
   $("model-mac").hidden = true;
   $("model-compare-note").textContent = "";
@@ -324,6 +311,7 @@ export function init() {
   $("model-save").addEventListener("click", save);
   $("model-compare").addEventListener("click", compare);
   $("model-view").addEventListener("change", () => { if (draft) drawPlot(); });
+  $("model-3d").addEventListener("click", () => { if (draft) view3d.open($("model-3d-box")); });
   $("model-gravity").addEventListener("change", () => { desc.gravity = $("model-gravity").checked ? [0, 0, -9.81] : null; });
   $("model-file").addEventListener("change", () => { const f = $("model-file").files[0]; if (f) uploadModel(f); });
   on("dataset", load);

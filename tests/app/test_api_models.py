@@ -16,9 +16,9 @@ import pytest
 from frame_test_file import write_uff
 
 import era
-from apiclient import client
+from apiclient import case1_npz, client, upload
 from test_schemas import exact
-from app import schemas
+from app import modeling, schemas
 from era.examples.frames import portal
 
 PLATE = {"shape": "rectangle", "width": 0.3, "depth": 0.05, "material": "steel"}   # the portal's 300 × 50 mm
@@ -49,7 +49,8 @@ def test_the_draft_reads_members_groups_and_sensors_from_the_geometry(portal_tes
     assert len(d.nodes) == 7 and d.nodes["2"] == pytest.approx([0.0, 0.0, 3.0])     # mm in the file, m here
     assert {tuple(m[:2]) for m in d.members} == {("1", "6"), ("2", "6"), ("2", "3"), ("3", "4"), ("4", "7"),
                                                  ("5", "7")}
-    assert set(d.groups) == {"vertical", "along x"}
+    assert set(d.groups) == {"col", "beam"}           # the file's named trace lines, one group each
+    assert {tuple(m) for m in d.members if m[2] == "beam"} == {("2", "3", "beam"), ("3", "4", "beam")}
     assert d.sensors[:3] == [["6", "x"], ["2", "x"], ["3", "z"]] and len(d.sensors) == len(d.outputs) == 7
     assert c.get(f"/api/datasets/{ds['id']}/model").status_code == 404
 
@@ -86,11 +87,11 @@ def test_bad_models_are_refused_with_a_sentence_and_the_saved_one_is_kept(portal
         assert r.status_code == 422 and words in r.json()["error"], r.text
 
     bad = copy.deepcopy(good)
-    bad["members"].append(["3", "99", "vertical"])
+    bad["members"].append(["3", "99", "col"])
     refused(bad, "goes to node 99, which is not in nodes")
     bad = copy.deepcopy(good)
-    del bad["sections"]["vertical"]["material"]
-    refused(bad, "Section 'vertical' has no material")
+    del bad["sections"]["col"]["material"]
+    refused(bad, "Section 'col' has no material")
     bad = copy.deepcopy(good)
     bad["sensors"] = bad["sensors"][:6]
     refused(bad, "6 sensor(s) but this dataset has 7 output(s)")
@@ -160,11 +161,43 @@ def test_simulation_vs_test_names_the_hidden_mass_at_a_node_and_the_report_keeps
     assert made.status_code == 200, made.text
     report = exact(schemas.Report, c.get(f"/api/reports/{made.json()['token']}").json())
     assert report.structure_model.model == model and report.explanation.effect.location == s.effect.location
-    # the stored model changes afterwards; the report keeps the one it froze
+    assert s.stale is None and s.model_used.source == "geometry" and "7 nodes, 6 members" in s.model_used.text
+    assert s.model_used.fingerprint == c.get(url).json()["fingerprint"] == modeling.fingerprint(model)
+    # the stored model changes afterwards: the stored result is shown stale, with the model it was made with; the
+    # report keeps the model and the (then current) result it froze
     changed = dict(model, masses={"3": 5.0})
-    assert c.put(url, json={"model": changed}).status_code == 200
+    saved = c.put(url, json={"model": changed}).json()
+    assert saved["fingerprint"] != s.model_used.fingerprint
     again = c.get(f"/api/reports/{made.json()['token']}").json()
-    assert again["structure_model"]["model"] == model
+    assert again["structure_model"]["model"] == model and again["explanation"]["stale"] is None
+    now = exact(schemas.Explanation, c.get(f"/api/analyses/{a['id']}/explain").json())
+    assert "made with an earlier model" in now.stale and "masses 3 5 kg" in now.stale
+    assert now.model_used == s.model_used and now.effect.location == s.effect.location   # kept as it was
+    # a report frozen now keeps the new model, and the result marked stale beside the model it was made with
+    later = c.post("/api/reports", json={"analysis_id": a["id"], "order": 20, "modes": [0, 1]}).json()
+    frozen = exact(schemas.Report, c.get(f"/api/reports/{later['token']}").json())
+    assert frozen.structure_model.model == changed and frozen.explanation.stale == now.stale
+    assert frozen.explanation.model_used.fingerprint == modeling.fingerprint(model)
+    # the same model again (tables in another order): current again
+    same = dict(reversed(list(model.items())))
+    assert c.put(url, json={"model": same}).status_code == 200
+    assert c.get(f"/api/analyses/{a['id']}/explain").json()["stale"] is None
+
+
+def test_a_result_stored_before_its_model_was_recorded_is_judged_by_its_description():
+    from app import modeling
+
+    model = {"nodes": {"1": [0, 0, 0], "2": [1, 0, 0]}, "members": [["1", "2", "s"]],
+             "sections": {"s": PLATE}, "supports": {"1": "fixed"}, "sensors": [["2", "z"]]}
+    stored = {"model": model, "source": "geometry"}
+    old = {"model_text": modeling.describe(model)}            # a frame result from before model_used
+    assert modeling.stale(old, stored) is None
+    assert "has changed since" in modeling.stale(old, {"model": dict(model, masses={"2": 1.0}), "source": "file"})
+    grid = {"model_text": None}                               # a grid result; the dataset then got a model
+    assert modeling.stale(grid, None) is None
+    assert "NASA grid's built-in model" in modeling.stale(grid, stored)
+    assert modeling.stale({"model_used": modeling.used(None)}, None) is None
+    assert modeling.stale({"model_used": modeling.used(stored)}, stored) is None
 
 
 def test_a_model_is_replaced_whole_and_goes_with_its_dataset_when_that_expires(tmp_path):
@@ -182,3 +215,109 @@ def test_a_model_is_replaced_whole_and_goes_with_its_dataset_when_that_expires(t
     assert store.usage()["bytes"]["models"] > 0
     store.expire(time.time() + 1)
     assert store.model(ds) is None and not (tmp_path / "models" / f"{ds}.json").exists()
+
+
+def test_edits_in_the_panel_springs_members_orientation_are_checked_by_era_frame_and_placed(portal_test):
+    """What the panel's editing sends: spring supports (N/m, N·m/rad), a member added between two nodes or removed,
+    a member's orientation vector. Each refusal is era.Frame's own sentence with the control that fixes it
+    (``option``: the member's index, the node, the section); the stored model stays as it was."""
+    c, ds = portal_test
+    url = f"/api/datasets/{ds['id']}/model"
+    good = described(c.get(f"{url}/draft").json())
+    base = c.put(url, json={"model": good}).json()
+    f0 = base["frequency_hz"][0]
+
+    def saved(model):
+        r = c.put(url, json={"model": model})
+        assert r.status_code == 200, r.text
+        return r.json()
+
+    def refused(model, words, option):
+        r = c.put(url, json={"model": model})
+        assert r.status_code == 422 and words in r.json()["error"] and r.json().get("option") == option, r.text
+        assert c.get(url).json()["model"] == kept            # nothing saved is lost
+
+    # very stiff springs on every DOF behave as the fixed bases; a soft rotational spring lowers the sway mode
+    stiff = {k: 1e13 for k in ("kx", "ky", "kz")} | {k: 1e12 for k in ("rx", "ry", "rz")}
+    springs = saved(dict(good, supports={"1": stiff, "5": stiff}))
+    assert springs["frequency_hz"][0] == pytest.approx(f0, rel=2e-3) and "1 springs" in springs["text"]
+    soft = saved(dict(good, supports={"1": dict(stiff, ry=2e5), "5": dict(stiff, ry=2e5)}))
+    assert soft["frequency_hz"][0] < 0.9 * f0
+    # a diagonal brace between two nodes stiffens the sway; removing it again gives the portal back
+    braced = saved(dict(good, members=good["members"] + [["1", "7", "col"]]))
+    assert braced["n_members"] == 7 and braced["frequency_hz"][0] > 1.5 * f0
+    # turning the columns' 300 × 50 plates by 90° about their axis (local z along y) changes the sway stiffness
+    turned = [m + [[0.0, 1.0, 0.0]] if m[2] == "col" else m for m in good["members"]]
+    assert abs(saved(dict(good, members=turned))["frequency_hz"][0] / f0 - 1) > 0.05
+    kept = saved(good)["model"]
+
+    k_col = next(k for k, m in enumerate(good["members"]) if m[2] == "col")
+    refused(dict(good, supports={"1": dict(stiff, ry=-5.0), "5": "fixed"}),
+            "support at node 1: ry must be a stiffness ≥ 0", "node:1")
+    refused(dict(good, supports={"1": {}, "5": "fixed"}), "support at node 1 must be 'fixed', 'pinned' or a table",
+            "node:1")
+    refused(dict(good, supports={"1": {"kq": 1.0}, "5": "fixed"}), "unknown key 'kq'", "node:1")
+    refused(dict(good, members=good["members"] + [["3", "3", "beam"]]), "has zero length",
+            f"member:{len(good['members'])}")
+    vertical = [m + [[0.0, 0.0, 1.0]] if k == k_col else m for k, m in enumerate(good["members"])]
+    refused(dict(good, members=vertical), "must be a 3-vector not parallel to the member", f"member:{k_col}")
+    refused(dict(good, members=[m for m in good["members"] if "3" not in m[:2]]), "node 3 is on no member", "node:3")
+    refused(dict(good, masses={"3": -2.0}), "mass at node 3 must be a number of kg", "node:3")
+    r = c.put(url, json={"model": dict(good, supports={"1": "pinned", "5": "pinned"})})   # spins about 1-5
+    named = r.json()["error"].split("node ", 1)[1].split(" ", 1)[0]
+    assert r.status_code == 422 and "is a mechanism" in r.json()["error"] and r.json()["option"] == f"node:{named}"
+    no_wall = dict(good, sections=dict(good["sections"], col={"shape": "tube", "diameter": 0.05, "wall": 0.06,
+                                                              "material": "steel"}))
+    refused(no_wall, "Section", "section:col")
+
+
+def test_each_refusal_of_era_frame_names_its_control():
+    from app import modeling
+
+    model = {"members": [["1", "2", "s"], ["2", "3", "s"]], "sections": {"s": PLATE, "t": {"area": -1}}}
+    cases = {"Frame: member 1 (2-3) has zero length: its nodes coincide.": "member:1",
+             "Frame: support at node A 1: ry must be a stiffness ≥ 0 or 'fixed'": "node:A 1",
+             "Frame: support at node 7 must be 'fixed', 'pinned' or a table": "node:7",
+             "Frame: support at node 9, which is not in nodes.": "node:9",
+             "Frame: mass at node 3 must be a number of kg ≥ 0, got -2.": "node:3",
+             "Frame: joint spring at node 4 must be a number of N·m/rad > 0, got 0.": "node:4",
+             "Frame: node 6 is on no member: add a member or remove the node (1 such node(s)).": "node:6",
+             "Frame is a mechanism: node B rotation about z is free: add a support or a member": "node:B",
+             "Frame: sensor at node 2: direction 'q' is not one of": "sensors",
+             "Frame: gravity must be None or a non-zero (gx, gy, gz) in m/s², got 0.": "gravity",
+             "Section: area must be positive and finite, got -1.": "section:t",
+             "Frame: no members.": None}
+    for message, option in cases.items():
+        assert modeling.control(message, model) == option, message
+
+
+def test_the_model_in_the_3d_view_hands_its_picks_to_the_panel(portal_test, tmp_path):
+    """POST .../model/viewer publishes the description being edited (its nodes clickable in viser); the page polls
+    the picks, turns the view to a node and recolours nodes. (The click itself, in viser's client, is in
+    tests/e2e/test_model_e2e.py.)"""
+    c, ds = portal_test
+    draft = c.get(f"/api/datasets/{ds['id']}/model/draft").json()
+    body = {"nodes": draft["nodes"], "members": [m[:2] for m in draft["members"]], "marks": {"1": "fixed"}}
+    link = exact(schemas.ModelViewLink, c.post(f"/api/datasets/{ds['id']}/model/viewer", json=body).json())
+    assert c.get(link.url).status_code == 200                        # viser's page for the iframe
+    assert c.get(link.picks_url).json() == {"picks": [], "last": 0}
+    viewer = c.app.state.viewer
+    for node in ("3", "5", "3"):                                     # what a click on a sphere records
+        viewer._live.pickable.add_pick(link.key, node)
+    assert c.get(link.picks_url, params={"after": 1}).json() == {
+        "picks": [{"seq": 2, "node": "5"}, {"seq": 3, "node": "3"}], "last": 3}
+    assert c.post(link.look_url, json={"node": "3"}).json() == {"views": 0}       # no browser open here
+    assert c.post(link.look_url, json={"node": "99"}).status_code == 404
+    assert c.post(link.marks_url, json={"marks": {"5": "springs", "3": "mass"}}).status_code == 200
+    bad = c.post(link.marks_url, json={"marks": {"5": "glued"}})
+    assert bad.status_code == 422 and "Unknown node mark 'glued'" in bad.json()["error"]
+    assert c.get("/viser/nokey/picks").status_code == 404
+    for wrong, words in (({"nodes": {}}, "needs the model's nodes"),
+                         ({"nodes": {"1": [0, 0, 0]}, "members": [["1", "2"]]}, "does not join two of its nodes"),
+                         ({"nodes": {"1": [0, 0]}}, "three finite coordinates")):
+        r = c.post(f"/api/datasets/{ds['id']}/model/viewer", json=wrong)
+        assert r.status_code == 422 and words in r.json()["error"], r.text
+    with client(tmp_path / "off") as off:                             # a server without the viewer says so
+        other = upload(off, case1_npz()).json()
+        r = off.post(f"/api/datasets/{other['id']}/model/viewer", json=body)
+        assert r.status_code == 503 and "pick nodes in the drawing" in r.json()["error"]
