@@ -291,22 +291,45 @@ class FrameModel:
         max(n, n_basis) modes (Fox & Kapoor 1968; mass unchanged): dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k),
         then projected normal to ψ_j. Zero for modes the sensors do not see. With members known to ±σ each,
         ψ_j's components scatter by σ √(Σ_e (dψ_j/da_e)²) (the shapes' share of the model-form error)."""
-        f, s, cross = self._member_modal_stiffness(max(n_modes, n_basis))
-        lam = (2 * np.pi * f) ** 2
-        diff = lam[None, :] - lam[:, None]                        # [k, j] = λ_j − λ_k
-        apart = np.abs(diff) > 1e-9 * lam.max()
-        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
-        ds = np.einsum("pk,ekj,kj->epj", s, cross, inv)[:, :, :n_modes]
-        s = s[:, :n_modes]
+        u, du = self._node_mode_sensitivity(n_modes, n_basis)
+        index = {n: k for k, n in enumerate(self.frame.node_ids)}
+        rows = [index[n] for n, _ in self.frame.sensors]
+        on = lambda x: np.einsum("sc,...scn->...sn", self.frame.sensor_directions,    # noqa: E731
+                                 x.reshape(x.shape[:-2] + (-1, 3, x.shape[-1]))[..., rows, :, :])
+        s, ds = on(u), on(du)
         norm = np.linalg.norm(s, axis=0)
         seen = norm > 1e-9 * max(norm.max(), 1e-300)
         psi = s / np.where(seen, norm, 1.0)
         dpsi = (ds - psi[None] * np.einsum("pj,epj->ej", psi, ds)[:, None, :]) / np.where(seen, norm, 1.0)
         return np.where(seen[None, None, :], dpsi, 0.0)
 
+    def member_scale_sensitivity(self, node_rows, n_modes: int = 10, n_basis: int = 30) -> np.ndarray:
+        """(n_members, n) d ln‖P_j‖ / d a_e: how the size of mode j's modal constants P_j = φ_j(sensors) φ_j(inputs)ᵀ
+        (node_rows: their rows of node_modes, as ModeWeights.node_rows) moves per unit relative change of member
+        e's E and G (mass-normalised φ: the mass does not change, the share of the mode's motion at those points
+        does). By the same modal superposition as :meth:`member_shape_sensitivity`."""
+        u, du = self._node_mode_sensitivity(n_modes, n_basis)
+        out = np.zeros((du.shape[0], n_modes))
+        for rows in node_rows:
+            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
+            nn = np.sum(a**2, axis=0)
+            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
+        return out
+
+    def _node_mode_sensitivity(self, n_modes: int, n_basis: int) -> tuple:
+        """Node translations u (3·n_nodes, n) and their changes du (n_members, 3·n_nodes, n) per unit relative
+        change of each member's stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over max(n, n_basis)
+        modes."""
+        f, u, cross = self._member_modal_stiffness(max(n_modes, n_basis))
+        lam = (2 * np.pi * f) ** 2
+        diff = lam[None, :] - lam[:, None]                        # [k, j] = λ_j − λ_k
+        apart = np.abs(diff) > 1e-9 * lam.max()
+        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
+        return u[:, :n_modes], np.einsum("rk,ekj,kj->erj", u, cross, inv)[:, :, :n_modes]
+
     def _member_modal_stiffness(self, n_modes: int) -> tuple:
-        """f (n,) Hz, the sensors' mass-normalised shapes (p, n) and Φᵀ K_e Φ (n_members, n, n) of each member's
-        elastic stiffness K_e, from one full solve of this parameter set (cached)."""
+        """f (n,) Hz, the nodes' mass-normalised translations (3·n_nodes, n) and Φᵀ K_e Φ (n_members, n, n) of
+        each member's elastic stiffness K_e, from one full solve of this parameter set (cached)."""
         cache = self.__dict__.setdefault("_member_modal", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
         if got is None:
@@ -319,10 +342,10 @@ class FrameModel:
             per_element = np.einsum("eik,eij,ejn->ekn", u, k, u)
             cross = np.zeros((len(self.frame.members), n, n))
             np.add.at(cross, mesh.member, per_element)
-            f, s = frame.modes(n)
-            got = cache[n] = (f, s, cross)
-        f, s, cross = got
-        return f[:n_modes], s[:, :n_modes], cross[:, :n_modes, :n_modes]
+            f, u = frame.node_modes(n)
+            got = cache[n] = (f, u.reshape(-1, n), cross)
+        f, u, cross = got
+        return f[:n_modes], u[:, :n_modes], cross[:, :n_modes, :n_modes]
 
 
 def _member_ei_over_l(frame: Frame, ends, weak: bool = True) -> float:
