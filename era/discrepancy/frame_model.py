@@ -280,8 +280,8 @@ class FrameModel:
 
     def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray:
         """(n_members, n) each member's share of each mode's elastic strain energy (columns sum to 1 over the
-        members; springs, hinges and geometric stiffness left out). From the solve member_shape_sensitivity uses."""
-        _, _, cross = self._member_modal_stiffness(max(n_modes, 30))
+        members; springs, hinges and geometric stiffness left out)."""
+        _, _, cross = self._member_modal_stiffness(n_modes)
         out = np.einsum("ejj->ej", cross)[:, :n_modes]
         return out / np.maximum(out.sum(axis=0, keepdims=True), 1e-300)
 
