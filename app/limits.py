@@ -13,6 +13,12 @@ from era.suggest import order_cap
 
 from .config import Settings
 
+#: max_order of an analysis that does not ask for one (and the one the dataset suggests): above the stabilization
+#: diagram's 160 so the slider goes past the diagram, and low enough that H(0) of the usual sizes takes the
+#: truncated SVD of only these leading triplets (era.svd.choose_method: max_order ≤ min(H(0) shape) / 3; the
+#: grid example's 792 × 798 H(0) does). An analysis that needs more asks for it, up to ERA_MAX_ORDER.
+DEFAULT_MAX_ORDER = 200
+
 
 def check_hankel(rows: int, cols: int, max_order: int | None, p: int, m: int, settings: Settings) -> None:
     """Raise era.HankelError when H(0) (rows·p × cols·m) is above the server's element limit, saying what fits,
@@ -34,13 +40,19 @@ def check_hankel(rows: int, cols: int, max_order: int | None, p: int, m: int, se
             f"cols·m = {cols * m}, server limit {settings.max_order}) = {cap}. Choose max_order ≤ {cap}.")
 
 
+def default_max_order(rows: int, cols: int, p: int, m: int, settings: Settings) -> int:
+    """The max_order of an analysis that names none: min(rows·p, cols·m, DEFAULT_MAX_ORDER, ERA_MAX_ORDER)."""
+    return order_cap(rows, cols, p, m, min(DEFAULT_MAX_ORDER, settings.max_order))
+
+
 def identify(data: era.ResponseData, params: dict, settings: Settings) -> era.Identification:
     """era.identify with the stored parameters {rows, cols, row_shifts, col_shifts, max_order} after the server's
-    limits are checked; max_order defaults to min(rows·p, cols·m, ERA_MAX_ORDER). Blocking (one SVD)."""
+    limits are checked; max_order defaults to :func:`default_max_order`. Blocking (one SVD, or the truncated one
+    of the leading max_order triplets when that is far below H(0)'s size: era.svd.choose_method)."""
     n, p, m = data.markov.shape
     rows, cols = params["rows"], params["cols"]
     check_hankel(rows, cols, params.get("max_order"), p, m, settings)
-    max_order = params.get("max_order") or order_cap(rows, cols, p, m, settings.max_order)
+    max_order = params.get("max_order") or default_max_order(rows, cols, p, m, settings)
     ident = era.identify(data, rows, cols, params.get("row_shifts"), params.get("col_shifts"), max_order=max_order)
     if ident.max_order == 0:
         raise era.DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is "

@@ -18,9 +18,7 @@ from era.stabilization import COHERENT_MIN
 from era.suggest import hankel_size, order_cap, order_from_singular_values
 
 from .config import Settings
-
-#: The default largest order offered for a new dataset (the person may ask for more, up to ERA_MAX_ORDER).
-DEFAULT_MAX_ORDER = 200
+from .limits import DEFAULT_MAX_ORDER  # the default largest order offered for a new dataset
 
 
 def floats(values) -> list:
@@ -111,9 +109,11 @@ def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Id
     }
 
 
-def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = True) -> dict:
+def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = True,
+               shape_scatter: np.ndarray | None = None) -> dict:
     """The modes of one order (schemas.Modes); with_fit adds the fit of all modes to every channel (one full
-    reconstruction, which the slider skips)."""
+    reconstruction, which the slider skips); shape_scatter (modes,) is each shape's expected 1 - MAC from the
+    data (Identification.shape_scatter: n pole functionals per mode, so only when asked), else null."""
     contrib = np.asarray(model.contribution, dtype=float)
     finite = contrib[np.isfinite(contrib)]
     top = finite.max() if finite.size else 0.0
@@ -129,6 +129,7 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],
         "fit_percent": fit_percent(model.fit_error(data)) if with_fit else None,
+        "shape_scatter": None if shape_scatter is None else floats(shape_scatter),
     }
 
 

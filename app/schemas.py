@@ -202,6 +202,9 @@ class Modes(Schema):
     frequency_std_hz: Floats | None = Field(None, description="(k,) standard deviation of frequency_hz that the "
                                             "data determine (era.uncertainty), Hz; 95 % interval ± 1.96 σ")
     damping_std: Floats | None = Field(None, description="(k,) standard deviation of ζ from the data, fraction")
+    shape_scatter: Floats | None = Field(None, description="(k,) expected 1 - MAC of each shape against the true "
+                                         "one from the data's scatter (era Identification.shape_scatter), fraction; "
+                                         "null unless asked for (GET /modes?scatter=true, reports)")
     emac_mpc: Floats = Field(description="(k,) γ·μ, fraction")
     contribution: Floats = Field(description="(k,) Frobenius norm of the mode in H(0), units of the singular values")
     contribution_relative: Floats = Field(description="(k,) contribution / the largest, fraction")

@@ -31,16 +31,29 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
         [b_j^*, z_j^{t_1} b_j^*, ...] of eq. 43 (exp(t_i Δτ s_j) = z_j^{t_i}). A mode whose history is
         identically zero gets γ = 0.
     """
-    modes = histories.shape[0]
-    q = histories.reshape(modes, len(col_shifts), n_inputs)
-    b = q[:, 0, :]
+    return emac_parts(histories.real, histories.imag, z, col_shifts, n_inputs, growth)
+
+
+def emac_parts(real: np.ndarray, imag: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs: int,
+               growth: np.ndarray | None = None) -> np.ndarray:
+    """:func:`emac` of histories given as their real and imaginary parts, each (modes, s·m) real: the form a
+    real matrix product gives them in (era.sweep), so no complex copy of the histories is made."""
+    modes = real.shape[0]
+    s = len(col_shifts)
+    qr, qi = real.reshape(modes, s, n_inputs), imag.reshape(modes, s, n_inputs)
+    br, bi = qr[:, 0, :], qi[:, 0, :]
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         if growth is None:
             growth = powers(z, col_shifts)  # (modes, s): exp(t_i Δτ s_j) = z_j^{t_i}
-        # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄
-        inner = np.abs(np.einsum("js,js->j", growth.conj(), np.einsum("jsm,jm->js", q, b.conj())))
-        ideal_norm = np.sqrt(np.sum(np.abs(growth) ** 2, axis=1) * np.sum(np.abs(b) ** 2, axis=1))
-        norms = ideal_norm * np.linalg.norm(histories, axis=1)
+        # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄; b^* q_i in real arithmetic (two batched
+        # products with [Re b, Im b])
+        both = np.stack([br, bi], axis=2)  # (modes, m, 2)
+        rr, ir = np.matmul(qr, both), np.matmul(qi, both)  # (modes, s, 2)
+        bq = (rr[..., 0] + ir[..., 1]) + 1j * (ir[..., 0] - rr[..., 1])
+        inner = np.abs(np.einsum("js,js->j", growth.conj(), bq))
+        b2 = np.einsum("jm,jm->j", br, br) + np.einsum("jm,jm->j", bi, bi)
+        q2 = np.einsum("jk,jk->j", real, real) + np.einsum("jk,jk->j", imag, imag)
+        norms = np.sqrt(np.sum(np.abs(growth) ** 2, axis=1) * b2 * q2)
     ok = np.isfinite(norms) & (norms > 0) & np.isfinite(inner)
     out = np.zeros(modes)
     out[ok] = inner[ok] / norms[ok]
@@ -51,6 +64,12 @@ def powers(z: np.ndarray, exponents: np.ndarray) -> np.ndarray:
     """z_j ** t_i for every mode j and shift t_i: (modes, len(exponents)); 0 ** 0 = 1."""
     z = np.asarray(z, dtype=complex)
     t = np.asarray(exponents)
+    if t.size > 2 and np.array_equal(t, np.arange(t.size)):  # 0, 1, 2, ...: repeated products (no exp/log)
+        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+            out = np.empty((z.size, t.size), dtype=complex)
+            out[:, 0] = 1.0
+            out[:, 1:] = z[:, None]
+            return np.cumprod(out, axis=1)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
         out = np.exp(np.log(z)[:, None] * t[None, :])
     out[:, t == 0] = 1.0

@@ -20,6 +20,7 @@ class ModalDecomposition:
 
     z : (modes,) complex discrete eigenvalues (the member with Im z ≥ 0); shapes : (p, modes) complex;
     amplitudes : (modes, m) complex; histories : (modes, s·m) modal amplitude histories ψ^{-1} W;
+    (None when the decomposition was asked without them: the sweep forms them for all orders at once);
     is_pair : (modes,) bool, True for a complex-conjugate pair;
     right : (n, modes) complex, the eigenvectors ψ_j; left : (modes, n) complex, the matching rows of ψ^{-1}
     (scaled with the shapes, so left_j A = z_j left_j and left_j right_j = 1 still hold).
@@ -28,13 +29,13 @@ class ModalDecomposition:
     z: np.ndarray
     shapes: np.ndarray
     amplitudes: np.ndarray
-    histories: np.ndarray
+    histories: np.ndarray | None
     is_pair: np.ndarray
     right: np.ndarray | None = None
     left: np.ndarray | None = None
 
 
-def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W) -> ModalDecomposition:
+def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W=None) -> ModalDecomposition:
     """Eigen-decompose A ψ = ψ z (eq. 40) and express B, C and the state history W in modal coordinates.
 
     Parameters
@@ -43,7 +44,8 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W) -> ModalDecomposit
     W : (n, s·m) real: the state at the column shifts (its first m columns are the initial state B for ERA
         and A1). Its rows projected on the left eigenvectors are the modal histories of eq. 44.
         Or a pair (root (n,), basis (s·m, n)) standing for W = diag(root) basis^T (ERA's D^{1/2} Q_n^T),
-        which saves forming W.
+        which saves forming W. None: no histories (``histories`` is None; γ then needs them from elsewhere,
+        era.sweep forms those of every order of a sweep in a few large products).
 
     Shapes are scaled so that their largest component is 1 (real), and amplitudes inversely, so the product
     shapes·amplitudes (the response) is unchanged and shapes are comparable across orders.
@@ -54,7 +56,7 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W) -> ModalDecomposit
         z_all, psi = z_all.astype(complex), psi.astype(complex)
     keep = z_all.imag >= 0  # LAPACK returns exact conjugate pairs and exactly real eigenvalues
     try:
-        left = np.linalg.inv(psi)[keep]  # rows of ψ^{-1} for the kept modes
+        left = _inverse_rows(psi, z_all)[keep]  # rows of ψ^{-1} for the kept modes
     except (np.linalg.LinAlgError, ValueError):
         left = np.linalg.pinv(psi)[keep]  # defective A (a Jordan block): best effort
     z = z_all[keep]
@@ -67,13 +69,35 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W) -> ModalDecomposit
         scale = np.where(np.abs(big) > 0, big, 1.0)
         shapes, right, left = shapes / scale, right / scale, left * scale[:, None]
     amplitudes = _times_real(left, B)
-    if isinstance(W, tuple):
+    if W is None:
+        histories = None
+    elif isinstance(W, tuple):
         root, basis = W
         histories = _times_real(left * root[None, :], basis.T)
     else:
         histories = _times_real(left, W)
     return ModalDecomposition(z=z, shapes=shapes, amplitudes=amplitudes, histories=histories, is_pair=is_pair,
                               right=right, left=left)
+
+
+def _inverse_rows(psi: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """ψ^{-1} (n, n) complex for the eigenvectors ψ of a real matrix, from the inverse of its real form.
+
+    LAPACK stores each conjugate pair consecutively, Im z > 0 first: with R = ψ where column j + 1 (the
+    partner of a pair j) is replaced by Im ψ_j and column j by Re ψ_j, ψ = R T blockwise with
+    T = [[1, 1], [i, -i]], so rows j, j + 1 of ψ^{-1} are (R^{-1}_j ∓ i R^{-1}_{j+1}) / 2: one real inverse,
+    a quarter of the work of the complex one. Falls back to the complex inverse if the pairs are not so stored.
+    """
+    pos = np.flatnonzero(z.imag > 0)
+    if pos.size and (pos[-1] + 1 >= z.size or not np.array_equal(z[pos + 1], z[pos].conj())):
+        return np.linalg.inv(psi)
+    real_form = psi.real.copy()
+    real_form[:, pos + 1] = psi[:, pos].imag
+    inv = np.linalg.inv(real_form)
+    out = inv.astype(complex)
+    out[pos] = (inv[pos] - 1j * inv[pos + 1]) / 2
+    out[pos + 1] = out[pos].conj()
+    return out
 
 
 def _normalised(dec: ModalDecomposition) -> ModalDecomposition:
@@ -85,7 +109,7 @@ def _normalised(dec: ModalDecomposition) -> ModalDecomposition:
     big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
     scale = np.where(np.abs(big) > 0, big, 1.0)
     return replace(dec, shapes=shapes / scale, amplitudes=dec.amplitudes * scale[:, None],
-                   histories=dec.histories * scale[:, None],
+                   histories=None if dec.histories is None else dec.histories * scale[:, None],
                    right=None if dec.right is None else dec.right / scale,
                    left=None if dec.left is None else dec.left * scale[:, None])
 
@@ -175,7 +199,8 @@ def align_repeated(dec: ModalDecomposition, clusters) -> ModalDecomposition:
     """
     if not clusters:
         return dec
-    z, shapes, amps, hist = dec.z.copy(), dec.shapes.copy(), dec.amplitudes.copy(), dec.histories.copy()
+    z, shapes, amps = dec.z.copy(), dec.shapes.copy(), dec.amplitudes.copy()
+    hist = None if dec.histories is None else dec.histories.copy()
     right = None if dec.right is None else dec.right.copy()
     left = None if dec.left is None else dec.left.copy()
     p = shapes.shape[0]
@@ -192,7 +217,8 @@ def align_repeated(dec: ModalDecomposition, clusters) -> ModalDecomposition:
         z[idx] = np.diag(ti @ np.diag(z[idx]) @ t)
         shapes[:, idx] = phi @ t
         amps[idx] = ti @ amps[idx]
-        hist[idx] = ti @ hist[idx]
+        if hist is not None:
+            hist[idx] = ti @ hist[idx]
         if right is not None:
             right[:, idx] = right[:, idx] @ t
             left[idx] = ti @ left[idx]
@@ -419,6 +445,14 @@ class ModalModel:
         return out
 
 
+def mode_order(z: np.ndarray, dt: float, group: np.ndarray | None = None) -> np.ndarray:
+    """The order of a model's modes: by frequency Im s, then |s| (s = ln(z)/Δτ); with ``group`` (an int per
+    mode, e.g. each mode's model order in a sweep) by group first, so each group is sorted as its own model."""
+    s = continuous_eigenvalues(z, dt)
+    keys = (np.abs(s), s.imag) if group is None else (np.abs(s), s.imag, group)
+    return np.lexsort(keys)
+
+
 def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), method="ERA", *,
                 dec: ModalDecomposition | None = None, frequency_std_hz=None, damping_std=None) -> ModalModel:
     """The ModalModel of the realization (A, B, C) whose state history at the column shifts is W (n, s·m).
@@ -436,8 +470,7 @@ def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), m
     mu = indicators.mpc(dec.shapes)
     contrib = indicators.contribution(dec.shapes, dec.amplitudes, dec.z, row_shifts, col_shifts, dec.is_pair,
                                       growth)
-    s = continuous_eigenvalues(dec.z, dt)
-    order = np.lexsort((np.abs(s), s.imag))
+    order = mode_order(dec.z, dt)
     return ModalModel(A=A, B=B, C=C, dt=dt, z=dec.z[order], shapes=dec.shapes[:, order],
                       amplitudes=dec.amplitudes[order], emac=gamma[order], mpc=mu[order],
                       contribution=contrib[order], is_pair=dec.is_pair[order], outputs=tuple(outputs),

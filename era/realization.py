@@ -12,7 +12,7 @@ from . import hankel, svd
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
-                    modal_sum, repeated_clusters)
+                    modal_sum, mode_order, repeated_clusters)
 from .uncertainty import (PoleCovariance, _block_sums, correlation_length, modal_std, pole_functionals,
                           record_covariance, residual_covariance)
 
@@ -27,8 +27,8 @@ class Identification:
     row_shifts, col_shifts : int ndarray, shapes (r,) and (s,)
         (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
-        d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD, the computed rank for the
-        truncated and randomized ones.
+        d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD and for the truncated one of a
+        noisy H(0) (past K from the Gram matrix's eigenvalues: era.svd.truncated_svd), else the computed rank.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
     svd_method : "dense", "truncated" or "randomized"
@@ -87,29 +87,45 @@ class Identification:
         if order < 1:
             raise OrderError(f"`order` must be at least 1, got {order}.")
         if order > self.max_order:
+            k = self.max_order
+            d = self.singular_values
+            capped = self.svd_method != "dense" or (d.size > k and d[k] > max(self.P.shape[0], self.Q.shape[0])
+                                                    * np.finfo(float).eps * d[0])
+            if capped:
+                raise OrderError(
+                    f"Order {order} is above this identification's max_order, {k}: only the leading {k} singular "
+                    f"triplets of H(0) were kept. Choose an order ≤ {k}, or identify again with a larger max_order "
+                    f"(at most min(r·p, s·m) = {min(self.P.shape[0], self.Q.shape[0])}).")
             raise OrderError(
-                f"Order {order} is above the numerical rank of H(0), {self.max_order}: singular values past it "
-                f"are round-off or were not computed. Choose an order ≤ {self.max_order}"
-                + (" (or identify with a larger max_order)." if self.svd_method != "dense" else ".")
-            )
+                f"Order {order} is above the numerical rank of H(0), {k}: the singular values past it are "
+                f"round-off. Choose an order ≤ {k}.")
         return order
 
     def projected(self, order: int) -> np.ndarray:
         """P_n^T H(1) Q_n, shape (n, n): the leading block of the projection of H(1) on the singular vectors.
 
         Computed for the first n asked and kept; a larger n extends it to at least twice its size (capped at
-        K), so a slider moving up costs a few products in all. H(1) is rebuilt from the data for that, so it is
-        not held in memory.
+        K), so a slider moving up costs a few products in all. H(1) is not held in memory: with consecutive
+        column shifts its block columns are those of H(0) moved by one, so P^T H(1) = [(P^T H(0)) without its
+        first block column, P^T Y(j_i + t_{s-1} + 1)] with P^T H(0) = D Q^T (the SVD), and only the last block
+        column is new (K² s m instead of K r p s m work); other shifts rebuild H(1) from the data.
         """
         n = self._check_order(order)
         with self._lock:
             full = self._cache.get("projected")
             if full is None or full.shape[0] < n:
                 k = n if full is None else min(max(n, 2 * full.shape[0]), self.max_order)
-                h1 = hankel.block_hankel(self.data.markov, self.row_shifts, self.col_shifts, 1)
-                full = self.P[:, :k].T @ (h1 @ self.Q[:, :k])
-                self._cache["projected"] = full
+                self._cache["projected"] = full = self._project_h1(k)
         return full[:n, :n]
+
+    def _project_h1(self, k: int) -> np.ndarray:
+        """P_k^T H(1) Q_k, (k, k): see :meth:`projected`."""
+        P, Q, markov = self.P[:, :k], self.Q[:, :k], self.data.markov
+        m = markov.shape[2]
+        if not np.array_equal(self.col_shifts, np.arange(len(self.col_shifts))):
+            return P.T @ (hankel.block_hankel(markov, self.row_shifts, self.col_shifts, 1) @ Q)
+        last = markov[self.row_shifts + self.col_shifts[-1] + 1].reshape(-1, m)  # (r p, m): H(1)'s last block column
+        return (self.singular_values[:k, None] * Q[m:].T) @ Q[:-m] + (P.T @ last) @ Q[-m:]
 
     def balanced(self, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """A, B, C and the state history W of the order-n realization of eq. 34 in balanced form.
@@ -152,33 +168,38 @@ class Identification:
         the clusters (stabilization computes them for its stable poles only)."""
         n = self._check_order(order)
         d = self.data
+        A, B, C, raw, dec, clusters, f_std, d_std = self._decomposed(n, uncertainty, records)
+        W = (np.sqrt(self.singular_values[:n]), self.Q[:, :n])
+        model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
+                            dec=dec, frequency_std_hz=f_std if uncertainty else None,
+                            damping_std=d_std if uncertainty else None)
+        return model, raw, mode_order(dec.z, d.dt), clusters
+
+    def _decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
+        """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
+        eigensolver gives them, ``dec`` with the repeated modes aligned (era.modal.align_repeated), the
+        clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
+        ``histories`` the modal histories are not formed (era.sweep forms those of many orders together)."""
+        d = self.data
         p, m = d.n_outputs, d.n_inputs
         root = np.sqrt(self.singular_values[:n])
         A = self.projected(n) / root[:, None] / root[None, :]
         C = self.P[:p, :n] * root[None, :]
         B = (root[:, None] * self.Q[:m, :n].T).copy()
-        W = (root, self.Q[:, :n])  # W = D^{1/2} Q_n^T, not formed (balanced())
-        dec = decompose(A, B, C, W)
-        raw = dec
-        modes = dec.z.size
-        want = np.ones(modes, dtype=bool) if uncertainty else cluster_candidates(dec.z, dec.is_pair)
-        z_cov = np.full((modes, 2, 2), np.nan)
+        W = (root, self.Q[:, :n]) if histories else None  # W = D^{1/2} Q_n^T, not formed (balanced())
+        raw = decompose(A, B, C, W)
+        modes = raw.z.size
+        want = np.ones(modes, dtype=bool) if uncertainty else cluster_candidates(raw.z, raw.is_pair)
+        f_std, d_std = np.full(modes, np.nan), np.full(modes, np.nan)
+        clusters = []
         if want.any():
-            z_cov[want] = self.pole_covariance(n, dec, np.flatnonzero(want), records).z_cov
-        z_std = np.sqrt(z_cov[:, 0, 0] + z_cov[:, 1, 1])
-        clusters = repeated_clusters(dec.z, dec.is_pair, z_std, d.dt) if want.any() else []
-        if want.any():
-            f_std, d_std = modal_std(dec.z, z_cov, d.dt)
-        else:
-            f_std, d_std = np.full(modes, np.nan), np.full(modes, np.nan)
+            z_cov = np.full((modes, 2, 2), np.nan)
+            z_cov[want] = self.pole_covariance(n, raw, np.flatnonzero(want), records).z_cov
+            clusters = repeated_clusters(raw.z, raw.is_pair, np.sqrt(z_cov[:, 0, 0] + z_cov[:, 1, 1]), d.dt)
+            f_std, d_std = modal_std(raw.z, z_cov, d.dt)
         for idx in clusters:  # a repeated mode: the cluster's largest
             f_std[idx], d_std[idx] = np.max(f_std[idx]), np.max(d_std[idx])
-        dec = align_repeated(dec, clusters)
-        model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
-                            dec=dec, frequency_std_hz=f_std if uncertainty else None,
-                            damping_std=d_std if uncertainty else None)
-        s = np.log(np.where(dec.z == 0, 1e-300, dec.z)) / d.dt
-        return model, raw, np.lexsort((np.abs(s), s.imag)), clusters
+        return A, B, C, raw, align_repeated(raw, clusters), clusters, f_std, d_std
 
     def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
         """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
@@ -209,9 +230,12 @@ class Identification:
         its expectation is the sum over the independent blocks. Cost: n pole functionals per mode, so it is
         not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
 
+        A member of a repeated cluster (era.modal.repeated_clusters) leaves the cluster's other members out of the
+        sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.
+
         Returns
         -------
-        (len(modes),) fractions; the MAC between the estimate and the truth is about 1 minus this.
+        (len(modes),) fractions in [0, 1]; the MAC between the estimate and the truth is about 1 minus this.
         """
         n = self._check_order(order)
         model, raw, perm, clusters = self._model(n, False)
@@ -231,8 +255,13 @@ class Identification:
         block = correlation_length(residual, max(1, t // 20))
         s_cols = len(self.col_shifts)
         out = np.empty(len(chosen))
+        cluster_of = {int(j): set(int(k) for k in c) for c in clusters for j in c}
         for i, j in enumerate(chosen):
-            others = np.flatnonzero(np.abs(z_all - dec.z[j]) > 0)  # k ≠ j (and ≠ a repeated copy of it)
+            # k ≠ j, and not another member of j's repeated cluster: a change within the shared eigenspace is a
+            # change of its basis (align_repeated chooses that), not a scatter of the shape
+            same = np.zeros(z_all.size, dtype=bool)
+            same[list(cluster_of.get(int(j), {int(j)}))] = True
+            others = np.flatnonzero((np.abs(z_all - dec.z[j]) > 0) & ~same)
             c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
                                  np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
                                  residual[None])[:, 0]  # (others, T)
@@ -244,7 +273,7 @@ class Identification:
             dphi -= np.outer(unit, unit.conj() @ dphi)  # the part orthogonal to φ
             sums = _block_sums(dphi, block)  # (p, blocks)
             out[i] = float(np.sum(np.abs(sums) ** 2) / np.linalg.norm(phi) ** 2)
-        return out
+        return np.minimum(out, 1.0)  # 1 - MAC is at most 1 (first order no longer holds well before that)
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
@@ -355,12 +384,12 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
     elif method == "truncated":
-        P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape))
+        P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape), hankel.gram(data.markov, js, ts, h0))
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
-    # keep the numerical rank (and no more than max_order) of the singular triplets
+    # keep the numerical rank (and no more than max_order) of the singular triplets computed
     tol = max(h0.shape) * np.finfo(float).eps * (d[0] if d.size else 0.0)
-    keep = int(np.count_nonzero(d > tol))
+    keep = int(np.count_nonzero(d[:P.shape[1]] > tol))
     if max_order is not None:
         keep = min(keep, max_order)
     del h0

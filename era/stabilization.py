@@ -3,7 +3,6 @@ that persist across orders."""
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,6 +10,7 @@ import numpy as np
 from .errors import EraError
 from .indicators import mac
 from .realization import Identification
+from .sweep import blas_threads, in_parallel, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9
@@ -94,6 +94,15 @@ def _relative_change(new: np.ndarray, old: np.ndarray) -> np.ndarray:
     return out
 
 
+def _pair_mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """MAC of each column of ``a`` (p, k) with the same column of ``b`` (p, k): (k,), as indicators.mac."""
+    num = np.abs(np.einsum("pk,pk->k", a.conj(), b)) ** 2
+    den = np.einsum("pk,pk->k", a.conj(), a).real * np.einsum("pk,pk->k", b.conj(), b).real
+    out = np.zeros(num.shape)
+    np.divide(num, den, out=out, where=den > 0)
+    return np.clip(out, 0.0, 1.0)
+
+
 def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list[list[int]]:
     """Track stable poles across orders: each joins the cluster whose latest pole is nearest in frequency,
     within freq_tol and MAC ≥ mac_min, at most one pole per cluster and order (so repeated or close modes
@@ -128,37 +137,22 @@ def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
     order where the pole was not stable): same mean frequency within freq_tol and no order in common.
     Only tracks that already pass min_orders are joined, so stray noise poles do not add up to a mode."""
     merged: list[list[int]] = []
+    means: list[float] = []  # of each merged track, kept with it
+    orders: list[set] = []
     for c in sorted(clusters, key=len, reverse=True):
         f = freq[c].mean()
-        for m in merged:
-            if abs(freq[m].mean() - f) <= freq_tol * max(abs(f), 1e-300) and not set(order[m]) & set(order[c]):
+        mine = set(order[c].tolist())
+        for k, m in enumerate(merged):
+            if abs(means[k] - f) <= freq_tol * max(abs(f), 1e-300) and not orders[k] & mine:
                 m.extend(c)
                 m.sort()
+                means[k], orders[k] = freq[m].mean(), orders[k] | mine
                 break
         else:
             merged.append(list(c))
+            means.append(f)
+            orders.append(mine)
     return merged
-
-
-def blas_threads() -> int:
-    """Threads the loaded BLAS may use (threadpoolctl's view, so a ``threadpool_limits`` applies); 1 without
-    threadpoolctl. The sweep runs that many orders at a time: each order's eigensolution is too small for a
-    threaded BLAS, so threads across orders are what makes the sweep scale like the SVD does."""
-    try:
-        from threadpoolctl import threadpool_info
-    except ImportError:
-        return 1
-    counts = [int(lib.get("num_threads") or 1) for lib in threadpool_info() if lib.get("user_api") == "blas"]
-    return max(counts, default=1)
-
-
-def _single_threaded_blas():
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        from contextlib import nullcontext
-        return nullcontext()
-    return threadpool_limits(1, user_api="blas")
 
 
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
@@ -197,60 +191,30 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     if not req or req[0] < 1:
         raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
     done = [n for n in req if n <= ident.max_order]
-    d = ident.data
-    if done:
-        ident.projected(done[-1])  # one projection of H(1) for every order
     workers = blas_threads() if workers is None else max(1, int(workers))
-
-    def realize(n):
-        return ident._model(n, False)
-
-    def in_parallel(fn, items):
-        if workers > 1 and len(items) > 1:
-            # one BLAS thread per worker while they run: the cores go to orders, not to BLAS threads that
-            # would fight over them (threadpoolctl's limit is process-wide for the duration of the sweep)
-            with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
-                out = dict(zip(items[::-1], pool.map(fn, items[::-1])))  # largest first: ends on small ones
-            return [out[x] for x in items]
-        return [fn(x) for x in items]
-
-    realized = in_parallel(realize, done)
-    cols = []
-    prev = None
-    for n, (model, *_) in zip(done, realized):
-        f, z, sh = model.frequency_hz, model.damping_ratio, model.shapes
-        if prev is None or len(prev[0]) == 0 or len(f) == 0:  # nothing to compare with
-            sf = sd = ss = np.zeros(len(f), dtype=bool)
-        else:
-            df = _relative_change(f, prev[0])
-            near = np.argmin(df, axis=1)
-            rows = np.arange(len(f))
-            sf = df[rows, near] <= freq_tol
-            sd = _relative_change(z, prev[1])[rows, near] <= damping_tol
-            ss = mac(sh, prev[2])[rows, near] >= mac_min
-        prev = (f, z, sh)
-        nan = np.full(len(f), np.nan)
-        cols.append((np.full(len(f), n), np.arange(len(f)), f, z, model.emac, model.mpc, model.contribution,
-                     sf, sd, ss, nan, nan.copy(), sh))
+    sw = realize_orders(ident, done, workers)
+    order, freq, damp, gamma, mu, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.emac, sw.mpc, sw.shapes
+    sf, sd, ss = (np.zeros(freq.size, dtype=bool) for _ in range(3))
+    for k in range(1, len(done)):  # each order against the previous one
+        now, before = sw.of(k), sw.of(k - 1)
+        if now.start == now.stop or before.start == before.stop:  # nothing to compare with
+            continue
+        df = _relative_change(freq[now], freq[before])
+        near = np.argmin(df, axis=1)
+        rows = np.arange(df.shape[0])
+        sf[now] = df[rows, near] <= freq_tol
+        sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
+        ss[now] = _pair_mac(shapes[:, now], shapes[:, before][:, near]) >= mac_min
+    stable = sf & sd & ss
+    f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
     if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
         def std_of_stable(k):
-            n, (model, raw, perm, clusters) = done[k], realized[k]
-            stable = np.flatnonzero(cols[k][7] & cols[k][8] & cols[k][9])
-            if stable.size:
-                cols[k][10][stable], cols[k][11][stable] = ident.mode_std(n, raw, perm[stable], clusters)
+            raw, perm, clusters = sw.raw[k]
+            at = np.flatnonzero(stable[sw.of(k)])
+            if at.size:
+                f_std[at + sw.start[k]], d_std[at + sw.start[k]] = ident.mode_std(done[k], raw, perm[at], clusters)
 
-        in_parallel(std_of_stable, list(range(len(done))))
-    p = d.n_outputs
-    if cols:
-        parts = list(zip(*cols))
-        arrays = [np.concatenate(x) for x in parts[:-1]]
-        shapes = np.concatenate(parts[-1], axis=1)
-    else:
-        arrays = [np.zeros(0, dtype=t)
-                  for t in (int, int, float, float, float, float, float, bool, bool, bool, float, float)]
-        shapes = np.zeros((p, 0), dtype=complex)
-    order, mode_index, freq, damp, gamma, mu, contrib, sf, sd, ss, f_std, d_std = arrays
-    stable = sf & sd & ss
+        in_parallel(std_of_stable, list(range(len(done))), workers)
     modes = []
     for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
         c = np.array(c)
@@ -261,7 +225,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             pole_indices=tuple(int(x) for x in c), shape=shapes[:, c[-1]].copy(),
             data_frequency_std_hz=float(f_std[c[-1]]), data_damping_std=float(d_std[c[-1]])))
     modes.sort(key=lambda m: m.frequency_hz)
-    return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=mode_index, frequency_hz=freq,
-                         damping_ratio=damp, emac=gamma, mpc=mu, contribution=contrib, stable_frequency=sf,
-                         stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
+    return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=sw.mode_index,
+                         frequency_hz=freq, damping_ratio=damp, emac=gamma, mpc=mu, contribution=sw.contribution,
+                         stable_frequency=sf, stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
                          frequency_std_hz=f_std, damping_std=d_std)

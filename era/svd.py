@@ -13,9 +13,10 @@ from .errors import EraError
 DENSE_SVD_WORK_LIMIT = 8e9
 
 #: "auto" takes the truncated SVD when the rank asked is at most this fraction of min(shape) ("far below"):
-#: its cost, min² · max / 2 for the Gram product plus an eigensolution of min(shape)², is then about a
-#: quarter of gesdd's (tests/bench/bench_sweep.py).
-TRUNCATED_RANK_FRACTION = 0.25
+#: its cost, the Gram matrix (era.hankel.gram: a recursion for a block Hankel H(0)) and one tridiagonal
+#: reduction of min(shape)², is then at most about 0.6 of gesdd's on a square H(0) (792 × 798: 0.48 at rank
+#: 200, 0.70 at rank 300) and less on an oblong one (900 × 2392 at rank 120: 0.15; tests/bench/bench_sweep.py).
+TRUNCATED_RANK_FRACTION = 1 / 3
 
 #: ... and min(shape) at most this: the Gram matrix's eigensolution grows as min(shape)³ (above it, randomized).
 TRUNCATED_MAX_SIDE = 6000
@@ -67,12 +68,13 @@ def randomized_svd(
     return (basis @ u_small[:, :rank]), d[:rank], vt[:rank].T
 
 
-def truncated_svd(h: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def truncated_svd(h: np.ndarray, rank: int,
+                  gram: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Leading ``rank`` singular triplets of ``h`` from the Gram matrix of its shorter side, refined by one
     Rayleigh-Ritz step on ``h`` itself.
 
     For ``h`` of shape (a, b) with a ≤ b: G = h h^T (a × a, one BLAS-3 product of half the work of the SVD's
-    bidiagonalization), its ``rank`` leading eigenvectors V (LAPACK syevr on that subset only), then the exact
+    bidiagonalization), its ``rank`` leading eigenvectors V (:func:`gram_eigen`), then the exact
     SVD of the small projection V^T h = U S W^T gives P = V U, d = S, Q = W. This is the Rayleigh-Ritz step of a
     subspace method (Halko, Martinsson & Tropp 2011, sec. 5) with the Gram eigenvectors as the subspace:
 
@@ -89,26 +91,63 @@ def truncated_svd(h: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray, np.
     power iterations stall. Lanczos (scipy.sparse.linalg.svds with PROPACK or ARPACK) is as accurate but, at
     rank 120, is no faster than gesdd on these sizes.
 
+    ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds that of a block
+    Hankel matrix by a recursion, without the product).
+
     Returns
     -------
-    P : (rows, rank), d : (rank,) descending, Q : (cols, rank).
+    P : (rows, rank), d : descending, Q : (cols, rank). d has the ``rank`` values of the triplets and, on the
+    direct route (every value kept ≥ 1e-3 d_1), all min(rows, cols) values: the ones past the rank from the Gram
+    matrix's eigenvalues, for the singular value plot and the order suggestion of a noisy H(0). When the kept
+    values reach round-off (a noise-free record), the ones past them are round-off too and are left out.
     """
     rows, cols = h.shape
     if rows > cols:
-        Q, d, P = truncated_svd(h.T, rank)
+        Q, d, P = truncated_svd(h.T, rank, gram)
         return P, d, Q
     rank = int(min(rank, rows))
-    gram = h @ h.T
-    w, v = scipy.linalg.eigh(gram, subset_by_index=[rows - rank, rows - 1], driver="evr", check_finite=False)
+    if gram is None:
+        gram = h @ h.T
+    every, v = gram_eigen(gram, rank)
     del gram
-    w, v = w[::-1], v[:, ::-1]
+    w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:
         # every value kept is ≥ 1e-3 d_1: the Gram route alone is accurate to ε d_1²/d_k² ≤ 1e-10 (relative,
-        # values and Q's orthogonality), and the small SVD, slower with threads than the rest, is not needed
-        d = np.sqrt(w)
-        return np.ascontiguousarray(v), d, (h.T @ v) / d
+        # values and Q's orthogonality), and the small SVD, slower with threads than the rest, is not needed;
+        # the values past the rank come with it (to ε d_1²/d_i² relative, 1e-4 at d_i = 1e-6 d_1)
+        d = np.sqrt(np.maximum(every, 0.0))
+        return np.ascontiguousarray(v), d, (h.T @ v) / d[:rank]
     u_small, d, wt = scipy.linalg.svd(v.T @ h, full_matrices=False, lapack_driver="gesdd", check_finite=False)
     return v @ u_small, d, np.ascontiguousarray(wt.T)
+
+
+def gram_eigen(gram: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray]:
+    """All eigenvalues of the symmetric ``gram`` (a, a), descending, and the eigenvectors (a, rank) of the
+    leading ``rank``: one tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
+    the leading eigenvectors by MRRR (stemr) on that subset only, and back to ``gram``'s basis by the
+    reduction's reflectors (ormqr) — what syevr does for the subset, plus every eigenvalue for a² more work.
+    """
+    a = gram.shape[0]
+    lapack = scipy.linalg.lapack
+    try:
+        lwork = int(lapack.dsytrd_lwork(a, lower=1)[0])
+        c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
+        if info != 0:
+            raise np.linalg.LinAlgError(f"sytrd info {info}")
+        every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)[::-1]
+        _, y = scipy.linalg.eigh_tridiagonal(diag, off, select="i", select_range=(a - rank, a - 1),
+                                             check_finite=False)
+        if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
+            rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=max(1, 64 * rank))
+            if info != 0:
+                raise np.linalg.LinAlgError(f"ormqr info {info}")
+            y = np.vstack([y[:1], rest])
+        return every, np.ascontiguousarray(y[:, ::-1])
+    except (np.linalg.LinAlgError, ValueError):  # not expected; the library's driver as a fallback
+        w, v = scipy.linalg.eigh(gram, subset_by_index=[a - rank, a - 1], driver="evr", check_finite=False)
+        every = np.concatenate([w[::-1], scipy.linalg.eigvalsh(gram, subset_by_index=[0, a - rank - 1])[::-1]]) \
+            if rank < a else w[::-1]
+        return every, np.ascontiguousarray(v[:, ::-1])
 
 
 def choose_method(shape: tuple[int, int], method: str, rank: int | None = None) -> str:

@@ -66,9 +66,14 @@ async def read(request: Request, a: Analysis = Depends(analysis)):
 @router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit",
             response_model=schemas.Modes)
 async def modes(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1),
-                fit: bool = Query(True, description="add the fit of all modes per channel (costs a reconstruction)")):
+                fit: bool = Query(True, description="add the fit of all modes per channel (costs a reconstruction)"),
+                scatter: bool = Query(False, description="add each shape's scatter from the data, expected 1 - MAC "
+                                      "(n pole functionals per mode: 0.03 s at order 20, 1.7 s at 160 on the grid)")):
     model = await _model(request, a, order)
-    return await jobs(request).quick(payloads.modes_json, model, a.data, fit)
+    if not scatter:
+        return await jobs(request).quick(payloads.modes_json, model, a.data, fit)
+    ident = await identified(request, a)
+    return await jobs(request).quick(lambda: payloads.modes_json(model, a.data, fit, ident.shape_scatter(order)))
 
 
 def parse_modes(modes: str) -> list[int]:

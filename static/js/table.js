@@ -1,5 +1,6 @@
 // Panel 4: the γ/μ table: sortable, a keep/reject checkbox per mode, thresholds that select modes.
 import { state, emit, on, el } from "./state.js";
+import { api } from "./api.js";
 
 const $ = (id) => document.getElementById(id);
 const { columns } = window.EraFormat;
@@ -65,10 +66,31 @@ function markSelected() {
   }
 }
 
+// The shape scatter (1 − MAC) costs n pole functionals per mode (0.03 s at order 20, 1.7 s at 160 on the grid),
+// too much for every slider step: it is asked for once the slider has rested on an order for SCATTER_WAIT ms.
+const SCATTER_WAIT = 600;
+let scatterTimer = null;
+
+function askScatter() {
+  clearTimeout(scatterTimer);
+  const m = state.modes, a = state.analysis;
+  if (!m || !a || m.shape_scatter) return;
+  const order = m.order;
+  scatterTimer = setTimeout(async () => {
+    try {
+      const full = await api(`/api/analyses/${a.id}/modes?order=${order}&fit=false&scatter=true`);
+      if (state.modes && state.modes.order === order && state.analysis === a && full.shape_scatter) {
+        state.modes.shape_scatter = full.shape_scatter;
+        render();
+      }
+    } catch { /* the column keeps its dashes */ }
+  }, SCATTER_WAIT);
+}
+
 export function init() {
   for (const id of ["min-emac", "min-mpc", "min-contrib", "physical-only"]) {
     $(id).addEventListener("change", () => { if (state.modes) emit("thresholds", thresholds()); });
   }
-  on("modes", render);
+  on("modes", () => { render(); askScatter(); });
   on("select", markSelected);
 }

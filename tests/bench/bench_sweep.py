@@ -6,6 +6,9 @@ The sizes are those of the issue: H(0) 900 × 2392 (grid-like, p = 9, m = 8) and
 Timings are interleaved (SVD, sweep, SVD, sweep, ...) and their medians compared, so a neighbour's load hits both.
 """
 
+import os
+import time
+
 import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
@@ -14,7 +17,6 @@ import era
 from era.examples.synthetic import modal_response
 from era.hankel import block_hankel
 from era.svd import dense_svd
-from timing import median_time
 
 ORDERS = range(2, 121, 2)
 CASES = {  # (p, m, N, rows, cols, dt, frequencies)
@@ -36,36 +38,47 @@ def _sweep(data, rows, cols, **kw):
     return ident, era.stabilization(ident, ORDERS, **kw)
 
 
+def _timed(fn):
+    """(wall-clock, CPU) seconds of one call: the CPU time of a one-thread run is what a neighbour's load on a
+    shared machine disturbs least."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    fn()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
 def _ratios(data, rows, cols, threads):
     h0 = block_hankel(data.markov, np.arange(rows), np.arange(cols))
     with threadpool_limits(threads):
         _sweep(data, rows, cols)  # warm-up
         t_svd, t_sweep, t_sigma = [], [], []
         for _ in range(REPEAT):  # interleaved, so a neighbour's load hits both
-            t_svd.append(median_time(lambda: dense_svd(h0), repeat=1))
-            t_sweep.append(median_time(lambda: _sweep(data, rows, cols), repeat=1))
-            t_sigma.append(median_time(lambda: _sweep(data, rows, cols, uncertainty=True), repeat=1))
-    return h0.shape, np.median(t_svd), np.median(t_sweep), np.median(t_sigma)
+            t_svd.append(_timed(lambda: dense_svd(h0)))
+            t_sweep.append(_timed(lambda: _sweep(data, rows, cols)))
+            t_sigma.append(_timed(lambda: _sweep(data, rows, cols, uncertainty=True)))
+    wall = [np.median([t[0] for t in x]) for x in (t_svd, t_sweep, t_sigma)]
+    cpu = [min(t[1] for t in x) for x in (t_svd, t_sweep)]
+    return h0.shape, wall, cpu
 
 
-#: what each case reaches on the 2-core machine of the issue (the issue's target is 0.5 at both thread counts):
-#: ratio ≤ LIMIT[case][threads] guards against regressions; the figures printed are the measurement.
-LIMIT = {"900x2392 p=9 m=8": {1: 1.0, 2: 1.3}, "1280x2000 p=32 m=4": {1: 0.5, 2: 0.9}}
+#: the wall-clock ratio on the 2-core machine of the issue, shared with other jobs (the issue's target is 0.5 at
+#: both thread counts): ratio ≤ LIMIT[case][threads] guards against regressions; the figures printed (and the
+#: one-thread CPU-time ratio, which a neighbour's load disturbs least) are the measurement.
+LIMIT = {"900x2392 p=9 m=8": {1: 0.8, 2: 1.0}, "1280x2000 p=32 m=4": {1: 0.5, 2: 0.7}}
 
 
 def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(case):
-    """Measured (README, issue 14): 1280 × 2000 meets the 0.5× target with one BLAS thread (0.44×); 900 × 2392
-    does not (0.72-0.83×): the 60 eigensolutions alone (LAPACK's Hessenberg QR, not BLAS-3) cost ≈ 0.25× of
-    its gesdd and the Gram matrix's eigensolution ≈ 0.15×. With two BLAS threads gesdd gains 1.3-1.9× while the
-    truncated SVD (syevr's tridiagonalization is BLAS-2) and the sweep (two orders at a time) gained less on
-    this shared machine: 1.10× on 900 × 2392; 0.42× on 1280 × 2000 (it improves there)."""
+    """Measured (README, issue 14): see the section "Uncertainty of each mode, repeated modes, the sweep's cost".
+    The sweep's own work is the 60 eigensolutions (LAPACK's Hessenberg QR, about 0.2× of the gesdd on
+    900 × 2392 with one thread), the Gram matrix's tridiagonal reduction (≈ 0.12×) and γ's histories (≈ 0.08×,
+    BLAS-3); with two threads the orders are eigensolved two at a time and the rest is threaded BLAS."""
     name, data, rows, cols = case
     assert era.identify(data, rows, cols, max_order=max(ORDERS)).svd_method == "truncated"
     for threads in (1, 2):
-        shape, svd, sweep, sigma = _ratios(data, rows, cols, threads)
+        shape, (svd, sweep, sigma), (svd_cpu, sweep_cpu) = _ratios(data, rows, cols, threads)
+        cpu = f" | CPU time {sweep_cpu:.3f} s / {svd_cpu:.3f} s = {sweep_cpu / svd_cpu:.2f}×" if threads == 1 else ""
         print(f"\n[{name}, {threads} BLAS thread(s)] H(0) {shape[0]}×{shape[1]}: one dense gesdd {svd:.3f} s | "
-              f"identify + stabilization(2..120) {sweep:.3f} s = {sweep / svd:.2f}× SVD (issue target 0.5) | "
-              f"with the stable poles' σ {sigma:.3f} s = {sigma / svd:.2f}× SVD")
+              f"identify + stabilization(2..120) {sweep:.3f} s = {sweep / svd:.2f}× SVD (issue target 0.5){cpu} | "
+              f"with the stable poles' σ {sigma:.3f} s = {sigma / svd:.2f}× SVD | load {os.getloadavg()[0]:.1f}")
         assert sweep / svd <= LIMIT[name][threads]
 
 

@@ -189,8 +189,12 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         assert "rejected" in selected.get_attribute("class")
         page.wait_for_function(f"document.getElementById('recon-fit').textContent !== {json.dumps(fit_before)}")
         assert "4 kept modes" in page.text_content("#recon-fit")
+        # the shape scatter (1 − MAC) column fills once the slider rests on an order (GET /modes?scatter=true)
+        page.wait_for_function("[...document.querySelectorAll('#modes-table td[data-key=shape_scatter]')]"
+                               ".every(td => td.textContent !== '–')", timeout=30000)
         app_rows = table_rows(page, "#modes-table")
         assert sum(r["kept"] for r in app_rows) == 4
+        assert all(r["cells"]["shape_scatter"] == "0.0000" for r in app_rows)  # noise-free Case II
         page.screenshot(path=str(shots / "app-2-pole-selected-mode-rejected.png"), full_page=True)
 
         # 5. create the report link
@@ -222,6 +226,9 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         page.goto(server.base + "/" + address)
         page.wait_for_function("document.querySelectorAll('#modes-table tbody tr').length === 5", timeout=30000)
         assert page.text_content("#order-value") == "10" and page.input_value("#rows") == "90"
+        # the shape scatter (1 − MAC) column fills once the slider rests on an order (GET /modes?scatter=true)
+        page.wait_for_function("[...document.querySelectorAll('#modes-table td[data-key=shape_scatter]')]"
+                               ".every(td => td.textContent !== '–')", timeout=30000)
         reopened = table_rows(page, "#modes-table")
         assert sorted((r["mode"], tuple(r["cells"].items())) for r in reopened) == \
             sorted((r["mode"], tuple(r["cells"].items())) for r in app_rows)

@@ -1,0 +1,171 @@
+"""Every order of one identification realized at once (the stabilization diagram's models): each order's
+eigensolution on its own, then γ, μ and the contribution of all modes of all orders in a few batched calls.
+
+Per order n the realization is the leading n × n block of one projection of H(1) (Identification.projected),
+so only its eigensolution (LAPACK's Hessenberg QR, about 25 n³ flops, not BLAS-3) is per order; those run
+``workers`` at a time in threads. What is per mode is then done on the modes of all orders together:
+
+* the modal histories ψ^{-1} D^{1/2} Q_n^T (eq. 44) that γ needs, as a few large products of the stacked rows
+  of ψ^{-1} D^{1/2} (zero-padded to the largest order of a chunk of orders) with Q^T — one BLAS-3 product of
+  about 2 M × K × s m flops for M modes in all instead of one thin product per order (3× faster at K = 120,
+  and threaded by BLAS);
+* γ (eqs. 42-45), μ (eqs. 46-54), the contribution and the sort by frequency: one call each.
+
+The numbers are those of ``ident.model(n)`` for every n (to round-off: tests/core/test_stabilization.py).
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import indicators
+from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
+
+#: modes per batched product of the histories (bounds its memory: CHUNK_MODES · s·m complex numbers, 11 MB
+#: for s·m = 2392) — large enough to run at BLAS-3 speed.
+CHUNK_MODES = 300
+
+
+@dataclass(frozen=True, eq=False)
+class OrderSweep:
+    """The modes of every order, as one array per quantity (modes of order orders[0] first, each order's modes
+    sorted by frequency as in ``ident.model(order)``).
+
+    orders : (n_orders,) int; start : (n_orders + 1,) int, the modes of orders[i] are [start[i], start[i+1]);
+    order, mode_index : (n_modes,) int, each mode's order and its index in ``ident.model(order)``;
+    z : (n_modes,) complex; frequency_hz, damping_ratio, emac, mpc, contribution : (n_modes,);
+    shapes : (p, n_modes) complex;
+    raw : per order, (the decomposition as the eigensolver gave it, the model's mode order as indices into it,
+        the repeated clusters): what Identification.mode_std needs for the standard deviations of some modes.
+    """
+
+    orders: np.ndarray
+    start: np.ndarray
+    order: np.ndarray
+    mode_index: np.ndarray
+    z: np.ndarray
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    emac: np.ndarray
+    mpc: np.ndarray
+    contribution: np.ndarray
+    shapes: np.ndarray
+    raw: tuple
+
+    def of(self, k: int) -> slice:
+        """The modes of orders[k]."""
+        return slice(int(self.start[k]), int(self.start[k + 1]))
+
+
+def blas_threads() -> int:
+    """Threads the loaded BLAS may use (threadpoolctl's view, so a ``threadpool_limits`` applies); 1 without
+    threadpoolctl. The sweep runs that many orders at a time: each order's eigensolution is too small for a
+    threaded BLAS, so threads across orders are what makes the sweep scale like the SVD does."""
+    try:
+        from threadpoolctl import threadpool_info
+    except ImportError:
+        return 1
+    counts = [int(lib.get("num_threads") or 1) for lib in threadpool_info() if lib.get("user_api") == "blas"]
+    return max(counts, default=1)
+
+
+def _single_threaded_blas():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        from contextlib import nullcontext
+        return nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
+def in_parallel(fn, items: list, workers: int) -> list:
+    """[fn(x) for x in items], ``workers`` at a time in threads (numpy's LAPACK calls release the GIL), each
+    with one BLAS thread while they run: the cores go to items, not to BLAS threads that would fight over them
+    (threadpoolctl's limit is process-wide for the duration). The largest items (the last) start first."""
+    if workers > 1 and len(items) > 1:
+        with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
+            out = dict(zip(range(len(items))[::-1], pool.map(fn, items[::-1])))
+        return [out[i] for i in range(len(items))]
+    return [fn(x) for x in items]
+
+
+def sweep_emac(left: list, z: np.ndarray, basis_t: np.ndarray, root: np.ndarray, col_shifts: np.ndarray,
+               n_inputs: int, growth: np.ndarray) -> np.ndarray:
+    """γ of the modes of many orders (eqs. 42-45) from their left eigenvectors, the histories formed in chunks.
+
+    Parameters
+    ----------
+    left : list of (modes_i, n_i) complex, the rows of ψ^{-1} of each order's kept modes (ModalDecomposition.left)
+    z : (M,) complex, their eigenvalues in the same order (M = Σ modes_i)
+    basis_t : (K, s m) Q^T, K ≥ every n_i; root : (K,) D^{1/2}
+    col_shifts : (s,); n_inputs : m; growth : (M, s) powers(z, col_shifts)
+
+    Returns
+    -------
+    (M,) γ, equal to indicators.emac of each order's histories ψ^{-1} D^{1/2} Q_n^T.
+    """
+    out = np.empty(len(z))
+    i = 0
+    while i < len(left):
+        j, rows = i, 0
+        while j < len(left) and (rows == 0 or rows + len(left[j]) <= CHUNK_MODES):
+            rows += len(left[j])
+            j += 1
+        width = max(x.shape[1] for x in left[i:j])
+        stacked = np.zeros((2 * rows, width))  # Re of the rows of ψ^{-1} D^{1/2}, then Im
+        at = 0
+        for x in left[i:j]:
+            scaled = x * root[:x.shape[1]]
+            stacked[at:at + len(x), :x.shape[1]] = scaled.real
+            stacked[rows + at:rows + at + len(x), :x.shape[1]] = scaled.imag
+            at += len(x)
+        first = sum(len(x) for x in left[:i])
+        part = slice(first, first + rows)
+        both = stacked @ basis_t[:width]  # Re and Im of the histories
+        out[part] = indicators.emac_parts(both[:rows], both[rows:], z[part], col_shifts, n_inputs, growth[part])
+        i = j
+    return out
+
+
+def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
+    """The modes of ``ident.model(n, uncertainty=False)`` for every n in ``orders`` (increasing, each ≤
+    ident.max_order), as an :class:`OrderSweep`; ``workers`` orders are eigensolved at a time."""
+    d = ident.data
+    m = d.n_inputs
+    if orders:
+        ident.projected(orders[-1])  # one projection of H(1) for every order
+
+    def decomposed(n):
+        _, _, _, raw, dec, clusters, _, _ = ident._decomposed(n, False, histories=False)
+        return raw, dec, clusters
+
+    parts = in_parallel(decomposed, list(orders), workers)
+    decs: list[ModalDecomposition] = [dec for _, dec, _ in parts]
+    sizes = np.array([dec.z.size for dec in decs], dtype=int)
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    group = np.repeat(np.asarray(orders, dtype=int), sizes)
+    p = d.n_outputs
+    z = np.concatenate([dec.z for dec in decs]) if decs else np.zeros(0, complex)
+    shapes = np.concatenate([dec.shapes for dec in decs], axis=1) if decs else np.zeros((p, 0), complex)
+    amplitudes = np.concatenate([dec.amplitudes for dec in decs]) if decs else np.zeros((0, m), complex)
+    is_pair = np.concatenate([dec.is_pair for dec in decs]) if decs else np.zeros(0, bool)
+    growth = indicators.powers(z, ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
+    root = np.sqrt(ident.singular_values[:max(orders, default=0)])
+    basis_t = np.ascontiguousarray(ident.Q[:, :max(orders, default=0)].T)
+    gamma = sweep_emac([dec.left for dec in decs], z, basis_t, root, ident.col_shifts, m, growth)
+    mu = indicators.mpc(shapes)
+    contrib = indicators.contribution(shapes, amplitudes, z, ident.row_shifts, ident.col_shifts, is_pair, growth)
+    perm = mode_order(z, d.dt, group)  # each order's modes by frequency, as in its model
+    local = [perm[start[k]:start[k + 1]] - start[k] for k in range(len(decs))]
+    s = continuous_eigenvalues(z[perm], d.dt)
+    mag = np.abs(s)
+    damping = np.zeros(len(s))
+    np.divide(-s.real, mag, out=damping, where=mag > 0)
+    return OrderSweep(orders=np.asarray(orders, dtype=int), start=start, order=group,
+                      mode_index=np.concatenate([np.arange(k) for k in sizes]) if decs else np.zeros(0, int),
+                      z=z[perm], frequency_hz=s.imag / (2 * np.pi), damping_ratio=damping, emac=gamma[perm],
+                      mpc=mu[perm], contribution=contrib[perm], shapes=shapes[:, perm],
+                      raw=tuple((raw, loc, clusters) for (raw, _, clusters), loc in zip(parts, local)))
