@@ -10,7 +10,8 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``inputs``                (m,)       input labels; absent: u1..um
 ``output_units``          (p,)       unit of each output (e.g. "mm"); absent: None (no units given)
 ``input_units``           (m,)       unit of each input (e.g. "N·s"); absent: None
-``input_locations``       (m, d)     float, the point each input acts at (e.g. grid joints (x_ft, y_ft));
+``input_locations``       (m, d)     the point each input acts at: float (grid joints (x_ft, y_ft)) or str (an
+                                     era.Frame's (node id, direction), e.g. ("E", "x"));
                                      ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
 ``name``                  ()         the dataset's name (e.g. the uploaded file name); optional
 ``records``               (n_b, N, p, m)  the pulse responses of each record (ResponseData.records); optional
@@ -143,10 +144,11 @@ def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str
         raise DataError(f"{label}: {exc}") from None
     if "input_locations" in arrays:
         where = arrays["input_locations"]
-        if where.ndim != 2 or len(where) != data.n_inputs or not np.issubdtype(where.dtype, np.number):
-            raise DataError(f"{label}: `input_locations` is {where.dtype} of shape {where.shape}; expected numbers of "
-                            f"shape (m, d) = ({data.n_inputs}, d), one point per input.")
-        data.meta["input_locations"] = tuple(tuple(float(v) for v in row) for row in where)
+        if where.ndim != 2 or len(where) != data.n_inputs or where.dtype.kind not in "iufU":
+            raise DataError(f"{label}: `input_locations` is {where.dtype} of shape {where.shape}; expected numbers or "
+                            f"node names of shape (m, d) = ({data.n_inputs}, d), one point per input.")
+        data.meta["input_locations"] = tuple(tuple(str(v) if where.dtype.kind == "U" else float(v) for v in row)
+                                             for row in where)
     name = str(_one(arrays, "name", label, "one string")) if "name" in arrays else None
     geometry = None
     present = [k for k in _GEOMETRY if k in arrays]
@@ -177,7 +179,8 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
     arrays.update({k: np.array(getattr(data, k), dtype=str) for k in _LABELS if getattr(data, k) is not None})
     where = (data.meta or {}).get("input_locations")
     if where is not None:  # era.explain's residue term needs the input points
-        where = np.asarray(where, dtype=float)
+        named = any(isinstance(v, str) for row in where for v in row)
+        where = np.array(where, dtype=str if named else float)
         if where.ndim != 2 or len(where) != data.n_inputs:
             raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
                             f"(m, d) = ({data.n_inputs}, d), or remove it.")
