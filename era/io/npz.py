@@ -57,8 +57,8 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", "records", *_GEOMETRY, "geometry_units", *_LINES, *_FLAGS,
-          *_LEGACY_GEOMETRY)
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
+          *_FLAGS, *_LEGACY_GEOMETRY)
 
 
 def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.ndarray:
