@@ -167,7 +167,9 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     if n < rows + cols + 2 or rows < 2:
         raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {top}; record longer.")
     weights = input_weights(data.markov) if balance_inputs else None
-    weighted = data if weights is None else replace(data, markov=data.markov * weights[None, None, :])
+    weighted = data if weights is None else replace(
+        data, markov=data.markov * weights[None, None, :],
+        records=None if data.records is None else data.records * weights[None, None, None, :])
     return measured_modes(identify(weighted, rows, cols), orders, input_weights=weights, **rules)
 
 
