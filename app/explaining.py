@@ -117,7 +117,7 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         orders=None, kept: tuple | None = None, described: dict | None = None) -> tuple[dict, dict]:
     """era.explain on the identification of a dataset against the nominal ``model``: the grid
     (nominal_model(params)), or None with ``described``, the dataset's structure model as stored (app/modeling.py:
-    an era.Frame is built from it here, in the worker process, as a Frame does not pickle).
+    the era.Frame is built from it here, in the worker process, so the stored JSON is what travels to it).
 
     orders : the orders the modes are tracked over (:func:`orders_for`); kept : (order, mode indices) to compare
     exactly the modes the person kept at that order, else every mode stable over the orders.

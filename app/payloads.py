@@ -125,6 +125,7 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
         "damping_ratio": floats(model.damping_ratio), "emac": floats(model.emac), "mpc": floats(model.mpc),
         "frequency_std_hz": floats(model._std(model.frequency_std_hz)),
         "damping_std": floats(model._std(model.damping_std)),
+        "uncertainty_source": model.uncertainty_source or None,
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],

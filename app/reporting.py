@@ -189,25 +189,12 @@ def modes_uff(report: dict) -> bytes:
         raise era.EraError("This report keeps no modes, so there is nothing to write as UFF 55.")
     shapes = (np.array(m["shapes_re"], dtype=float) + 1j * np.array(m["shapes_im"], dtype=float)).T[:, kept]
     s = np.array(m["eigenvalue_re"], dtype=float)[kept] + 1j * np.array(m["eigenvalue_im"], dtype=float)[kept]
-    modes = SimpleNamespace(shapes=shapes, eigenvalues=s)  # what save_modes_uff reads of a ModalModel
+    pick = (lambda key: None if not m.get(key) else
+            np.array([np.nan if m[key][k] is None else m[key][k] for k in kept], dtype=float))
+    # what save_modes_uff reads of a ModalModel; a report frozen before σ or the scatter existed leaves them NONE
+    modes = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=pick("frequency_std_hz"),
+                            damping_std=pick("damping_std"), uncertainty_source=m.get("uncertainty_source") or "")
     buf = io.BytesIO()
-    era.save_modes_uff(buf, modes, geometry_from_json(report.get("geometry")), name="ERA")
-    f_std, d_std = m.get("frequency_std_hz"), m.get("damping_std")
-    if not f_std or not d_std:  # a report frozen before the standard deviations existed
-        return buf.getvalue()
-    return _uff_std_lines(buf.getvalue(), [f_std[k] for k in kept], [d_std[k] for k in kept])
-
-
-def _uff_std_lines(text: bytes, f_std: list, d_std: list) -> bytes:
-    """Write each mode's standard deviations from the data into the third ID line of its UFF 55 set (free text,
-    80 characters; save_modes_uff leaves it "NONE"): "std f 0.00123 Hz, std zeta 0.00045 (95 %: ±1.96 std)"."""
-    lines = text.decode("latin-1").split("\n")
-    k = 0
-    for i, line in enumerate(lines):
-        if line.strip() == "-1" and i + 1 < len(lines) and lines[i + 1].strip() == "55" and k < len(f_std):
-            if i + 4 < len(lines) and lines[i + 4].strip() == "NONE":
-                fs, ds = f_std[k], d_std[k]
-                if fs is not None and ds is not None:
-                    lines[i + 4] = f"std f {fs:.4g} Hz, std zeta {ds:.4g} (95 %: +-1.96 std)"[:80].ljust(80)
-            k += 1
-    return "\n".join(lines).encode("latin-1")
+    era.save_modes_uff(buf, modes, geometry_from_json(report.get("geometry")), name="ERA",
+                       shape_scatter=pick("shape_scatter"))
+    return buf.getvalue()

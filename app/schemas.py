@@ -202,6 +202,9 @@ class Modes(Schema):
     frequency_std_hz: Floats | None = Field(None, description="(k,) standard deviation of frequency_hz that the "
                                             "data determine (era.uncertainty), Hz; 95 % interval ± 1.96 σ")
     damping_std: Floats | None = Field(None, description="(k,) standard deviation of ζ from the data, fraction")
+    uncertainty_source: str | None = Field(None, description="which scatter the standard deviations come from: "
+                                           "\"σ from N records\" (repeated records) or \"σ from one record's "
+                                           "residuals\"")
     shape_scatter: Floats | None = Field(None, description="(k,) expected 1 - MAC of each shape against the true "
                                          "one from the data's scatter (era Identification.shape_scatter), fraction; "
                                          "null unless asked for (GET /modes?scatter=true, reports)")

@@ -21,6 +21,21 @@ def _labels(given, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
     return labels
 
 
+def _records(value, shape: tuple) -> np.ndarray:
+    """The per-record pulse responses, checked against ``markov``'s shape: (n_b, N, p, m), n_b ≥ 2, finite."""
+    try:
+        rec = np.array(value, dtype=float, order="C")
+    except (TypeError, ValueError):
+        raise DataError("`records` must be a numeric array of shape (n_b, N, p, m).") from None
+    if rec.ndim != 4 or rec.shape[1:] != tuple(shape) or rec.shape[0] < 2:
+        raise DataError(f"`records` has shape {rec.shape}; it must be (n_b, {', '.join(map(str, shape))}): at least "
+                        "2 records, each shaped like `markov`. Leave it out for a single record.")
+    if not np.isfinite(rec).all():
+        raise DataError("`records` holds NaN or infinite values; give finite per-record pulse responses or none.")
+    rec.setflags(write=False)
+    return rec
+
+
 @dataclass(frozen=True, eq=False)
 class ResponseData:
     """Pulse responses or free decays, ready for :func:`era.identify`.
@@ -38,6 +53,11 @@ class ResponseData:
         Channel labels, p and m of them; default ``y1..yp`` and ``u1..um``.
     output_units, input_units : sequence of str, optional
         Units of each output channel and each input (e.g. ``"m/s^2"``, ``"N"``), for labels and reports.
+    records : array_like, shape (n_b, N, p, m), optional
+        Independent estimates of the same pulse responses, one per record of the same test (repeated hits, NExT
+        segments), of which ``markov`` is the mean or the pooled estimate. Their scatter gives each mode's
+        standard deviation (era.uncertainty.record_covariance) when there are at least
+        era.uncertainty.MIN_RECORDS of them; era.markov's builders fill it when given several comparable records.
     """
 
     markov: np.ndarray
@@ -47,6 +67,7 @@ class ResponseData:
     output_units: tuple[str, ...] | None = None
     input_units: tuple[str, ...] | None = None
     meta: dict = field(default_factory=dict)
+    records: np.ndarray | None = None
 
     def __post_init__(self):
         y = np.asarray(self.markov)
@@ -90,6 +111,13 @@ class ResponseData:
             object.__setattr__(self, "output_units", _labels(self.output_units, p, "output", ""))
         if self.input_units is not None:
             object.__setattr__(self, "input_units", _labels(self.input_units, m, "input", ""))
+        if self.records is not None:
+            object.__setattr__(self, "records", _records(self.records, y.shape))
+
+    @property
+    def n_records(self) -> int:
+        """n_b, the independent records whose scatter is kept (0 without :attr:`records`)."""
+        return 0 if self.records is None else self.records.shape[0]
 
     @property
     def n_samples(self) -> int:

@@ -280,6 +280,9 @@ class ModalModel:
         or the records' scatter). A 95 % interval is value ± 1.96·std (:meth:`frequency_interval_hz`,
         :meth:`damping_interval`). NaN where not computed (A1/A2, or ``uncertainty=False``). For a repeated
         mode (a cluster, see era.modal.align_repeated) the largest of the cluster's.
+    uncertainty_source : str
+        Which covariance gave them: "σ from N records" (the scatter of independent records) or "σ from one
+        record's residuals" (residual blocks); "" when not computed.
 
     Modes are sorted by frequency (then by |s|). Modes whose eigenvalues coincide within their uncertainty (a
     repeated mode) are given the basis of their eigenspace that makes their shapes most real (align_repeated).
@@ -301,6 +304,7 @@ class ModalModel:
     method: str = "ERA"
     frequency_std_hz: np.ndarray | None = None
     damping_std: np.ndarray | None = None
+    uncertainty_source: str = ""
 
     # ---- derived modal parameters -------------------------------------------------------------
     @property
@@ -454,7 +458,8 @@ def mode_order(z: np.ndarray, dt: float, group: np.ndarray | None = None) -> np.
 
 
 def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), method="ERA", *,
-                dec: ModalDecomposition | None = None, frequency_std_hz=None, damping_std=None) -> ModalModel:
+                dec: ModalDecomposition | None = None, frequency_std_hz=None, damping_std=None,
+                uncertainty_source: str = "") -> ModalModel:
     """The ModalModel of the realization (A, B, C) whose state history at the column shifts is W (n, s·m).
 
     ``dec`` is its decomposition when the caller already has it (aligned for repeated modes,
@@ -474,4 +479,5 @@ def build_model(A, B, C, W, dt, row_shifts, col_shifts, outputs=(), inputs=(), m
     return ModalModel(A=A, B=B, C=C, dt=dt, z=dec.z[order], shapes=dec.shapes[:, order],
                       amplitudes=dec.amplitudes[order], emac=gamma[order], mpc=mu[order],
                       contribution=contrib[order], is_pair=dec.is_pair[order], outputs=tuple(outputs),
-                      inputs=tuple(inputs), method=method, frequency_std_hz=f_std[order], damping_std=d_std[order])
+                      inputs=tuple(inputs), method=method, frequency_std_hz=f_std[order], damping_std=d_std[order],
+                      uncertainty_source=uncertainty_source)

@@ -13,8 +13,8 @@ from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
                     modal_sum, mode_order, repeated_clusters)
-from .uncertainty import (PoleCovariance, _block_sums, correlation_length, modal_std, pole_functionals,
-                          record_covariance, residual_covariance)
+from .uncertainty import (MIN_RECORDS, PoleCovariance, _block_sums, correlation_length, modal_std,
+                          pole_functionals, record_covariance, residual_covariance, source_label)
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,7 +158,9 @@ class Identification:
             (era.modal.repeated_clusters).
         records : (n_b, N, p, m) array, optional
             The independent records whose mean is ``data.markov``: the covariance comes from their scatter
-            (era.uncertainty.record_covariance) instead of from residual blocks of the mean.
+            (era.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
+            ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS records (:meth:`records_used`);
+            the model's ``uncertainty_source`` says which was used.
         """
         return self._model(order, uncertainty, records)[0]
 
@@ -172,7 +174,8 @@ class Identification:
         W = (np.sqrt(self.singular_values[:n]), self.Q[:, :n])
         model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
                             dec=dec, frequency_std_hz=f_std if uncertainty else None,
-                            damping_std=d_std if uncertainty else None)
+                            damping_std=d_std if uncertainty else None,
+                            uncertainty_source=self.uncertainty_source(records) if uncertainty else "")
         return model, raw, mode_order(dec.z, d.dt), clusters
 
     def _decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
@@ -227,8 +230,10 @@ class Identification:
         Δφ_j = (ΔH(0) b_j)[:p] + Σ_{k≠j} φ_k a_k (ΔH(1) - z_j ΔH(0)) b_j / (z_j - z_k) (the pencil's eigenvector
         perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
         signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
-        its expectation is the sum over the independent blocks. Cost: n pole functionals per mode, so it is
-        not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
+        its expectation is the sum over the independent blocks (or, with records as in :meth:`records_used`,
+        the records' scatter divided by n_b (n_b - 1), as era.uncertainty.record_covariance). Cost: n pole
+        functionals per mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default
+        all).
 
         A member of a repeated cluster (era.modal.repeated_clusters) leaves the cluster's other members out of the
         sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.
@@ -251,8 +256,13 @@ class Identification:
         phi_all = np.concatenate([dec.shapes, dec.shapes[:, pair].conj()], axis=1)
         b_modes = ((self.Q[:, :n] / root[None, :]) @ dec.right).T  # (modes, s m)
         t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
-        residual = d.markov[:t] - modal_sum(raw.z, raw.shapes, raw.amplitudes, raw.is_pair, t)
-        block = correlation_length(residual, max(1, t // 20))
+        records = self.records_used()
+        if records is None:  # residual blocks of the one record
+            errors = (d.markov[:t] - modal_sum(raw.z, raw.shapes, raw.amplitudes, raw.is_pair, t))[None]
+            block, weight = correlation_length(errors[0], max(1, t // 20)), 1.0
+        else:  # the records' scatter: each record's deviation from the mean is one draw
+            errors = records[:, :t] - records[:, :t].mean(axis=0)
+            block, weight = t, 1.0 / (errors.shape[0] - 1) / errors.shape[0]
         s_cols = len(self.col_shifts)
         out = np.empty(len(chosen))
         cluster_of = {int(j): set(int(k) for k in c) for c in clusters for j in c}
@@ -264,23 +274,44 @@ class Identification:
             others = np.flatnonzero((np.abs(z_all - dec.z[j]) > 0) & ~same)
             c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
                                  np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
-                                 residual[None])[:, 0]  # (others, T)
-            dphi = (phi_all[:, others] / (dec.z[j] - z_all[others])) @ c  # (p, T)
+                                 errors)  # (others, sets, T)
+            dphi = np.einsum("po,osk->spk", phi_all[:, others] / (dec.z[j] - z_all[others]), c)  # (sets, p, T)
             bj = b_modes[j].reshape(s_cols, m)
-            dphi[:, self.col_shifts] += np.einsum("tpm,tm->pt", residual[self.col_shifts], bj)
+            dphi[:, :, self.col_shifts] += np.einsum("stpm,tm->spt", errors[:, self.col_shifts], bj)
             phi = dec.shapes[:, j]
             unit = phi / np.linalg.norm(phi)
-            dphi -= np.outer(unit, unit.conj() @ dphi)  # the part orthogonal to φ
-            sums = _block_sums(dphi, block)  # (p, blocks)
-            out[i] = float(np.sum(np.abs(sums) ** 2) / np.linalg.norm(phi) ** 2)
+            dphi -= unit[None, :, None] * np.einsum("p,spk->sk", unit.conj(), dphi)[:, None, :]  # ⟂ φ
+            total = sum(np.sum(np.abs(_block_sums(x, block)) ** 2) for x in dphi)  # over blocks (or records)
+            out[i] = float(weight * total / np.linalg.norm(phi) ** 2)
         return np.minimum(out, 1.0)  # 1 - MAC is at most 1 (first order no longer holds well before that)
+
+    def records_used(self, records=None) -> np.ndarray | None:
+        """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
+        ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
+        if records is not None:
+            records = np.asarray(records, dtype=float)
+            n_samples, p, m = self.data.markov.shape
+            if records.ndim != 4 or records.shape[0] < 2 or records.shape[2:] != (p, m) or \
+                    records.shape[1] < int(self.row_shifts[-1] + self.col_shifts[-1] + 2):
+                raise EraError(f"`records` has shape {records.shape}; it must be (n_b ≥ 2, N, {p}, {m}) with N at "
+                               "least the samples H(0) and H(1) use: one pulse response per independent record.")
+            return records
+        if self.data.n_records >= MIN_RECORDS:
+            return self.data.records
+        return None
+
+    def uncertainty_source(self, records=None) -> str:
+        """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses."""
+        used = self.records_used(records)
+        return source_label(0 if used is None else used.shape[0])
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
         """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
         (from :func:`era.modal.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
-        (default all); ``records`` as in :meth:`model`."""
+        (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough)."""
         n = self._check_order(order)
+        records = self.records_used(records)
         d = self.data
         p, m = d.n_outputs, d.n_inputs
         idx = np.arange(dec.z.size) if modes is None else np.asarray(modes, dtype=int)

@@ -462,6 +462,11 @@ class Frame:
                          for L, m in zip(lengths, self.members))
                      + sum(self.masses.values()))
 
+    def __reduce__(self):
+        """Pickled as its file format (to_dict), rebuilt (and checked again) by from_dict: the mapping fields are
+        read-only proxies, which do not pickle, and the cached solutions are left behind (process pools)."""
+        return self.__class__.from_dict, (self.to_dict(),)
+
     def to_dict(self) -> dict:
         """The file format of era/io/frame_file.py (JSON-ready: no inf, no numpy types)."""
         from .io.frame_file import frame_to_dict

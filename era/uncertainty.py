@@ -39,6 +39,8 @@ Its variance needs the covariance of the E(k), which comes from the data in one 
   Reynders et al. use, evaluated through (1): Cov = Σ_b s_b s_b^T / (n_b (n_b - 1)),
   s_b = Σ_k ⟨G_j(k), Y_b(k) - Y(k)⟩.
   No model residual and no independence in time are needed; n_b should be ≥ 10 or so for a stable estimate.
+  Identification uses it by itself when the data carry at least MIN_RECORDS = 5 records (ResponseData.records,
+  filled by era.markov from several comparable records), and says which was used (ModalModel.uncertainty_source).
 
 Frequency and damping follow from z by the chain rule through s = ln(z)/Δτ (eq. 41); :func:`modal_std`.
 95 % intervals are ±1.96 σ (first-order Gaussian); tests/core/test_uncertainty.py checks their coverage on
@@ -54,6 +56,12 @@ import scipy.fft
 
 #: two-sided 95 % normal quantile: a 95 % interval is value ± Z95 · std.
 Z95 = 1.959963984540054
+
+#: fewest records whose scatter replaces the residual blocks (Identification.pole_covariance). The variance from
+#: n_b records has n_b - 1 degrees of freedom: at 5 its own relative error is about 1/√(2·4) = 35 % and a
+#: ±1.96 σ interval still holds the truth in about 88 % of cases (Student's t at 4 degrees of freedom); at 2 or 3
+#: it would be 70 %+ and 60-75 %, worse than the residual blocks (≥ 20 blocks) of the mean record.
+MIN_RECORDS = 5
 
 #: modes handled per FFT batch in pole_functionals (bounds the memory at ~ chunk · n_fft · p · m complex numbers).
 _CHUNK = 16
@@ -72,6 +80,17 @@ class PoleCovariance:
     method: str
     n_blocks: int
     block_length: int
+
+    @property
+    def source(self) -> str:
+        """Where σ came from, for tables and reports: "σ from N records" or "σ from one record's residuals"."""
+        return source_label(self.n_blocks if self.method == "records" else 0)
+
+
+def source_label(n_records: int) -> str:
+    """"σ from N records" when the scatter of n_records ≥ 2 records is used, else "σ from one record's
+    residuals"."""
+    return f"σ from {n_records} records" if n_records >= 2 else "σ from one record's residuals"
 
 
 def pole_functionals(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,

@@ -236,8 +236,11 @@ def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> 
 
 
 def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_model: int):
-    """The weights with each frequency's error from the members' stiffness scatter added (ErrorLevels.member_scatter,
-    or the model's ``default_member_scatter``), through the nominal partner's strain-energy shares."""
+    """The weights with the members' stiffness scatter added (ErrorLevels.member_scatter, or the model's
+    ``default_member_scatter``), through each measured mode's nominal partner: to its frequency by the partner's
+    strain-energy shares, to its shape components by the shape's sensitivity to each member
+    (``member_shape_sensitivity``; capped at ``close_shape_sigma``, which already frees a nearly repeated pair),
+    and to its modal constants' size (``member_scale_sensitivity``, correlated across modes) when they are fitted."""
     scatter = errors.member_scatter
     if scatter is None:
         scatter = getattr(model, "default_member_scatter", 0.0)
@@ -248,7 +251,24 @@ def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_mod
     pairing = _pair(model, fm, n_model, max_freq_error=1.0)
     per_mode = np.full(fm.n_modes, rel.max())
     per_mode[pairing.measured_index] = rel[pairing.model_index]
-    return dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
+    w = dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
+    if not hasattr(model, "member_shape_sensitivity"):
+        return w
+    d = model.member_shape_sensitivity(n_model)                       # (n_members, p, n_model)
+    comp = np.minimum(scatter * np.sqrt(np.mean(np.sum(d**2, axis=0), axis=0)), errors.close_shape_sigma)
+    per_shape = np.full(fm.n_modes, comp.max())
+    per_shape[pairing.measured_index] = comp[pairing.model_index]
+    w = dataclasses.replace(w, sigma_s=np.hypot(w.sigma_s, per_shape))
+    if w.scale_whitener is None or not hasattr(model, "member_scale_sensitivity"):
+        return w
+    # the modal constants' sizes move with the shapes at the sensors and inputs, together across modes (each
+    # member's scatter is one draw for all of them): scatter² GᵀG joins their covariance, as the gains' does
+    g = model.member_scale_sensitivity(w.node_rows, n_model)          # (n_members, n_model)
+    per = np.zeros((g.shape[0], fm.n_modes))
+    per[:, pairing.measured_index] = g[:, pairing.model_index]
+    unwhite = np.linalg.inv(w.scale_whitener)
+    cov = unwhite @ unwhite.T + scatter**2 * per.T @ per
+    return dataclasses.replace(w, scale_whitener=np.linalg.inv(np.linalg.cholesky(cov)))
 
 
 def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, close: float) -> tuple:

@@ -154,8 +154,11 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
     Each measured mode is paired (frequency and MAC together, one assignment, no refusal) with a model mode.
     Returns r (n + n p [+ n],): frequency residuals (f_model − f_meas)/σ_f, shape residuals (ψ̂ − φ̂)/σ_s of
     unit-norm, sign-aligned shapes, and, when w has a scale_whitener, the whitened log scales ln s_j of the
-    measured modal constants Q_j against the model's φ_j(sensors) φ_j(inputs)ᵀ = P_j, s_j = ⟨Q_j, P_j⟩/⟨P_j, P_j⟩
-    (1 when the model's mass is right); and (f_model (n,), mac (n,), model_index (n,)).
+    measured modal constants Q_j against the model's φ_j(sensors) φ_j(inputs)ᵀ = P_j, s_j = ‖Q_j‖/‖P_j‖
+    (1 when the model's mass is right); and (f_model (n,), mac (n,), model_index (n,)). The scale is the
+    constants' size only: their pattern is the shape, which the shape residuals already compare (a projection
+    ⟨Q_j, P_j⟩/⟨P_j, P_j⟩ counted a shape misfit twice, and collapsed for a partner whose shape is far off, such
+    as a nominal's crossed modes, which made the linearised screening of places miss the right one).
     """
     if w.scale_whitener is not None:
         f, nodes = model.node_modes(n_model)
@@ -178,8 +181,7 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
         P = np.einsum("pk,mk->pmk", nodes[w.node_rows[0]][:, idx], nodes[w.node_rows[1]][:, idx])
         Q = measured.modal_constants
         pp = np.maximum(np.einsum("pmk,pmk->k", P, P), 1e-300)
-        # a model shape that does not project onto the measured one at all: a factor 100 off, not a crash
-        s = np.maximum(np.einsum("pmk,pmk->k", Q, P) / pp, 1e-2 * np.sqrt(np.einsum("pmk,pmk->k", Q, Q) / pp))
+        s = np.maximum(np.sqrt(np.einsum("pmk,pmk->k", Q, Q) / pp), 1e-300)
         parts.append(w.scale_whitener @ np.log(s))
     return np.concatenate(parts), (fa, m[np.arange(measured.n_modes), idx], idx)
 

@@ -155,7 +155,7 @@ class FrameModel:
     # the modes
     def _reduced(self, n_modes: int, screen: bool = False):
         """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
-        reduced model, nominal joint springs, a spring made rigid, more modes than its basis answers well).
+        reduced model, a spring made rigid, more modes than its basis answers well).
         screen: a changed member in the nominal's modes alone (to rank places), not with its attachment modes."""
         if self._shared is None:
             return None
@@ -179,7 +179,11 @@ class FrameModel:
         if red is None or not all(v is None or math.isfinite(v) for v in values) or red.n_basis < n_modes + 10:
             return None
         support, joint, mass_at, member = self._places()
-        pieces = red.pieces(support, joint, mass_at, None if screen or member in (None, "all") else member)
+        if member == "all":     # every member: a scaling, but for nominal joint springs (hinges), which stay
+            extend = "all" if red.mesh.hinges else None
+        else:
+            extend = None if screen or member is None else member
+        pieces = red.pieces(support, joint, mass_at, extend)
         got = red.modes(n_modes, pieces, stiffness_factor=p["stiffness_factor"],
                         member=member, member_factor=p["member_factor"],
                         k_rot=p["support_rotation_stiffness"] or 0.0, k_vert=p["support_vertical_stiffness"] or 0.0,
@@ -277,14 +281,71 @@ class FrameModel:
     def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray:
         """(n_members, n) each member's share of each mode's elastic strain energy (columns sum to 1 over the
         members; springs, hinges and geometric stiffness left out)."""
-        mesh, result = self.updated_frame.solution(n_modes)
-        L, R = mesh.axes
-        k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
-        u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n_modes]     # (e, 12, n)
-        energy = np.einsum("ein,eij,ejn->en", u, k, u)
-        out = np.zeros((len(self.frame.members), energy.shape[1]))
-        np.add.at(out, mesh.member, energy)
+        _, _, cross = self._member_modal_stiffness(n_modes)
+        out = np.einsum("ejj->ej", cross)[:, :n_modes]
         return out / np.maximum(out.sum(axis=0, keepdims=True), 1e-300)
+
+    def member_shape_sensitivity(self, n_modes: int = 10, n_basis: int = 30) -> np.ndarray:
+        """(n_members, p, n) d ψ_j / d a_e: how each unit-norm sensor shape ψ_j moves per unit relative change a_e
+        of member e's E and G (its elastic stiffness K_e), by modal superposition over the lowest
+        max(n, n_basis) modes (Fox & Kapoor 1968; mass unchanged): dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k),
+        then projected normal to ψ_j. Zero for modes the sensors do not see. With members known to ±σ each,
+        ψ_j's components scatter by σ √(Σ_e (dψ_j/da_e)²) (the shapes' share of the model-form error)."""
+        u, du = self._node_mode_sensitivity(n_modes, n_basis)
+        index = {n: k for k, n in enumerate(self.frame.node_ids)}
+        rows = [index[n] for n, _ in self.frame.sensors]
+        on = lambda x: np.einsum("sc,...scn->...sn", self.frame.sensor_directions,    # noqa: E731
+                                 x.reshape(x.shape[:-2] + (-1, 3, x.shape[-1]))[..., rows, :, :])
+        s, ds = on(u), on(du)
+        norm = np.linalg.norm(s, axis=0)
+        seen = norm > 1e-9 * max(norm.max(), 1e-300)
+        psi = s / np.where(seen, norm, 1.0)
+        dpsi = (ds - psi[None] * np.einsum("pj,epj->ej", psi, ds)[:, None, :]) / np.where(seen, norm, 1.0)
+        return np.where(seen[None, None, :], dpsi, 0.0)
+
+    def member_scale_sensitivity(self, node_rows, n_modes: int = 10, n_basis: int = 30) -> np.ndarray:
+        """(n_members, n) d ln‖P_j‖ / d a_e: how the size of mode j's modal constants P_j = φ_j(sensors) φ_j(inputs)ᵀ
+        (node_rows: their rows of node_modes, as ModeWeights.node_rows) moves per unit relative change of member
+        e's E and G (mass-normalised φ: the mass does not change, the share of the mode's motion at those points
+        does). By the same modal superposition as :meth:`member_shape_sensitivity`."""
+        u, du = self._node_mode_sensitivity(n_modes, n_basis)
+        out = np.zeros((du.shape[0], n_modes))
+        for rows in node_rows:
+            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
+            nn = np.sum(a**2, axis=0)
+            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
+        return out
+
+    def _node_mode_sensitivity(self, n_modes: int, n_basis: int) -> tuple:
+        """Node translations u (3·n_nodes, n) and their changes du (n_members, 3·n_nodes, n) per unit relative
+        change of each member's stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over max(n, n_basis)
+        modes."""
+        f, u, cross = self._member_modal_stiffness(max(n_modes, n_basis))
+        lam = (2 * np.pi * f) ** 2
+        diff = lam[None, :] - lam[:, None]                        # [k, j] = λ_j − λ_k
+        apart = np.abs(diff) > 1e-9 * lam.max()
+        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
+        return u[:, :n_modes], np.einsum("rk,ekj,kj->erj", u, cross, inv)[:, :, :n_modes]
+
+    def _member_modal_stiffness(self, n_modes: int) -> tuple:
+        """f (n,) Hz, the nodes' mass-normalised translations (3·n_nodes, n) and Φᵀ K_e Φ (n_members, n, n) of
+        each member's elastic stiffness K_e, from one full solve of this parameter set (cached)."""
+        cache = self.__dict__.setdefault("_member_modal", {})
+        got = next((v for k, v in cache.items() if k >= n_modes), None)
+        if got is None:
+            frame = self.updated_frame
+            mesh, result = frame.solution(n_modes)
+            n = min(int(n_modes), result.frequency_hz.size)
+            L, R = mesh.axes
+            k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
+            u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n]     # (e, 12, n)
+            per_element = np.einsum("eik,eij,ejn->ekn", u, k, u)
+            cross = np.zeros((len(self.frame.members), n, n))
+            np.add.at(cross, mesh.member, per_element)
+            f, u = frame.node_modes(n)
+            got = cache[n] = (f, u.reshape(-1, n), cross)
+        f, u, cross = got
+        return f[:n_modes], u[:, :n_modes], cross[:, :n_modes, :n_modes]
 
 
 def _member_ei_over_l(frame: Frame, ends, weak: bool = True) -> float:
@@ -343,9 +404,12 @@ def frame_effects(model) -> tuple:
                    and len(at_support(n)) >= 2 and not _collinear(fr, n))
     if joints:
         ei_l = np.median([_member_ei_over_l(fr, fr.beam_ends(n), weak=False) for n in joints])
+        # the screening's trial spring: softer than every joint drawn semi-rigid, so that at such a joint too
+        # it makes the connection more flexible than drawn (the linearised screening cannot act backwards)
+        trial = min([10 * ei_l] + [0.3 * fr.joint_springs[n] for n in joints if n in fr.joint_springs])
         out.append(EffectSpec(
             "joint_flexibility", (Param("joint_stiffness", True, np.log(10 * ei_l), 2.0, "N·m/rad"),),
-            location_keyword="joint_at", locations=joints, trial={"joint_stiffness": 10 * ei_l}, trial_power=-1.0,
+            location_keyword="joint_at", locations=joints, trial={"joint_stiffness": trial}, trial_power=-1.0,
             summary="a beam-to-column connection is semi-rigid"))
     moving = tuple(n for n in fr.node_ids if not (n in fr.supports and all(
         math.isinf(fr.supports[n].get(k, 0.0)) for k in ("kx", "ky", "kz"))))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -24,7 +25,8 @@ class MeasuredModes:
     modal_constants : (p, m, k) or None, the modal constants φ_j(sensor) φ_j(input) in 1/kg of a mass-normalised
         φ, when the data are displacement pulse responses to impulses of known size at known points (see
         :func:`modal_constants`); modal_constant_std : (k,) their relative spread across orders;
-        input_locations : (m,) the input points, e.g. joints (x_ft, y_ft), matching the model's node coordinates.
+        input_locations : (m,) the input points (:func:`input_point`): grid joints (x_ft, y_ft), matching the
+        model's node coordinates, or an era.Frame's (node id, direction), e.g. ("E", "x").
     """
 
     frequency_hz: np.ndarray
@@ -75,7 +77,29 @@ def _impulse_inputs(data: ResponseData):
             or any(u != "N·s" for u in data.input_units) or any(u not in _TO_METRES for u in data.output_units)
             or len(set(data.output_units)) != 1):
         return None
-    return tuple(tuple(float(v) for v in w) for w in where), _TO_METRES[data.output_units[0]]
+    return tuple(input_point(w, k) for k, w in enumerate(where)), _TO_METRES[data.output_units[0]]
+
+
+def input_point(where, k: int = 0) -> tuple:
+    """One input point as a tuple: numbers as floats (a grid joint (x_ft, y_ft)), names as str (an era.Frame's
+    (node id, direction), e.g. ("E", "x"): node ids such as "E" or "12" stay names, not numbers)."""
+    items = (where,) if isinstance(where, (str, bytes)) else where
+    try:
+        items = tuple(items)
+    except TypeError:
+        items = (where,)
+    out = []
+    for v in items:
+        if isinstance(v, bytes):
+            v = v.decode()
+        if isinstance(v, str):
+            out.append(v.strip())
+        elif isinstance(v, numbers.Real) and not isinstance(v, bool) and np.isfinite(float(v)):
+            out.append(float(v))
+        else:
+            raise DataError(f"data.meta['input_locations'][{k}] is {where!r}: give each input's point as numbers "
+                            "(a grid joint (x_ft, y_ft)) or as a frame's (node id, direction), e.g. ('E', 'x').")
+    return tuple(out)
 
 
 def modal_constants(ident, stab, chosen, to_metres: float, weights=None):
@@ -143,7 +167,9 @@ def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | N
     if n < rows + cols + 2 or rows < 2:
         raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {top}; record longer.")
     weights = input_weights(data.markov) if balance_inputs else None
-    weighted = data if weights is None else replace(data, markov=data.markov * weights[None, None, :])
+    weighted = data if weights is None else replace(
+        data, markov=data.markov * weights[None, None, :],
+        records=None if data.records is None else data.records * weights[None, None, None, :])
     return measured_modes(identify(weighted, rows, cols), orders, input_weights=weights, **rules)
 
 

@@ -71,15 +71,16 @@ def simulate_frame_test(frame: Frame, effect: str = "none", params: dict | None 
 
 def simulate_frame_records(frame: Frame, effect: str = "none", params: dict | None = None, *, seed: int = 0,
                            inputs=(0,), n_modes: int = 12, zeta: float = 0.01, n_samples: int = 2000,
-                           scatter: float = 0.02, noise: float = 0.01, gain_std: float = 0.02
-                           ) -> tuple[ResponseData, FrameTruth]:
+                           scatter: float = 0.02, noise: float = 0.01, gain_std: float = 0.02,
+                           known_inputs: bool = False) -> tuple[ResponseData, FrameTruth]:
     """Pulse responses of ``frame`` with ``effect`` hidden (as :func:`simulate_frame_test`'s truth), for ERA.
 
     Unit impulses (1 N·s) at the sensors numbered in ``inputs``, along their directions; the truth's lowest
     ``n_modes`` modes with damping ratio ``zeta``, sampled at 2.5 × the highest of them (dt s) for
     ``n_samples``; each sensor's gain off by 1 + N(0, gain_std²), Gaussian noise of ``noise`` × each record's
     RMS. Returns ResponseData (n_samples, p, m) in m per N·s, outputs in frame.sensors order, and the truth.
-    The input points are not given in meta (explain then fits frequencies and shapes only).
+    known_inputs: data.meta["input_locations"] holds each impulse's (node, direction), so explain also fits the
+    modal constants (the absolute mass scale); False leaves them out (frequencies and shapes only).
     """
     rng = np.random.default_rng(seed)
     model, factors = truth_model(frame, dict(params or {}), scatter=scatter, rng=rng)
@@ -97,4 +98,6 @@ def simulate_frame_records(frame: Frame, effect: str = "none", params: dict | No
     data = ResponseData(markov=y, dt=dt, outputs=tuple(names), inputs=tuple(f"impulse {names[a]}" for a in inputs),
                         output_units=("m",) * len(names), input_units=("N·s",) * len(inputs),
                         meta={"source": "era.examples.frame_simulation.simulate_frame_records", "seed": seed})
+    if known_inputs:
+        data.meta["input_locations"] = tuple(tuple(frame.sensors[a]) for a in inputs)
     return data, FrameTruth(effect, dict(params or {}), factors, gains, model)

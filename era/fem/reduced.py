@@ -21,8 +21,11 @@ a dense generalized eigenproblem of ~30-40 unknowns. Frequencies are upper bound
 against the full solve is tested per effect in tests/fem/test_reduced.py. Under gravity the self-weight's geometric
 stiffness (and hanging cables' pendulum springs) is linear in the weight: the nominal's, plus per kg of a point
 mass or per kg/m spread, each from one static solve (era.fem.space.self_weight's); the redistribution of the
-axial forces by a changed member or spring is left out (a second-order change). Frames with nominal joint
-springs are not reduced (:func:`reducible` is False): they are solved in full.
+axial forces by a changed member or spring is left out (a second-order change). Nominal joint springs (a frame
+drawn with semi-rigid connections, Frame.joint_springs) are in the nominal's mesh already as hinges (each beam end
+its own node, era.fem.space._release): their stiffness is a fixed part of K, projected once; a joint effect at such
+a node re-springs its hinges (the relative rotations are DOFs already: one static vector per hinge, the unit
+couple's, for the spring's change) instead of adding relative rotations.
 """
 
 from __future__ import annotations
@@ -39,9 +42,8 @@ _SIGN_SEED = (1.7, 0.3)       # the same sign convention as era.Frame.solution
 
 
 def reducible(frame) -> bool:
-    """True when :class:`ReducedFrame` can stand for this era.Frame (a fixed mesh, no nominal joint springs,
-    supported)."""
-    return frame.elements_per_member is not None and not frame.joint_springs and bool(frame.supports)
+    """True when :class:`ReducedFrame` can stand for this era.Frame (a fixed mesh, supported)."""
+    return frame.elements_per_member is not None and bool(frame.supports)
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,7 +93,11 @@ class ReducedFrame:
         self.M_spread = space._scatter(self.m_unit, self.edofs, n)
         self.springs = mesh.springs.ravel().copy()
         self.free = ~mesh.restrained.ravel()
+        # the nominal's joint springs: its hinges' springs and ties, a fixed part of K (not scaled with E)
+        self.K_hinge = space._hinge_stiffness(mesh, n) if mesh.hinges else None
         K = (self.K_el + scipy.sparse.diags(self.springs)).tocsc()
+        if self.K_hinge is not None:
+            K = (K + self.K_hinge).tocsc()
         g = frame.gravity if gravity is None else gravity
         self.g = None if g is None else np.asarray(g, float)
         self.K_geo = self.K_geo_spread = None
@@ -113,7 +119,8 @@ class ReducedFrame:
         self.phi = modes.shapes.reshape(n, -1)[:, :r]
         # the modes' products with each operator, once: a configuration multiplies only its static vectors
         self._phi_products = {id(A): (A @ self.phi, self.phi.T @ (A @ self.phi))
-                              for A in (self.K_el, self.M, self.M_spread, self.K_geo, self.K_geo_spread)
+                              for A in (self.K_el, self.M, self.M_spread, self.K_geo, self.K_geo_spread,
+                                        self.K_hinge)
                               if A is not None}
         self.n_user = mesh.n_user
         self.user_rows = (6 * np.arange(self.n_user)[:, None] + np.arange(3)).ravel()
@@ -168,7 +175,7 @@ class ReducedFrame:
     def pieces(self, support=None, joint=None, mass_at=None, member=None) -> Pieces:
         """The projected pieces for a configuration: support (node, released keys of the rotations, of the
         vertical) or None; joint node or None; point-mass node or None; a member index whose attachment modes
-        join the basis, or None. Cached."""
+        join the basis, "all" (every member: the nominal hinges' static vectors join it) or None. Cached."""
         key = (support, joint, mass_at, member)
         got = self._cache.pop(key, None)
         if got is None:
@@ -196,16 +203,22 @@ class ReducedFrame:
                         loads.append(-self.K[:, [d]].toarray().ravel())
         free = self.free.copy()
         free[rot_dofs + vert_dofs] = True
-        hinges = self._hinges(joint) if joint is not None else []
+        # a joint with nominal hinges: their relative rotations (q,) rows r, re-sprung; else new ends' θ
+        rehinged = [h for h in self.mesh.hinges if joint is not None and h[0] == index[joint]]
+        hinges = self._hinges(joint) if joint is not None and not rehinged else []
         for el, side, axis in hinges:       # θ = 1 at this end, the structure following statically
             a = np.zeros(12)
             a[6 * side + 3:6 * side + 6] = axis
             c = np.zeros(n)
             np.add.at(c, self.edofs[el], self.k_el[el] @ a)
             loads.append(-c)
+        couples = [self._couple(h) for h in rehinged]   # the unit couple across a hinge: its spring's change
+        loads += couples
         if mass_at is not None:
             loads += [np.eye(1, n, d).ravel() for d in 6 * index[mass_at] + np.arange(3) if free[d]]
-        if member is not None:
+        if member == "all":       # every member's E relative to the nominal's joint springs: their hinges bend
+            loads += [self._couple(h) for h in self.mesh.hinges]
+        elif member is not None:
             dofs = np.unique(self.edofs[self.mesh.member == member])
             loads += [np.eye(1, n, d).ravel() for d in dofs[free[dofs]]]
         X = self._static(np.column_stack(loads)) if loads else np.zeros((n, 0))   # one solve, every rhs
@@ -228,6 +241,12 @@ class ReducedFrame:
                 k_geo_point = T.T @ (self._geometric(*self._weight(f)) @ T)
         sprung = np.flatnonzero(self.springs)
         kg = T[sprung].T @ (self.springs[sprung, None] * T[sprung])
+        if self.K_hinge is not None:
+            kg = kg + self._project(self.K_hinge, T)
+        for c, (*_, k_nominal, _) in zip(couples, rehinged):    # cᵀ T: the hinge's relative rotation
+            r = c @ T
+            theta = np.vstack([theta, r])
+            kg -= k_nominal * np.outer(r, r)
         hinged = {}
         for j, (el, side, axis) in enumerate(hinges):
             a = np.zeros(12)
@@ -252,6 +271,13 @@ class ReducedFrame:
                       k_joint=P(theta.T @ theta), k_geo=P(k_geo), k_geo_point=P(k_geo_point),
                       k_geo_spread=P(k_geo_spread), m=P(m), m_point=P(m_point), m_spread=P(m_spread),
                       user=T[self.user_rows] @ Q, basis={"Q": Q, "T": T, "ends": hinged, "members": {}})
+
+    def _couple(self, hinge) -> np.ndarray:
+        """(n,) unit moments about a hinge's axis, opposite on its two nodes (its relative rotation's load)."""
+        a, b, axis, *_ = hinge
+        c = np.zeros(self.K.shape[0])
+        c[6 * a + 3:6 * a + 6], c[6 * b + 3:6 * b + 6] = -axis, axis
+        return c
 
     def _project(self, A, T: np.ndarray) -> np.ndarray:
         """Tᵀ A T for T = [Φ, X], from the cached Φ products: only the static vectors X are multiplied."""

@@ -216,7 +216,9 @@ def self_weight(frame: SpaceFrame, gravity: np.ndarray) -> Statics:
     K = stiffness(frame)
     free = ~frame.restrained.ravel()
     kff = K[free][:, free]
-    reg = 1e-11 * np.abs(kff.diagonal())
+    # sized by the elastic diagonal: a joint spring's ties (a 1e4 × penalty) would make it a real spring
+    elastic = K - _hinge_stiffness(frame, n) if frame.hinges else K
+    reg = 1e-11 * np.abs(elastic[free][:, free].diagonal())
     u = np.zeros(n)
     u[free] = factor(kff + scipy.sparse.diags(reg)).solve(f[free])
     if not np.all(np.isfinite(u)) or np.linalg.norm(reg * u[free]) > 1e-4 * np.linalg.norm(f):

@@ -10,9 +10,11 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``inputs``                (m,)       input labels; absent: u1..um
 ``output_units``          (p,)       unit of each output (e.g. "mm"); absent: None (no units given)
 ``input_units``           (m,)       unit of each input (e.g. "N·s"); absent: None
-``input_locations``       (m, d)     float, the point each input acts at (e.g. grid joints (x_ft, y_ft));
+``input_locations``       (m, d)     the point each input acts at: float (grid joints (x_ft, y_ft)) or str (an
+                                     era.Frame's (node id, direction), e.g. ("E", "x"));
                                      ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
 ``name``                  ()         the dataset's name (e.g. the uploaded file name); optional
+``records``               (n_b, N, p, m)  the pulse responses of each record (ResponseData.records); optional
 ``node_ids``              (n,)       int node labels                                 } the Geometry:
 ``coordinates``           (n, 3)     float x, y, z in ``geometry_units``             } all five or none
 ``edges``                 (e, 2)     int trace lines, row indices into ``node_ids``  }
@@ -55,8 +57,8 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", *_GEOMETRY, "geometry_units", *_LINES, *_FLAGS,
-          *_LEGACY_GEOMETRY)
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
+          *_FLAGS, *_LEGACY_GEOMETRY)
 
 
 def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.ndarray:
@@ -136,15 +138,17 @@ def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str
     dt = _one(arrays, "dt", label, "one number (seconds)")
     labels = {k: [str(x) for x in arrays[k].reshape(-1)] for k in _LABELS if k in arrays}
     try:
-        data = ResponseData(markov=arrays["markov"], dt=dt, **labels, meta={"conversions": [], "source": "npz"})
+        data = ResponseData(markov=arrays["markov"], dt=dt, **labels, meta={"conversions": [], "source": "npz"},
+                            records=arrays.get("records"))
     except DataError as exc:
         raise DataError(f"{label}: {exc}") from None
     if "input_locations" in arrays:
         where = arrays["input_locations"]
-        if where.ndim != 2 or len(where) != data.n_inputs or not np.issubdtype(where.dtype, np.number):
-            raise DataError(f"{label}: `input_locations` is {where.dtype} of shape {where.shape}; expected numbers of "
-                            f"shape (m, d) = ({data.n_inputs}, d), one point per input.")
-        data.meta["input_locations"] = tuple(tuple(float(v) for v in row) for row in where)
+        if where.ndim != 2 or len(where) != data.n_inputs or where.dtype.kind not in "iufU":
+            raise DataError(f"{label}: `input_locations` is {where.dtype} of shape {where.shape}; expected numbers or "
+                            f"node names of shape (m, d) = ({data.n_inputs}, d), one point per input.")
+        data.meta["input_locations"] = tuple(tuple(str(v) if where.dtype.kind == "U" else float(v) for v in row)
+                                             for row in where)
     name = str(_one(arrays, "name", label, "one string")) if "name" in arrays else None
     geometry = None
     present = [k for k in _GEOMETRY if k in arrays]
@@ -175,13 +179,16 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
     arrays.update({k: np.array(getattr(data, k), dtype=str) for k in _LABELS if getattr(data, k) is not None})
     where = (data.meta or {}).get("input_locations")
     if where is not None:  # era.explain's residue term needs the input points
-        where = np.asarray(where, dtype=float)
+        named = any(isinstance(v, str) for row in where for v in row)
+        where = np.array(where, dtype=str if named else float)
         if where.ndim != 2 or len(where) != data.n_inputs:
             raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
                             f"(m, d) = ({data.n_inputs}, d), or remove it.")
         arrays["input_locations"] = where
     if name is not None:
         arrays["name"] = np.array(str(name))
+    if data.records is not None:  # the records' scatter gives σ (era.uncertainty)
+        arrays["records"] = data.records
     if geometry is not None:
         arrays.update({k: getattr(geometry, k) for k in _GEOMETRY})
         arrays["geometry_units"] = np.array(geometry.units)

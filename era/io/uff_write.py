@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import tempfile
 
@@ -38,12 +39,47 @@ def node_shapes(shapes: np.ndarray, geometry: Geometry | None) -> tuple[np.ndarr
     return geometry.node_ids, geometry.coordinates, disp
 
 
-def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str = "ERA") -> None:
+def _finite(values, k) -> float | None:
+    if values is None:
+        return None
+    v = float(np.asarray(values, dtype=float)[k])
+    return v if np.isfinite(v) else None
+
+
+def _ascii(text: str) -> str:
+    return text.replace("σ", "sigma").encode("ascii", "replace").decode("ascii")
+
+
+def uncertainty_lines(f_std=None, d_std=None, shape_scatter=None, source: str = "") -> tuple[str, str]:
+    """UFF 55 ID lines 3 and 4 (free text, 80 characters) of one mode: "std f 0.00123 Hz, std zeta 0.00045
+    (95 %: +-1.96 std)" and "1-MAC 0.0021 (shape scatter), sigma from 8 records"; "NONE" where unknown."""
+    id3 = "NONE" if f_std is None or d_std is None else f"std f {f_std:.4g} Hz, std zeta {d_std:.4g} (95 %: +-1.96 std)"
+    id4 = "NONE" if shape_scatter is None else f"1-MAC {shape_scatter:.4g} (shape scatter)"
+    if source and (id3 != "NONE" or id4 != "NONE"):
+        id4 = (f"{id4}, " if id4 != "NONE" else "") + _ascii(source)
+    return id3[:80], id4[:80]
+
+
+def read_uncertainty_lines(id3: str, id4: str) -> dict:
+    """The inverse of :func:`uncertainty_lines`: {"frequency_std_hz", "damping_std", "shape_scatter"} (float or
+    None) and "source" ("" when absent) from a UFF 55 set's ID lines 3 and 4."""
+    f3 = re.match(r"\s*std f (\S+) Hz, std zeta (\S+) ", id3 or "")
+    f4 = re.match(r"\s*1-MAC (\S+) \(shape scatter\)", id4 or "")
+    source = re.search(r"sigma from [^,]*$", (id4 or "").strip())
+    return {"frequency_std_hz": float(f3.group(1)) if f3 else None, "damping_std": float(f3.group(2)) if f3 else None,
+            "shape_scatter": float(f4.group(1)) if f4 else None, "source": source.group(0) if source else ""}
+
+
+def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str = "ERA",
+                   shape_scatter=None) -> None:
     """Write a ModalModel's modes as UFF 55 complex modes (analysis type 3, eigenvalue s in rad/s), with the nodes
     (UFF 15) and trace lines (UFF 82) of ``geometry``.
 
     path : str, os.PathLike, or a binary file object (written from its current position).
-    model : era.ModalModel; shapes (p, modes) as identified (largest component 1).
+    model : era.ModalModel; shapes (p, modes) as identified (largest component 1). Its frequency_std_hz and
+        damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,) (expected 1 - MAC,
+        Identification.shape_scatter) with the model's uncertainty_source to ID line 4 (:func:`uncertainty_lines`;
+        :func:`read_uncertainty_lines` reads them back).
     """
     shapes = np.asarray(model.shapes, dtype=complex)
     if shapes.ndim != 2 or shapes.shape[1] == 0:
@@ -62,10 +98,13 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
             # a plain dict: pyuff.prepare_82 insists on a list of nodes, its writer on an array
             sets.append({"type": 82, "trace_num": numbers[t], "n_nodes": len(seq), "color": 1, "id": names[t],
                          "nodes": np.asarray(seq, dtype=int)})
+    f_std, d_std = getattr(model, "frequency_std_hz", None), getattr(model, "damping_std", None)
+    source = getattr(model, "uncertainty_source", "") or ""
     for k, s in enumerate(np.asarray(model.eigenvalues, dtype=complex)):
+        id3, id4 = uncertainty_lines(_finite(f_std, k), _finite(d_std, k), _finite(shape_scatter, k), source)
         sets.append(pyuff.prepare_55(
             id1=f"{name} mode {k + 1}", id2=f"{abs(s) / 2 / np.pi:.6g} Hz, zeta {-s.real / abs(s):.4g}",
-            id3="NONE", id4="NONE", id5="NONE", model_type=1, analysis_type=3, data_ch=2, spec_data_type=8,
+            id3=id3, id4=id4, id5="NONE", model_type=1, analysis_type=3, data_ch=2, spec_data_type=8,
             data_type=5, n_data_per_node=3, r1=disp[:, 0, k], r2=disp[:, 1, k], r3=disp[:, 2, k],
             node_nums=[int(i) for i in ids], load_case=1, mode_n=k + 1, eig=complex(s), modal_a=0j, modal_b=0j))
     if hasattr(path, "write"):

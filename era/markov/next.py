@@ -12,7 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, positive_int, records
+from ._common import check_dt, kept_records, positive_int, records
 
 #: Smallest FFT length of the block-wise correlation sum; blocks stay small (cache-friendly, bounded memory).
 _MIN_FFT = 1 << 15
@@ -62,7 +62,8 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
     ----------
     outputs : (N, p) array or list of (N_r, p) arrays
         Response records (e.g. acceleration in m/s²) under broadband, stationary excitation; a list holds several
-        records of the same channels, whose correlation sums are pooled.
+        records of the same channels, whose correlation sums are pooled; when their lengths agree within 10 %,
+        each record's own correlations are kept too (ResponseData.records: σ from their scatter).
     dt : float
         Sampling interval in seconds.
     references : int, str or sequence of them, optional
@@ -91,13 +92,19 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
                         "correlation lags (at most half the record); record longer or ask for fewer lags.")
     total = np.zeros((n_lags + 1, p, len(idx)))
     counts = np.zeros(n_lags + 1)
+    each = []
     for y in ys:
         if detrend:
             y = y - y.mean(axis=0)
         s, c = correlations(y, y[:, idx], n_lags + 1)
         total += s
         counts += c
+        each.append(s[1:] / np.maximum(c[1:], 1)[:, None, None])
     r = total / counts[:, None, None]
+    # comparable records (lengths within 10 %: about equal variances) each give one estimate; their scatter is
+    # the σ of the modes (era.uncertainty.record_covariance, from MIN_RECORDS of them)
+    lengths = [len(y) for y in ys]
+    per_record = kept_records(np.stack(each)) if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) else None
     labels = [str(n) for n in names] if names is not None else [f"y{i + 1}" for i in range(p)]
     units = None
     if output_units is not None:
@@ -105,7 +112,7 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
         ref_units = [units[i] for i in idx]
     return ResponseData(markov=r[1:], dt=dt, outputs=labels, inputs=[f"ref {labels[i]}" for i in idx],
                         output_units=units, input_units=ref_units if units is not None else None,
-                        meta={"zero_lag": r[0], "references": idx, "source": "next",
+                        records=per_record, meta={"zero_lag": r[0], "references": idx, "source": "next",
                               "conversions": [f"NExT (James et al. 1995): correlations with reference channel(s) "
                                               f"{[labels[i] for i in idx]} over {len(ys)} record(s), lags 1..{n_lags}"
                                               + (", means removed" if detrend else "")]})

@@ -18,7 +18,7 @@ import scipy.linalg
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, positive_int, records
+from ._common import check_dt, kept_records, positive_int, records
 
 #: Rows of the regression factored at once; the QR of each chunk is stacked under the running R factor,
 #: so memory stays at chunk × columns whatever the record length.
@@ -69,7 +69,8 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
     ----------
     inputs : (N, m) array or list of (N_r, m) arrays
         Measured excitation (e.g. force in N); a list holds several records of one test (repeated hits),
-        fitted together.
+        fitted together; records of comparable length (within 10 %) long enough for their own fit are also
+        fitted one by one (ResponseData.records: σ from their scatter).
     outputs : (N, p) array or list of (N_r, p) arrays
         Measured responses, same samples as ``inputs``.
     dt : float
@@ -119,8 +120,16 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
     # fit in scaled units (conditioning), then undo: Y = diag(s_y) Ŷ diag(1/s_u)
     obs, residual = observer_markov([u / scale_u for u in us], [y / scale_y for y in ys], l)
     y_sys = system_markov(obs, m, p, n_markov) * scale_y[None, :, None] / scale_u[None, None, :]
+    # repeated hits of comparable length (within 10 %), each long enough for its own fit: one estimate per
+    # record, whose scatter gives the modes' σ (ResponseData.records, era.uncertainty.record_covariance)
+    lengths = [len(y) - l for y in ys]
+    per_record = None
+    if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) and min(lengths) >= 2 * n_cols:
+        each = [system_markov(observer_markov([u / scale_u], [y / scale_y], l)[0], m, p, n_markov)[1:]
+                for u, y in zip(us, ys)]
+        per_record = kept_records(np.stack(each) * scale_y[None, None, :, None] / scale_u[None, None, None, :])
     return ResponseData(markov=y_sys[1:], dt=dt, outputs=output_names, inputs=input_names,
-                        output_units=output_units, input_units=input_units,
+                        output_units=output_units, input_units=input_units, records=per_record,
                         meta={"direct_term": y_sys[0], "fit_residual": residual, "source": "okid",
                               "conversions": [f"OKID (Juang et al. 1993) with l = {l} observer Markov parameters "
                                               f"from {len(ys)} record(s), {n_rows} equations; relative residual "

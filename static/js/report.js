@@ -40,6 +40,7 @@
       ["Hankel matrix", `rows r = ${a.rows}, columns s = ${a.cols}, H(0) ${a.hankel_shape[0]} × ${a.hankel_shape[1]}, ${a.svd_method} SVD`],
       ["Order", `n = ${r.order} (max ${a.max_order}, suggested ${a.suggested_order})`],
       ["Kept modes", `${kept.size} of ${r.modes.n_modes}`],
+      ["Uncertainty (±: 95 % intervals)", r.modes.uncertainty_source || "–"],
       ["Fit with kept modes", mean === null ? "–" : `${mean.toFixed(2)} % (mean over channels)`],
       ["Created", r.created], ["Software", Object.entries(r.software).map(([k, v]) => `${k} ${v}`).join(", ")],
     ];

@@ -55,7 +55,9 @@ export function render() {
 }
 
 function note() {
-  $("table-note").textContent = `${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
+  // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.uncertainty)
+  const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source} · ` : "";
+  $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
 }
 
 function markSelected() {

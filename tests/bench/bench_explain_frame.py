@@ -29,6 +29,11 @@ Measured here (2 cores shared with three other jobs, one BLAS thread), 2026-11-2
   26 % gap because explain computed the nominal's 12 lowest modes while the sensors' sixth mode is its 13th (out-of-
   plane modes in between): explain now computes every model mode up to 1.2 × the highest measured frequency.
   The whole matrix ran in 56 s at load 5-6 (219 s before, at load 1-2).
+- 2026-11-24, the members' 2 % scatter widening the shapes' error levels too (FrameModel.member_shape_sensitivity):
+  the matrix, seeds 0 and 1, unchanged case by case (48 right, 0 wrong, the same 6 honest non-names; reported
+  1σ a few % wider), 48 s wall at load 6.4-6.9; the 200-node frame 7.0 s at load 4.4 (10 sparse solves: one more,
+  the nominal's 30 modes for the sensitivities; sharing it with the energy shares' solve moved the reported σ of
+  a semi-rigid portal's joint by 8 % between the reduced and the full path, tests/fem/test_reduced.py, unexplained).
 The truth (era.examples.frame_simulation): every member's E and G scattered 2 % (1σ), twice the nominal's mesh,
 0.1 % frequency noise, 1 % shape noise, 2 % sensor gains; six modes the sensors see. "two" hides two effects at
 once: right when explain names both at their places (era/discrepancy/search.py), "one of two" a subset, WRONG any

@@ -121,6 +121,13 @@ def test_npz_keeps_the_name_and_the_input_points_and_units_not_given_stay_none(t
         era.load(buf.getvalue(), name="odd.npz")
 
 
+def test_npz_keeps_a_frames_input_points_as_node_names(tmp_path):
+    """An era.Frame's impulse points are (node id, direction): node ids such as "E" or "12" stay names."""
+    data = era.ResponseData(np.zeros((40, 2, 2)), 0.01, meta={"input_locations": (("E", "x"), ("12", "z"))})
+    era.save_npz(tmp_path / "portal.npz", data)
+    assert era.load(tmp_path / "portal.npz").data.meta["input_locations"] == (("E", "x"), ("12", "z"))
+
+
 def test_times_printed_with_few_decimals_are_even_but_a_dropped_sample_is_not():
     t = np.arange(2000) / 25600  # 39.0625 µs, printed as 0.000039, 0.000078, 0.000117, ...
     y = np.sin(2 * np.pi * 1000 * t) * np.exp(-30 * t)

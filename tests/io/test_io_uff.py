@@ -182,3 +182,30 @@ def test_normal_modes_of_a_finite_element_program_and_spectra_that_are_not_used(
     ds = era.load(tmp_path / "with_coherence.uff")
     assert ds.data.markov.shape == (398, 1, 1)
     assert "1 other UFF 58 record(s) (spectra, coherence, ...) not used" in ds.source["records"]
+
+
+def test_uff55_id_lines_carry_sigma_and_the_shape_scatter_and_read_back(tmp_path):
+    """ID line 3: std of f and ζ; line 4: expected 1 - MAC and where σ came from (era.io.uff_write)."""
+    from era.examples.synthetic import modal_response
+    import pyuff
+
+    from era.io.uff_write import read_uncertainty_lines
+
+    data, _ = modal_response([2.0, 3.3], [0.02, 0.03], 3, 2, 300, 0.05, snr_db=30, seed=4)
+    ident = era.identify(data, 20, 40)
+    model = ident.model(4)
+    scatter = ident.shape_scatter(4)
+    out = tmp_path / "modes.uff"
+    era.save_modes_uff(out, model, shape_scatter=scatter)
+    sets = [s for s in pyuff.UFF(str(out)).read_sets() if s["type"] == 55]
+    assert len(sets) == model.n_modes == 2
+    for k, s in enumerate(sets):
+        back = read_uncertainty_lines(s["id3"], s["id4"])
+        np.testing.assert_allclose(back["frequency_std_hz"], model.frequency_std_hz[k], rtol=1e-3)
+        np.testing.assert_allclose(back["damping_std"], model.damping_std[k], rtol=1e-3)
+        np.testing.assert_allclose(back["shape_scatter"], scatter[k], rtol=1e-3)
+        assert back["source"] == "sigma from one record's residuals"
+    era.save_modes_uff(out, ident.model(4, uncertainty=False))  # nothing known: the lines stay NONE
+    plain = [s for s in pyuff.UFF(str(out)).read_sets() if s["type"] == 55]
+    assert all(read_uncertainty_lines(s["id3"], s["id4"]) == {"frequency_std_hz": None, "damping_std": None,
+                                                              "shape_scatter": None, "source": ""} for s in plain)
