@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .blas import single_threaded_blas
 from .errors import HankelError
 
 #: Largest H(0) built, in matrix elements (8 bytes each): 2e8 elements is 1.6 GB, and H(1) is as large.
@@ -114,15 +115,14 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0:
     rows, cols = h0.shape
     consecutive = np.array_equal(row_shifts, np.arange(len(row_shifts))) and \
         np.array_equal(col_shifts, np.arange(len(col_shifts)))
-    if rows <= cols:
-        if not consecutive:
-            return h0 @ h0.T
-        return _sliding_gram(markov, len(row_shifts), len(col_shifts), h0[:markov.shape[1]] @ h0.T)
     if not consecutive:
-        return h0.T @ h0
-    # H^T is the block Hankel matrix of the transposed blocks Y(k)^T with the roles of rows and columns swapped
-    return _sliding_gram(markov.transpose(0, 2, 1), len(col_shifts), len(row_shifts),
-                         h0[:, :markov.shape[2]].T @ h0)
+        return h0 @ h0.T if rows <= cols else h0.T @ h0
+    with single_threaded_blas():   # a thin product and rank-m updates: slower with 2 threads (era.blas)
+        if rows <= cols:
+            return _sliding_gram(markov, len(row_shifts), len(col_shifts), h0[:markov.shape[1]] @ h0.T)
+        # H^T is the block Hankel matrix of the transposed blocks Y(k)^T with the roles of rows and columns swapped
+        return _sliding_gram(markov.transpose(0, 2, 1), len(col_shifts), len(row_shifts),
+                             h0[:, :markov.shape[2]].T @ h0)
 
 
 def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray) -> np.ndarray:

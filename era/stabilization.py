@@ -10,7 +10,8 @@ import numpy as np
 from .errors import EraError
 from .indicators import mac
 from .realization import Identification
-from .sweep import blas_threads, in_parallel, realize_orders
+from .blas import blas_threads
+from .sweep import in_parallel, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9

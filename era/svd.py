@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from .blas import single_threaded_blas
 from .errors import EraError
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
@@ -108,7 +109,8 @@ def truncated_svd(h: np.ndarray, rank: int,
     rank = int(min(rank, rows))
     if gram is None:
         gram = h @ h.T
-    every, v = gram_eigen(gram, rank)
+    with single_threaded_blas():   # sytrd is half BLAS-2: slower with 2 threads (era.blas)
+        every, v = gram_eigen(gram, rank)
     del gram
     w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import indicators
+from .blas import single_threaded_blas
 from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
 
 #: modes per batched product of the histories (bounds its memory: CHUNK_MODES · s·m complex numbers, 11 MB
@@ -60,33 +61,12 @@ class OrderSweep:
         return slice(int(self.start[k]), int(self.start[k + 1]))
 
 
-def blas_threads() -> int:
-    """Threads the loaded BLAS may use (threadpoolctl's view, so a ``threadpool_limits`` applies); 1 without
-    threadpoolctl. The sweep runs that many orders at a time: each order's eigensolution is too small for a
-    threaded BLAS, so threads across orders are what makes the sweep scale like the SVD does."""
-    try:
-        from threadpoolctl import threadpool_info
-    except ImportError:
-        return 1
-    counts = [int(lib.get("num_threads") or 1) for lib in threadpool_info() if lib.get("user_api") == "blas"]
-    return max(counts, default=1)
-
-
-def _single_threaded_blas():
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        from contextlib import nullcontext
-        return nullcontext()
-    return threadpool_limits(1, user_api="blas")
-
-
 def in_parallel(fn, items: list, workers: int) -> list:
     """[fn(x) for x in items], ``workers`` at a time in threads (numpy's LAPACK calls release the GIL), each
     with one BLAS thread while they run: the cores go to items, not to BLAS threads that would fight over them
     (threadpoolctl's limit is process-wide for the duration). The largest items (the last) start first."""
     if workers > 1 and len(items) > 1:
-        with _single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
+        with single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
             out = dict(zip(range(len(items))[::-1], pool.map(fn, items[::-1])))
         return [out[i] for i in range(len(items))]
     return [fn(x) for x in items]
