@@ -172,6 +172,7 @@ def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
         "emac": floats(stab.emac), "mpc": floats(stab.mpc), "contribution": floats(stab.contribution),
         "frequency_std_hz": _pole_std(stab.frequency_std_hz, stab.order),
         "damping_std": _pole_std(stab.damping_std, stab.order),
+        "uncertainty_source": stab.uncertainty_source or None,
         "stable_frequency": np.asarray(stab.stable_frequency).tolist(),
         "stable_damping": np.asarray(stab.stable_damping).tolist(),
         "stable_shape": np.asarray(stab.stable_shape).tolist(), "stable": np.asarray(stab.stable).tolist(),

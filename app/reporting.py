@@ -86,7 +86,7 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
 
 def modes_csv(report: dict) -> str:
     """The modes of a report, one row per mode: kept flag, frequency and its standard deviation from the data,
-    damping and its standard deviation, γ, μ, the shape's scatter from the data (expected 1 - MAC against the
+    damping and its standard deviation, which scatter they come from (std_source), γ, μ, the shape's scatter from the data (expected 1 - MAC against the
     true shape), contribution, shape (a 95 % interval is value ± 1.96 std)."""
     m = report["modes"]
     kept = set(report["kept"])
@@ -94,14 +94,16 @@ def modes_csv(report: dict) -> str:
     w = csv.writer(buf)
     shape_cols = [f"{_cell(o)} {part}" for o in m["outputs"] for part in ("re", "im")]
     w.writerow(["mode", "kept", "frequency_hz", "frequency_std_hz", "natural_frequency_hz", "damping_ratio",
-                "damping_std", "emac", "mpc", "shape_scatter", "contribution_relative", "is_pair", *shape_cols])
+                "damping_std", "std_source", "emac", "mpc", "shape_scatter", "contribution_relative", "is_pair",
+                *shape_cols])
     none = [None] * m["n_modes"]  # reports frozen before the standard deviations (or the scatter) existed
     f_std, d_std = m.get("frequency_std_hz") or none, m.get("damping_std") or none
     scatter = m.get("shape_scatter") or none
+    source = m.get("uncertainty_source") or ""
     for k in range(m["n_modes"]):
         shape = [v for re, im in zip(m["shapes_re"][k], m["shapes_im"][k]) for v in (re, im)]
         w.writerow([k, int(k in kept), m["frequency_hz"][k], f_std[k], m["natural_frequency_hz"][k],
-                    m["damping_ratio"][k], d_std[k], m["emac"][k], m["mpc"][k], scatter[k],
+                    m["damping_ratio"][k], d_std[k], source, m["emac"][k], m["mpc"][k], scatter[k],
                     m["contribution_relative"][k], int(m["is_pair"][k]), *shape])
     return buf.getvalue()
 

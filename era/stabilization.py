@@ -56,6 +56,8 @@ class Stabilization:
     order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
     frequency_std_hz, damping_std : each stable pole's standard deviations from the data (ModalModel's; NaN
         for the other poles, and for all unless ``stabilization(..., uncertainty=True)``).
+    uncertainty_source : which scatter they come from ("σ from N records" / "σ from one record's residuals",
+        as ModalModel.uncertainty_source); "" without them.
     mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
     stable_frequency, stable_damping, stable_shape : the pole has a partner at the previous computed order
         within freq_tol (relative frequency change), damping_tol (relative damping change) and with
@@ -79,6 +81,7 @@ class Stabilization:
     modes: tuple
     frequency_std_hz: np.ndarray | None = None
     damping_std: np.ndarray | None = None
+    uncertainty_source: str = ""
 
     @property
     def stable(self) -> np.ndarray:
@@ -229,4 +232,5 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=sw.mode_index,
                          frequency_hz=freq, damping_ratio=damp, emac=gamma, mpc=mu, contribution=sw.contribution,
                          stable_frequency=sf, stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
-                         frequency_std_hz=f_std, damping_std=d_std)
+                         frequency_std_hz=f_std, damping_std=d_std,
+                         uncertainty_source=ident.uncertainty_source() if uncertainty else "")

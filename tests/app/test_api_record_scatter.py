@@ -3,6 +3,9 @@ payload, the report and its UFF 55 export say so; one record: from its residuals
 
 from __future__ import annotations
 
+import csv
+import io
+
 import numpy as np
 import pyuff
 from scipy.signal import lfilter
@@ -52,6 +55,11 @@ def test_six_records_give_sigma_from_their_scatter_and_the_uff_export_says_so(tm
         token = r.json()["token"]
         report = c.get(f"/api/reports/{token}").json()
         assert report["modes"]["uncertainty_source"] == "σ from 6 records"
+        assert report["stabilization"]["uncertainty_source"] == "σ from 6 records"
+        stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
+        assert stab["uncertainty_source"] == "σ from 6 records"
+        rows = list(csv.DictReader(io.StringIO(c.get(f"/api/reports/{token}/modes.csv").text)))
+        assert {r["std_source"] for r in rows} == {"σ from 6 records"}
         uff = c.get(f"/api/reports/{token}/modes.uff")
         assert uff.status_code == 200
     path = tmp_path / "modes.uff"
