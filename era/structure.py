@@ -450,9 +450,16 @@ class Frame:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor
         order (each sensor's node translation along its direction)."""
         f, u = self.node_modes(n_modes)
+        return f, self.at_sensors(u)
+
+    def at_sensors(self, u: np.ndarray) -> np.ndarray:
+        """The sensors' shapes (..., n_sensors, r) from node translations ``u`` (..., n_nodes, 3, r) in node order,
+        each sensor's node translation along its direction."""
         index = {n: k for k, n in enumerate(self.nodes)}
         rows = [index[n] for n, _ in self.sensors]
-        return f, np.einsum("sc,scn->sn", self.sensor_directions, u[rows]) if rows else np.zeros((0, n_modes))
+        if not rows:
+            return np.zeros(u.shape[:-3] + (0, u.shape[-1]))
+        return np.einsum("sc,...scn->...sn", self.sensor_directions, u[..., rows, :, :])
 
     @property
     def total_mass_kg(self) -> float:

@@ -224,9 +224,7 @@ class FrameModel:
         if got is None:
             return self.updated_frame.modes(n_modes)
         f, u = got
-        index = {n: k for k, n in enumerate(self.frame.nodes)}
-        rows = [index[n] for n, _ in self.frame.sensors]
-        return f, np.einsum("sc,scn->sn", self.frame.sensor_directions, u[rows])
+        return f, self.frame.at_sensors(u)
 
     def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameModel | FrameRitz | None":
         """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
@@ -238,18 +236,12 @@ class FrameModel:
             got = self._reduced(red.n_basis - 10 if red is not None else max(1, n_modes - 10), screen=True)
             if got is not None:
                 f, u = got
-                index = {n: k for k, n in enumerate(self.frame.nodes)}
-                rows = [index[n] for n, _ in self.frame.sensors]
-                return FrameRitz(f, u.reshape(-1, u.shape[-1]),
-                                 np.einsum("sc,scn->sn", self.frame.sensor_directions, u[rows]))
+                return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.frame.at_sensors(u))
         got = self.updated_frame.ritz_modes(reference.updated_frame, n_modes)
         if got is None:
             return None
         f, u = got
-        frame = self.updated_frame
-        index = {n: k for k, n in enumerate(frame.nodes)}
-        rows = [index[n] for n, _ in frame.sensors]
-        return FrameRitz(f, u.reshape(-1, u.shape[-1]), np.einsum("sc,scn->sn", frame.sensor_directions, u[rows]))
+        return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.updated_frame.at_sensors(u))
 
     @property
     def node_labels(self) -> tuple:
@@ -292,10 +284,7 @@ class FrameModel:
         then projected normal to ψ_j. Zero for modes the sensors do not see. With members known to ±σ each,
         ψ_j's components scatter by σ √(Σ_e (dψ_j/da_e)²) (the shapes' share of the model-form error)."""
         u, du = self._node_mode_sensitivity(n_modes, n_basis)
-        index = {n: k for k, n in enumerate(self.frame.node_ids)}
-        rows = [index[n] for n, _ in self.frame.sensors]
-        on = lambda x: np.einsum("sc,...scn->...sn", self.frame.sensor_directions,    # noqa: E731
-                                 x.reshape(x.shape[:-2] + (-1, 3, x.shape[-1]))[..., rows, :, :])
+        on = lambda x: self.frame.at_sensors(x.reshape(x.shape[:-2] + (-1, 3, x.shape[-1])))    # noqa: E731
         s, ds = on(u), on(du)
         norm = np.linalg.norm(s, axis=0)
         seen = norm > 1e-9 * max(norm.max(), 1e-300)

@@ -90,6 +90,15 @@ def browser():
         b.close()
 
 
+def open_page(server, browser, height: int = 1000):
+    """The app's page in a new tab, and the list its JavaScript errors are collected in."""
+    page = browser.new_page(viewport={"width": 1400, "height": height})
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(server.base + "/")
+    return page, errors
+
+
 def table_rows(page, selector: str) -> list[dict]:
     """Each body row of a modes table: its mode number, whether it is kept, and the text of every column."""
     return page.eval_on_selector_all(f"{selector} tbody tr", """rows => rows.map(tr => ({
@@ -121,10 +130,7 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
                                                inputs=("IC <b>1</b>", "IC 2")))
     server = Server(data_dir, tmp_path / "server1.log")
     try:
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        errors = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server.base + "/")
+        page, errors = open_page(server, browser)
 
         # 1. upload through the drop zone's file input, see what was read, use it; the defaults identify at once
         page.set_input_files("#file", str(upload))

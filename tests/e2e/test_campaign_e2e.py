@@ -13,7 +13,7 @@ import urllib.request
 import pytest
 
 from era.campaign.simulated import monitoring_truth, write_campaign
-from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
+from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
 
 pytestmark = pytest.mark.e2e
 CORRUPT = "rec_2026-03-02T12-00.csv"
@@ -30,10 +30,7 @@ def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(
     monkeypatch.setenv("ERA_CAMPAIGN_WORKERS", "2")
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page = browser.new_page(viewport={"width": 1400, "height": 1100})
-        errors = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server.base + "/")
+        page, errors = open_page(server, browser, 1100)
         page.click("#campaigns-link")
         page.wait_for_selector("#campaign-new:not([hidden])")
         assert "local process" in page.text_content("#campaign-engine")

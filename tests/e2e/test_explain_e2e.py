@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
+from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
 
 pytestmark = pytest.mark.e2e
 
@@ -16,10 +16,7 @@ pytestmark = pytest.mark.e2e
 def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, browser, shots):  # noqa: F811
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        errors = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server.base + "/")
+        page, errors = open_page(server, browser)
         page.click("#examples button[data-example='grid']")
         page.wait_for_selector("#modes-table tbody tr", timeout=60000)
         page.wait_for_function("!document.getElementById('explain-run').disabled")

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from test_app_e2e import Server, browser, shots  # noqa: F401  (fixtures)
+from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
@@ -45,19 +45,11 @@ def near(found: list[float], targets, rtol: float) -> list[float]:
     return out
 
 
-def open_page(server, browser):  # noqa: F811
-    page = browser.new_page(viewport={"width": 1400, "height": 1100})
-    errors = []
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    page.goto(server.base + "/")
-    return page, errors
-
-
 def test_drop_the_lvm_and_see_its_modes(tmp_path, browser, shots):  # noqa: F811
     lvm = require_shared(USC)
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page, errors = open_page(server, browser)
+        page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", str(lvm))
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
         cells = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
@@ -81,7 +73,7 @@ def test_the_rows_file_asks_for_its_sample_rate_next_to_the_control(tmp_path, br
     yk = require_shared(CARINI)
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page, errors = open_page(server, browser)
+        page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", str(yk))
         page.wait_for_selector("#import-error-dt:not([hidden])")
         assert "no sampling interval in yk.txt: give the sample rate" in page.text_content("#import-error-dt")
@@ -125,7 +117,7 @@ def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, brows
                                               denominator=U.FORCE, den_unit="N")])
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page, errors = open_page(server, browser)
+        page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", [str(p) for p in paths])
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
         assert "3 file(s): hit1.uff, hit2.uff, hit3.uff" in page.text_content("#import-files")
@@ -157,7 +149,7 @@ def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_
     np.savetxt(path, table, delimiter=",", header="time [s],drive [V],a1 [V],a2 [V],a3 [V]", comments="", fmt="%.10g")
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page, errors = open_page(server, browser)
+        page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", str(path))
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
         page.select_option("#kind", "io")

@@ -19,7 +19,7 @@ import pytest
 from frame_test_file import write_uff
 
 from era.examples.frames import portal
-from test_app_e2e import Server, browser, shots, sync_api  # noqa: F401  (fixtures)
+from test_app_e2e import Server, browser, open_page, shots, sync_api  # noqa: F401  (fixtures)
 
 pytestmark = pytest.mark.e2e
 
@@ -39,10 +39,7 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
                     inputs=(1, 4))
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        errors = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(server.base + "/")
+        page, errors = open_page(server, browser)
         page.set_input_files("#file", str(uff))                   # the import step shows what was read: use it
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr", timeout=60000)
         page.click("#import-use")
