@@ -6,7 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import indicators
+from . import indicators, lapack
 from .errors import EraError
 from .selection import kept_modes
 
@@ -50,19 +50,10 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W=None) -> ModalDecom
     Shapes are scaled so that their largest component is 1 (real), and amplitudes inversely, so the product
     shapes·amplitudes (the response) is unchanged and shapes are comparable across orders.
     """
-    # numpy's LAPACK calls release the GIL (scipy.linalg's do not): the orders of a sweep run in parallel threads
-    z_all, psi = np.linalg.eig(A)
-    if np.isrealobj(z_all):
-        z_all, psi = z_all.astype(complex), psi.astype(complex)
-    keep = z_all.imag >= 0  # LAPACK returns exact conjugate pairs and exactly real eigenvalues
-    try:
-        left = _inverse_rows(psi, z_all)[keep]  # rows of ψ^{-1} for the kept modes
-    except (np.linalg.LinAlgError, ValueError):
-        left = np.linalg.pinv(psi)[keep]  # defective A (a Jordan block): best effort
-    z = z_all[keep]
+    # LAPACK without the GIL (era.lapack), so the orders of a sweep run in parallel threads
+    z, right, left = lapack.eig_kept(A)  # every real eigenvalue and one member (Im z > 0) of each pair
     is_pair = z.imag > 0
     z = np.where(is_pair, z, z.real + 0j)
-    right = psi[:, keep]
     shapes = C @ right
     if shapes.size:  # normalise: largest shape component = 1 (left rows inversely, before the products)
         big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
@@ -78,26 +69,6 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W=None) -> ModalDecom
         histories = _times_real(left, W)
     return ModalDecomposition(z=z, shapes=shapes, amplitudes=amplitudes, histories=histories, is_pair=is_pair,
                               right=right, left=left)
-
-
-def _inverse_rows(psi: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """ψ^{-1} (n, n) complex for the eigenvectors ψ of a real matrix, from the inverse of its real form.
-
-    LAPACK stores each conjugate pair consecutively, Im z > 0 first: with R = ψ where column j + 1 (the
-    partner of a pair j) is replaced by Im ψ_j and column j by Re ψ_j, ψ = R T blockwise with
-    T = [[1, 1], [i, -i]], so rows j, j + 1 of ψ^{-1} are (R^{-1}_j ∓ i R^{-1}_{j+1}) / 2: one real inverse,
-    a quarter of the work of the complex one. Falls back to the complex inverse if the pairs are not so stored.
-    """
-    pos = np.flatnonzero(z.imag > 0)
-    if pos.size and (pos[-1] + 1 >= z.size or not np.array_equal(z[pos + 1], z[pos].conj())):
-        return np.linalg.inv(psi)
-    real_form = psi.real.copy()
-    real_form[:, pos + 1] = psi[:, pos].imag
-    inv = np.linalg.inv(real_form)
-    out = inv.astype(complex)
-    out[pos] = (inv[pos] - 1j * inv[pos + 1]) / 2
-    out[pos + 1] = out[pos].conj()
-    return out
 
 
 def _normalised(dec: ModalDecomposition) -> ModalDecomposition:

@@ -1,0 +1,229 @@
+"""The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
+LAPACK without the GIL (issue 14).
+
+A realization's modes (eq. 40) need every eigenvalue of A (n × n real) but the eigenvectors (and the rows of ψ^{-1})
+of the real poles and of the member with Im z > 0 of each pair only. The steps are dgeev's, with two changes:
+
+1. dgebal ('B': permute and scale), dgehrd, dorghr: H = Qᵀ D⁻¹ Pᵀ A P D Q upper Hessenberg, and Q;
+2. dlahqr (double-shift QR; Schur form T and Schur vectors Z = Q Z_QR): dgeev's dhseqr hands matrices of order
+   ≥ 75 to dlaqr0 (multishift with aggressive early deflation), 30 % slower than dlahqr up to order 120 on the
+   stabilization sweep's matrices (tests/bench/bench_sweep.py's, one BLAS thread);
+3. dtrevc ('B', 'S'): the right AND left eigenvectors of T for the kept eigenvalues only, back-substitution;
+4. Z·X, Z·Y and dgebak: the eigenvectors of A. The rows of ψ^{-1} are then the left eigenvectors scaled by
+   1/(yᴴ x), which is cheaper than inverting ψ (n³).
+
+Each routine is scipy's own LAPACK, reached through scipy's public Cython API (the function pointers in
+``scipy.linalg.cython_lapack.__pyx_capi__``) and called with ctypes, which releases the GIL during the call:
+the orders of a stabilization sweep eigensolve in parallel threads (scipy.linalg's f2py wrappers hold the
+GIL). The pointers are resolved once, on first use, and each one's argument count is checked against the C
+signature scipy publishes with it.
+
+Fallback to ``np.linalg.eig`` (numpy's dgeev, which releases the GIL too) and the rows of ψ^{-1} from one real
+inverse, the same result to round-off: when scipy does not export a routine, when a routine reports an error
+(info ≠ 0: dlahqr did not converge), when two eigenvalues are closer than REPEATED_RELATIVE·|z| (a repeated
+eigenvalue, Case II of the paper: ψ^{-1} is then a dual basis of the shared eigenspace, not the scaled left
+eigenvectors, and era.modal.align_repeated rotates dgeev's basis of it), and when yᴴx vanishes (near-defective).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import threading
+
+import numpy as np
+
+#: Two eigenvalues with |z_i - z_j| ≤ this × max(|z_i|, |z_j|) (or both exactly 0) are treated as one repeated
+#: eigenvalue: the matrix is eigensolved by dgeev (np.linalg.eig) instead of by inverse iteration.
+REPEATED_RELATIVE = 1e-6
+
+#: The routines and their numbers of arguments (LAPACK 3 reference interfaces; checked against scipy's).
+_ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10}
+
+_lock = threading.Lock()
+_routines: dict = {}  # name -> ctypes function, or None when scipy does not export it
+
+
+def _capsule_table() -> dict:
+    """scipy's table of Cython-exported LAPACK function pointers (name -> PyCapsule); {} without scipy."""
+    try:
+        from scipy.linalg import cython_lapack
+    except ImportError:  # pragma: no cover - scipy is a dependency
+        return {}
+    return getattr(cython_lapack, "__pyx_capi__", {})
+
+
+def _resolve(name: str):
+    """The ctypes function for LAPACK routine ``name``, or None if scipy does not export it as expected."""
+    capsule = _capsule_table().get(name)
+    if capsule is None:
+        return None
+    api = ctypes.pythonapi
+    api.PyCapsule_GetName.restype, api.PyCapsule_GetName.argtypes = ctypes.c_char_p, [ctypes.py_object]
+    api.PyCapsule_GetPointer.restype = ctypes.c_void_p
+    api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
+    signature = api.PyCapsule_GetName(capsule)  # e.g. b"void (char *, int *, ...)"
+    if not signature or not signature.startswith(b"void (") or signature.count(b",") + 1 != _ARGUMENTS[name]:
+        return None
+    address = api.PyCapsule_GetPointer(capsule, signature)
+    if not address:
+        return None
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * _ARGUMENTS[name]))(address)
+
+
+def routine(name: str):
+    """The ctypes function of LAPACK routine ``name`` (a key of _ARGUMENTS),
+    resolved on first use; None when unavailable. Every argument is a pointer (Fortran convention)."""
+    if name not in _routines:
+        with _lock:
+            if name not in _routines:
+                _routines[name] = _resolve(name)
+    return _routines[name]
+
+
+def available() -> bool:
+    """True when every routine of the path is available (else eig_kept uses numpy's dgeev)."""
+    return all(routine(name) is not None for name in _ARGUMENTS)
+
+
+class _Failed(Exception):
+    """The LAPACK path does not apply (a routine missing or reporting info ≠ 0, a repeated eigenvalue, a
+    near-defective matrix): eig_kept uses numpy's dgeev."""
+
+
+#: LAPACK's character arguments (read only), and their addresses
+_CHARS = {c: ctypes.c_char(c) for c in (b"B", b"L", b"R", b"S")}
+_CHAR = {c: ctypes.addressof(v) for c, v in _CHARS.items()}
+
+
+def _functions() -> tuple:
+    """The six routines of the path in call order, or _Failed if scipy does not export one of them."""
+    fns = tuple(routine(name) for name in _ARGUMENTS)
+    if any(fn is None for fn in fns):
+        raise _Failed("a LAPACK routine is not exported by scipy")
+    return fns
+
+
+def _repeated(z: np.ndarray) -> bool:
+    """True when two eigenvalues of a real matrix are within REPEATED_RELATIVE of each other (relative to the
+    larger |z|; two zeros are repeated). ``z``: the kept ones (every real one and the member with Im z > 0 of
+    each pair); a pair and its own conjugate are 2 Im z apart."""
+    mag = np.abs(z)
+    dist = np.abs(z[:, None] - z[None, :])
+    dist.flat[::z.size + 1] = np.where(z.imag > 0, 2 * z.imag, np.inf)  # a pair's distance to its conjugate
+    return bool(np.any(dist <= REPEATED_RELATIVE * np.maximum(mag[:, None], mag[None, :])))
+
+
+def _schur_route(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """eig_kept by the path of the module docstring; raises _Failed where it does not apply.
+
+    Every array LAPACK sees lives in one float and one int buffer, passed as base address + offset: the Python
+    work between the calls (which holds the GIL) stays small next to the calls (which do not)."""
+    gebal, gehrd, orghr, lahqr, trevc, gebak = _functions()
+    n = A.shape[0]
+    nn, lwork = n * n, 64 * n  # ≥ the block size (32) × n that dgehrd and dorghr use at their best; dtrevc 3 n
+    f = np.empty(5 * nn + 4 * n + lwork)  # a | t | x | y | zl | scale | wr | wi | tau | work
+    i = np.zeros(7 + n, dtype=np.int32)  # n, ilo, ihi, info, lwork, 1, m | select (n)
+    fp, ip = f.ctypes.data, i.ctypes.data
+    A_, T_, X_, Y_, ZL_, SCALE, WR, WI, TAU, WORK = (fp + 8 * k for k in (
+        0, nn, 2 * nn, 3 * nn, 4 * nn, 5 * nn, 5 * nn + n, 5 * nn + 2 * n, 5 * nn + 3 * n, 5 * nn + 4 * n))
+    N, ILO, IHI, INFO, LWORK, ONE, M, SELECT = (ip + 4 * k for k in range(8))
+    i[[0, 4, 5]] = n, lwork, 1
+    a, t, x, y, zl = (f[k * nn:(k + 1) * nn].reshape(n, n, order="F") for k in range(5))
+    wr, wi = f[5 * nn + n:5 * nn + 2 * n], f[5 * nn + 2 * n:5 * nn + 3 * n]
+
+    def check(name):
+        if i[3] != 0:
+            raise _Failed(f"{name}: info = {int(i[3])}")
+
+    a[...] = A
+    gebal(_CHAR[b"B"], N, A_, N, ILO, IHI, SCALE, INFO)  # a = D⁻¹ Pᵀ A P D
+    check("dgebal")
+    gehrd(N, ILO, IHI, A_, N, TAU, WORK, LWORK, INFO)
+    check("dgehrd")
+    t[...] = np.triu(a, -1)  # H (the reflectors stay below the subdiagonal of a)
+    orghr(N, ILO, IHI, A_, N, TAU, WORK, LWORK, INFO)  # a = Q
+    check("dorghr")
+    wr[:], wi[:] = t.diagonal(), 0.0  # dlahqr sets ilo..ihi; the others were isolated by dgebal
+    lahqr(ONE, ONE, N, ILO, IHI, T_, N, WR, WI, ILO, IHI, A_, N, INFO)  # t = T, a = Z = Q Z_QR
+    check("dlahqr")
+    keep = wi >= 0  # the real ones and the member with Im z > 0 of each pair (its partner follows it)
+    kept = wr[keep] + 1j * wi[keep]
+    if _repeated(kept):
+        raise _Failed("repeated eigenvalue")
+    # the kept vectors of T fill all n columns of x, y: a real one in one, a pair's Re and Im parts in two
+    i[7:] = keep
+    trevc(_CHAR[b"B"], _CHAR[b"S"], SELECT, N, T_, N, Y_, N, X_, N, N, M, WORK, INFO)
+    check("dtrevc")
+    zl[...] = a
+    gebak(_CHAR[b"B"], _CHAR[b"R"], N, ILO, IHI, SCALE, N, A_, N, INFO)  # a = P D Z: right vectors of A
+    check("dgebak")
+    gebak(_CHAR[b"B"], _CHAR[b"L"], N, ILO, IHI, SCALE, N, ZL_, N, INFO)  # zl = P D⁻¹ Z: left vectors
+    check("dgebak")
+    cols = np.flatnonzero(keep)
+    pair = wi[cols] > 0
+    right, left = (a @ x[:, cols]).astype(complex), (zl @ y[:, cols]).astype(complex)  # the real parts
+    right.imag[:, pair] = a @ x[:, cols[pair] + 1]
+    left.imag[:, pair] = zl @ -y[:, cols[pair] + 1]  # the conjugate ȳ: ȳᵀ A = z ȳᵀ
+    dual = np.einsum("ij,ij->j", left, right)  # ȳᵀ x
+    if not np.all(np.abs(dual) > 1e-13 * np.abs(left).max(axis=0)):  # also False for NaN
+        raise _Failed("near-defective")
+    return kept, right, (left / dual).T
+
+
+def eig_kept(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The eigenvalues of real A that a modal model keeps, their right eigenvectors and their rows of ψ^{-1}.
+
+    Parameters
+    ----------
+    A : (n, n) real, finite
+
+    Returns
+    -------
+    z : (kept,) complex, every real eigenvalue (Im z = 0 exactly) and the member with Im z > 0 of each
+        conjugate pair, in LAPACK's order; kept = n - (number of pairs). The other eigenvalues are the
+        conjugates of the pairs'.
+    right : (n, kept) complex, A right_j = z_j right_j (of no particular scale: O(1) in the largest component).
+    left : (kept, n) complex, the rows of ψ^{-1} for these modes (ψ = all n eigenvectors, the partners being
+        the conjugates): left_j A = z_j left_j and left_j right_k = δ_jk.
+
+    The path is in the module docstring; it falls back to ``np.linalg.eig``. Both release the GIL.
+    """
+    A = np.asarray(A, dtype=float)
+    if A.shape[0] == 0:
+        return np.zeros(0, complex), np.zeros((0, 0), complex), np.zeros((0, 0), complex)
+    try:
+        return _schur_route(A)
+    except _Failed:
+        return _eig_numpy(A)
+
+
+def _eig_numpy(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """eig_kept by numpy's dgeev (all eigenvectors) and one real inverse (pseudo-inverse when singular)."""
+    z_all, psi = np.linalg.eig(A)
+    z_all, psi = z_all.astype(complex), psi.astype(complex)
+    keep = z_all.imag >= 0  # LAPACK returns exact conjugate pairs and exactly real eigenvalues
+    z, right = z_all[keep], psi[:, keep]
+    try:
+        left = _inverse_rows(right, z.imag > 0)
+    except np.linalg.LinAlgError:  # defective A (a Jordan block): best effort
+        left = np.linalg.pinv(np.hstack([right, right[:, z.imag > 0].conj()]))[:z.size]
+    return z, right, left
+
+
+def _inverse_rows(right: np.ndarray, is_pair: np.ndarray) -> np.ndarray:
+    """The rows of ψ^{-1} (kept, n) complex for the kept eigenvectors ``right`` (n, kept) of a real matrix:
+    every real one and the member with Im z > 0 of each pair (ψ holds the partners' conjugates too).
+
+    With R (n × n, real) holding Re ψ_j and Im ψ_j of each pair and each real ψ_j, [ψ_j, ψ̄_j] = [Re, Im] T with
+    T = [[1, 1], [i, -i]], so the row of ψ^{-1} for ψ_j is (R^{-1}_Re - i R^{-1}_Im) / 2: one real inverse, a
+    quarter of the work of the complex one. Raises LinAlgError when R is singular (defective A).
+    """
+    width = np.where(is_pair, 2, 1)
+    first = np.cumsum(width) - width  # each kept mode's first column in R
+    real_form = np.empty((right.shape[0], int(width.sum())))
+    real_form[:, first] = right.real
+    real_form[:, first[is_pair] + 1] = right[:, is_pair].imag
+    inv = np.linalg.inv(real_form)
+    out = inv[first].astype(complex)
+    out[is_pair] = (inv[first[is_pair]] - 1j * inv[first[is_pair] + 1]) / 2
+    return out
