@@ -19,10 +19,17 @@ GIL). The pointers are resolved once, on first use, and each one's argument coun
 signature scipy publishes with it.
 
 Fallback to ``np.linalg.eig`` (numpy's dgeev, which releases the GIL too) and the rows of ψ^{-1} from one real
-inverse, the same result to round-off: when scipy does not export a routine, when a routine reports an error
-(info ≠ 0: dlahqr did not converge), when two eigenvalues are closer than REPEATED_RELATIVE·|z| (a repeated
-eigenvalue, Case II of the paper: ψ^{-1} is then a dual basis of the shared eigenspace, not the scaled left
-eigenvectors, and era.modal.align_repeated rotates dgeev's basis of it), and when yᴴx vanishes (near-defective).
+inverse, the same result to round-off: above order MAX_ORDER, when scipy does not export a routine, when a
+routine reports an error (info ≠ 0: dlahqr did not converge), when two eigenvalues are closer than
+REPEATED_RELATIVE·|z| (a repeated eigenvalue, Case II of the paper: ψ^{-1} is then a dual basis of the shared
+eigenspace, not the scaled left eigenvectors, and era.modal.align_repeated rotates dgeev's basis of it), and
+when yᴴx vanishes (near-defective).
+
+Measured on bench_sweep's 900 × 2392 case (the 60 matrices of orders 2..120, one BLAS thread, CPU time, load
+1.3-1.6 on 2 cores): numpy's dgeev + one real inverse 147-150 ms, this path 126-129 ms. Its parts: dlahqr
+85 ms (eigenvalues alone: 48), dtrevc 12.5, dgehrd + dorghr 15, the products and dgebal/dgebak 6-7, Python
+between the calls ~0.1 ms per matrix. Tried and slower: dhseqr('E') + dhsein (inverse iteration for the kept
+vectors only) + dormhr, 150 ms (dhsein alone 46); dhseqr('S', 'V') + dtrevc, 140; dgeev itself, 133.
 """
 
 from __future__ import annotations
@@ -33,8 +40,12 @@ import threading
 import numpy as np
 
 #: Two eigenvalues with |z_i - z_j| ≤ this × max(|z_i|, |z_j|) (or both exactly 0) are treated as one repeated
-#: eigenvalue: the matrix is eigensolved by dgeev (np.linalg.eig) instead of by inverse iteration.
+#: eigenvalue: the matrix is eigensolved by numpy's dgeev.
 REPEATED_RELATIVE = 1e-6
+
+#: Larger matrices go to numpy's dgeev: dlahqr's level-1 QR sweeps fall behind dlaqr0's multishift ones beyond
+#: order ~170 on the sweep's matrices (tests/bench/bench_sweep.py's 900 × 2392 and 1280 × 2000, orders 60-200).
+MAX_ORDER = 160
 
 #: The routines and their numbers of arguments (LAPACK 3 reference interfaces; checked against scipy's).
 _ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10}
@@ -161,9 +172,12 @@ def _schur_route(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     check("dgebak")
     cols = np.flatnonzero(keep)
     pair = wi[cols] > 0
-    right, left = (a @ x[:, cols]).astype(complex), (zl @ y[:, cols]).astype(complex)  # the real parts
-    right.imag[:, pair] = a @ x[:, cols[pair] + 1]
-    left.imag[:, pair] = zl @ -y[:, cols[pair] + 1]  # the conjugate ȳ: ȳᵀ A = z ȳᵀ
+    sign = -1.0 * pair  # Im of ȳ: -Im y for a pair, 0 for a real one
+    xa, ya = a @ x, zl @ y  # column j: Re of mode j's vector, column j + 1: Im if mode j is a pair
+    im = cols + pair  # (a real one's own column, zeroed below)
+    right, left = np.empty((n, cols.size), complex), np.empty((n, cols.size), complex)
+    right.real, right.imag = xa[:, cols], xa[:, im] * pair
+    left.real, left.imag = ya[:, cols], ya[:, im] * sign  # the conjugate ȳ: ȳᵀ A = z ȳᵀ
     dual = np.einsum("ij,ij->j", left, right)  # ȳᵀ x
     if not np.all(np.abs(dual) > 1e-13 * np.abs(left).max(axis=0)):  # also False for NaN
         raise _Failed("near-defective")
@@ -186,15 +200,18 @@ def eig_kept(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     left : (kept, n) complex, the rows of ψ^{-1} for these modes (ψ = all n eigenvectors, the partners being
         the conjugates): left_j A = z_j left_j and left_j right_k = δ_jk.
 
-    The path is in the module docstring; it falls back to ``np.linalg.eig``. Both release the GIL.
+    The path is in the module docstring (for n ≤ MAX_ORDER); it falls back to ``np.linalg.eig``. Both release
+    the GIL.
     """
     A = np.asarray(A, dtype=float)
     if A.shape[0] == 0:
         return np.zeros(0, complex), np.zeros((0, 0), complex), np.zeros((0, 0), complex)
-    try:
-        return _schur_route(A)
-    except _Failed:
-        return _eig_numpy(A)
+    if A.shape[0] <= MAX_ORDER:
+        try:
+            return _schur_route(A)
+        except _Failed:
+            pass
+    return _eig_numpy(A)
 
 
 def _eig_numpy(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

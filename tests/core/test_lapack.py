@@ -112,6 +112,17 @@ def test_a_repeated_eigenvalue_goes_to_dgeev_which_returns_a_basis_of_its_eigens
     np.testing.assert_allclose(left @ right, np.eye(z.size), atol=1e-8)
 
 
+def test_above_max_order_numpy_solves(monkeypatch):
+    monkeypatch.setattr(lapack, "MAX_ORDER", 10)
+    calls = []
+    real_eig = np.linalg.eig
+    monkeypatch.setattr(np.linalg, "eig", lambda a: calls.append(a.shape[0]) or real_eig(a))
+    for n in (8, 10, 11, 14):
+        a = np.random.default_rng(n).standard_normal((n, n))
+        _check(a, *lapack.eig_kept(a))
+    assert calls == [11, 14]
+
+
 def test_without_scipys_capsules_numpy_gives_the_same_result(monkeypatch):
     a = _with_eigenvalues([(0.995, 0.3), (0.98, 1.1), 0.6, -0.2], seed=2)
     with_lapack = lapack.eig_kept(a)
