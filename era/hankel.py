@@ -136,5 +136,16 @@ def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray) -> np.ndarra
         early = y[i:r - 1].transpose(2, 0, 1).reshape(m, -1)
         g[(i + 1) * p:(i + 2) * p, (i + 1) * p:] = (g[i * p:(i + 1) * p, i * p:(r - 1) * p]
                                                      + y[i + s] @ later - y[i] @ early)
-    upper = np.triu(g)
-    return upper + np.triu(upper, 1).T
+    return _mirror_upper(g)
+
+
+def _mirror_upper(g: np.ndarray, block: int = 64) -> np.ndarray:
+    """``g`` (a, a) made exactly symmetric from its upper triangle, in place, by square tiles (a transposed
+    copy of the upper triangle in one fancy-indexed step is 3× slower at a = 900)."""
+    a = g.shape[0]
+    for i in range(0, a, block):
+        g[i + block:, i:i + block] = g[i:i + block, i + block:].T
+        tile = g[i:i + block, i:i + block]
+        lower = np.tril_indices(tile.shape[0], -1)
+        tile[lower] = tile.T[lower]
+    return g

@@ -45,11 +45,10 @@ def emac_parts(real: np.ndarray, imag: np.ndarray, z: np.ndarray, col_shifts: np
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         if growth is None:
             growth = powers(z, col_shifts)  # (modes, s): exp(t_i Δτ s_j) = z_j^{t_i}
-        # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄; b^* q_i in real arithmetic (two batched
-        # products with [Re b, Im b])
-        both = np.stack([br, bi], axis=2)  # (modes, m, 2)
-        rr, ir = np.matmul(qr, both), np.matmul(qi, both)  # (modes, s, 2)
-        bq = (rr[..., 0] + ir[..., 1]) + 1j * (ir[..., 0] - rr[..., 1])
+        # q̄^* q = Σ_i conj(z^{t_i}) (b^* q_i), without forming q̄; b^* q_i in real arithmetic (four
+        # contractions over the m inputs: faster than a batched product of m × 2 matrices)
+        bq = (np.einsum("jsm,jm->js", qr, br) + np.einsum("jsm,jm->js", qi, bi)) \
+            + 1j * (np.einsum("jsm,jm->js", qi, br) - np.einsum("jsm,jm->js", qr, bi))
         inner = np.abs(np.einsum("js,js->j", growth.conj(), bq))
         b2 = np.einsum("jm,jm->j", br, br) + np.einsum("jm,jm->j", bi, bi)
         q2 = np.einsum("jk,jk->j", real, real) + np.einsum("jk,jk->j", imag, imag)

@@ -121,17 +121,16 @@ def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list
         filled: set[int] = set()
         if heads:
             df = _relative_change(freq[idx], freq[heads])
-            ok = (df <= freq_tol) & (mac(shapes[:, idx], shapes[:, heads]) >= mac_min)
-            cost = np.where(ok, df, np.inf)
-            for flat in np.argsort(cost, axis=None):
-                i, j = np.unravel_index(flat, cost.shape)
-                if not np.isfinite(cost[i, j]):
-                    break
-                if int(idx[i]) not in taken and j not in filled:
-                    clusters[j].append(int(idx[i]))
-                    taken.add(int(idx[i]))
+            near = df <= freq_tol
+            near[near] = (mac(shapes[:, idx], shapes[:, heads]) >= mac_min)[near]
+            rows, cols = np.nonzero(near)  # the candidate (pole, track) pairs, nearest first
+            by = np.argsort(df[rows, cols], kind="stable")
+            for i, j in zip(idx[rows[by]].tolist(), cols[by].tolist()):
+                if i not in taken and j not in filled:
+                    clusters[j].append(i)
+                    taken.add(i)
                     filled.add(j)
-        clusters.extend([int(i)] for i in idx if int(i) not in taken)
+        clusters.extend([i] for i in idx.tolist() if i not in taken)
     tracks = [c for c in clusters if len(c) >= min_orders]
     return _merge_fragments(tracks, order, freq, freq_tol)
 

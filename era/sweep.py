@@ -1,16 +1,17 @@
 """Every order of one identification realized at once (the stabilization diagram's models): each order's
-eigensolution on its own, then γ, μ and the contribution of all modes of all orders in a few batched calls.
+eigensolution on its own, then γ, μ and the contribution of the modes of a run of orders in one batch.
 
 Per order n the realization is the leading n × n block of one projection of H(1) (Identification.projected),
-so only its eigensolution (LAPACK's Hessenberg QR, about 25 n³ flops, not BLAS-3) is per order; those run
-``workers`` at a time in threads. What is per mode is then done on the modes of all orders together:
+so only its eigensolution (LAPACK's Hessenberg QR, about 25 n³ flops, not BLAS-3) is per order. What is per
+mode is then done on the modes of a run of orders together (:func:`chunks_of`, about CHUNK_MODES modes):
 
-* the modal histories ψ^{-1} D^{1/2} Q_n^T (eq. 44) that γ needs, as a few large products of the stacked rows
-  of ψ^{-1} D^{1/2} (zero-padded to the largest order of a chunk of orders) with Q^T — one BLAS-3 product of
-  about 2 M × K × s m flops for M modes in all instead of one thin product per order (3× faster at K = 120,
-  and threaded by BLAS);
-* γ (eqs. 42-45), μ (eqs. 46-54), the contribution and the sort by frequency: one call each.
+* the modal histories ψ^{-1} D^{1/2} Q_n^T (eq. 44) that γ needs, as one large product of the stacked rows
+  of ψ^{-1} D^{1/2} (zero-padded to the largest order of the run) with Q^T — one BLAS-3 product of about
+  2 M × K × s m flops for M modes instead of one thin product per order (3× faster at K = 120);
+* γ (eqs. 42-45), μ (eqs. 46-54) and the contribution: one call each.
 
+Both the orders and the runs go ``workers`` at a time in threads with one BLAS thread each (numpy's LAPACK,
+BLAS and element-wise loops release the GIL), so all of it scales with the threads, not only the products.
 The numbers are those of ``ident.model(n)`` for every n (to round-off: tests/core/test_stabilization.py).
 """
 
@@ -72,9 +73,23 @@ def in_parallel(fn, items: list, workers: int) -> list:
     return [fn(x) for x in items]
 
 
+def chunks_of(sizes: list[int], limit: int = CHUNK_MODES) -> list[tuple[int, int]]:
+    """Consecutive runs [i, j) of orders whose modes (``sizes``) add up to at most ``limit`` (at least one order
+    each): the units of the batched products."""
+    out, i = [], 0
+    while i < len(sizes):
+        j, rows = i, 0
+        while j < len(sizes) and (rows == 0 or rows + sizes[j] <= limit):
+            rows += sizes[j]
+            j += 1
+        out.append((i, j))
+        i = j
+    return out
+
+
 def sweep_emac(left: list, z: np.ndarray, basis_t: np.ndarray, root: np.ndarray, col_shifts: np.ndarray,
                n_inputs: int, growth: np.ndarray) -> np.ndarray:
-    """γ of the modes of many orders (eqs. 42-45) from their left eigenvectors, the histories formed in chunks.
+    """γ of the modes of some orders (eqs. 42-45) from their left eigenvectors, the histories in one product.
 
     Parameters
     ----------
@@ -87,27 +102,17 @@ def sweep_emac(left: list, z: np.ndarray, basis_t: np.ndarray, root: np.ndarray,
     -------
     (M,) γ, equal to indicators.emac of each order's histories ψ^{-1} D^{1/2} Q_n^T.
     """
-    out = np.empty(len(z))
-    i = 0
-    while i < len(left):
-        j, rows = i, 0
-        while j < len(left) and (rows == 0 or rows + len(left[j]) <= CHUNK_MODES):
-            rows += len(left[j])
-            j += 1
-        width = max(x.shape[1] for x in left[i:j])
-        stacked = np.zeros((2 * rows, width))  # Re of the rows of ψ^{-1} D^{1/2}, then Im
-        at = 0
-        for x in left[i:j]:
-            scaled = x * root[:x.shape[1]]
-            stacked[at:at + len(x), :x.shape[1]] = scaled.real
-            stacked[rows + at:rows + at + len(x), :x.shape[1]] = scaled.imag
-            at += len(x)
-        first = sum(len(x) for x in left[:i])
-        part = slice(first, first + rows)
-        both = stacked @ basis_t[:width]  # Re and Im of the histories
-        out[part] = indicators.emac_parts(both[:rows], both[rows:], z[part], col_shifts, n_inputs, growth[part])
-        i = j
-    return out
+    rows = len(z)
+    width = max((x.shape[1] for x in left), default=0)
+    stacked = np.zeros((2 * rows, width))  # Re of the rows of ψ^{-1} D^{1/2}, then Im (zero-padded to width)
+    at = 0
+    for x in left:
+        scaled = x * root[:x.shape[1]]
+        stacked[at:at + len(x), :x.shape[1]] = scaled.real
+        stacked[rows + at:rows + at + len(x), :x.shape[1]] = scaled.imag
+        at += len(x)
+    both = stacked @ basis_t[:width]  # Re and Im of the histories
+    return indicators.emac_parts(both[:rows], both[rows:], z, col_shifts, n_inputs, growth)
 
 
 def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
@@ -132,12 +137,22 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     shapes = np.concatenate([dec.shapes for dec in decs], axis=1) if decs else np.zeros((p, 0), complex)
     amplitudes = np.concatenate([dec.amplitudes for dec in decs]) if decs else np.zeros((0, m), complex)
     is_pair = np.concatenate([dec.is_pair for dec in decs]) if decs else np.zeros(0, bool)
-    growth = indicators.powers(z, ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
     root = np.sqrt(ident.singular_values[:max(orders, default=0)])
     basis_t = np.ascontiguousarray(ident.Q[:, :max(orders, default=0)].T)
-    gamma = sweep_emac([dec.left for dec in decs], z, basis_t, root, ident.col_shifts, m, growth)
-    mu = indicators.mpc(shapes)
-    contrib = indicators.contribution(shapes, amplitudes, z, ident.row_shifts, ident.col_shifts, is_pair, growth)
+
+    def indicators_of(chunk):  # γ, μ and the contribution of the modes of orders [i, j)
+        i, j = chunk
+        at = slice(int(start[i]), int(start[j]))
+        growth = indicators.powers(z[at], ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
+        gamma = sweep_emac([dec.left for dec in decs[i:j]], z[at], basis_t, root, ident.col_shifts, m, growth)
+        contrib = indicators.contribution(shapes[:, at], amplitudes[at], z[at], ident.row_shifts,
+                                          ident.col_shifts, is_pair[at], growth)
+        return gamma, indicators.mpc(shapes[:, at]), contrib
+
+    # the chunks side by side in threads too (one BLAS thread each): the products and the element-wise work
+    # around them both scale with the threads, where a threaded product leaves that work on one core
+    found = in_parallel(indicators_of, chunks_of(list(sizes)), workers)
+    gamma, mu, contrib = (np.concatenate([x[k] for x in found]) if found else np.zeros(0) for k in range(3))
     perm = mode_order(z, d.dt, group)  # each order's modes by frequency, as in its model
     local = [perm[start[k]:start[k + 1]] - start[k] for k in range(len(decs))]
     s = continuous_eigenvalues(z[perm], d.dt)

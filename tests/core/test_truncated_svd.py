@@ -55,3 +55,28 @@ def test_truncated_triplets_are_orthonormal_and_wide_matrices_work():
         assert d.size == 120 and np.all(np.diff(d) <= 0)
         np.testing.assert_allclose(d[20:30], exact[20:30], rtol=1e-6)
         assert np.all(d[30:] < 1e-6 * d[0])
+
+
+def test_gram_eigenvectors_by_inverse_iteration_on_a_flat_noise_floor_match_the_library_and_are_orthonormal():
+    """gram_eigen's leading vectors (sterf's eigenvalues, then stein) against LAPACK's syevd on a Gram matrix
+    whose trailing eigenvalues crowd together (a signal of 10 values over a noise floor of 390 within 3 %),
+    and the MRRR fallback when inverse iteration reports failure."""
+    import scipy.linalg
+    from unittest import mock
+    from era import svd
+
+    rng = np.random.default_rng(3)
+    basis, _ = np.linalg.qr(rng.standard_normal((400, 400)))
+    values = np.concatenate([np.logspace(3, 1, 10), 1.0 + 0.03 * rng.random(390)])
+    gram = (basis * values) @ basis.T
+    gram = (gram + gram.T) / 2
+    w, v = scipy.linalg.eigh(gram)
+    for patch in (None, (np.zeros((400, 60)), 1)):  # (vectors, info > 0): stein failed
+        ctx = mock.patch.object(scipy.linalg.lapack, "dstein", return_value=patch) if patch else mock.MagicMock()
+        with ctx:
+            every, lead = svd.gram_eigen(gram, 60)
+        np.testing.assert_allclose(every, w[::-1], rtol=1e-12, atol=1e-12 * w[-1])
+        assert np.abs(lead.T @ lead - np.eye(60)).max() < 1e-12
+        assert np.abs(gram @ lead - lead * every[:60]).max() < 1e-12 * every[0]
+        # the signal subspace equals the library's to round-off (the noise floor's vectors are not unique)
+        np.testing.assert_allclose(np.abs(lead[:, :10].T @ v[:, ::-1][:, :10]), np.eye(10), atol=1e-10)
