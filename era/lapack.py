@@ -35,6 +35,7 @@ vectors only) + dormhr, 150 ms (dhsein alone 46); dhseqr('S', 'V') + dtrevc, 140
 from __future__ import annotations
 
 import ctypes
+import functools
 import threading
 
 import numpy as np
@@ -124,21 +125,29 @@ def _repeated(z: np.ndarray) -> bool:
     return bool(np.any(dist <= REPEATED_RELATIVE * np.maximum(mag[:, None], mag[None, :])))
 
 
+@functools.lru_cache(maxsize=None)
+def _hessenberg_mask(n: int) -> np.ndarray:
+    """(n, n) float, Fortran order: 1 on and above the first subdiagonal, 0 below."""
+    return np.asfortranarray(np.triu(np.ones((n, n)), -1))
+
+
 def _schur_route(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """eig_kept by the path of the module docstring; raises _Failed where it does not apply.
 
-    Every array LAPACK sees lives in one float and one int buffer, passed as base address + offset: the Python
-    work between the calls (which holds the GIL) stays small next to the calls (which do not)."""
+    Every array LAPACK sees lives in one buffer (the ints in its tail), passed as base address + offset: the
+    Python work between the calls (which holds the GIL) stays small next to the calls (which do not)."""
     gebal, gehrd, orghr, lahqr, trevc, gebak = _functions()
     n = A.shape[0]
     nn, lwork = n * n, 64 * n  # ≥ the block size (32) × n that dgehrd and dorghr use at their best; dtrevc 3 n
-    f = np.empty(5 * nn + 4 * n + lwork)  # a | t | x | y | zl | scale | wr | wi | tau | work
-    i = np.zeros(7 + n, dtype=np.int32)  # n, ilo, ihi, info, lwork, 1, m | select (n)
-    fp, ip = f.ctypes.data, i.ctypes.data
+    # a | t | x | y | zl (n × n each) | scale | wr | wi | tau (n each) | work (lwork) | the ints
+    f = np.empty(5 * nn + 4 * n + lwork + (7 + n + 1) // 2)
+    i = f[5 * nn + 4 * n + lwork:].view(np.int32)  # n, ilo, ihi, info, lwork, 1, m | select (n)
+    fp = f.ctypes.data
+    ip = fp + 8 * (5 * nn + 4 * n + lwork)
     A_, T_, X_, Y_, ZL_, SCALE, WR, WI, TAU, WORK = (fp + 8 * k for k in (
         0, nn, 2 * nn, 3 * nn, 4 * nn, 5 * nn, 5 * nn + n, 5 * nn + 2 * n, 5 * nn + 3 * n, 5 * nn + 4 * n))
     N, ILO, IHI, INFO, LWORK, ONE, M, SELECT = (ip + 4 * k for k in range(8))
-    i[[0, 4, 5]] = n, lwork, 1
+    i[:7] = n, 0, 0, 0, lwork, 1, 0
     a, t, x, y, zl = (f[k * nn:(k + 1) * nn].reshape(n, n, order="F") for k in range(5))
     wr, wi = f[5 * nn + n:5 * nn + 2 * n], f[5 * nn + 2 * n:5 * nn + 3 * n]
 
@@ -151,7 +160,7 @@ def _schur_route(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     check("dgebal")
     gehrd(N, ILO, IHI, A_, N, TAU, WORK, LWORK, INFO)
     check("dgehrd")
-    t[...] = np.triu(a, -1)  # H (the reflectors stay below the subdiagonal of a)
+    np.multiply(a, _hessenberg_mask(n), out=t)  # H (the reflectors stay below the subdiagonal of a)
     orghr(N, ILO, IHI, A_, N, TAU, WORK, LWORK, INFO)  # a = Q
     check("dorghr")
     wr[:], wi[:] = t.diagonal(), 0.0  # dlahqr sets ilo..ihi; the others were isolated by dgebal
@@ -162,7 +171,7 @@ def _schur_route(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if _repeated(kept):
         raise _Failed("repeated eigenvalue")
     # the kept vectors of T fill all n columns of x, y: a real one in one, a pair's Re and Im parts in two
-    i[7:] = keep
+    i[7:7 + n] = keep
     trevc(_CHAR[b"B"], _CHAR[b"S"], SELECT, N, T_, N, Y_, N, X_, N, N, M, WORK, INFO)
     check("dtrevc")
     zl[...] = a
