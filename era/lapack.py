@@ -69,22 +69,22 @@ def _resolve(name: str):
     capsule = _capsule_table().get(name)
     if capsule is None:
         return None
-    api = ctypes.pythonapi
-    api.PyCapsule_GetName.restype, api.PyCapsule_GetName.argtypes = ctypes.c_char_p, [ctypes.py_object]
-    api.PyCapsule_GetPointer.restype = ctypes.c_void_p
-    api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
-    signature = api.PyCapsule_GetName(capsule)  # e.g. b"void (char *, int *, ...)"
+    # private prototypes: ctypes.pythonapi's own are shared with the rest of the process
+    name_of = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+    pointer_of = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+        ("PyCapsule_GetPointer", ctypes.pythonapi))
+    signature = name_of(capsule)  # e.g. b"void (char *, int *, ...)"
     if not signature or not signature.startswith(b"void (") or signature.count(b",") + 1 != _ARGUMENTS[name]:
         return None
-    address = api.PyCapsule_GetPointer(capsule, signature)
+    address = pointer_of(capsule, signature)
     if not address:
         return None
     return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * _ARGUMENTS[name]))(address)
 
 
 def routine(name: str):
-    """The ctypes function of LAPACK routine ``name`` (a key of _ARGUMENTS),
-    resolved on first use; None when unavailable. Every argument is a pointer (Fortran convention)."""
+    """The ctypes function of LAPACK routine ``name`` (a key of _ARGUMENTS), resolved on first use; None when
+    scipy does not export it. Every argument is a pointer (Fortran convention); the call releases the GIL."""
     if name not in _routines:
         with _lock:
             if name not in _routines:
