@@ -198,7 +198,7 @@ def eig_kept(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Parameters
     ----------
-    A : (n, n) real, finite
+    A : (n, n) real, finite (else numpy's LinAlgError)
 
     Returns
     -------
@@ -215,7 +215,7 @@ def eig_kept(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     A = np.asarray(A, dtype=float)
     if A.shape[0] == 0:
         return np.zeros(0, complex), np.zeros((0, 0), complex), np.zeros((0, 0), complex)
-    if A.shape[0] <= MAX_ORDER:
+    if A.shape[0] <= MAX_ORDER and np.isfinite(A).all():  # (numpy's error for NaN/inf, not LAPACK's xerbla)
         try:
             return _schur_route(A)
         except _Failed:

@@ -112,6 +112,15 @@ def test_a_repeated_eigenvalue_goes_to_dgeev_which_returns_a_basis_of_its_eigens
     np.testing.assert_allclose(left @ right, np.eye(z.size), atol=1e-8)
 
 
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_a_non_finite_matrix_gets_numpys_error_and_no_lapack_message(bad, capfd):
+    a = np.eye(5)
+    a[1, 3] = bad
+    with pytest.raises(np.linalg.LinAlgError):
+        lapack.eig_kept(a)
+    assert "DGEBAL" not in capfd.readouterr().err
+
+
 def test_above_max_order_numpy_solves(monkeypatch):
     monkeypatch.setattr(lapack, "MAX_ORDER", 10)
     calls = []
