@@ -207,16 +207,8 @@ class HankelOperator(scipy.sparse.linalg.LinearOperator):
         x = np.asarray(x, dtype=float)
         return _correlate(self.y.transpose(0, 2, 1), x.reshape(self.rows, p, -1), self.cols).reshape(self.cols * m, -1)
 
-    def _matvec(self, x):
-        return self._matmat(np.reshape(x, (-1, 1)))[:, 0]
-
     def _rmatvec(self, x):
         return self._rmatmat(np.reshape(x, (-1, 1)))[:, 0]
-
-    def _adjoint(self):
-        return scipy.sparse.linalg.LinearOperator(dtype=self.dtype, shape=self.shape[::-1],
-                                                  matvec=self._rmatvec, matmat=self._rmatmat,
-                                                  rmatvec=self._matvec, rmatmat=self._matmat)
 
     def first_block_row(self) -> np.ndarray:
         """Its first block row [Y(0), ..., Y(s - 1)] (p, s m)."""

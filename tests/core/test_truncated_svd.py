@@ -100,6 +100,7 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
         np.testing.assert_allclose(op @ x, dense @ x, atol=1e-13 * scale * np.linalg.norm(x))
         np.testing.assert_allclose(op.T @ u, dense.T @ u, atol=1e-13 * scale * np.linalg.norm(u))
         np.testing.assert_allclose(op.matvec(x[:, 0]), dense @ x[:, 0], atol=1e-13 * scale * np.linalg.norm(x))
+        np.testing.assert_allclose(op.rmatvec(u[:, 0]), dense.T @ u[:, 0], atol=1e-13 * scale * np.linalg.norm(u))
         np.testing.assert_allclose(op.dense(), dense)
         np.testing.assert_array_equal(op.first_block_row(), dense[:p])
         np.testing.assert_array_equal(op.first_block_column(), dense[:, :m])
