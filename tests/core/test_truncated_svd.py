@@ -120,3 +120,10 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
     np.testing.assert_allclose(np.abs(np.sum(fast.Q * plain.Q, axis=0)), 1.0, atol=1e-9)
     np.testing.assert_allclose(fast.model(40, uncertainty=False).eigenvalues,
                                plain.model(40, uncertainty=False).eigenvalues, rtol=1e-10)
+    # noise-free: the kept values reach round-off, so the Rayleigh-Ritz step runs, on the operator too
+    exact, _ = modal_response(np.linspace(0.3, 14, 20), 0.01, 9, 8, 400, 1 / 32, snr_db=None, seed=0)
+    fast, dense = era.identify(exact, 100, 299, max_order=120), era.identify(exact, 100, 299, svd_method="dense")
+    assert fast.P.shape == (900, 40)  # the numerical rank, 2 × 20 modes
+    np.testing.assert_allclose(fast.singular_values[:40], dense.singular_values[:40], rtol=1e-13)
+    np.testing.assert_allclose(np.sort_complex(fast.model(40, uncertainty=False).eigenvalues),
+                               np.sort_complex(dense.model(40, uncertainty=False).eigenvalues), atol=1e-12)
