@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
+import scipy.fft
+import scipy.sparse.linalg
 
 from .blas import single_threaded_blas
 from .errors import HankelError
@@ -106,23 +108,24 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0:
     further block row costs two products of rank m: r p · r p · m work instead of (r p)² s m / 2 for the
     product (about 1/100 of it for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the
     entries, is of the order of the product's. Upper triangle computed, mirrored (exactly symmetric).
-    Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
+    Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``). ``h0`` may be the dense H(0) or its
+    :class:`HankelOperator` (consecutive shifts).
 
     Returns
     -------
     (min(shape), min(shape)) symmetric ndarray.
     """
     rows, cols = h0.shape
-    consecutive = np.array_equal(row_shifts, np.arange(len(row_shifts))) and \
-        np.array_equal(col_shifts, np.arange(len(col_shifts)))
-    if not consecutive:
+    if not is_consecutive(row_shifts, col_shifts):
         return h0 @ h0.T if rows <= cols else h0.T @ h0
+    p, m = markov.shape[1], markov.shape[2]
     with single_threaded_blas():   # a thin product and rank-m updates: slower with 2 threads (era.blas)
         if rows <= cols:
-            return _sliding_gram(markov, len(row_shifts), len(col_shifts), h0[:markov.shape[1]] @ h0.T)
+            first = (h0 @ h0.first_block_row().T).T if isinstance(h0, HankelOperator) else h0[:p] @ h0.T
+            return _sliding_gram(markov, len(row_shifts), len(col_shifts), first)
         # H^T is the block Hankel matrix of the transposed blocks Y(k)^T with the roles of rows and columns swapped
-        return _sliding_gram(markov.transpose(0, 2, 1), len(col_shifts), len(row_shifts),
-                             h0[:, :markov.shape[2]].T @ h0)
+        first = (h0.T @ h0.first_block_column()).T if isinstance(h0, HankelOperator) else h0[:, :m].T @ h0
+        return _sliding_gram(markov.transpose(0, 2, 1), len(col_shifts), len(row_shifts), first)
 
 
 def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray) -> np.ndarray:
@@ -149,3 +152,73 @@ def _mirror_upper(g: np.ndarray, block: int = 64) -> np.ndarray:
         lower = np.tril_indices(tile.shape[0], -1)
         tile[lower] = tile.T[lower]
     return g
+
+
+def is_consecutive(row_shifts: np.ndarray, col_shifts: np.ndarray) -> bool:
+    """True for the default shifts 0, 1, 2, ... in both directions (a plain block Hankel matrix)."""
+    return bool(np.array_equal(row_shifts, np.arange(len(row_shifts))) and
+                np.array_equal(col_shifts, np.arange(len(col_shifts))))
+
+
+def _correlate(y: np.ndarray, x: np.ndarray, count: int) -> np.ndarray:
+    """c_i = Σ_j y(i + j) x_j for i = 0..count - 1, by FFT: y (n, a, b) a sequence of blocks, x (J, b, K)
+    blocks; returns (count, a, K). One real FFT of y and of the reversed x, one small product per frequency."""
+    n, J = y.shape[0], x.shape[0]
+    size = scipy.fft.next_fast_len(n + J - 1, real=True)
+    # contiguous spectra, so the product per frequency goes to BLAS (numpy loops itself over strided ones)
+    yf = np.ascontiguousarray(scipy.fft.rfft(y, n=size, axis=0))
+    xf = np.ascontiguousarray(scipy.fft.rfft(x[::-1], n=size, axis=0))
+    return scipy.fft.irfft(yf @ xf, n=size, axis=0)[J - 1:J - 1 + count]  # (y * reversed x)[i + J - 1]
+
+
+def fft_pays(rows: int, cols: int) -> bool:
+    """Products with a plain block Hankel matrix of r × s blocks go by FFT (:class:`HankelOperator`) when
+    80 F < r s, F ≈ (2 r + s) / 2 the frequencies: measured on the benchmark's sizes (one core), the small
+    product per frequency runs far below the speed of one large product. 900 × 2392 (r = 100, s = 299): H(0)^T P
+    (P 900 × 120) in 4.0 ms instead of 15.5 ms with building H(0), the Gram matrix's first block row 0.7 ms
+    instead of 1.9 ms; 1280 × 2000 (r = 40, s = 500): 15.2 + 11.2 ms against 20.8 + 5.0 ms, so not there."""
+    return 40 * (2 * rows + cols) < rows * cols
+
+
+class HankelOperator(scipy.sparse.linalg.LinearOperator):
+    """H(k) of eq. 16 with consecutive shifts as a linear operator, H @ X and H^T @ X by FFT without forming H.
+
+    Block (i, j) of H is Y(k + i + j), so (H X)_i = Σ_j Y(k + i + j) X_j and (H^T X)_j = Σ_i Y(k + i + j)^T X_i
+    are correlations of the data with the blocks of X: ≈ F p m K work (F the FFT length) instead of r p s m K.
+    Round-off is that of the FFT, ε log F times the norms (3e-15 of each column's norm on the benchmark's
+    H(0)^T P: tests/core/test_truncated_svd.py). ``markov`` (N, p, m); r, s the numbers of block rows, columns.
+    """
+
+    def __init__(self, markov: np.ndarray, rows: int, cols: int, k: int = 0):
+        n, p, m = markov.shape
+        if k + rows + cols - 1 > n:
+            raise HankelError(f"H({k}) needs Y({k + rows + cols - 2}) but only {n} samples are given.")
+        self.y = markov[k:k + rows + cols - 1]
+        self.rows, self.cols = rows, cols
+        super().__init__(dtype=np.float64, shape=(rows * p, cols * m))
+
+    def _matmat(self, x):
+        n, p, m = self.y.shape
+        x = np.asarray(x, dtype=float)
+        return _correlate(self.y, x.reshape(self.cols, m, -1), self.rows).reshape(self.rows * p, -1)
+
+    def _rmatmat(self, x):
+        n, p, m = self.y.shape
+        x = np.asarray(x, dtype=float)
+        return _correlate(self.y.transpose(0, 2, 1), x.reshape(self.rows, p, -1), self.cols).reshape(self.cols * m, -1)
+
+    def _rmatvec(self, x):
+        return self._rmatmat(np.reshape(x, (-1, 1)))[:, 0]
+
+    def first_block_row(self) -> np.ndarray:
+        """Its first block row [Y(0), ..., Y(s - 1)] (p, s m)."""
+        n, p, m = self.y.shape
+        return self.y[:self.cols].transpose(1, 0, 2).reshape(p, -1)
+
+    def first_block_column(self) -> np.ndarray:
+        """Its first block column [Y(0); ...; Y(r - 1)] (r p, m)."""
+        return self.y[:self.rows].reshape(-1, self.y.shape[2])
+
+    def dense(self) -> np.ndarray:
+        """H itself (r p, s m)."""
+        return block_hankel(self.y, np.arange(self.rows), np.arange(self.cols))

@@ -410,8 +410,11 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     hankel.check_size(n_samples, p, m, js, ts)
     if max_order is not None:
         max_order = _count(max_order, "max_order")
-    h0 = hankel.block_hankel(data.markov, js, ts, 0)
-    method = svd.choose_method(h0.shape, svd_method, max_order)
+    method = svd.choose_method((r * p, s * m), svd_method, max_order)
+    if method == "truncated" and hankel.is_consecutive(js, ts) and hankel.fft_pays(r, s):
+        h0 = hankel.HankelOperator(data.markov, r, s)  # its products by FFT; H(0) itself is not needed
+    else:
+        h0 = hankel.block_hankel(data.markov, js, ts, 0)
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
     elif method == "truncated":

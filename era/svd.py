@@ -92,7 +92,8 @@ def truncated_svd(h: np.ndarray, rank: int,
     power iterations stall. Lanczos (scipy.sparse.linalg.svds with PROPACK or ARPACK) is as accurate but, at
     rank 120, is no faster than gesdd on these sizes.
 
-    ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds that of a block
+    ``h`` may also be a linear operator with ``h.T @ v`` (era.hankel.HankelOperator: products by FFT, without
+    forming H(0)). ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds that of a block
     Hankel matrix by a recursion, without the product).
 
     Returns
@@ -108,7 +109,7 @@ def truncated_svd(h: np.ndarray, rank: int,
         return P, d, Q
     rank = int(min(rank, rows))
     if gram is None:
-        gram = h @ h.T
+        gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(rows))
     with single_threaded_blas():   # sytrd is half BLAS-2: slower with 2 threads (era.blas)
         every, v = gram_eigen(gram, rank)
     del gram
@@ -119,7 +120,7 @@ def truncated_svd(h: np.ndarray, rank: int,
         # the values past the rank come with it (to ε d_1²/d_i² relative, 1e-4 at d_i = 1e-6 d_1)
         d = np.sqrt(np.maximum(every, 0.0))
         return np.ascontiguousarray(v), d, (h.T @ v) / d[:rank]
-    u_small, d, wt = scipy.linalg.svd(v.T @ h, full_matrices=False, lapack_driver="gesdd", check_finite=False)
+    u_small, d, wt = scipy.linalg.svd((h.T @ v).T, full_matrices=False, lapack_driver="gesdd", check_finite=False)
     return v @ u_small, d, np.ascontiguousarray(wt.T)
 
 

@@ -2,6 +2,7 @@
 min(H(0) shape): the same singular values, poles and indicators as the dense path."""
 
 import numpy as np
+import pytest
 
 import era
 from era.examples.paper_cases import case_1
@@ -80,3 +81,49 @@ def test_gram_eigenvectors_by_inverse_iteration_on_a_flat_noise_floor_match_the_
         assert np.abs(gram @ lead - lead * every[:60]).max() < 1e-12 * every[0]
         # the signal subspace equals the library's to round-off (the noise floor's vectors are not unique)
         np.testing.assert_allclose(np.abs(lead[:, :10].T @ v[:, ::-1][:, :10]), np.eye(10), atol=1e-10)
+
+
+def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_change():
+    """HankelOperator's H X, H^T X, its blocks and the Gram matrix built from it against the dense H(0), on
+    square, wide and tall shapes; then identify (which takes the FFT products on 900 × 2392) against the same
+    identification from the dense H(0)."""
+    from unittest import mock
+    from era import hankel
+
+    rng = np.random.default_rng(5)
+    for p, m, r, s in [(3, 2, 7, 7), (2, 3, 5, 11), (4, 1, 13, 3), (1, 1, 1, 1)]:
+        y = rng.standard_normal((r + s + 2, p, m))
+        dense = hankel.block_hankel(y, np.arange(r), np.arange(s))
+        op = hankel.HankelOperator(y, r, s)
+        x, u = rng.standard_normal((s * m, 4)), rng.standard_normal((r * p, 3))
+        scale = np.linalg.norm(dense)
+        np.testing.assert_allclose(op @ x, dense @ x, atol=1e-13 * scale * np.linalg.norm(x))
+        np.testing.assert_allclose(op.T @ u, dense.T @ u, atol=1e-13 * scale * np.linalg.norm(u))
+        np.testing.assert_allclose(op.matvec(x[:, 0]), dense @ x[:, 0], atol=1e-13 * scale * np.linalg.norm(x))
+        np.testing.assert_allclose(op.rmatvec(u[:, 0]), dense.T @ u[:, 0], atol=1e-13 * scale * np.linalg.norm(u))
+        np.testing.assert_allclose(op.dense(), dense)
+        np.testing.assert_array_equal(op.first_block_row(), dense[:p])
+        np.testing.assert_array_equal(op.first_block_column(), dense[:, :m])
+        np.testing.assert_allclose(hankel.gram(y, np.arange(r), np.arange(s), op),
+                                   hankel.gram(y, np.arange(r), np.arange(s), dense), atol=1e-13 * scale ** 2)
+    with pytest.raises(era.EraError, match="samples"):
+        hankel.HankelOperator(np.zeros((5, 1, 1)), 3, 4)
+
+    data, _ = modal_response(np.linspace(0.3, 14, 20), 0.01, 9, 8, 400, 1 / 32, snr_db=30, seed=0)
+    assert hankel.fft_pays(100, 299) and not hankel.fft_pays(40, 500)
+    fast = era.identify(data, 100, 299, max_order=120)
+    with mock.patch.object(hankel, "fft_pays", return_value=False):
+        plain = era.identify(data, 100, 299, max_order=120)
+    np.testing.assert_allclose(fast.singular_values[:120], plain.singular_values[:120], rtol=1e-12)
+    # past the rank, from the Gram matrix's eigenvalues: to ε d_1² / d_i² (era.svd.truncated_svd)
+    np.testing.assert_allclose(fast.singular_values, plain.singular_values, rtol=1e-9)
+    np.testing.assert_allclose(np.abs(np.sum(fast.Q * plain.Q, axis=0)), 1.0, atol=1e-9)
+    np.testing.assert_allclose(fast.model(40, uncertainty=False).eigenvalues,
+                               plain.model(40, uncertainty=False).eigenvalues, rtol=1e-10)
+    # noise-free: the kept values reach round-off, so the Rayleigh-Ritz step runs, on the operator too
+    exact, _ = modal_response(np.linspace(0.3, 14, 20), 0.01, 9, 8, 400, 1 / 32, snr_db=None, seed=0)
+    fast, dense = era.identify(exact, 100, 299, max_order=120), era.identify(exact, 100, 299, svd_method="dense")
+    assert fast.P.shape == (900, 40)  # the numerical rank, 2 × 20 modes
+    np.testing.assert_allclose(fast.singular_values[:40], dense.singular_values[:40], rtol=1e-13)
+    np.testing.assert_allclose(np.sort_complex(fast.model(40, uncertainty=False).eigenvalues),
+                               np.sort_complex(dense.model(40, uncertainty=False).eigenvalues), atol=1e-12)
