@@ -24,8 +24,14 @@ def blas_threads() -> int:
 
 
 def single_threaded_blas():
-    """A context with one BLAS thread (process-wide while it lasts), for work that a threaded BLAS slows down:
-    small eigensolutions run side by side in threads, and the memory-bound steps of the truncated SVD (the
-    Gram matrix's thin first block row and its tridiagonal reduction, 25-40 % slower with 2 threads on the
-    2-core machines measured: tests/bench/bench_sweep.py)."""
+    """A context with one BLAS thread (process-wide while it lasts).
+
+    For work that a threaded BLAS slows down: small eigensolutions and batched products run side by side in the
+    sweep's own threads (era.sweep.in_parallel), and the truncated SVD and projection that come just before
+    them. OpenBLAS's worker threads keep spinning for about 0.1 s after a threaded call, so a threaded call
+    just before the sweep's threads takes a core from them: on the 2-core machine measured, the 60
+    eigensolutions of tests/bench/bench_sweep.py in 2 threads took 85 ms when no threaded call preceded them,
+    117-130 ms right after one (100 ms after 50 ms, 91 ms after 0.1 s). The truncated SVD's steps gain less
+    from 2 threads than that (its tridiagonal reduction 41 → 26 ms, idle).
+    """
     return _controller().limit(limits=1, user_api="blas")

@@ -11,7 +11,7 @@ from .errors import EraError
 from .indicators import mac
 from .realization import Identification
 from .blas import blas_threads
-from .sweep import in_parallel, realize_orders
+from .sweep import in_parallel, order_indicators, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9
@@ -196,7 +196,8 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     done = [n for n in req if n <= ident.max_order]
     workers = blas_threads() if workers is None else max(1, int(workers))
     sw = realize_orders(ident, done, workers)
-    order, freq, damp, gamma, mu, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.emac, sw.mpc, sw.shapes
+    order, freq, damp, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.shapes
+    gamma, mu, contribution = order_indicators(ident, sw, workers)
     sf, sd, ss = (np.zeros(freq.size, dtype=bool) for _ in range(3))
     for k in range(1, len(done)):  # each order against the previous one
         now, before = sw.of(k), sw.of(k - 1)
@@ -209,6 +210,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
         ss[now] = _pair_mac(shapes[:, now], shapes[:, before][:, near]) >= mac_min
     stable = sf & sd & ss
+    tracks = _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders)
     f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
     if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
         def std_of_stable(k):
@@ -219,7 +221,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
 
         in_parallel(std_of_stable, list(range(len(done))), workers)
     modes = []
-    for c in _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders):
+    for c in tracks:
         c = np.array(c)
         modes.append(StableMode(
             frequency_hz=float(freq[c].mean()), frequency_std_hz=float(freq[c].std()),
@@ -229,7 +231,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
             data_frequency_std_hz=float(f_std[c[-1]]), data_damping_std=float(d_std[c[-1]])))
     modes.sort(key=lambda m: m.frequency_hz)
     return Stabilization(orders=np.array(done, dtype=int), order=order, mode_index=sw.mode_index,
-                         frequency_hz=freq, damping_ratio=damp, emac=gamma, mpc=mu, contribution=sw.contribution,
+                         frequency_hz=freq, damping_ratio=damp, emac=gamma, mpc=mu, contribution=contribution,
                          stable_frequency=sf, stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
                          frequency_std_hz=f_std, damping_std=d_std,
                          uncertainty_source=ident.uncertainty_source() if uncertainty else "")

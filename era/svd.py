@@ -107,11 +107,15 @@ def truncated_svd(h: np.ndarray, rank: int,
     if rows > cols:
         Q, d, P = truncated_svd(h.T, rank, gram)
         return P, d, Q
-    rank = int(min(rank, rows))
+    with single_threaded_blas():  # see era.blas: the stabilization's own threads follow
+        return _truncated_svd(h, int(min(rank, rows)), gram)
+
+
+def _truncated_svd(h, rank: int, gram: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols)."""
     if gram is None:
-        gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(rows))
-    with single_threaded_blas():   # sytrd is half BLAS-2: slower with 2 threads (era.blas)
-        every, v = gram_eigen(gram, rank)
+        gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
+    every, v = gram_eigen(gram, rank)
     del gram
     w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:

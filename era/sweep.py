@@ -38,10 +38,12 @@ class OrderSweep:
 
     orders : (n_orders,) int; start : (n_orders + 1,) int, the modes of orders[i] are [start[i], start[i+1]);
     order, mode_index : (n_modes,) int, each mode's order and its index in ``ident.model(order)``;
-    z : (n_modes,) complex; frequency_hz, damping_ratio, emac, mpc, contribution : (n_modes,);
-    shapes : (p, n_modes) complex;
+    z : (n_modes,) complex; frequency_hz, damping_ratio : (n_modes,); shapes : (p, n_modes) complex;
     raw : per order, (the decomposition as the eigensolver gave it, the model's mode order as indices into it,
-        the repeated clusters): what Identification.mode_std needs for the standard deviations of some modes.
+        the repeated clusters): what Identification.mode_std needs for the standard deviations of some modes;
+    aligned : per order, the decomposition with its repeated modes aligned, in the solver's order;
+    perm : (n_modes,) int, the sweep's order of the modes as indices into those decompositions concatenated.
+    γ, μ and the contribution come from :func:`order_indicators`.
     """
 
     orders: np.ndarray
@@ -51,11 +53,10 @@ class OrderSweep:
     z: np.ndarray
     frequency_hz: np.ndarray
     damping_ratio: np.ndarray
-    emac: np.ndarray
-    mpc: np.ndarray
-    contribution: np.ndarray
     shapes: np.ndarray
     raw: tuple
+    aligned: tuple
+    perm: np.ndarray
 
     def of(self, k: int) -> slice:
         """The modes of orders[k]."""
@@ -112,16 +113,20 @@ def sweep_emac(left: list, z: np.ndarray, basis_t: np.ndarray, root: np.ndarray,
         stacked[rows + at:rows + at + len(x), :x.shape[1]] = scaled.imag
         at += len(x)
     both = stacked @ basis_t[:width]  # Re and Im of the histories
-    return indicators.emac_parts(both[:rows], both[rows:], z, col_shifts, n_inputs, growth)
+    # |q|² = |ψ^{-1} D^{1/2}|² row by row, Q's columns being orthonormal (to ε d_1²/d_n², 2e-10 relative at
+    # most on the truncated SVD's direct route, era.svd): no pass over the histories for it
+    norms2 = np.einsum("jk,jk->j", stacked[:rows], stacked[:rows]) + np.einsum("jk,jk->j", stacked[rows:],
+                                                                                stacked[rows:])
+    return indicators.emac_parts(both[:rows], both[rows:], z, col_shifts, n_inputs, growth, norms2)
 
 
 def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     """The modes of ``ident.model(n, uncertainty=False)`` for every n in ``orders`` (increasing, each ≤
     ident.max_order), as an :class:`OrderSweep`; ``workers`` orders are eigensolved at a time."""
     d = ident.data
-    m = d.n_inputs
     if orders:
-        ident.projected(orders[-1])  # one projection of H(1) for every order
+        with single_threaded_blas():  # era.blas: the threads below would share their cores with BLAS's
+            ident.projected(orders[-1])  # one projection of H(1) for every order
 
     def decomposed(n):
         _, _, _, raw, dec, clusters, _, _ = ident._decomposed(n, False, histories=False)
@@ -132,27 +137,8 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     sizes = np.array([dec.z.size for dec in decs], dtype=int)
     start = np.concatenate([[0], np.cumsum(sizes)])
     group = np.repeat(np.asarray(orders, dtype=int), sizes)
-    p = d.n_outputs
     z = np.concatenate([dec.z for dec in decs]) if decs else np.zeros(0, complex)
-    shapes = np.concatenate([dec.shapes for dec in decs], axis=1) if decs else np.zeros((p, 0), complex)
-    amplitudes = np.concatenate([dec.amplitudes for dec in decs]) if decs else np.zeros((0, m), complex)
-    is_pair = np.concatenate([dec.is_pair for dec in decs]) if decs else np.zeros(0, bool)
-    root = np.sqrt(ident.singular_values[:max(orders, default=0)])
-    basis_t = np.ascontiguousarray(ident.Q[:, :max(orders, default=0)].T)
-
-    def indicators_of(chunk):  # γ, μ and the contribution of the modes of orders [i, j)
-        i, j = chunk
-        at = slice(int(start[i]), int(start[j]))
-        growth = indicators.powers(z[at], ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
-        gamma = sweep_emac([dec.left for dec in decs[i:j]], z[at], basis_t, root, ident.col_shifts, m, growth)
-        contrib = indicators.contribution(shapes[:, at], amplitudes[at], z[at], ident.row_shifts,
-                                          ident.col_shifts, is_pair[at], growth)
-        return gamma, indicators.mpc(shapes[:, at]), contrib
-
-    # the chunks side by side in threads too (one BLAS thread each): the products and the element-wise work
-    # around them both scale with the threads, where a threaded product leaves that work on one core
-    found = in_parallel(indicators_of, chunks_of(list(sizes)), workers)
-    gamma, mu, contrib = (np.concatenate([x[k] for x in found]) if found else np.zeros(0) for k in range(3))
+    shapes = np.concatenate([dec.shapes for dec in decs], axis=1) if decs else np.zeros((d.n_outputs, 0), complex)
     perm = mode_order(z, d.dt, group)  # each order's modes by frequency, as in its model
     local = [perm[start[k]:start[k + 1]] - start[k] for k in range(len(decs))]
     s = continuous_eigenvalues(z[perm], d.dt)
@@ -161,6 +147,37 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     np.divide(-s.real, mag, out=damping, where=mag > 0)
     return OrderSweep(orders=np.asarray(orders, dtype=int), start=start, order=group,
                       mode_index=np.concatenate([np.arange(k) for k in sizes]) if decs else np.zeros(0, int),
-                      z=z[perm], frequency_hz=s.imag / (2 * np.pi), damping_ratio=damping, emac=gamma[perm],
-                      mpc=mu[perm], contribution=contrib[perm], shapes=shapes[:, perm],
-                      raw=tuple((raw, loc, clusters) for (raw, _, clusters), loc in zip(parts, local)))
+                      z=z[perm], frequency_hz=s.imag / (2 * np.pi), damping_ratio=damping, shapes=shapes[:, perm],
+                      raw=tuple((raw, loc, clusters) for (raw, _, clusters), loc in zip(parts, local)),
+                      aligned=tuple(decs), perm=perm)
+
+
+def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """γ, μ and the contribution (each (n_modes,), in the sweep's order) of every mode of ``sweep``: the modes
+    of a run of orders (:func:`chunks_of`) in one batch, ``workers`` runs at a time in threads with one BLAS
+    thread each (the products and the element-wise work around them both scale with the threads, where a
+    threaded product would leave that work on one core)."""
+    decs = sweep.aligned
+    if not decs:
+        return np.zeros(0), np.zeros(0), np.zeros(0)
+    m = ident.data.n_inputs
+    sizes = [dec.z.size for dec in decs]
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    z = np.concatenate([dec.z for dec in decs])
+    root = np.sqrt(ident.singular_values[:sweep.orders[-1]])
+    basis_t = np.ascontiguousarray(ident.Q[:, :sweep.orders[-1]].T)
+
+    def indicators_of(chunk):  # the modes of orders [i, j)
+        i, j = chunk
+        at = slice(int(start[i]), int(start[j]))
+        run = decs[i:j]
+        shapes = np.concatenate([dec.shapes for dec in run], axis=1)
+        growth = indicators.powers(z[at], ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
+        gamma = sweep_emac([dec.left for dec in run], z[at], basis_t, root, ident.col_shifts, m, growth)
+        contrib = indicators.contribution(shapes, np.concatenate([dec.amplitudes for dec in run]), z[at],
+                                          ident.row_shifts, ident.col_shifts,
+                                          np.concatenate([dec.is_pair for dec in run]), growth)
+        return gamma, indicators.mpc(shapes), contrib
+
+    found = in_parallel(indicators_of, chunks_of(sizes), workers)
+    return tuple(np.concatenate([x[k] for x in found])[sweep.perm] for k in range(3))
