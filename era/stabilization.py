@@ -8,7 +8,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import EraError
-from .indicators import mac
 from .realization import Identification
 from .blas import blas_threads
 from .sweep import in_parallel, order_indicators, realize_orders
@@ -91,26 +90,23 @@ class Stabilization:
 
 def _relative_change(new: np.ndarray, old: np.ndarray) -> np.ndarray:
     """|new - old| / |old| for every pair: (len(new), len(old)); 0/0 counts as no change."""
-    diff = np.abs(new[:, None] - old[None, :])
-    ref = np.abs(old)[None, :] * np.ones_like(diff)
-    out = np.where(diff == 0, 0.0, np.inf)
-    np.divide(diff, ref, out=out, where=ref > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.abs(new[:, None] - old[None, :]) / np.abs(old)[None, :]  # x/0 = inf
+    out[np.isnan(out)] = 0.0  # 0/0
     return out
 
 
-def _pair_mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """MAC of each column of ``a`` (p, k) with the same column of ``b`` (p, k): (k,), as indicators.mac."""
-    num = np.abs(np.einsum("pk,pk->k", a.conj(), b)) ** 2
-    den = np.einsum("pk,pk->k", a.conj(), a).real * np.einsum("pk,pk->k", b.conj(), b).real
-    out = np.zeros(num.shape)
-    np.divide(num, den, out=out, where=den > 0)
-    return np.clip(out, 0.0, 1.0)
+def _unit_columns(shapes: np.ndarray) -> np.ndarray:
+    """Each column of ``shapes`` (p, k) scaled to unit norm (a zero column stays zero): then the MAC of two
+    columns (indicators.mac) is |u_i^H u_j|², one product for many pairs."""
+    norm = np.sqrt(np.einsum("pk,pk->k", shapes.conj(), shapes).real)
+    return shapes / np.where(norm > 0, norm, np.inf)
 
 
-def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list[list[int]]:
+def _cluster(order, freq, unit, stable, freq_tol, mac_min, min_orders) -> list[list[int]]:
     """Track stable poles across orders: each joins the cluster whose latest pole is nearest in frequency,
     within freq_tol and MAC ≥ mac_min, at most one pole per cluster and order (so repeated or close modes
-    with different shapes stay apart)."""
+    with different shapes stay apart). ``unit``: the poles' shapes as :func:`_unit_columns`."""
     clusters: list[list[int]] = []
     for n in np.unique(order):
         idx = np.flatnonzero((order == n) & stable)
@@ -122,7 +118,7 @@ def _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders) -> list
         if heads:
             df = _relative_change(freq[idx], freq[heads])
             near = df <= freq_tol
-            near[near] = (mac(shapes[:, idx], shapes[:, heads]) >= mac_min)[near]
+            near[near] = (np.abs(unit[:, idx].conj().T @ unit[:, heads]) ** 2 >= mac_min)[near]
             rows, cols = np.nonzero(near)  # the candidate (pole, track) pairs, nearest first
             by = np.argsort(df[rows, cols], kind="stable")
             for i, j in zip(idx[rows[by]].tolist(), cols[by].tolist()):
@@ -198,6 +194,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     sw = realize_orders(ident, done, workers)
     order, freq, damp, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.shapes
     gamma, mu, contribution = order_indicators(ident, sw, workers)
+    unit = _unit_columns(shapes)  # MAC = |u_i^H u_j|²
     sf, sd, ss = (np.zeros(freq.size, dtype=bool) for _ in range(3))
     for k in range(1, len(done)):  # each order against the previous one
         now, before = sw.of(k), sw.of(k - 1)
@@ -208,9 +205,9 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         rows = np.arange(df.shape[0])
         sf[now] = df[rows, near] <= freq_tol
         sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
-        ss[now] = _pair_mac(shapes[:, now], shapes[:, before][:, near]) >= mac_min
+        ss[now] = np.abs(np.einsum("pk,pk->k", unit[:, now].conj(), unit[:, before][:, near])) ** 2 >= mac_min
     stable = sf & sd & ss
-    tracks = _cluster(order, freq, shapes, stable, freq_tol, mac_min, min_orders)
+    tracks = _cluster(order, freq, unit, stable, freq_tol, mac_min, min_orders)
     f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
     if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
         def std_of_stable(k):
