@@ -35,11 +35,9 @@ def emac(histories: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs:
 
 
 def emac_parts(real: np.ndarray, imag: np.ndarray, z: np.ndarray, col_shifts: np.ndarray, n_inputs: int,
-               growth: np.ndarray | None = None, norms2: np.ndarray | None = None) -> np.ndarray:
+               growth: np.ndarray | None = None) -> np.ndarray:
     """:func:`emac` of histories given as their real and imaginary parts, each (modes, s·m) real: the form a
-    real matrix product gives them in (era.sweep), so no complex copy of the histories is made. ``norms2``:
-    the histories' squared norms (modes,) when the caller has them (era.sweep: |ψ^{-1} D^{1/2}|² row by row,
-    as Q has orthonormal columns)."""
+    real matrix product gives them in, so no complex copy of the histories is made."""
     modes = real.shape[0]
     s = len(col_shifts)
     qr, qi = real.reshape(modes, s, n_inputs), imag.reshape(modes, s, n_inputs)
@@ -53,7 +51,7 @@ def emac_parts(real: np.ndarray, imag: np.ndarray, z: np.ndarray, col_shifts: np
             + 1j * (np.einsum("jsm,jm->js", qi, br) - np.einsum("jsm,jm->js", qr, bi))
         inner = np.abs(np.einsum("js,js->j", growth.conj(), bq))
         b2 = np.einsum("jm,jm->j", br, br) + np.einsum("jm,jm->j", bi, bi)
-        q2 = np.einsum("jk,jk->j", real, real) + np.einsum("jk,jk->j", imag, imag) if norms2 is None else norms2
+        q2 = np.einsum("jk,jk->j", real, real) + np.einsum("jk,jk->j", imag, imag)
         norms = np.sqrt(np.sum(np.abs(growth) ** 2, axis=1) * b2 * q2)
     ok = np.isfinite(norms) & (norms > 0) & np.isfinite(inner)
     out = np.zeros(modes)

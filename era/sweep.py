@@ -2,16 +2,18 @@
 eigensolution on its own, then γ, μ and the contribution of the modes of a run of orders in one batch.
 
 Per order n the realization is the leading n × n block of one projection of H(1) (Identification.projected),
-so only its eigensolution (LAPACK's Hessenberg QR, about 25 n³ flops, not BLAS-3) is per order. What is per
-mode is then done on the modes of a run of orders together (:func:`chunks_of`, about CHUNK_MODES modes):
+so only its eigensolution (LAPACK's Hessenberg QR through era.lapack, about 25 n³ flops, not BLAS-3) is per
+order. What is per mode is then done on the modes of a run of orders together (:func:`chunks_of`, about
+CHUNK_MODES modes):
 
-* the modal histories ψ^{-1} D^{1/2} Q_n^T (eq. 44) that γ needs, as one large product of the stacked rows
-  of ψ^{-1} D^{1/2} (zero-padded to the largest order of the run) with Q^T — one BLAS-3 product of about
-  2 M × K × s m flops for M modes instead of one thin product per order (3× faster at K = 120);
-* γ (eqs. 42-45), μ (eqs. 46-54) and the contribution: one call each.
+* γ (eqs. 42-45) without the modal histories ψ^{-1} D^{1/2} Q_n^T (eq. 44): their inner products with the
+  ideal histories come from one BLAS-3 product of Q^T, arranged by column shift, with the modes' conjugate
+  powers z^{-t_i} (:func:`sweep_emac`), about 2 M × K × s m flops for M modes instead of a thin product per
+  order, and an output K m × 2 M instead of the histories' 2 M × s m;
+* μ (eqs. 46-54) and the contribution: one call each.
 
-Both the orders and the runs go ``workers`` at a time in threads with one BLAS thread each (numpy's LAPACK,
-BLAS and element-wise loops release the GIL), so all of it scales with the threads, not only the products.
+Both the orders and the runs go ``workers`` at a time in threads with one BLAS thread each (LAPACK through
+ctypes, numpy's BLAS and element-wise loops release the GIL), so all of it scales with the threads.
 The numbers are those of ``ident.model(n)`` for every n (to round-off: tests/core/test_stabilization.py).
 """
 
@@ -26,8 +28,8 @@ from . import indicators
 from .blas import single_threaded_blas
 from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
 
-#: modes per batched product of the histories (bounds its memory: CHUNK_MODES · s·m complex numbers, 11 MB
-#: for s·m = 2392) — large enough to run at BLAS-3 speed.
+#: modes per batched product (bounds its memory: K m × 2 CHUNK_MODES numbers, 4.6 MB for K = 120, m = 8) —
+#: large enough to run at BLAS-3 speed (100-300 all take the same time on the benchmark).
 CHUNK_MODES = 300
 
 
@@ -88,36 +90,52 @@ def chunks_of(sizes: list[int], limit: int = CHUNK_MODES) -> list[tuple[int, int
     return out
 
 
-def sweep_emac(left: list, z: np.ndarray, basis_t: np.ndarray, root: np.ndarray, col_shifts: np.ndarray,
-               n_inputs: int, growth: np.ndarray) -> np.ndarray:
-    """γ of the modes of some orders (eqs. 42-45) from their left eigenvectors, the histories in one product.
+def sweep_emac(left: list, z: np.ndarray, by_shift: np.ndarray, root: np.ndarray, growth: np.ndarray) -> np.ndarray:
+    """γ of the modes of some orders (eqs. 42-45) from their left eigenvectors, without forming their histories.
+
+    With L_j = ψ^{-1}_j D^{1/2} (the row of mode j, zero past its order) the history is q_j = L_j Q^T, its
+    first block b_j = L_j Q_0^T, and the inner product with the ideal history b_j z_j^{t_i} (eq. 43) is
+
+        Σ_i conj(z_j^{t_i}) b_j^H q_j(t_i) = Σ_n L_jn Σ_m conj(b_jm) F_j[n, m],   F_j = Σ_i conj(z_j^{t_i}) Q_i^T
+
+    where Q_i^T (K × m) is Q^T's block of column shift t_i. All F_j are ONE real product of Q^T arranged by
+    shift (K m × s) with the conjugate powers (s × 2 M): the flops of the histories' product, but an output of
+    K m × 2 M instead of 2 M × s m and no pass over the histories after it; |q_j| = |L_j| as Q's columns are
+    orthonormal (to ε d_1²/d_n², 2e-10 relative at most on the truncated SVD's direct route, era.svd).
 
     Parameters
     ----------
     left : list of (modes_i, n_i) complex, the rows of ψ^{-1} of each order's kept modes (ModalDecomposition.left)
     z : (M,) complex, their eigenvalues in the same order (M = Σ modes_i)
-    basis_t : (K, s m) Q^T, K ≥ every n_i; root : (K,) D^{1/2}
-    col_shifts : (s,); n_inputs : m; growth : (M, s) powers(z, col_shifts)
+    by_shift : (K, m, s) Q^T arranged by column shift, K ≥ every n_i; root : (K,) D^{1/2}
+    growth : (M, s) powers(z, col_shifts)
 
     Returns
     -------
-    (M,) γ, equal to indicators.emac of each order's histories ψ^{-1} D^{1/2} Q_n^T.
+    (M,) γ, equal (to round-off) to indicators.emac of each order's histories ψ^{-1} D^{1/2} Q_n^T.
     """
-    rows = len(z)
+    modes = len(z)
     width = max((x.shape[1] for x in left), default=0)
-    stacked = np.zeros((2 * rows, width))  # Re of the rows of ψ^{-1} D^{1/2}, then Im (zero-padded to width)
+    k, m, s = by_shift.shape
+    rows = np.zeros((modes, width), complex)  # L_j, zero-padded to the widest order
     at = 0
     for x in left:
-        scaled = x * root[:x.shape[1]]
-        stacked[at:at + len(x), :x.shape[1]] = scaled.real
-        stacked[rows + at:rows + at + len(x), :x.shape[1]] = scaled.imag
+        rows[at:at + len(x), :x.shape[1]] = x * root[:x.shape[1]]
         at += len(x)
-    both = stacked @ basis_t[:width]  # Re and Im of the histories
-    # |q|² = |ψ^{-1} D^{1/2}|² row by row, Q's columns being orthonormal (to ε d_1²/d_n², 2e-10 relative at
-    # most on the truncated SVD's direct route, era.svd): no pass over the histories for it
-    norms2 = np.einsum("jk,jk->j", stacked[:rows], stacked[:rows]) + np.einsum("jk,jk->j", stacked[rows:],
-                                                                                stacked[rows:])
-    return indicators.emac_parts(both[:rows], both[rows:], z, col_shifts, n_inputs, growth, norms2)
+    powers_t = np.concatenate([growth.real.T, -growth.imag.T], axis=1)  # (s, 2 M): conj(z^{t_i}) as Re, Im
+    both = by_shift[:width].reshape(width * m, s) @ powers_t
+    f = (both[:, :modes] + 1j * both[:, modes:]).reshape(width, m, modes)
+    t = np.einsum("jn,nmj->jm", rows, f)  # Σ_n L_jn F_j[n, m]
+    b = rows @ by_shift[:width, :, 0]  # the first block of each history, (M, m)
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        inner = np.abs(np.einsum("jm,jm->j", b.conj(), t))
+        norms = np.sqrt(np.einsum("js,js->j", growth.real, growth.real) + np.einsum("js,js->j", growth.imag,
+                                                                                    growth.imag)) \
+            * np.linalg.norm(b, axis=1) * np.linalg.norm(rows, axis=1)
+    ok = np.isfinite(norms) & (norms > 0) & np.isfinite(inner)
+    out = np.zeros(modes)
+    out[ok] = inner[ok] / norms[ok]
+    return np.clip(out, 0.0, 1.0)
 
 
 def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
@@ -165,7 +183,8 @@ def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.nda
     start = np.concatenate([[0], np.cumsum(sizes)])
     z = np.concatenate([dec.z for dec in decs])
     root = np.sqrt(ident.singular_values[:sweep.orders[-1]])
-    basis_t = np.ascontiguousarray(ident.Q[:, :sweep.orders[-1]].T)
+    s = len(ident.col_shifts)  # Q^T arranged by column shift: (K, m, s)
+    by_shift = np.ascontiguousarray(ident.Q[:, :sweep.orders[-1]].T.reshape(-1, s, m).transpose(0, 2, 1))
 
     def indicators_of(chunk):  # the modes of orders [i, j)
         i, j = chunk
@@ -173,7 +192,7 @@ def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.nda
         run = decs[i:j]
         shapes = np.concatenate([dec.shapes for dec in run], axis=1)
         growth = indicators.powers(z[at], ident.col_shifts)  # z^{t_i}, shared by γ and the contribution
-        gamma = sweep_emac([dec.left for dec in run], z[at], basis_t, root, ident.col_shifts, m, growth)
+        gamma = sweep_emac([dec.left for dec in run], z[at], by_shift, root, growth)
         contrib = indicators.contribution(shapes, np.concatenate([dec.amplitudes for dec in run]), z[at],
                                           ident.row_shifts, ident.col_shifts,
                                           np.concatenate([dec.is_pair for dec in run]), growth)

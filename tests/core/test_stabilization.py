@@ -95,3 +95,23 @@ def test_stable_poles_carry_the_standard_deviations_of_their_order_model(noisy):
     serial = era.stabilization(ident, orders=[10, 20, 30], uncertainty=True, workers=1)
     np.testing.assert_array_equal(serial.frequency_std_hz, stab.frequency_std_hz)
     assert all(np.isfinite(m.data_frequency_std_hz) for m in stab.modes)
+
+
+def test_gamma_without_the_histories_equals_gamma_from_them_with_any_column_shifts():
+    """era.sweep.sweep_emac (inner products from Q^T arranged by shift and the conjugate powers) against
+    indicators.emac on the histories themselves, with non-consecutive column shifts and orders of several
+    widths in one batch (zero-padded rows)."""
+    from era import indicators
+    from era.sweep import sweep_emac
+
+    rng = np.random.default_rng(7)
+    m, shifts, k = 3, np.array([0, 1, 3, 4, 7, 11]), 9
+    q, _ = np.linalg.qr(rng.standard_normal((len(shifts) * m, k)))  # orthonormal columns, as the SVD's
+    root = np.sqrt(np.sort(rng.random(k) + 0.5)[::-1])
+    left = [rng.standard_normal((2, n)) + 1j * rng.standard_normal((2, n)) for n in (4, 6, 9)]
+    z = 0.97 * np.exp(1j * rng.uniform(0.1, 3.0, 6))
+    by_shift = np.ascontiguousarray(q.T.reshape(k, len(shifts), m).transpose(0, 2, 1))
+    got = sweep_emac(left, z, by_shift, root, indicators.powers(z, shifts))
+    histories = np.concatenate([(x * root[:x.shape[1]]) @ q[:, :x.shape[1]].T for x in left])
+    np.testing.assert_allclose(got, indicators.emac(histories, z, shifts, m), rtol=1e-12)
+    assert np.all((got > 0) & (got < 1))
