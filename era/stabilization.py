@@ -88,12 +88,36 @@ class Stabilization:
         return self.stable_frequency & self.stable_damping & self.stable_shape
 
 
-def _relative_change(new: np.ndarray, old: np.ndarray) -> np.ndarray:
-    """|new - old| / |old| for every pair: (len(new), len(old)); 0/0 counts as no change."""
+def _relative_change(new: np.ndarray, old: np.ndarray, pairwise: bool = True) -> np.ndarray:
+    """|new - old| / |old| for every pair (len(new), len(old)), or element by element (``pairwise=False``);
+    0/0 counts as no change."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.abs(new[:, None] - old[None, :]) / np.abs(old)[None, :]  # x/0 = inf
-    out[np.isnan(out)] = 0.0  # 0/0
+        out = np.abs(new[:, None] - old[None, :]) / np.abs(old)[None, :] if pairwise else np.abs(new - old) / np.abs(old)
+    out[np.isnan(out)] = 0.0  # 0/0 (x/0 = inf)
     return out
+
+
+def _nearest_in_previous_order(start: np.ndarray, freq: np.ndarray) -> np.ndarray:
+    """For each pole, the index of the pole of the previous computed order with the least relative frequency
+    change (the first of equals), -1 at the first order or when the previous order has no pole. ``start``
+    (n_orders + 1,): the poles of order k are [start[k], start[k+1]). All orders in one padded array."""
+    counts = np.diff(start)
+    near = np.full(freq.size, -1)
+    if len(counts) < 2 or not counts.any():
+        return near
+    width = int(counts.max())
+    ref = np.full((len(counts), width), np.nan)  # each order's frequencies, padded
+    within = np.arange(width)[None, :] < counts[:, None]
+    ref[within] = freq
+    order_of = np.repeat(np.arange(len(counts)), counts)
+    later = order_of >= 1
+    prev = ref[order_of[later] - 1]  # (poles after the first order, width)
+    change = _relative_change(freq[later][:, None], prev, pairwise=False)  # broadcast: pole × candidate
+    change[np.isnan(prev)] = np.inf  # padding
+    best = np.argmin(change, axis=1)
+    found = counts[order_of[later] - 1] > 0
+    near[np.flatnonzero(later)[found]] = start[order_of[later][found] - 1] + best[found]
+    return near
 
 
 def _unit_columns(shapes: np.ndarray) -> np.ndarray:
@@ -195,17 +219,13 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     order, freq, damp, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.shapes
     gamma, mu, contribution = order_indicators(ident, sw, workers)
     unit = _unit_columns(shapes)  # MAC = |u_i^H u_j|²
+    near = _nearest_in_previous_order(sw.start, freq)  # each pole's partner at the previous order, or -1
+    has = near >= 0
     sf, sd, ss = (np.zeros(freq.size, dtype=bool) for _ in range(3))
-    for k in range(1, len(done)):  # each order against the previous one
-        now, before = sw.of(k), sw.of(k - 1)
-        if now.start == now.stop or before.start == before.stop:  # nothing to compare with
-            continue
-        df = _relative_change(freq[now], freq[before])
-        near = np.argmin(df, axis=1)
-        rows = np.arange(df.shape[0])
-        sf[now] = df[rows, near] <= freq_tol
-        sd[now] = _relative_change(damp[now], damp[before])[rows, near] <= damping_tol
-        ss[now] = np.abs(np.einsum("pk,pk->k", unit[:, now].conj(), unit[:, before][:, near])) ** 2 >= mac_min
+    partner = near[has]
+    sf[has] = _relative_change(freq[has], freq[partner], pairwise=False) <= freq_tol
+    sd[has] = _relative_change(damp[has], damp[partner], pairwise=False) <= damping_tol
+    ss[has] = np.abs(np.einsum("pk,pk->k", unit[:, has].conj(), unit[:, partner])) ** 2 >= mac_min
     stable = sf & sd & ss
     tracks = _cluster(order, freq, unit, stable, freq_tol, mac_min, min_orders)
     f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
