@@ -35,3 +35,8 @@ def single_threaded_blas():
     from 2 threads than that (its tridiagonal reduction 41 → 26 ms, idle).
     """
     return _controller().limit(limits=1, user_api="blas")
+
+
+def blas_threads_limited(threads: int):
+    """A context with at most ``threads`` BLAS threads (process-wide while it lasts)."""
+    return _controller().limit(limits=max(1, int(threads)), user_api="blas")

@@ -3,10 +3,12 @@ when the largest order is far below min(shape), or a randomized one for very lar
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import scipy.linalg
 
-from .blas import single_threaded_blas
+from .blas import blas_threads, blas_threads_limited, single_threaded_blas
 from .errors import EraError
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
@@ -21,6 +23,13 @@ TRUNCATED_RANK_FRACTION = 1 / 3
 
 #: ... and min(shape) at most this: the Gram matrix's eigensolution grows as min(shape)³ (above it, randomized).
 TRUNCATED_MAX_SIDE = 6000
+
+#: truncated_svd reduces a Gram matrix of at least this order to tridiagonal form with the caller's BLAS threads
+#: (everything else with one, era.blas). Below it the reduction is too short: on 900 × 2392 two threads take it
+#: from 41 to 26 ms, but OpenBLAS's workers then spin into the sweep's threads 35 ms later and cost them more
+#: (the 2-thread sweep 245 → 250 ms); on 1280 × 2000 they take it from ~120 to ~75 ms, ahead of 70 ms of
+#: one-thread work (tests/bench/bench_sweep.py).
+THREADED_REDUCTION_MIN = 1000
 
 #: truncated_svd skips its Rayleigh-Ritz step when the smallest eigenvalue kept of the Gram matrix is at least
 #: this fraction of the largest (every singular value kept ≥ 1e-3 d_1, as in a noisy measured H(0)).
@@ -107,15 +116,16 @@ def truncated_svd(h: np.ndarray, rank: int,
     if rows > cols:
         Q, d, P = truncated_svd(h.T, rank, gram)
         return P, d, Q
+    threads = blas_threads()
     with single_threaded_blas():  # see era.blas: the stabilization's own threads follow
-        return _truncated_svd(h, int(min(rank, rows)), gram)
+        return _truncated_svd(h, int(min(rank, rows)), gram, threads if rows >= THREADED_REDUCTION_MIN else 1)
 
 
-def _truncated_svd(h, rank: int, gram: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols)."""
+def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction with ``threads``."""
     if gram is None:
         gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
-    every, v = gram_eigen(gram, rank)
+    every, v = gram_eigen(gram, rank, threads)
     del gram
     w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:
@@ -128,18 +138,19 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None) -> tuple[np.ndarray, n
     return v @ u_small, d, np.ascontiguousarray(wt.T)
 
 
-def gram_eigen(gram: np.ndarray, rank: int) -> tuple[np.ndarray, np.ndarray]:
+def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """All eigenvalues of the symmetric ``gram`` (a, a), descending, and the eigenvectors (a, rank) of the
     leading ``rank``: one tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
-    eigenvalue for a² more work.
+    eigenvalue for a² more work. ``threads``: BLAS threads for the reduction (default: as the caller has).
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
     try:
         lwork = int(lapack.dsytrd_lwork(a, lower=1)[0])
-        c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
+        with blas_threads_limited(threads) if threads else contextlib.nullcontext():
+            c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
         if info != 0:
             raise np.linalg.LinAlgError(f"sytrd info {info}")
         every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
