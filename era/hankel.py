@@ -205,7 +205,8 @@ class HankelOperator(scipy.sparse.linalg.LinearOperator):
     def _rmatmat(self, x):
         n, p, m = self.y.shape
         x = np.asarray(x, dtype=float)
-        return _correlate(self.y.transpose(0, 2, 1), x.reshape(self.rows, p, -1), self.cols).reshape(self.cols * m, -1)
+        out = _correlate(self.y.transpose(0, 2, 1), x.reshape(self.rows, p, -1), self.cols)
+        return out.reshape(self.cols * m, -1)
 
     def _rmatvec(self, x):
         return self._rmatmat(np.reshape(x, (-1, 1)))[:, 0]

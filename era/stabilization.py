@@ -92,7 +92,8 @@ def _relative_change(new: np.ndarray, old: np.ndarray, pairwise: bool = True) ->
     """|new - old| / |old| for every pair (len(new), len(old)), or element by element (``pairwise=False``);
     0/0 counts as no change."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.abs(new[:, None] - old[None, :]) / np.abs(old)[None, :] if pairwise else np.abs(new - old) / np.abs(old)
+        out = np.abs(new[:, None] - old[None, :]) / np.abs(old)[None, :] if pairwise else \
+            np.abs(new - old) / np.abs(old)
     out[np.isnan(out)] = 0.0  # 0/0 (x/0 = inf)
     return out
 

@@ -102,8 +102,11 @@ def truncated_svd(h: np.ndarray, rank: int,
     rank 120, is no faster than gesdd on these sizes.
 
     ``h`` may also be a linear operator with ``h.T @ v`` (era.hankel.HankelOperator: products by FFT, without
-    forming H(0)). ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds that of a block
-    Hankel matrix by a recursion, without the product).
+    forming H(0)). ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds
+    that of a block Hankel matrix by a recursion, without the product).
+
+    BLAS runs with one thread throughout (era.blas: the stabilization's own threads follow), except the
+    tridiagonal reduction of a Gram matrix of order ≥ THREADED_REDUCTION_MIN, which takes the caller's.
 
     Returns
     -------
@@ -117,7 +120,7 @@ def truncated_svd(h: np.ndarray, rank: int,
         Q, d, P = truncated_svd(h.T, rank, gram)
         return P, d, Q
     threads = blas_threads()
-    with single_threaded_blas():  # see era.blas: the stabilization's own threads follow
+    with single_threaded_blas():
         return _truncated_svd(h, int(min(rank, rows)), gram, threads if rows >= THREADED_REDUCTION_MIN else 1)
 
 
