@@ -34,7 +34,7 @@ def single_threaded_blas():
     117-130 ms right after one (100 ms after 50 ms, 91 ms after 0.1 s). The truncated SVD's steps gain less
     from 2 threads than that (its tridiagonal reduction 41 → 26 ms, idle).
     """
-    return _controller().limit(limits=1, user_api="blas")
+    return blas_threads_limited(1)
 
 
 def blas_threads_limited(threads: int):

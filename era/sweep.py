@@ -116,7 +116,7 @@ def sweep_emac(left: list, z: np.ndarray, by_shift: np.ndarray, root: np.ndarray
     """
     modes = len(z)
     width = max((x.shape[1] for x in left), default=0)
-    k, m, s = by_shift.shape
+    _, m, s = by_shift.shape
     rows = np.zeros((modes, width), complex)  # L_j, zero-padded to the widest order
     at = 0
     for x in left:
@@ -179,8 +179,7 @@ def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.nda
     if not decs:
         return np.zeros(0), np.zeros(0), np.zeros(0)
     m = ident.data.n_inputs
-    sizes = [dec.z.size for dec in decs]
-    start = np.concatenate([[0], np.cumsum(sizes)])
+    start = sweep.start  # the modes of decs[k] are [start[k], start[k+1]) of the concatenation
     z = np.concatenate([dec.z for dec in decs])
     root = np.sqrt(ident.singular_values[:sweep.orders[-1]])
     s = len(ident.col_shifts)  # Q^T arranged by column shift: (K, m, s)
@@ -198,5 +197,5 @@ def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.nda
                                           np.concatenate([dec.is_pair for dec in run]), growth)
         return gamma, indicators.mpc(shapes), contrib
 
-    found = in_parallel(indicators_of, chunks_of(sizes), workers)
+    found = in_parallel(indicators_of, chunks_of(np.diff(start).tolist()), workers)
     return tuple(np.concatenate([x[k] for x in found])[sweep.perm] for k in range(3))
