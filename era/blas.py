@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import ctypes
+import threading
+from contextlib import contextmanager
 from functools import lru_cache
 
 import numpy as np  # noqa: F401  (loaded first, so the controller sees its BLAS)
@@ -24,19 +27,60 @@ def blas_threads() -> int:
 
 
 def single_threaded_blas():
-    """A context with one BLAS thread (process-wide while it lasts).
-
-    For work that a threaded BLAS slows down: small eigensolutions and batched products run side by side in the
-    sweep's own threads (era.sweep.in_parallel), and the truncated SVD and projection that come just before
-    them. OpenBLAS's worker threads keep spinning for about 0.1 s after a threaded call, so a threaded call
-    just before the sweep's threads takes a core from them: on the 2-core machine measured, the 60
-    eigensolutions of tests/bench/bench_sweep.py in 2 threads took 85 ms when no threaded call preceded them,
-    117-130 ms right after one (100 ms after 50 ms, 91 ms after 0.1 s). The truncated SVD's steps gain less
-    from 2 threads than that (its tridiagonal reduction 41 → 26 ms, idle).
-    """
+    """A context with one BLAS thread (process-wide while it lasts): for work that a threaded BLAS slows down,
+    such as small eigensolutions and batched products run side by side in the sweep's own threads
+    (era.sweep.in_parallel)."""
     return blas_threads_limited(1)
 
 
+@contextmanager
 def blas_threads_limited(threads: int):
-    """A context with at most ``threads`` BLAS threads (process-wide while it lasts)."""
-    return _controller().limit(limits=max(1, int(threads)), user_api="blas")
+    """A context with at most ``threads`` BLAS threads (process-wide while it lasts).
+
+    Where it is safe (:func:`workers_can_rest`), OpenBLAS's idle workers are stopped after the limit is set and
+    after it is lifted (:func:`rest_blas_workers`): OpenBLAS starts a stopped pool again whenever its thread
+    count is set, and a fresh worker spins for 0.1 s, so without that every limit would leave spinning workers
+    behind in each OpenBLAS loaded (numpy's and scipy's). A threaded call starts the workers it needs."""
+    with _controller().limit(limits=max(1, int(threads)), user_api="blas"):
+        rest_blas_workers()
+        yield
+    rest_blas_workers()
+
+
+@lru_cache(maxsize=1)
+def _openblas_shutdowns() -> tuple:
+    """``blas_thread_shutdown_`` of each loaded OpenBLAS (numpy and scipy each bring their own), found once."""
+    found = []
+    for lib in _controller().lib_controllers:
+        if getattr(lib, "internal_api", "") != "openblas":
+            continue
+        try:
+            fn = ctypes.CDLL(lib.filepath).blas_thread_shutdown_
+        except (OSError, AttributeError):
+            continue
+        fn.argtypes, fn.restype = [], ctypes.c_int
+        found.append(fn)
+    return tuple(found)
+
+
+def workers_can_rest() -> bool:
+    """Whether :func:`rest_blas_workers` may stop OpenBLAS's workers now: only when the calling thread is the
+    process's only Python thread. OpenBLAS's shutdown is not safe against a threaded call running in another
+    thread at the same time, which a lone thread rules out (in the app's worker processes, with their watch
+    thread, and under Dask's threads it is never done)."""
+    return threading.active_count() == 1
+
+
+def rest_blas_workers() -> bool:
+    """Stop OpenBLAS's worker threads now, when :func:`workers_can_rest` (the next threaded call starts them
+    again, which costs a few ms); returns whether they were stopped.
+
+    After a threaded call they spin for about 0.1 s (OpenBLAS's THREAD_TIMEOUT, fixed when the library loads)
+    and take a core from the Python threads that follow: on the 2-core machine measured, the 60 eigensolutions
+    of tests/bench/bench_sweep.py in 2 threads took 85 ms when no threaded call preceded them, 117-130 ms right
+    after one."""
+    if not workers_can_rest():
+        return False
+    for shutdown in _openblas_shutdowns():
+        shutdown()
+    return True

@@ -8,7 +8,7 @@ import contextlib
 import numpy as np
 import scipy.linalg
 
-from .blas import blas_threads, blas_threads_limited, single_threaded_blas
+from .blas import blas_threads, blas_threads_limited, single_threaded_blas, workers_can_rest
 from .errors import EraError
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
@@ -25,10 +25,11 @@ TRUNCATED_RANK_FRACTION = 1 / 3
 TRUNCATED_MAX_SIDE = 6000
 
 #: truncated_svd reduces a Gram matrix of at least this order to tridiagonal form with the caller's BLAS threads
-#: (everything else with one, era.blas). Below it the reduction is too short: on 900 × 2392 two threads take it
-#: from 41 to 26 ms, but OpenBLAS's workers then spin into the sweep's threads 35 ms later and cost them more
-#: (the 2-thread sweep 245 → 250 ms); on 1280 × 2000 they take it from ~120 to ~75 ms, ahead of 70 ms of
-#: one-thread work (tests/bench/bench_sweep.py).
+#: even when OpenBLAS's workers cannot be stopped afterwards (era.blas.workers_can_rest: another Python thread
+#: runs); below it the reduction is too short for that: on 900 × 2392 two threads take it from 41 to 26 ms, but
+#: the workers then spin into the sweep's threads 35 ms later and cost them more (the 2-thread sweep 245 → 250
+#: ms); on 1280 × 2000 they take it from ~120 to ~75 ms, ahead of 70 ms of one-thread work
+#: (tests/bench/bench_sweep.py). When they can be stopped, every order is reduced with the caller's threads.
 THREADED_REDUCTION_MIN = 1000
 
 #: truncated_svd skips its Rayleigh-Ritz step when the smallest eigenvalue kept of the Gram matrix is at least
@@ -106,7 +107,8 @@ def truncated_svd(h: np.ndarray, rank: int,
     that of a block Hankel matrix by a recursion, without the product).
 
     BLAS runs with one thread throughout (era.blas: the stabilization's own threads follow), except the
-    tridiagonal reduction of a Gram matrix of order ≥ THREADED_REDUCTION_MIN, which takes the caller's.
+    tridiagonal reduction of a Gram matrix, which takes the caller's when OpenBLAS's workers can be stopped after it
+    (era.blas.rest_blas_workers) or its order is ≥ THREADED_REDUCTION_MIN.
 
     Returns
     -------
@@ -121,7 +123,8 @@ def truncated_svd(h: np.ndarray, rank: int,
         return P, d, Q
     threads = blas_threads()
     with single_threaded_blas():
-        return _truncated_svd(h, int(min(rank, rows)), gram, threads if rows >= THREADED_REDUCTION_MIN else 1)
+        threaded = rows >= THREADED_REDUCTION_MIN or workers_can_rest()
+        return _truncated_svd(h, int(min(rank, rows)), gram, threads if threaded else 1)
 
 
 def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
