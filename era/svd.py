@@ -149,7 +149,8 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple
     leading ``rank``: one tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
-    eigenvalue for a² more work. ``threads``: BLAS threads for the reduction (default: as the caller has).
+    eigenvalue for a² more work. ``threads``: BLAS threads for the reduction and the reflectors (default: as
+    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -163,7 +164,8 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple
         y = _tridiagonal_vectors(diag, off, every[a - rank:])
         every = every[::-1]
         if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
-            rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=max(1, 64 * rank))
+            with blas_threads_limited(threads) if threads else contextlib.nullcontext():
+                rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=64 * rank + 4160)
             if info != 0:
                 raise np.linalg.LinAlgError(f"ormqr info {info}")
             y = np.vstack([y[:1], rest])
