@@ -128,7 +128,8 @@ def truncated_svd(h: np.ndarray, rank: int,
 
 
 def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction with ``threads``."""
+    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction, its reflectors and the
+    product giving Q with ``threads`` BLAS threads."""
     if gram is None:
         gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
     every, v = gram_eigen(gram, rank, threads)
@@ -139,7 +140,9 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple
         # values and Q's orthogonality), and the small SVD, slower with threads than the rest, is not needed;
         # the values past the rank come with it (to ε d_1²/d_i² relative, 1e-4 at d_i = 1e-6 d_1)
         d = np.sqrt(np.maximum(every, 0.0))
-        return np.ascontiguousarray(v), d, (h.T @ v) / d[:rank]
+        with blas_threads_limited(threads):  # a dense H(0): one BLAS-3 product (FFT products take one thread)
+            q = h.T @ v
+        return np.ascontiguousarray(v), d, q / d[:rank]
     u_small, d, wt = scipy.linalg.svd((h.T @ v).T, full_matrices=False, lapack_driver="gesdd", check_finite=False)
     return v @ u_small, d, np.ascontiguousarray(wt.T)
 
