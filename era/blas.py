@@ -72,8 +72,9 @@ def workers_can_rest() -> bool:
 
 
 def rest_blas_workers() -> bool:
-    """Stop OpenBLAS's worker threads now, when :func:`workers_can_rest` (the next threaded call starts them
-    again, which costs a few ms); returns whether they were stopped.
+    """Stop OpenBLAS's worker threads now, when :func:`workers_can_rest`; returns whether they were stopped.
+    The next threaded call starts them again: stopping and starting took 0.1 ms, and a tridiagonal reduction
+    of order 900 with 2 threads took 29.4 ms on fresh workers and 29.3 ms on spinning ones.
 
     After a threaded call they spin for about 0.1 s (OpenBLAS's THREAD_TIMEOUT, fixed when the library loads)
     and take a core from the Python threads that follow: on the 2-core machine measured, the 60 eigensolutions

@@ -68,12 +68,11 @@ LIMIT = {"900x2392 p=9 m=8": {1: 0.6, 2: 0.7}, "1280x2000 p=32 m=4": {1: 0.45, 2
 
 def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(case):
     """Measured (README, issue 14): see the section "Uncertainty of each mode, repeated modes, the sweep's cost".
-    On 900 × 2392 with one thread, in ms of CPU against the gesdd's ~680: identify ≈ 85 (the Gram matrix's
-    tridiagonal reduction 41, its eigenvalues and leading eigenvectors 20, the reflectors 9, the rest by FFT),
-    the 60 eigensolutions ≈ 145 (LAPACK through era.lapack 118), γ, μ and the contribution ≈ 61, tracking ≈ 12.
-    With two threads the orders and the runs of modes go two at a time (1.6× on this 2-core machine), identify
-    stays on one core: a threaded BLAS call there would leave OpenBLAS's workers spinning into the threads
-    that follow (era.blas)."""
+    On 900 × 2392, wall-clock ms inside this loop with one / two threads, against the gesdd's ~680 / ~460:
+    identify 88 / 80 (the Gram matrix's tridiagonal reduction 42 / 26-32, sterf 10.5 and stein 10 on one core
+    at both counts, the reflectors 11 / 9), the 60 eigensolutions 150 / 90, γ, μ and the contribution 60 / 35,
+    tracking ≈ 10. With two threads the orders and the runs of modes go two at a time and identify's BLAS steps
+    take both threads, OpenBLAS's idle workers being stopped around them (era.blas.rest_blas_workers)."""
     name, data, rows, cols = case
     assert era.identify(data, rows, cols, max_order=max(ORDERS)).svd_method == "truncated"
     for threads in (1, 2):
