@@ -49,10 +49,11 @@ def blas_threads_limited(threads: int):
 
 @lru_cache(maxsize=1)
 def _openblas_shutdowns() -> tuple:
-    """``blas_thread_shutdown_`` of each loaded OpenBLAS (numpy and scipy each bring their own), found once."""
+    """``blas_thread_shutdown_`` of each loaded OpenBLAS with its own pthreads pool (numpy and scipy each bring
+    one), found once; an OpenMP build's threads are OpenMP's, and are left alone."""
     found = []
     for lib in _controller().lib_controllers:
-        if getattr(lib, "internal_api", "") != "openblas":
+        if getattr(lib, "internal_api", "") != "openblas" or getattr(lib, "threading_layer", "") != "pthreads":
             continue
         try:
             fn = ctypes.CDLL(lib.filepath).blas_thread_shutdown_
