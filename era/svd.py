@@ -106,9 +106,10 @@ def truncated_svd(h: np.ndarray, rank: int,
     forming H(0)). ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds
     that of a block Hankel matrix by a recursion, without the product).
 
-    BLAS runs with one thread throughout (era.blas: the stabilization's own threads follow), except the
-    tridiagonal reduction of a Gram matrix, which takes the caller's when OpenBLAS's workers can be stopped after it
-    (era.blas.rest_blas_workers) or its order is ≥ THREADED_REDUCTION_MIN.
+    BLAS runs with one thread (era.blas: the stabilization's own threads follow) except in the tridiagonal
+    reduction of the Gram matrix, its reflectors and the product giving Q, which take the caller's threads when
+    OpenBLAS's idle workers can be stopped after them (era.blas.rest_blas_workers) or the Gram matrix's order
+    is ≥ THREADED_REDUCTION_MIN.
 
     Returns
     -------
@@ -140,7 +141,7 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple
         # values and Q's orthogonality), and the small SVD, slower with threads than the rest, is not needed;
         # the values past the rank come with it (to ε d_1²/d_i² relative, 1e-4 at d_i = 1e-6 d_1)
         d = np.sqrt(np.maximum(every, 0.0))
-        with blas_threads_limited(threads):  # a dense H(0): one BLAS-3 product (FFT products take one thread)
+        with blas_threads_limited(threads):  # for a dense H(0) one BLAS-3 product (by FFT: small ones)
             q = h.T @ v
         return np.ascontiguousarray(v), d, q / d[:rank]
     u_small, d, wt = scipy.linalg.svd((h.T @ v).T, full_matrices=False, lapack_driver="gesdd", check_finite=False)
