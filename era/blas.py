@@ -74,8 +74,10 @@ def workers_can_rest() -> bool:
 
 def rest_blas_workers() -> bool:
     """Stop OpenBLAS's worker threads now, when :func:`workers_can_rest`; returns whether they were stopped.
-    The next threaded call starts them again: stopping and starting took 0.1 ms, and a tridiagonal reduction
-    of order 900 with 2 threads took 29.4 ms on fresh workers and 29.3 ms on spinning ones.
+    The next threaded call starts them again. Stopping a pool takes 0.03-0.14 ms, but 1-4 ms while the other
+    core is busy with a spinning worker (6-11 ms in all per sweep of tests/bench/bench_sweep.py with 2
+    threads); a tridiagonal reduction of order 900 with 2 threads took 29.4 ms on fresh workers and 29.3 ms
+    on spinning ones.
 
     After a threaded call they spin for about 0.1 s (OpenBLAS's THREAD_TIMEOUT, fixed when the library loads)
     and take a core from the Python threads that follow: on the 2-core machine measured, the 60 eigensolutions
