@@ -41,10 +41,12 @@ def blas_threads_limited(threads: int):
     after it is lifted (:func:`rest_blas_workers`): OpenBLAS starts a stopped pool again whenever its thread
     count is set, and a fresh worker spins for 0.1 s, so without that every limit would leave spinning workers
     behind in each OpenBLAS loaded (numpy's and scipy's). A threaded call starts the workers it needs."""
-    with _controller().limit(limits=max(1, int(threads)), user_api="blas"):
+    try:
+        with _controller().limit(limits=max(1, int(threads)), user_api="blas"):
+            rest_blas_workers()
+            yield
+    finally:  # also when the body raised: no spinning workers left behind
         rest_blas_workers()
-        yield
-    rest_blas_workers()
 
 
 @lru_cache(maxsize=1)

@@ -160,20 +160,19 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple
     lapack = scipy.linalg.lapack
     try:
         lwork = int(lapack.dsytrd_lwork(a, lower=1)[0])
+        # one limit for the reduction and the reflectors: sterf and stein between them use no threaded BLAS
         with blas_threads_limited(threads) if threads else contextlib.nullcontext():
             c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
-        if info != 0:
-            raise np.linalg.LinAlgError(f"sytrd info {info}")
-        every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
-        y = _tridiagonal_vectors(diag, off, every[a - rank:])
-        every = every[::-1]
-        if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
-            with blas_threads_limited(threads) if threads else contextlib.nullcontext():
-                rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=64 * rank + 4160)
             if info != 0:
-                raise np.linalg.LinAlgError(f"ormqr info {info}")
-            y = np.vstack([y[:1], rest])
-        return every, np.ascontiguousarray(y[:, ::-1])
+                raise np.linalg.LinAlgError(f"sytrd info {info}")
+            every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
+            y = _tridiagonal_vectors(diag, off, every[a - rank:])
+            if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
+                rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=64 * rank + 4160)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"ormqr info {info}")
+                y = np.vstack([y[:1], rest])
+        return every[::-1], np.ascontiguousarray(y[:, ::-1])
     except (np.linalg.LinAlgError, ValueError):  # not expected; the library's driver as a fallback
         w, v = scipy.linalg.eigh(gram, subset_by_index=[a - rank, a - 1], driver="evr", check_finite=False)
         every = np.concatenate([w[::-1], scipy.linalg.eigvalsh(gram, subset_by_index=[0, a - rank - 1])[::-1]]) \
