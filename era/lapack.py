@@ -1,5 +1,6 @@
 """The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
-LAPACK without the GIL (issue 14).
+LAPACK without the GIL (issue 14); also the eigenvectors of a symmetric tridiagonal matrix by inverse iteration
+(:func:`stein`), for era.svd's threads.
 
 A realization's modes (eq. 40) need every eigenvalue of A (n × n real) but the eigenvectors (and the rows of ψ^{-1})
 of the real poles and of the member with Im z > 0 of each pair only. The steps are dgeev's, with two changes:
@@ -49,7 +50,10 @@ REPEATED_RELATIVE = 1e-6
 MAX_ORDER = 160
 
 #: The routines and their numbers of arguments (LAPACK 3 reference interfaces; checked against scipy's).
-_ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10}
+_ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10, "dstein": 13}
+
+#: eig_kept's routines, in call order
+_EIG_PATH = ("dgebal", "dgehrd", "dorghr", "dlahqr", "dtrevc", "dgebak")
 
 _lock = threading.Lock()
 _routines: dict = {}  # name -> ctypes function, or None when scipy does not export it
@@ -93,8 +97,8 @@ def routine(name: str):
 
 
 def available() -> bool:
-    """True when every routine of the path is available (else eig_kept uses numpy's dgeev)."""
-    return all(routine(name) is not None for name in _ARGUMENTS)
+    """True when every routine of eig_kept's path is available (else eig_kept uses numpy's dgeev)."""
+    return all(routine(name) is not None for name in _EIG_PATH)
 
 
 class _Failed(Exception):
@@ -109,7 +113,7 @@ _CHAR = {c: ctypes.addressof(v) for c, v in _CHARS.items()}
 
 def _functions() -> tuple:
     """The six routines of the path in call order, or _Failed if scipy does not export one of them."""
-    fns = tuple(routine(name) for name in _ARGUMENTS)
+    fns = tuple(routine(name) for name in _EIG_PATH)
     if any(fn is None for fn in fns):
         raise _Failed("a LAPACK routine is not exported by scipy")
     return fns
@@ -253,3 +257,25 @@ def _inverse_rows(right: np.ndarray, is_pair: np.ndarray) -> np.ndarray:
     out = inv[first].astype(complex)
     out[is_pair] = (inv[first[is_pair]] - 1j * inv[first[is_pair] + 1]) / 2
     return out
+
+
+def stein(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray | None:
+    """Eigenvectors (a, k) of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) for its
+    eigenvalues ``values`` (k,), ascending: LAPACK's dstein (inverse iteration, which re-orthogonalises the
+    vectors of close eigenvalues among themselves) on one block, without the GIL, so that parts of the values
+    can go to threads (era.svd). None when scipy does not export dstein or it did not converge."""
+    fn = routine("dstein")
+    a, k = diag.size, values.size
+    if fn is None or a < 2 or k < 1:
+        return None
+    d, e, w = (np.ascontiguousarray(x, dtype=float) for x in (diag, off, values))
+    ints = np.zeros(3 + 2 * k + 2 * a, dtype=np.int32)  # n, m, info | iblock (k) | ifail (k) | isplit, iwork (a)
+    ints[:2], ints[3:3 + k], ints[3 + 2 * k] = (a, k), 1, a  # one block, ending at a
+    z, work = np.empty((k, a)), np.empty(5 * a)  # z: Fortran's (a, k)
+    n_, m_, info, block, fail, split, iwork = (ints.ctypes.data + 4 * i for i in (
+        0, 1, 2, 3, 3 + k, 3 + 2 * k, 3 + 2 * k + a))
+    fn(n_, d.ctypes.data, e.ctypes.data, m_, w.ctypes.data, block, split, z.ctypes.data, n_, work.ctypes.data,
+       iwork, fail, info)
+    if ints[2] != 0 or not np.isfinite(z).all():
+        return None
+    return z.T

@@ -4,12 +4,15 @@ when the largest order is far below min(shape), or a randomized one for very lar
 from __future__ import annotations
 
 import contextlib
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.linalg
+import scipy.linalg.blas
 
-from .blas import blas_threads, blas_threads_limited, single_threaded_blas, workers_can_rest
+from .blas import blas_threads, blas_threads_limited, rest_blas_workers, single_threaded_blas, workers_can_rest
 from .errors import EraError
+from .lapack import stein
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
 #: gesdd on one core of this machine; 900 × 2392 is 1.9e9 and takes about 0.6 s).
@@ -35,6 +38,14 @@ THREADED_REDUCTION_MIN = 1000
 #: truncated_svd skips its Rayleigh-Ritz step when the smallest eigenvalue kept of the Gram matrix is at least
 #: this fraction of the largest (every singular value kept ≥ 1e-3 d_1, as in a noisy measured H(0)).
 GRAM_DIRECT_MIN = 1e-6
+
+#: With two or more BLAS threads, stein runs in two threads, this share of the values (the smallest) in one and
+#: the rest in the other (tests/bench/bench_sweep.py's Gram matrices: 0.5 best, 0.4-0.6 within 1 ms).
+STEIN_LOWER_SHARE = 0.5
+
+#: ... and refuses the split when a vector of the lower part loses more than this fraction of its norm to the
+#: projection on the upper part (inverse iteration did not separate the two parts): one stein instead.
+STEIN_PART_LOSS = 1e-8
 
 
 def dense_svd(h: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -125,15 +136,16 @@ def truncated_svd(h: np.ndarray, rank: int,
     threads = blas_threads()
     with single_threaded_blas():
         threaded = rows >= THREADED_REDUCTION_MIN or workers_can_rest()
-        return _truncated_svd(h, int(min(rank, rows)), gram, threads if threaded else 1)
+        return _truncated_svd(h, int(min(rank, rows)), gram, threads if threaded else 1, threads)
 
 
-def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int,
+                   workers: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction, its reflectors and the
-    product giving Q with ``threads`` BLAS threads."""
+    product giving Q with ``threads`` BLAS threads, the inverse iteration in ``workers`` threads."""
     if gram is None:
         gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
-    every, v = gram_eigen(gram, rank, threads)
+    every, v = gram_eigen(gram, rank, threads, workers)
     del gram
     w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:
@@ -148,13 +160,15 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int) -> tuple
     return v @ u_small, d, np.ascontiguousarray(wt.T)
 
 
-def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
+               workers: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """All eigenvalues of the symmetric ``gram`` (a, a), descending, and the eigenvectors (a, rank) of the
     leading ``rank``: one tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
     eigenvalue for a² more work. ``threads``: BLAS threads for the reduction and the reflectors (default: as
-    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
+    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors. ``workers``: threads for
+    the inverse iteration (:func:`_tridiagonal_vectors`).
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -166,7 +180,7 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple
             if info != 0:
                 raise np.linalg.LinAlgError(f"sytrd info {info}")
             every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
-            y = _tridiagonal_vectors(diag, off, every[a - rank:])
+            y = _tridiagonal_vectors(diag, off, every[a - rank:], workers)
             if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
                 rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=64 * rank + 4160)
                 if info != 0:
@@ -180,16 +194,20 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None) -> tuple
         return every, np.ascontiguousarray(v[:, ::-1])
 
 
-def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray:
+def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray, threads: int = 1) -> np.ndarray:
     """Eigenvectors (a, k) of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) for its
     eigenvalues ``values`` (k,), ascending, as sterf gives them: inverse iteration (LAPACK stein), which
     re-orthogonalises the vectors of close eigenvalues (the flat noise floor of a measured H(0)).
 
     Given the eigenvalues, that is a k a work: 10 ms for 120 of 900 where MRRR on the subset (stemr, which
     finds the subset's eigenvalues again by bisection) takes 29 ms, as orthogonal (1e-14 to 3e-13)
-    (tests/core/test_truncated_svd.py). If stein does not converge, MRRR."""
+    (tests/core/test_truncated_svd.py). With ``threads`` > 1, in two parts in threads (:func:`_stein_in_parts`).
+    If stein does not converge, MRRR."""
     a, k = diag.size, values.size
     if a > 1:
+        y = _stein_in_parts(diag, off, values) if threads > 1 else None
+        if y is not None:
+            return y
         block, split = np.ones(a, dtype=np.int32), np.zeros(a, dtype=np.int32)
         split[0] = a  # one block: stein's inverse iteration copes with a tiny off-diagonal
         y, info = scipy.linalg.lapack.dstein(diag, off, values, block, split)
@@ -198,6 +216,44 @@ def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray) 
     _, y = scipy.linalg.eigh_tridiagonal(diag, off, select="i", select_range=(a - k, a - 1),
                                          check_finite=False, lapack_driver="stemr")
     return y
+
+
+def _stein_in_parts(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray | None:
+    """:func:`_tridiagonal_vectors` in two threads: stein (:func:`era.lapack.stein`, without the GIL) on the
+    smallest STEIN_LOWER_SHARE of ``values`` and on the rest at the same time, then the lower part's vectors made
+    orthogonal to the upper part's (projected out twice, normalised).
+
+    stein re-orthogonalises only within its call, so across the split the two parts are orthogonal only as far
+    as inverse iteration separates their eigenvalues: their inner products were 1e-12 at most on the
+    benchmark's spectra (tests/bench/bench_sweep.py), and each vector equals one stein's to 1e-15. When a
+    vector loses more than STEIN_PART_LOSS of its norm to the projection (eigenvalues that the split cut so
+    close that the parts share directions) the result is refused: None, and the caller runs one stein."""
+    k = values.size
+    cut = int(round(STEIN_LOWER_SHARE * k))
+    if not 0 < cut < k:
+        return None
+    rest_blas_workers()  # the reduction's spinning workers would take a core from the threads below
+    with ThreadPoolExecutor(1) as pool:
+        upper = pool.submit(stein, diag, off, values[cut:])
+        lower = stein(diag, off, values[:cut])
+        upper = upper.result()
+    if lower is None or upper is None:
+        return None
+    gemm = scipy.linalg.blas.dgemm  # scipy's BLAS, whose workers ormqr uses next (numpy's would spin beside it)
+    out = np.empty((diag.size, k), order="F")  # as ormqr takes it
+    out[:, cut:] = upper
+    for _ in range(2):  # Gram-Schmidt with re-orthogonalisation, the second pass only if the first removed more
+        # than round-off: after removing components c the cross products are ~ c ε
+        cross = gemm(1.0, upper, lower, trans_a=True)
+        lower = gemm(-1.0, upper, cross, 1.0, lower)
+        norm = np.linalg.norm(lower, axis=0)
+        if not np.all(norm >= 1 - STEIN_PART_LOSS):
+            return None
+        lower /= norm
+        if np.abs(cross).max() <= 1e-8:
+            break
+    out[:, :cut] = lower
+    return out
 
 
 def choose_method(shape: tuple[int, int], method: str, rank: int | None = None) -> str:

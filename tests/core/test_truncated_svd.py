@@ -83,6 +83,36 @@ def test_gram_eigenvectors_by_inverse_iteration_on_a_flat_noise_floor_match_the_
         np.testing.assert_allclose(np.abs(lead[:, :10].T @ v[:, ::-1][:, :10]), np.eye(10), atol=1e-10)
 
 
+def test_inverse_iteration_in_two_threads_equals_one_stein_and_refuses_a_split_through_a_repeated_value():
+    """_stein_in_parts (two steins in threads, the lower part made orthogonal to the upper) against one stein on
+    the tridiagonal form of a Gram matrix with a crowded noise floor; and on a matrix whose eigenvalue at the
+    cut is repeated (the two parts then find the same directions) the split is refused and the caller runs one
+    stein."""
+    import scipy.linalg
+    from era import svd
+
+    rng = np.random.default_rng(4)
+    basis, _ = np.linalg.qr(rng.standard_normal((300, 300)))
+    gram = (basis * np.concatenate([np.logspace(4, 1, 20), 1.0 + 0.03 * rng.random(280)])) @ basis.T
+    c, diag, off, tau, info = scipy.linalg.lapack.dsytrd((gram + gram.T) / 2, lower=1)
+    values = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf")[-80:]
+    tri = np.diag(diag) + np.diag(off, 1) + np.diag(off, -1)
+    one = svd._tridiagonal_vectors(diag, off, values)
+    two = svd._stein_in_parts(diag, off, values)
+    assert two is not None and two.flags.f_contiguous
+    assert np.abs(two.T @ two - np.eye(80)).max() < 1e-13
+    assert np.abs(tri @ two - two * values).max() < 1e-12 * values[-1]
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", one, two)), 1.0, atol=1e-12)
+
+    # eigenvalue 2 three times (blocks split by zero off-diagonals), cut between its copies
+    diag = np.array([2.0, 2.0, 2.0, 5.0, 7.0, 1.0])
+    off = np.array([0.0, 0.0, 0.0, 0.3, 0.2])
+    values = scipy.linalg.eigvalsh_tridiagonal(diag, off)[-5:]  # 2, 2, 2, ~5, ~7: the cut falls among the 2s
+    assert svd._stein_in_parts(diag, off, values) is None
+    np.testing.assert_array_equal(svd._tridiagonal_vectors(diag, off, values, threads=2),
+                                  svd._tridiagonal_vectors(diag, off, values))
+
+
 def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_change():
     """HankelOperator's H X, H^T X, its blocks and the Gram matrix built from it against the dense H(0), on
     square, wide and tall shapes; then identify (which takes the FFT products on 900 × 2392) against the same
