@@ -1,6 +1,7 @@
 """The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
-LAPACK without the GIL (issue 14); also the eigenvectors of a symmetric tridiagonal matrix by inverse iteration
-(:func:`stein`), for era.svd's threads.
+LAPACK without the GIL (issue 14); also, for era.svd's threads, the eigenvectors of a symmetric tridiagonal
+matrix (:func:`sterf`, by inverse iteration :func:`stein`) and a product of Householder reflectors in two steps, its block
+factors (:func:`reflector_blocks`) and their product with a matrix (:func:`apply_reflectors`).
 
 A realization's modes (eq. 40) need every eigenvalue of A (n × n real) but the eigenvectors (and the rows of ψ^{-1})
 of the real poles and of the member with Im z > 0 of each pair only. The steps are dgeev's, with two changes:
@@ -50,7 +51,8 @@ REPEATED_RELATIVE = 1e-6
 MAX_ORDER = 160
 
 #: The routines and their numbers of arguments (LAPACK 3 reference interfaces; checked against scipy's).
-_ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10, "dstein": 13}
+_ARGUMENTS = {"dgebal": 8, "dgehrd": 9, "dorghr": 9, "dlahqr": 14, "dtrevc": 14, "dgebak": 10, "dsterf": 4,
+              "dstein": 13, "dlarft": 9, "dlarfb": 15}
 
 #: eig_kept's routines, in call order
 _EIG_PATH = ("dgebal", "dgehrd", "dorghr", "dlahqr", "dtrevc", "dgebak")
@@ -107,7 +109,7 @@ class _Failed(Exception):
 
 
 #: LAPACK's character arguments (read only), and their addresses
-_CHARS = {c: ctypes.c_char(c) for c in (b"B", b"L", b"R", b"S")}
+_CHARS = {c: ctypes.c_char(c) for c in (b"B", b"C", b"F", b"L", b"N", b"R", b"S")}
 _CHAR = {c: ctypes.addressof(v) for c, v in _CHARS.items()}
 
 
@@ -259,6 +261,22 @@ def _inverse_rows(right: np.ndarray, is_pair: np.ndarray) -> np.ndarray:
     return out
 
 
+def sterf(diag: np.ndarray, off: np.ndarray) -> np.ndarray | None:
+    """All eigenvalues (a,), ascending, of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)):
+    LAPACK's dsterf (Pal-Walker-Kahan QL/QR) without the GIL, so that another thread runs meanwhile (scipy's
+    wrapper holds it). None when scipy does not export dsterf or it did not converge."""
+    fn = routine("dsterf")
+    a = diag.size
+    if fn is None or a < 1:
+        return None
+    d = np.array(diag, dtype=float)
+    e = np.zeros(max(a - 1, 1))
+    e[:a - 1] = off
+    ints = np.array([a, 0], dtype=np.int32)  # n, info
+    fn(ints.ctypes.data, d.ctypes.data, e.ctypes.data, ints.ctypes.data + 4)
+    return d if ints[1] == 0 else None
+
+
 def stein(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray | None:
     """Eigenvectors (a, k) of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) for its
     eigenvalues ``values`` (k,), ascending: LAPACK's dstein (inverse iteration, which re-orthogonalises the
@@ -279,3 +297,65 @@ def stein(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray |
     if ints[2] != 0 or not np.isfinite(z).all():
         return None
     return z.T
+
+
+#: Reflectors per block of :func:`reflector_blocks` (dormqr's own block size).
+REFLECTOR_BLOCK = 64
+
+
+def reflector_blocks(v: np.ndarray, tau: np.ndarray) -> list | None:
+    """The triangular factors of Q = H(1) H(2) ... H(k), H(i) = I - tau_i v_i v_i^T, by blocks of
+    REFLECTOR_BLOCK reflectors: block b (reflectors i = b·64 ...) is I - V_b T_b V_b^T (LAPACK's dlarft,
+    forward, columnwise), without the GIL. The first half of dormqr's work, which needs only the reflectors,
+    so it can run before the matrix they multiply is known (era.svd).
+
+    v : (n, k) Fortran order, v_i in column i below the diagonal (1 on it, implied; as geqrf or sytrd leave
+    them); tau : (k,). Returns the factors (ib, ib) in block order, or None when scipy does not export dlarft.
+    """
+    fn = routine("dlarft")
+    if fn is None:
+        return None
+    n, k = v.shape
+    ld, base = _fortran_view(v)
+    ints = np.zeros(4, dtype=np.int32)  # rows, reflectors, ldv, ldt
+    out = []
+    for i in range(0, k, REFLECTOR_BLOCK):
+        ib = min(REFLECTOR_BLOCK, k - i)
+        t = np.zeros((ib, ib), order="F")
+        ints[:] = n - i, ib, ld, ib
+        at = ints.ctypes.data
+        fn(_CHAR[b"F"], _CHAR[b"C"], at, at + 4, base + 8 * (i + i * ld), at + 8, tau.ctypes.data + 8 * i,
+           t.ctypes.data, at + 12)
+        out.append(t)
+    return out
+
+
+def apply_reflectors(v: np.ndarray, blocks: list, c: np.ndarray) -> np.ndarray | None:
+    """Q c for Q = H(1) ... H(k) given by ``v`` (n, k) and its :func:`reflector_blocks`: LAPACK's dlarfb per
+    block, from the last to the first (as dormqr('L', 'N')), BLAS-3 with the caller's threads; ``c`` (n, w) is
+    overwritten when Fortran-ordered float (else copied). None when scipy does not export dlarfb."""
+    fn = routine("dlarfb")
+    if fn is None:
+        return None
+    n, k = v.shape
+    ld, base = _fortran_view(v)
+    c = np.asfortranarray(c, dtype=float)
+    w = c.shape[1]
+    work = np.empty((w, REFLECTOR_BLOCK), order="F")
+    ints = np.zeros(6, dtype=np.int32)  # rows, columns, reflectors, ldv, ldt, ldc | ldwork = columns
+    for b in range(len(blocks) - 1, -1, -1):
+        i = b * REFLECTOR_BLOCK
+        ib = blocks[b].shape[0]
+        ints[:] = n - i, w, ib, ld, ib, n
+        at = ints.ctypes.data
+        fn(_CHAR[b"L"], _CHAR[b"N"], _CHAR[b"F"], _CHAR[b"C"], at, at + 4, at + 8, base + 8 * (i + i * ld), at + 12,
+           blocks[b].ctypes.data, at + 16, c.ctypes.data + 8 * i, at + 20, work.ctypes.data, at + 4)
+    return c
+
+
+def _fortran_view(v: np.ndarray) -> tuple[int, int]:
+    """(leading dimension, address) of a float64 view with unit row stride (a Fortran-ordered array or a
+    block of one, such as c[1:, :-1]); ValueError otherwise."""
+    if v.dtype != np.float64 or v.strides[0] != 8 or v.strides[1] % 8:
+        raise ValueError("reflectors must be a float64 array in Fortran order")
+    return v.strides[1] // 8, v.ctypes.data

@@ -8,11 +8,10 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.linalg
-import scipy.linalg.blas
 
-from .blas import blas_threads, blas_threads_limited, rest_blas_workers, single_threaded_blas, workers_can_rest
+from .blas import blas_threads, blas_threads_limited, single_threaded_blas, workers_can_rest
 from .errors import EraError
-from .lapack import stein
+from .lapack import apply_reflectors, reflector_blocks, stein, sterf
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
 #: gesdd on one core of this machine; 900 × 2392 is 1.9e9 and takes about 0.6 s).
@@ -41,7 +40,7 @@ GRAM_DIRECT_MIN = 1e-6
 
 #: With two or more BLAS threads, stein runs in two threads, this share of the values (the smallest) in one and
 #: the rest in the other (tests/bench/bench_sweep.py's Gram matrices: 0.5 best, 0.4-0.6 within 1 ms).
-STEIN_LOWER_SHARE = 0.5
+STEIN_LOWER_SHARE = 0.45
 
 #: ... and refuses the split when a vector of the lower part loses more than this fraction of its norm to the
 #: projection on the upper part (inverse iteration did not separate the two parts): one stein instead.
@@ -167,8 +166,13 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
     eigenvalue for a² more work. ``threads``: BLAS threads for the reduction and the reflectors (default: as
-    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors. ``workers``: threads for
-    the inverse iteration (:func:`_tridiagonal_vectors`).
+    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
+
+    ``workers`` > 1: a second thread takes what does not wait for sterf (sequential, one core), the reflectors'
+    block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
+    iteration (:func:`_stein_in_parts`); then the factors are applied to the vectors (era.lapack.apply_reflectors)
+    with ``threads``. On tests/bench/bench_sweep.py's Gram matrices with 2 threads, these steps after the
+    reduction took 29 → 22 ms (900) and 49.5 → 38 ms (1280).
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -179,12 +183,25 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
             c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
             if info != 0:
                 raise np.linalg.LinAlgError(f"sytrd info {info}")
-            every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
-            y = _tridiagonal_vectors(diag, off, every[a - rank:], workers)
-            if a > 1:  # G = H T H^T with H = diag(1, H'), H' the reflectors stored below the subdiagonal
-                rest, _, info = lapack.dormqr("L", "N", c[1:, :a - 1], tau, y[1:], lwork=64 * rank + 4160)
-                if info != 0:
-                    raise np.linalg.LinAlgError(f"ormqr info {info}")
+            v, blocks = c[1:, :a - 1], None  # G = H T H^T with H = diag(1, H'), H' the reflectors v (sytrd)
+            if workers > 1 and a > 2:
+                # one BLAS thread each (era.blas: OpenBLAS's workers would take the second core from them)
+                with single_threaded_blas(), ThreadPoolExecutor(1) as helper:
+                    pending = helper.submit(reflector_blocks, v, tau)  # while sterf runs (without the GIL)
+                    every = sterf(diag, off)
+                    if every is None:
+                        every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
+                    y = _tridiagonal_vectors(diag, off, every[a - rank:], helper)
+                    blocks = pending.result()
+            else:
+                every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
+                y = _tridiagonal_vectors(diag, off, every[a - rank:])
+            if a > 1:
+                rest = apply_reflectors(v, blocks, y[1:]) if blocks is not None else None
+                if rest is None:
+                    rest, _, info = lapack.dormqr("L", "N", v, tau, y[1:], lwork=64 * rank + 4160)
+                    if info != 0:
+                        raise np.linalg.LinAlgError(f"ormqr info {info}")
                 y = np.vstack([y[:1], rest])
         return every[::-1], np.ascontiguousarray(y[:, ::-1])
     except (np.linalg.LinAlgError, ValueError):  # not expected; the library's driver as a fallback
@@ -194,18 +211,19 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
         return every, np.ascontiguousarray(v[:, ::-1])
 
 
-def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray, threads: int = 1) -> np.ndarray:
+def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
+                         helper: ThreadPoolExecutor | None = None) -> np.ndarray:
     """Eigenvectors (a, k) of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) for its
     eigenvalues ``values`` (k,), ascending, as sterf gives them: inverse iteration (LAPACK stein), which
     re-orthogonalises the vectors of close eigenvalues (the flat noise floor of a measured H(0)).
 
     Given the eigenvalues, that is a k a work: 10 ms for 120 of 900 where MRRR on the subset (stemr, which
     finds the subset's eigenvalues again by bisection) takes 29 ms, as orthogonal (1e-14 to 3e-13)
-    (tests/core/test_truncated_svd.py). With ``threads`` > 1, in two parts in threads (:func:`_stein_in_parts`).
+    (tests/core/test_truncated_svd.py). With a ``helper`` thread, in two parts (:func:`_stein_in_parts`).
     If stein does not converge, MRRR."""
     a, k = diag.size, values.size
     if a > 1:
-        y = _stein_in_parts(diag, off, values) if threads > 1 else None
+        y = _stein_in_parts(diag, off, values, helper) if helper is not None else None
         if y is not None:
             return y
         block, split = np.ones(a, dtype=np.int32), np.zeros(a, dtype=np.int32)
@@ -218,34 +236,34 @@ def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray, 
     return y
 
 
-def _stein_in_parts(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray | None:
-    """:func:`_tridiagonal_vectors` in two threads: stein (:func:`era.lapack.stein`, without the GIL) on the
-    smallest STEIN_LOWER_SHARE of ``values`` and on the rest at the same time, then the lower part's vectors made
-    orthogonal to the upper part's (projected out twice, normalised).
+def _stein_in_parts(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
+                    helper: ThreadPoolExecutor) -> np.ndarray | None:
+    """:func:`_tridiagonal_vectors` in two threads, this one and ``helper``: stein (:func:`era.lapack.stein`,
+    without the GIL) on the smallest STEIN_LOWER_SHARE of ``values`` and on the rest at the same time, then the
+    lower part's vectors made orthogonal to the upper part's (projected out, normalised). Run it with one
+    BLAS thread (era.blas.single_threaded_blas): OpenBLAS's idle workers would take a core from the two.
 
     stein re-orthogonalises only within its call, so across the split the two parts are orthogonal only as far
     as inverse iteration separates their eigenvalues: their inner products were 1e-12 at most on the
     benchmark's spectra (tests/bench/bench_sweep.py), and each vector equals one stein's to 1e-15. When a
     vector loses more than STEIN_PART_LOSS of its norm to the projection (eigenvalues that the split cut so
-    close that the parts share directions) the result is refused: None, and the caller runs one stein."""
+    close that the parts share directions) the result is refused: None, and the caller runs one stein.
+    Returns (a, k) in Fortran order, as ormqr takes it."""
     k = values.size
     cut = int(round(STEIN_LOWER_SHARE * k))
     if not 0 < cut < k:
         return None
-    rest_blas_workers()  # the reduction's spinning workers would take a core from the threads below
-    with ThreadPoolExecutor(1) as pool:
-        upper = pool.submit(stein, diag, off, values[cut:])
-        lower = stein(diag, off, values[:cut])
-        upper = upper.result()
+    pending = helper.submit(stein, diag, off, values[cut:])
+    lower = stein(diag, off, values[:cut])
+    upper = pending.result()
     if lower is None or upper is None:
         return None
-    gemm = scipy.linalg.blas.dgemm  # scipy's BLAS, whose workers ormqr uses next (numpy's would spin beside it)
-    out = np.empty((diag.size, k), order="F")  # as ormqr takes it
+    out = np.empty((diag.size, k), order="F")
     out[:, cut:] = upper
     for _ in range(2):  # Gram-Schmidt with re-orthogonalisation, the second pass only if the first removed more
         # than round-off: after removing components c the cross products are ~ c ε
-        cross = gemm(1.0, upper, lower, trans_a=True)
-        lower = gemm(-1.0, upper, cross, 1.0, lower)
+        cross = upper.T @ lower
+        lower = lower - upper @ cross
         norm = np.linalg.norm(lower, axis=0)
         if not np.all(norm >= 1 - STEIN_PART_LOSS):
             return None

@@ -1,6 +1,8 @@
 """The truncated SVD (Gram matrix + one Rayleigh-Ritz step) that the sweep takes when max_order is far below
 min(H(0) shape): the same singular values, poles and indicators as the dense path."""
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import pytest
 
@@ -98,7 +100,8 @@ def test_inverse_iteration_in_two_threads_equals_one_stein_and_refuses_a_split_t
     values = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf")[-80:]
     tri = np.diag(diag) + np.diag(off, 1) + np.diag(off, -1)
     one = svd._tridiagonal_vectors(diag, off, values)
-    two = svd._stein_in_parts(diag, off, values)
+    with ThreadPoolExecutor(1) as helper:
+        two = svd._stein_in_parts(diag, off, values, helper)
     assert two is not None and two.flags.f_contiguous
     assert np.abs(two.T @ two - np.eye(80)).max() < 1e-13
     assert np.abs(tri @ two - two * values).max() < 1e-12 * values[-1]
@@ -108,9 +111,36 @@ def test_inverse_iteration_in_two_threads_equals_one_stein_and_refuses_a_split_t
     diag = np.array([2.0, 2.0, 2.0, 5.0, 7.0, 1.0])
     off = np.array([0.0, 0.0, 0.0, 0.3, 0.2])
     values = scipy.linalg.eigvalsh_tridiagonal(diag, off)[-5:]  # 2, 2, 2, ~5, ~7: the cut falls among the 2s
-    assert svd._stein_in_parts(diag, off, values) is None
-    np.testing.assert_array_equal(svd._tridiagonal_vectors(diag, off, values, threads=2),
-                                  svd._tridiagonal_vectors(diag, off, values))
+    with ThreadPoolExecutor(1) as helper:
+        assert svd._stein_in_parts(diag, off, values, helper) is None
+        np.testing.assert_array_equal(svd._tridiagonal_vectors(diag, off, values, helper),
+                                      svd._tridiagonal_vectors(diag, off, values))
+
+
+def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in_two_steps_equal_ormqr():
+    """gram_eigen(workers=2) (the reflectors' block factors beside sterf, stein in two parts, the factors
+    applied after) against workers=1 (sterf, one stein, ormqr), and era.lapack's two steps against ormqr on
+    sizes around the block of 64 reflectors."""
+    import scipy.linalg
+    from era import lapack, svd
+
+    rng = np.random.default_rng(6)
+    basis, _ = np.linalg.qr(rng.standard_normal((260, 260)))
+    gram = (basis * np.concatenate([np.logspace(5, 2, 15), 1.0 + 0.05 * rng.random(245)])) @ basis.T
+    gram = (gram + gram.T) / 2
+    w1, v1 = svd.gram_eigen(gram, 70, workers=1)
+    w2, v2 = svd.gram_eigen(gram, 70, workers=2)
+    np.testing.assert_array_equal(w1, w2)
+    assert np.abs(v2.T @ v2 - np.eye(70)).max() < 1e-13
+    assert np.abs(gram @ v2 - v2 * w2[:70]).max() < 1e-12 * w2[0]
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", v1, v2)), 1.0, atol=1e-12)
+    for n in (2, 63, 64, 65, 129, 200):
+        g = rng.standard_normal((n + 1, n + 1))
+        c, _, _, tau, _ = scipy.linalg.lapack.dsytrd(g + g.T, lower=1)
+        y = rng.standard_normal((n, 9))
+        ref = scipy.linalg.lapack.dormqr("L", "N", c[1:, :n], tau, y, lwork=64 * 9 + 4160)[0]
+        out = lapack.apply_reflectors(c[1:, :n], lapack.reflector_blocks(c[1:, :n], tau), y)
+        np.testing.assert_allclose(out, ref, atol=1e-13 * np.abs(ref).max())
 
 
 def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_change():
