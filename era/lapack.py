@@ -310,13 +310,14 @@ def reflector_blocks(v: np.ndarray, tau: np.ndarray) -> list | None:
     so it can run before the matrix they multiply is known (era.svd).
 
     v : (n, k) Fortran order, v_i in column i below the diagonal (1 on it, implied; as geqrf or sytrd leave
-    them); tau : (k,). Returns the factors (ib, ib) in block order, or None when scipy does not export dlarft.
+    them); tau : (k,). Returns the factors (ib, ib) in block order, or None when scipy does not export dlarft
+    or ``v`` is not such a view.
     """
     fn = routine("dlarft")
-    if fn is None:
+    if fn is None or not _fortran_view(v):
         return None
     n, k = v.shape
-    ld, base = _fortran_view(v)
+    ld, base = v.strides[1] // 8, v.ctypes.data
     ints = np.zeros(4, dtype=np.int32)  # rows, reflectors, ldv, ldt
     out = []
     for i in range(0, k, REFLECTOR_BLOCK):
@@ -333,12 +334,13 @@ def reflector_blocks(v: np.ndarray, tau: np.ndarray) -> list | None:
 def apply_reflectors(v: np.ndarray, blocks: list, c: np.ndarray) -> np.ndarray | None:
     """Q c for Q = H(1) ... H(k) given by ``v`` (n, k) and its :func:`reflector_blocks`: LAPACK's dlarfb per
     block, from the last to the first (as dormqr('L', 'N')), BLAS-3 with the caller's threads; ``c`` (n, w) is
-    overwritten when Fortran-ordered float (else copied). None when scipy does not export dlarfb."""
+    overwritten when Fortran-ordered float (else copied). None when scipy does not export dlarfb or ``v`` is not
+    a Fortran-ordered view."""
     fn = routine("dlarfb")
-    if fn is None:
+    if fn is None or not _fortran_view(v):
         return None
     n, k = v.shape
-    ld, base = _fortran_view(v)
+    ld, base = v.strides[1] // 8, v.ctypes.data
     c = np.asfortranarray(c, dtype=float)
     w = c.shape[1]
     work = np.empty((w, REFLECTOR_BLOCK), order="F")
@@ -353,9 +355,8 @@ def apply_reflectors(v: np.ndarray, blocks: list, c: np.ndarray) -> np.ndarray |
     return c
 
 
-def _fortran_view(v: np.ndarray) -> tuple[int, int]:
-    """(leading dimension, address) of a float64 view with unit row stride (a Fortran-ordered array or a
-    block of one, such as c[1:, :-1]); ValueError otherwise."""
-    if v.dtype != np.float64 or v.strides[0] != 8 or v.strides[1] % 8:
-        raise ValueError("reflectors must be a float64 array in Fortran order")
-    return v.strides[1] // 8, v.ctypes.data
+def _fortran_view(v: np.ndarray) -> bool:
+    """Whether ``v`` is a float64 (n, k) view that LAPACK can read in place: unit row stride and a column
+    stride of whole numbers ≥ n (a Fortran-ordered array or a block of one, such as c[1:, :-1])."""
+    return (v.ndim == 2 and v.dtype == np.float64 and v.strides[0] == 8 and v.strides[1] % 8 == 0
+            and v.strides[1] // 8 >= max(v.shape[0], 1))

@@ -121,6 +121,8 @@ def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in
     """gram_eigen(workers=2) (the reflectors' block factors beside sterf, stein in two parts, the factors
     applied after) against workers=1 (sterf, one stein, ormqr), and era.lapack's two steps against ormqr on
     sizes around the block of 64 reflectors."""
+    from unittest import mock
+
     import scipy.linalg
     from era import lapack, svd
 
@@ -141,6 +143,13 @@ def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in
         ref = scipy.linalg.lapack.dormqr("L", "N", c[1:, :n], tau, y, lwork=64 * 9 + 4160)[0]
         out = lapack.apply_reflectors(c[1:, :n], lapack.reflector_blocks(c[1:, :n], tau), y)
         np.testing.assert_allclose(out, ref, atol=1e-13 * np.abs(ref).max())
+    assert lapack.reflector_blocks(np.ascontiguousarray(c[1:, :n]), tau) is None  # not a Fortran view: ormqr
+    # without scipy's dlarft, dsterf and dstein (the ctypes routines), the same result by scipy's wrappers
+    missing = {name: None for name in ("dlarft", "dlarfb", "dsterf", "dstein")}
+    with mock.patch.dict(lapack._routines, missing):
+        w3, v3 = svd.gram_eigen(gram, 70, workers=2)
+    np.testing.assert_array_equal(w3, w1)
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", v1, v3)), 1.0, atol=1e-12)
 
 
 def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_change():
