@@ -1,7 +1,8 @@
 """The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
-LAPACK without the GIL (issue 14); also, for era.svd's threads, the eigenvectors of a symmetric tridiagonal
-matrix (:func:`sterf`, by inverse iteration :func:`stein`) and a product of Householder reflectors in two steps, its block
-factors (:func:`reflector_blocks`) and their product with a matrix (:func:`apply_reflectors`).
+LAPACK without the GIL (issue 14); also, for era.svd's threads, the eigenvalues (:func:`sterf`) and, by inverse
+iteration, eigenvectors (:func:`stein`) of a symmetric tridiagonal matrix, and a product of Householder
+reflectors in two steps: its block factors (:func:`reflector_blocks`), then their product with a matrix
+(:func:`apply_reflectors`).
 
 A realization's modes (eq. 40) need every eigenvalue of A (n × n real) but the eigenvectors (and the rows of ψ^{-1})
 of the real poles and of the member with Im z > 0 of each pair only. The steps are dgeev's, with two changes:

@@ -38,8 +38,9 @@ THREADED_REDUCTION_MIN = 1000
 #: this fraction of the largest (every singular value kept ≥ 1e-3 d_1, as in a noisy measured H(0)).
 GRAM_DIRECT_MIN = 1e-6
 
-#: With two or more BLAS threads, stein runs in two threads, this share of the values (the smallest) in one and
-#: the rest in the other (tests/bench/bench_sweep.py's Gram matrices: 0.5 best, 0.4-0.6 within 1 ms).
+#: With two or more BLAS threads, stein runs in two threads, this share of the values (the smallest) in the
+#: calling one and the rest in the other (tests/bench/bench_sweep.py's Gram matrices: at 0.5 the calling
+#: thread's part, slower per vector, finished last).
 STEIN_LOWER_SHARE = 0.45
 
 #: ... and refuses the split when a vector of the lower part loses more than this fraction of its norm to the
@@ -171,8 +172,8 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
     ``workers`` > 1: a second thread takes what does not wait for sterf (sequential, one core), the reflectors'
     block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
     iteration (:func:`_stein_in_parts`); then the factors are applied to the vectors (era.lapack.apply_reflectors)
-    with ``threads``. On tests/bench/bench_sweep.py's Gram matrices with 2 threads, these steps after the
-    reduction took 29 → 22 ms (900) and 49.5 → 38 ms (1280).
+    with ``threads``. On tests/bench/bench_sweep.py's Gram matrices with 2 threads, gram_eigen less its
+    reduction took 33 → 27 ms (900 × 900) and 50 → 44 ms (1280 × 1280).
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -188,13 +189,11 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
                 # one BLAS thread each (era.blas: OpenBLAS's workers would take the second core from them)
                 with single_threaded_blas(), ThreadPoolExecutor(1) as helper:
                     pending = helper.submit(reflector_blocks, v, tau)  # while sterf runs (without the GIL)
-                    every = sterf(diag, off)
-                    if every is None:
-                        every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
+                    every = _tridiagonal_values(diag, off)
                     y = _tridiagonal_vectors(diag, off, every[a - rank:], helper)
                     blocks = pending.result()
             else:
-                every = scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf", check_finite=False)
+                every = _tridiagonal_values(diag, off)
                 y = _tridiagonal_vectors(diag, off, every[a - rank:])
             if a > 1:
                 rest = apply_reflectors(v, blocks, y[1:]) if blocks is not None else None
@@ -209,6 +208,14 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
         every = np.concatenate([w[::-1], scipy.linalg.eigvalsh(gram, subset_by_index=[0, a - rank - 1])[::-1]]) \
             if rank < a else w[::-1]
         return every, np.ascontiguousarray(v[:, ::-1])
+
+
+def _tridiagonal_values(diag: np.ndarray, off: np.ndarray) -> np.ndarray:
+    """All eigenvalues (a,), ascending, of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) by
+    sterf: era.lapack's (without the GIL), else scipy's wrapper."""
+    every = sterf(diag, off)
+    return every if every is not None else scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf",
+                                                                             check_finite=False)
 
 
 def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
@@ -248,7 +255,7 @@ def _stein_in_parts(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
     benchmark's spectra (tests/bench/bench_sweep.py), and each vector equals one stein's to 1e-15. When a
     vector loses more than STEIN_PART_LOSS of its norm to the projection (eigenvalues that the split cut so
     close that the parts share directions) the result is refused: None, and the caller runs one stein.
-    Returns (a, k) in Fortran order, as ormqr takes it."""
+    Returns (a, k) in Fortran order, as the reflectors take it."""
     k = values.size
     cut = int(round(STEIN_LOWER_SHARE * k))
     if not 0 < cut < k:
