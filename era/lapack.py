@@ -314,11 +314,11 @@ def reflector_blocks(v: np.ndarray, tau: np.ndarray) -> list | None:
     them); tau : (k,). Returns the factors (ib, ib) in block order, or None when scipy does not export dlarft
     or ``v`` is not such a view.
     """
-    fn = routine("dlarft")
-    if fn is None or not _fortran_view(v):
+    fn, where = routine("dlarft"), _in_place(v)
+    if fn is None or where is None:
         return None
     n, k = v.shape
-    ld, base = v.strides[1] // 8, v.ctypes.data
+    ld, base = where
     ints = np.zeros(4, dtype=np.int32)  # rows, reflectors, ldv, ldt
     out = []
     for i in range(0, k, REFLECTOR_BLOCK):
@@ -337,11 +337,11 @@ def apply_reflectors(v: np.ndarray, blocks: list, c: np.ndarray) -> np.ndarray |
     block, from the last to the first (as dormqr('L', 'N')), BLAS-3 with the caller's threads; ``c`` (n, w) is
     overwritten when Fortran-ordered float (else copied). None when scipy does not export dlarfb or ``v`` is not
     a Fortran-ordered view."""
-    fn = routine("dlarfb")
-    if fn is None or not _fortran_view(v):
+    fn, where = routine("dlarfb"), _in_place(v)
+    if fn is None or where is None:
         return None
     n, k = v.shape
-    ld, base = v.strides[1] // 8, v.ctypes.data
+    ld, base = where
     c = np.asfortranarray(c, dtype=float)
     w = c.shape[1]
     work = np.empty((w, REFLECTOR_BLOCK), order="F")
@@ -356,8 +356,11 @@ def apply_reflectors(v: np.ndarray, blocks: list, c: np.ndarray) -> np.ndarray |
     return c
 
 
-def _fortran_view(v: np.ndarray) -> bool:
-    """Whether ``v`` is a float64 (n, k) view that LAPACK can read in place: unit row stride and a column
-    stride of whole numbers ≥ n (a Fortran-ordered array or a block of one, such as c[1:, :-1])."""
-    return (v.ndim == 2 and v.dtype == np.float64 and v.strides[0] == 8 and v.strides[1] % 8 == 0
-            and v.strides[1] // 8 >= max(v.shape[0], 1))
+def _in_place(v: np.ndarray) -> tuple[int, int] | None:
+    """(leading dimension, address) of a float64 (n, k) view that LAPACK can read in place: unit row stride
+    and a column stride of whole numbers ≥ n (a Fortran-ordered array or a block of one, such as c[1:, :-1]);
+    None for any other."""
+    if not (v.ndim == 2 and v.dtype == np.float64 and v.strides[0] == 8 and v.strides[1] % 8 == 0
+            and v.strides[1] // 8 >= max(v.shape[0], 1)):
+        return None
+    return v.strides[1] // 8, v.ctypes.data
