@@ -184,17 +184,15 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
             c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
             if info != 0:
                 raise np.linalg.LinAlgError(f"sytrd info {info}")
-            v, blocks = c[1:, :a - 1], None  # G = H T H^T with H = diag(1, H'), H' the reflectors v (sytrd)
-            if workers > 1 and a > 2:
-                # one BLAS thread each (era.blas: OpenBLAS's workers would take the second core from them)
-                with single_threaded_blas(), ThreadPoolExecutor(1) as helper:
-                    pending = helper.submit(reflector_blocks, v, tau)  # while sterf runs (without the GIL)
-                    every = _tridiagonal_values(diag, off)
-                    y = _tridiagonal_vectors(diag, off, every[a - rank:], helper)
-                    blocks = pending.result()
-            else:
+            v = c[1:, :a - 1]  # G = H T H^T with H = diag(1, H'), H' the reflectors v (sytrd)
+            two = workers > 1 and a > 2  # a helper thread, with one BLAS thread each (era.blas: OpenBLAS's
+            # workers would take the second core from them)
+            with single_threaded_blas() if two else contextlib.nullcontext(), \
+                    ThreadPoolExecutor(1) if two else contextlib.nullcontext() as helper:
+                pending = helper.submit(reflector_blocks, v, tau) if helper else None  # beside sterf (no GIL)
                 every = _tridiagonal_values(diag, off)
-                y = _tridiagonal_vectors(diag, off, every[a - rank:])
+                y = _tridiagonal_vectors(diag, off, every[a - rank:], helper)
+                blocks = pending.result() if pending else None
             if a > 1:
                 rest = apply_reflectors(v, blocks, y[1:]) if blocks is not None else None
                 if rest is None:
