@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import scipy.fft
 import scipy.sparse.linalg
@@ -70,9 +73,11 @@ def block_hankel(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndar
     if idx.max() >= n:
         raise HankelError(f"H({k}) needs Y({idx.max()}) but only {n} samples are given.")
     out = np.empty((r, p, s, m))
-    # One gather per block row writes straight into the output: no (r, s, p, m) temporary.
+    # One gather per block row writes straight into the output: no (r, s, p, m) temporary; with consecutive
+    # column shifts the row is a slice of the data, copied once (7.3 instead of 8.6 ms for 1280 × 2000).
+    slices = np.array_equal(col_shifts, np.arange(s))
     for i in range(r):
-        out[i] = markov[idx[i]].transpose(1, 0, 2)
+        out[i] = (markov[idx[i, 0]:idx[i, 0] + s] if slices else markov[idx[i]]).transpose(1, 0, 2)
     return out.reshape(r * p, s * m)
 
 
@@ -99,59 +104,96 @@ def check_size(n_samples: int, p: int, m: int, row_shifts: np.ndarray, col_shift
         )
 
 
-def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0: np.ndarray) -> np.ndarray:
+def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0, workers: int = 1) -> np.ndarray:
     """The Gram matrix of the shorter side of H(0) = ``h0``: H H^T (r p × r p) when r p ≤ s m, else H^T H.
+    Only its upper triangle is meant to be read (era.svd.gram_eigen reads no more): with consecutive shifts the
+    blocks below the diagonal blocks are left unset.
 
     With consecutive shifts (the default) it is built by the Hankel recursion instead of a product: block
     (i + 1, j + 1) of H H^T is block (i, j) plus Y(i + s) Y(j + s)^T minus Y(i) Y(j)^T (the window of column
-    shifts slides by one sample), so only the first block row is a product (p × s m times s m × r p) and each
-    further block row costs two products of rank m: r p · r p · m work instead of (r p)² s m / 2 for the
-    product (about 1/100 of it for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the
-    entries, is of the order of the product's. Upper triangle computed, mirrored (exactly symmetric).
-    Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``). ``h0`` may be the dense H(0) or its
-    :class:`HankelOperator` (consecutive shifts).
+    shifts slides by one sample), so only the first block row is a product and each further block row costs
+    two products of rank m: r p · r p · m work instead of (r p)² s m / 2 for the product (about 1/100 of it
+    for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the entries, is of the order of
+    the product's. The first block row, G_0j = Σ_k Y(k) Y(j + k)^T: from the dense ``h0``, by FFT when
+    ``h0`` is a :class:`HankelOperator` whose products go that way, else lag by lag from the data
+    (:func:`_first_gram_row`), without H(0). ``workers`` > 1: the first block row and the recursion in two
+    threads (by lags and by block diagonals) when the blocks are large enough to gain (:data:`SPLIT_MIN`).
+    Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
 
     Returns
     -------
-    (min(shape), min(shape)) symmetric ndarray.
+    (min(shape), min(shape)) ndarray, its upper triangle (with the diagonal blocks) the Gram matrix's.
     """
     rows, cols = h0.shape
     if not is_consecutive(row_shifts, col_shifts):
         return h0 @ h0.T if rows <= cols else h0.T @ h0
-    p, m = markov.shape[1], markov.shape[2]
-    with single_threaded_blas():   # a thin product and rank-m updates: slower with 2 threads (era.blas)
-        if rows <= cols:
-            first = (h0 @ h0.first_block_row().T).T if isinstance(h0, HankelOperator) else h0[:p] @ h0.T
-            return _sliding_gram(markov, len(row_shifts), len(col_shifts), first)
-        # H^T is the block Hankel matrix of the transposed blocks Y(k)^T with the roles of rows and columns swapped
-        first = (h0.T @ h0.first_block_column()).T if isinstance(h0, HankelOperator) else h0[:, :m].T @ h0
-        return _sliding_gram(markov.transpose(0, 2, 1), len(col_shifts), len(row_shifts), first)
+    y, r, s = markov, len(row_shifts), len(col_shifts)
+    if rows > cols:  # H^T is the block Hankel matrix of the blocks Y(k)^T, rows and columns swapped
+        y, r, s = markov.transpose(0, 2, 1), s, r
+    p = y.shape[1]
+    two = workers > 1 and r * p * p >= SPLIT_MIN
+    with single_threaded_blas(), ThreadPoolExecutor(1) if two else contextlib.nullcontext() as helper:
+        if isinstance(h0, HankelOperator) and h0.by_fft:
+            first = (h0 @ h0.first_block_row().T).T if rows <= cols else (h0.T @ h0.first_block_column()).T
+        elif isinstance(h0, HankelOperator):
+            first = _first_gram_row(y, r, s, helper)
+        else:
+            first = h0[:p] @ h0.T if rows <= cols else h0[:, :p].T @ h0
+        return _sliding_gram(y, r, s, first, helper)
 
 
-def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray) -> np.ndarray:
-    """H H^T for H with consecutive shifts (block (i, k) = Y(i + k), r × s blocks of p × m) from its first block
-    row ``first`` (p, r p) by G_{i+1, j+1} = G_{i, j} + Y(i + s) Y(j + s)^T - Y(i) Y(j)^T."""
-    p, m = y.shape[1], y.shape[2]
+#: gram's first block row and recursion go in two threads when r p² (a block row's size times p) is at least
+#: this: 1280 × 2000 (r = 40, p = 32) gains, 900 × 2392 (r = 100, p = 9) does not (its blocks' products are
+#: small enough that the GIL between them serializes the threads).
+SPLIT_MIN = 20000
+
+
+def _first_gram_row(y: np.ndarray, r: int, s: int, helper=None) -> np.ndarray:
+    """G_0j = Σ_{k<s} Y(k) Y(j + k)^T for j < r, (p, r p), from the blocks ``y`` (N, p, m): with the data
+    ordered (m, N, p) each lag j is m products of a (p × s) and an (s × p) slice of it, no copy of H(0)
+    (5.4 ms one thread on 1280 × 2000, where building H(0) takes 7-9 ms and its product 4.7). With a
+    ``helper`` thread, the lags in two halves."""
+    p = y.shape[1]
+    w = np.ascontiguousarray(y[:r + s - 1].transpose(2, 0, 1))  # (m, r + s - 1, p)
+    lead = w[:, :s, :].transpose(0, 2, 1)
+    out = np.empty((p, r * p))
+
+    def lags(lo, hi):
+        for j in range(lo, hi):
+            out[:, j * p:(j + 1) * p] = np.matmul(lead, w[:, j:j + s, :]).sum(axis=0)
+
+    pending = helper.submit(lags, r // 2, r) if helper is not None else None
+    lags(0, r // 2 if pending else r)
+    if pending:
+        pending.result()
+    return out
+
+
+def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray, helper=None) -> np.ndarray:
+    """The upper triangle of H H^T for H with consecutive shifts (block (i, k) = Y(i + k), r × s blocks of
+    p × m) from its first block row ``first`` (p, r p) by G_{i+1, j+1} = G_{i, j} + Y(i + s) Y(j + s)^T -
+    Y(i) Y(j)^T. Each block diagonal is its own recursion: with a ``helper`` thread the diagonals go in two
+    sets of about equal work."""
+    p = y.shape[1]
     g = np.empty((r * p, r * p))
     g[:p] = first
-    for i in range(r - 1):
-        later = y[i + s:r - 1 + s].transpose(2, 0, 1).reshape(m, -1)  # [Y(j + s)^T]_j for j = i..r-2
-        early = y[i:r - 1].transpose(2, 0, 1).reshape(m, -1)
-        g[(i + 1) * p:(i + 2) * p, (i + 1) * p:] = (g[i * p:(i + 1) * p, i * p:(r - 1) * p]
-                                                     + y[i + s] @ later - y[i] @ early)
-    return _mirror_upper(g)
-
-
-def _mirror_upper(g: np.ndarray, block: int = 64) -> np.ndarray:
-    """``g`` (a, a) made exactly symmetric from its upper triangle, in place, by square tiles (a transposed
-    copy of the upper triangle in one fancy-indexed step is 3× slower at a = 900)."""
-    a = g.shape[0]
-    for i in range(0, a, block):
-        g[i + block:, i:i + block] = g[i:i + block, i + block:].T
-        tile = g[i:i + block, i:i + block]
-        lower = np.tril_indices(tile.shape[0], -1)
-        tile[lower] = tile.T[lower]
+    cut = max(1, int(round(r * (1 - 0.5 ** 0.5)))) if helper is not None else r  # half the blocks below it
+    pending = helper.submit(_slide, y, r, s, g, cut, r) if helper is not None and cut < r else None
+    _slide(y, r, s, g, 0, cut)
+    if pending:
+        pending.result()
     return g
+
+
+def _slide(y: np.ndarray, r: int, s: int, g: np.ndarray, lo: int, hi: int) -> None:
+    """:func:`_sliding_gram`'s recursion on the block diagonals lo..hi - 1 (block (i, i + d), lo ≤ d < hi)."""
+    p, m = y.shape[1], y.shape[2]
+    for i in range(r - 1 - lo):
+        top = min(hi, r - 1 - i)  # the diagonals d that row i + 1 still has: i + 1 + d ≤ r - 1
+        later = y[i + s + lo:i + s + top].transpose(2, 0, 1).reshape(m, -1)  # [Y(j + s)^T] for j = i+lo..i+top-1
+        early = y[i + lo:i + top].transpose(2, 0, 1).reshape(m, -1)
+        g[(i + 1) * p:(i + 2) * p, (i + 1 + lo) * p:(i + 1 + top) * p] = (
+            g[i * p:(i + 1) * p, (i + lo) * p:(i + top) * p] + y[i + s] @ later - y[i] @ early)
 
 
 def is_consecutive(row_shifts: np.ndarray, col_shifts: np.ndarray) -> bool:
@@ -181,7 +223,10 @@ def fft_pays(rows: int, cols: int) -> bool:
 
 
 class HankelOperator(scipy.sparse.linalg.LinearOperator):
-    """H(k) of eq. 16 with consecutive shifts as a linear operator, H @ X and H^T @ X by FFT without forming H.
+    """H(k) of eq. 16 with consecutive shifts as a linear operator: H @ X and H^T @ X by FFT without forming H
+    when that pays (:func:`fft_pays`, ``by_fft``), else by BLAS on H itself, formed once when first needed or
+    ahead of that by :meth:`prepare` (era.svd.truncated_svd calls it in a second thread while the main one is
+    busy, so the copy is not on the path).
 
     Block (i, j) of H is Y(k + i + j), so (H X)_i = Σ_j Y(k + i + j) X_j and (H^T X)_j = Σ_i Y(k + i + j)^T X_i
     are correlations of the data with the blocks of X: ≈ F p m K work (F the FFT length) instead of r p s m K.
@@ -189,22 +234,35 @@ class HankelOperator(scipy.sparse.linalg.LinearOperator):
     H(0)^T P: tests/core/test_truncated_svd.py). ``markov`` (N, p, m); r, s the numbers of block rows, columns.
     """
 
-    def __init__(self, markov: np.ndarray, rows: int, cols: int, k: int = 0):
+    def __init__(self, markov: np.ndarray, rows: int, cols: int, k: int = 0, by_fft: bool | None = None):
         n, p, m = markov.shape
         if k + rows + cols - 1 > n:
             raise HankelError(f"H({k}) needs Y({k + rows + cols - 2}) but only {n} samples are given.")
         self.y = markov[k:k + rows + cols - 1]
         self.rows, self.cols = rows, cols
+        self.by_fft = fft_pays(rows, cols) if by_fft is None else bool(by_fft)
+        self._dense = None
         super().__init__(dtype=np.float64, shape=(rows * p, cols * m))
+
+    def prepare(self) -> None:
+        """Form H now if its products go by BLAS (nothing when they go by FFT)."""
+        if not self.by_fft and self._dense is None:
+            self._dense = self.dense()
 
     def _matmat(self, x):
         n, p, m = self.y.shape
         x = np.asarray(x, dtype=float)
+        if not self.by_fft:
+            self.prepare()
+            return self._dense @ x
         return _correlate(self.y, x.reshape(self.cols, m, -1), self.rows).reshape(self.rows * p, -1)
 
     def _rmatmat(self, x):
         n, p, m = self.y.shape
         x = np.asarray(x, dtype=float)
+        if not self.by_fft:
+            self.prepare()
+            return self._dense.T @ x
         out = _correlate(self.y.transpose(0, 2, 1), x.reshape(self.rows, p, -1), self.cols)
         return out.reshape(self.cols * m, -1)
 
@@ -222,4 +280,5 @@ class HankelOperator(scipy.sparse.linalg.LinearOperator):
 
     def dense(self) -> np.ndarray:
         """H itself (r p, s m)."""
-        return block_hankel(self.y, np.arange(self.rows), np.arange(self.cols))
+        return self._dense if self._dense is not None else block_hankel(self.y, np.arange(self.rows),
+                                                                          np.arange(self.cols))

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import hankel, svd
+from .blas import blas_threads, single_threaded_blas
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
@@ -411,14 +412,18 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     if max_order is not None:
         max_order = _count(max_order, "max_order")
     method = svd.choose_method((r * p, s * m), svd_method, max_order)
-    if method == "truncated" and hankel.is_consecutive(js, ts) and hankel.fft_pays(r, s):
-        h0 = hankel.HankelOperator(data.markov, r, s)  # its products by FFT; H(0) itself is not needed
+    if method == "truncated" and hankel.is_consecutive(js, ts):
+        # its products by FFT, or by BLAS on H(0) formed beside the eigenvalues (era.svd.truncated_svd)
+        h0 = hankel.HankelOperator(data.markov, r, s)
     else:
         h0 = hankel.block_hankel(data.markov, js, ts, 0)
     if method == "dense":
         P, d, Q = svd.dense_svd(h0)
     elif method == "truncated":
-        P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape), hankel.gram(data.markov, js, ts, h0))
+        threads = blas_threads()
+        with single_threaded_blas():  # one limit for both: lifting it between them costs 2-4 ms (era.blas)
+            P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape),
+                                        hankel.gram(data.markov, js, ts, h0, threads), threads)
     else:
         P, d, Q = svd.randomized_svd(h0, max_order or min(200, *h0.shape))
     # keep the numerical rank (and no more than max_order) of the singular triplets computed

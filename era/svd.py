@@ -90,8 +90,8 @@ def randomized_svd(
     return (basis @ u_small[:, :rank]), d[:rank], vt[:rank].T
 
 
-def truncated_svd(h: np.ndarray, rank: int,
-                  gram: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def truncated_svd(h: np.ndarray, rank: int, gram: np.ndarray | None = None,
+                  threads: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Leading ``rank`` singular triplets of ``h`` from the Gram matrix of its shorter side, refined by one
     Rayleigh-Ritz step on ``h`` itself.
 
@@ -114,8 +114,12 @@ def truncated_svd(h: np.ndarray, rank: int,
     rank 120, is no faster than gesdd on these sizes.
 
     ``h`` may also be a linear operator with ``h.T @ v`` (era.hankel.HankelOperator: products by FFT, without
-    forming H(0)). ``gram``: the Gram matrix of the shorter side when the caller has it (era.hankel.gram builds
-    that of a block Hankel matrix by a recursion, without the product).
+    forming H(0)); when it has a ``prepare()`` (one that forms H(0) for BLAS products), that runs in a second
+    thread while the first finds the eigenvalues (:func:`gram_eigen`'s ``beside``). ``gram``: the Gram matrix
+    of the shorter side (its upper triangle) when the caller has it (era.hankel.gram builds that of a block
+    Hankel matrix by a recursion, without the product); its memory is reused, so it is lost to the caller.
+    ``threads``: the BLAS threads to use (default: as the caller has; a caller already inside a one-thread
+    limit passes its own count).
 
     BLAS runs with one thread (era.blas: the stabilization's own threads follow) except in the tridiagonal
     reduction of the Gram matrix, its reflectors and the product giving Q, which take the caller's threads when
@@ -130,22 +134,21 @@ def truncated_svd(h: np.ndarray, rank: int,
     values reach round-off (a noise-free record), the ones past them are round-off too and are left out.
     """
     rows, cols = h.shape
-    if rows > cols:
-        Q, d, P = truncated_svd(h.T, rank, gram)
-        return P, d, Q
-    threads = blas_threads()
+    threads = blas_threads() if threads is None else threads
     with single_threaded_blas():
-        threaded = rows >= THREADED_REDUCTION_MIN or workers_can_rest()
-        return _truncated_svd(h, int(min(rank, rows)), gram, threads if threaded else 1, threads)
+        threaded = min(rows, cols) >= THREADED_REDUCTION_MIN or workers_can_rest()
+        P, d, Q = _truncated_svd(h if rows <= cols else h.T, int(min(rank, rows, cols)), gram,
+                                 threads if threaded else 1, threads, getattr(h, "prepare", None))
+    return (P, d, Q) if rows <= cols else (Q, d, P)
 
 
-def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int,
-                   workers: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int, workers: int,
+                   prepare=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction, its reflectors and the
     product giving Q with ``threads`` BLAS threads, the inverse iteration in ``workers`` threads."""
     if gram is None:
         gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
-    every, v = gram_eigen(gram, rank, threads, workers)
+    every, v = gram_eigen(gram, rank, threads, workers, overwrite=True, beside=prepare)
     del gram
     w = every[:rank]
     if w[-1] >= GRAM_DIRECT_MIN * w[0]:
@@ -153,17 +156,31 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int,
         # values and Q's orthogonality), and the small SVD, slower with threads than the rest, is not needed;
         # the values past the rank come with it (to ε d_1²/d_i² relative, 1e-4 at d_i = 1e-6 d_1)
         d = np.sqrt(np.maximum(every, 0.0))
-        with blas_threads_limited(threads):  # for a dense H(0) one BLAS-3 product (by FFT: small ones)
-            q = h.T @ v
-        return np.ascontiguousarray(v), d, q / d[:rank]
+        return np.ascontiguousarray(v), d, _product_t(h, v, threads, workers) / d[:rank]
     u_small, d, wt = scipy.linalg.svd((h.T @ v).T, full_matrices=False, lapack_driver="gesdd", check_finite=False)
     return v @ u_small, d, np.ascontiguousarray(wt.T)
 
 
-def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
-               workers: int = 1) -> tuple[np.ndarray, np.ndarray]:
+def _product_t(h, v: np.ndarray, threads: int, workers: int) -> np.ndarray:
+    """h^T v (h (a, b) a matrix or an operator, v (a, k)): with ``workers`` > 1, v's columns in two halves in
+    two threads with one BLAS thread each (no OpenBLAS worker left spinning: stopping one costs 1.6-3.2 ms
+    after a threaded product, era.blas), else one product with ``threads`` BLAS threads."""
+    half = v.shape[1] // 2 if workers > 1 else 0
+    if not half:
+        with blas_threads_limited(threads):  # for a dense H(0) one BLAS-3 product (by FFT: small ones)
+            return h.T @ v
+    with single_threaded_blas(), ThreadPoolExecutor(1) as helper:
+        pending = helper.submit(lambda: h.T @ v[:, half:])
+        return np.hstack([h.T @ v[:, :half], pending.result()])
+
+
+def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers: int = 1, *,
+               overwrite: bool = False, beside=None) -> tuple[np.ndarray, np.ndarray]:
     """All eigenvalues of the symmetric ``gram`` (a, a), descending, and the eigenvectors (a, rank) of the
-    leading ``rank``: one tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
+    leading ``rank``. Only the upper triangle of a C-ordered ``gram`` is read (era.hankel.gram builds no more);
+    ``overwrite``: the reduction may work in ``gram``'s memory (no copy; its contents are then lost).
+
+    One tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
     eigenvalue for a² more work. ``threads``: BLAS threads for the reduction and the reflectors (default: as
@@ -173,7 +190,9 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
     block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
     iteration (:func:`_stein_in_parts`); then the factors are applied to the vectors (era.lapack.apply_reflectors)
     with ``threads``. On tests/bench/bench_sweep.py's Gram matrices with 2 threads, gram_eigen less its
-    reduction took 33 → 27 ms (900 × 900) and 50 → 44 ms (1280 × 1280).
+    reduction took 33 → 27 ms (900 × 900) and 50 → 44 ms (1280 × 1280). ``beside``: a callable of the
+    caller's that the helper runs after the factors, while sterf still runs (the sweep's dense H(0), built
+    there: era.hankel.HankelOperator.prepare); with one worker it runs first.
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -181,7 +200,9 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
         lwork = int(lapack.dsytrd_lwork(a, lower=1)[0])
         # one limit for the reduction and the reflectors: sterf and stein between them use no threaded BLAS
         with blas_threads_limited(threads) if threads else contextlib.nullcontext():
-            c, diag, off, tau, info = lapack.dsytrd(gram, lower=1, lwork=max(lwork, 1))
+            # gram's transpose is a Fortran view whose lower triangle is gram's upper one: no transposing copy
+            c, diag, off, tau, info = lapack.dsytrd(np.asarray(gram).T, lower=1, lwork=max(lwork, 1),
+                                                    overwrite_a=overwrite)
             if info != 0:
                 raise np.linalg.LinAlgError(f"sytrd info {info}")
             v = c[1:, :a - 1]  # G = H T H^T with H = diag(1, H'), H' the reflectors v (sytrd)
@@ -189,23 +210,48 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None,
             # workers would take the second core from them)
             with single_threaded_blas() if two else contextlib.nullcontext(), \
                     ThreadPoolExecutor(1) if two else contextlib.nullcontext() as helper:
-                pending = helper.submit(reflector_blocks, v, tau) if helper else None  # beside sterf (no GIL)
+                pending = helper.submit(_factors_then, v, tau, beside) if helper else None  # beside sterf
+                if beside is not None and not helper:
+                    beside()
                 every = _tridiagonal_values(diag, off)
                 y = _tridiagonal_vectors(diag, off, every[a - rank:], helper)
                 blocks = pending.result() if pending else None
-            if a > 1:
-                rest = apply_reflectors(v, blocks, y[1:]) if blocks is not None else None
-                if rest is None:
-                    rest, _, info = lapack.dormqr("L", "N", v, tau, y[1:], lwork=64 * rank + 4160)
-                    if info != 0:
-                        raise np.linalg.LinAlgError(f"ormqr info {info}")
-                y = np.vstack([y[:1], rest])
+                if a > 1:
+                    y = np.vstack([y[:1], _reflected(v, tau, blocks, y[1:], helper)])
         return every[::-1], np.ascontiguousarray(y[:, ::-1])
     except (np.linalg.LinAlgError, ValueError):  # not expected; the library's driver as a fallback
-        w, v = scipy.linalg.eigh(gram, subset_by_index=[a - rank, a - 1], driver="evr", check_finite=False)
-        every = np.concatenate([w[::-1], scipy.linalg.eigvalsh(gram, subset_by_index=[0, a - rank - 1])[::-1]]) \
-            if rank < a else w[::-1]
+        if overwrite:  # gram's memory may hold the reduction now: nothing to fall back on
+            raise
+        w, v = scipy.linalg.eigh(gram, lower=False, subset_by_index=[a - rank, a - 1], driver="evr",
+                                 check_finite=False)
+        every = np.concatenate([w[::-1], scipy.linalg.eigvalsh(gram, lower=False, subset_by_index=[
+            0, a - rank - 1])[::-1]]) if rank < a else w[::-1]
         return every, np.ascontiguousarray(v[:, ::-1])
+
+
+def _reflected(v: np.ndarray, tau: np.ndarray, blocks: list | None, y: np.ndarray,
+               helper: ThreadPoolExecutor | None = None) -> np.ndarray:
+    """H' y for the reflectors ``v``, ``tau`` of sytrd and ``y`` (a - 1, k): by their block factors
+    (era.lapack.apply_reflectors; with a ``helper`` thread, the columns in two halves, one BLAS thread each, so
+    no OpenBLAS worker is left spinning after it), else by ormqr."""
+    if blocks is not None:
+        half = y.shape[1] // 2 if helper is not None else 0
+        pending = helper.submit(apply_reflectors, v, blocks, y[:, half:]) if half else None
+        parts = [apply_reflectors(v, blocks, y[:, :half] if half else y)] + ([pending.result()] if half else [])
+        if all(x is not None for x in parts):
+            return np.hstack(parts) if half else parts[0]
+    out, _, info = scipy.linalg.lapack.dormqr("L", "N", v, tau, y, lwork=64 * y.shape[1] + 4160)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"ormqr info {info}")
+    return out
+
+
+def _factors_then(v: np.ndarray, tau: np.ndarray, beside=None):
+    """The reflectors' block factors (era.lapack.reflector_blocks, without the GIL), then ``beside()``."""
+    blocks = reflector_blocks(v, tau)
+    if beside is not None:
+        beside()
+    return blocks
 
 
 def _tridiagonal_values(diag: np.ndarray, off: np.ndarray) -> np.ndarray:

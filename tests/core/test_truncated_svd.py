@@ -136,6 +136,14 @@ def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in
     assert np.abs(v2.T @ v2 - np.eye(70)).max() < 1e-13
     assert np.abs(gram @ v2 - v2 * w2[:70]).max() < 1e-12 * w2[0]
     np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", v1, v2)), 1.0, atol=1e-12)
+    # only the upper triangle is read (era.hankel.gram leaves the rest unset), in the matrix's own memory when
+    # allowed; the caller's ``beside`` runs once, in the helper thread beside sterf or first with one worker
+    for workers in (1, 2):
+        upper, called = np.triu(gram) + np.tril(np.full_like(gram, np.nan), -1), []
+        w4, v4 = svd.gram_eigen(upper, 70, workers=workers, overwrite=True, beside=lambda: called.append(1))
+        assert called == [1] and not np.allclose(np.triu(upper, 1), np.triu(gram, 1))  # reduced in place
+        np.testing.assert_array_equal(w4, w1)
+        np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", v1, v4)), 1.0, atol=1e-12)
     for n in (2, 63, 64, 65, 129, 200):
         g = rng.standard_normal((n + 1, n + 1))
         c, _, _, tau, _ = scipy.linalg.lapack.dsytrd(g + g.T, lower=1)
@@ -163,7 +171,7 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
     for p, m, r, s in [(3, 2, 7, 7), (2, 3, 5, 11), (4, 1, 13, 3), (1, 1, 1, 1)]:
         y = rng.standard_normal((r + s + 2, p, m))
         dense = hankel.block_hankel(y, np.arange(r), np.arange(s))
-        op = hankel.HankelOperator(y, r, s)
+        op = hankel.HankelOperator(y, r, s, by_fft=True)  # the FFT products, whatever fft_pays says
         x, u = rng.standard_normal((s * m, 4)), rng.standard_normal((r * p, 3))
         scale = np.linalg.norm(dense)
         np.testing.assert_allclose(op @ x, dense @ x, atol=1e-13 * scale * np.linalg.norm(x))
@@ -173,8 +181,17 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
         np.testing.assert_allclose(op.dense(), dense)
         np.testing.assert_array_equal(op.first_block_row(), dense[:p])
         np.testing.assert_array_equal(op.first_block_column(), dense[:, :m])
-        np.testing.assert_allclose(hankel.gram(y, np.arange(r), np.arange(s), op),
-                                   hankel.gram(y, np.arange(r), np.arange(s), dense), atol=1e-13 * scale ** 2)
+        # the Gram matrix's upper triangle (all gram builds) by the recursion from each first block row (FFT,
+        # lag by lag without H(0), the dense product), in one thread and split in two, against the product
+        exact = np.triu(dense @ dense.T if r * p <= s * m else dense.T @ dense)
+        plain = hankel.HankelOperator(y, r, s, by_fft=False)
+        with mock.patch.object(hankel, "SPLIT_MIN", 0):
+            for h, workers in [(op, 1), (op, 2), (plain, 1), (plain, 2), (dense, 1), (dense, 2)]:
+                np.testing.assert_allclose(np.triu(hankel.gram(y, np.arange(r), np.arange(s), h, workers)),
+                                           exact, atol=1e-13 * scale ** 2)
+        assert plain._dense is None  # the Gram matrix did not need H(0); its products do
+        np.testing.assert_allclose(plain.T @ u, dense.T @ u, atol=1e-13 * scale * np.linalg.norm(u))
+        np.testing.assert_array_equal(plain.dense(), dense)
     with pytest.raises(era.EraError, match="samples"):
         hankel.HankelOperator(np.zeros((5, 1, 1)), 3, 4)
 
