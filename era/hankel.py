@@ -116,8 +116,8 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0,
     for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the entries, is of the order of
     the product's. The first block row, G_0j = Σ_k Y(k) Y(j + k)^T: from the dense ``h0``, by FFT when
     ``h0`` is a :class:`HankelOperator` whose products go that way, else lag by lag from the data
-    (:func:`_first_gram_row`), without H(0). ``workers`` > 1: the first block row and the recursion in two
-    threads (by lags and by block diagonals) when the blocks are large enough to gain (:data:`SPLIT_MIN`).
+    (:func:`_first_gram_row`), without H(0). ``workers`` > 1: that first block row in two threads (by lags)
+    when its blocks are large enough to gain (:data:`SPLIT_MIN`).
     Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
 
     Returns
@@ -139,12 +139,11 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0,
             first = _first_gram_row(y, r, s, helper)
         else:
             first = h0[:p] @ h0.T if rows <= cols else h0[:, :p].T @ h0
-        return _sliding_gram(y, r, s, first, helper)
+        return _sliding_gram(y, r, s, first)
 
 
-#: gram's first block row and recursion go in two threads when r p² (a block row's size times p) is at least
-#: this: 1280 × 2000 (r = 40, p = 32) gains, 900 × 2392 (r = 100, p = 9) does not (its blocks' products are
-#: small enough that the GIL between them serializes the threads).
+#: gram's first block row, lag by lag, goes in two threads when r p² is at least this: 1280 × 2000 (r = 40,
+#: p = 32) gains (5.3 → 3.0-3.2 ms); on 900 × 2392 (r = 100, p = 9) it goes by FFT (0.7 ms).
 SPLIT_MIN = 20000
 
 
@@ -169,31 +168,20 @@ def _first_gram_row(y: np.ndarray, r: int, s: int, helper=None) -> np.ndarray:
     return out
 
 
-def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray, helper=None) -> np.ndarray:
+def _sliding_gram(y: np.ndarray, r: int, s: int, first: np.ndarray) -> np.ndarray:
     """The upper triangle of H H^T for H with consecutive shifts (block (i, k) = Y(i + k), r × s blocks of
     p × m) from its first block row ``first`` (p, r p) by G_{i+1, j+1} = G_{i, j} + Y(i + s) Y(j + s)^T -
-    Y(i) Y(j)^T. Each block diagonal is its own recursion: with a ``helper`` thread the diagonals go in two
-    sets of about equal work."""
-    p = y.shape[1]
+    Y(i) Y(j)^T. (Split by block diagonals between two threads it gained nothing: 4.5 → 4.3 ms on 1280 × 2000,
+    3.6 → 6.2 ms on 900 × 2392, its small steps serialized by the GIL.)"""
+    p, m = y.shape[1], y.shape[2]
     g = np.empty((r * p, r * p))
     g[:p] = first
-    cut = max(1, int(round(r * (1 - 0.5 ** 0.5)))) if helper is not None else r  # half the blocks below it
-    pending = helper.submit(_slide, y, r, s, g, cut, r) if helper is not None and cut < r else None
-    _slide(y, r, s, g, 0, cut)
-    if pending:
-        pending.result()
+    for i in range(r - 1):
+        later = y[i + s:r - 1 + s].transpose(2, 0, 1).reshape(m, -1)  # [Y(j + s)^T]_j for j = i..r-2
+        early = y[i:r - 1].transpose(2, 0, 1).reshape(m, -1)
+        g[(i + 1) * p:(i + 2) * p, (i + 1) * p:] = (g[i * p:(i + 1) * p, i * p:(r - 1) * p]
+                                                     + y[i + s] @ later - y[i] @ early)
     return g
-
-
-def _slide(y: np.ndarray, r: int, s: int, g: np.ndarray, lo: int, hi: int) -> None:
-    """:func:`_sliding_gram`'s recursion on the block diagonals lo..hi - 1 (block (i, i + d), lo ≤ d < hi)."""
-    p, m = y.shape[1], y.shape[2]
-    for i in range(r - 1 - lo):
-        top = min(hi, r - 1 - i)  # the diagonals d that row i + 1 still has: i + 1 + d ≤ r - 1
-        later = y[i + s + lo:i + s + top].transpose(2, 0, 1).reshape(m, -1)  # [Y(j + s)^T] for j = i+lo..i+top-1
-        early = y[i + lo:i + top].transpose(2, 0, 1).reshape(m, -1)
-        g[(i + 1) * p:(i + 2) * p, (i + 1 + lo) * p:(i + 1 + top) * p] = (
-            g[i * p:(i + 1) * p, (i + lo) * p:(i + top) * p] + y[i + s] @ later - y[i] @ early)
 
 
 def is_consecutive(row_shifts: np.ndarray, col_shifts: np.ndarray) -> bool:

@@ -185,7 +185,7 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
         # lag by lag without H(0), the dense product), in one thread and split in two, against the product
         exact = np.triu(dense @ dense.T if r * p <= s * m else dense.T @ dense)
         plain = hankel.HankelOperator(y, r, s, by_fft=False)
-        with mock.patch.object(hankel, "SPLIT_MIN", 0):
+        with mock.patch.object(hankel, "SPLIT_MIN", 0):  # the lags in two threads whatever the size
             for h, workers in [(op, 1), (op, 2), (plain, 1), (plain, 2), (dense, 1), (dense, 2)]:
                 np.testing.assert_allclose(np.triu(hankel.gram(y, np.arange(r), np.arange(s), h, workers)),
                                            exact, atol=1e-13 * scale ** 2)
