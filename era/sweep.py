@@ -28,9 +28,12 @@ from . import indicators
 from .blas import single_threaded_blas
 from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
 
-#: modes per batched product (bounds its memory: K m × 2 CHUNK_MODES numbers, 4.6 MB for K = 120, m = 8) —
-#: large enough to run at BLAS-3 speed (100-300 all take the same time on the benchmark).
-CHUNK_MODES = 300
+#: modes per batched product (bounds its memory: K m × 2 CHUNK_MODES numbers, 3 MB for K = 120, m = 8):
+#: large enough to run at BLAS-3 speed, small enough that two threads get runs of about equal work. On
+#: tests/bench/bench_sweep.py's sweeps, γ, μ and the contribution of all orders with 2 threads took (median of
+#: 15, interleaved) 35.1 / 30.2 / 28.9 ms on 1280 × 2000 and 34.9 / 32.8 / 31.6 ms on 900 × 2392 for 300 / 250 /
+#: 200 modes, the same or less with one thread (100, in a shorter run of 7: 38.8 ms on 1280 × 2000).
+CHUNK_MODES = 200
 
 
 @dataclass(frozen=True, eq=False)
