@@ -9,7 +9,7 @@ import numpy as np
 
 from .errors import EraError
 from .realization import Identification
-from .blas import blas_threads
+from .blas import blas_threads, single_threaded_blas
 from .sweep import in_parallel, order_indicators, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
@@ -216,6 +216,13 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
     done = [n for n in req if n <= ident.max_order]
     workers = blas_threads() if workers is None else max(1, int(workers))
+    with single_threaded_blas():  # all of it: its threads have one BLAS thread each, and one limit for the
+        # whole (each limit lifted costs 0.2-4 ms, era.blas) keeps the small products after them on one thread
+        return _stabilization(ident, done, freq_tol, damping_tol, mac_min, min_orders, uncertainty, workers)
+
+
+def _stabilization(ident, done, freq_tol, damping_tol, mac_min, min_orders, uncertainty, workers):
+    """:func:`stabilization` of the orders ``done``."""
     sw = realize_orders(ident, done, workers)
     order, freq, damp, shapes = sw.order, sw.frequency_hz, sw.damping_ratio, sw.shapes
     gamma, mu, contribution = order_indicators(ident, sw, workers)
