@@ -63,18 +63,20 @@ def _ratios(data, rows, cols, threads):
 #: the wall-clock ratio on the 2-core machine of the issue, shared with other jobs (the issue's target is 0.5 at
 #: both thread counts): ratio ≤ LIMIT[case][threads] guards against regressions; the figures printed (and the
 #: one-thread CPU-time ratio, which a neighbour's load disturbs least) are the measurement.
-LIMIT = {"900x2392 p=9 m=8": {1: 0.6, 2: 0.7}, "1280x2000 p=32 m=4": {1: 0.45, 2: 0.55}}
+LIMIT = {"900x2392 p=9 m=8": {1: 0.55, 2: 0.55}, "1280x2000 p=32 m=4": {1: 0.4, 2: 0.4}}
 
 
 def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(case):
     """Measured (README, issue 14): see the section "Uncertainty of each mode, repeated modes, the sweep's cost".
-    On 900 × 2392, wall-clock ms inside this loop with one / two threads, against the gesdd's ~680 / ~460:
-    identify 88 / 80 (the Gram matrix's tridiagonal reduction 42 / 26-32, sterf 10.5 and stein 10 on one core
-    at both counts, the reflectors 11 / 9), the 60 eigensolutions 150 / 90, γ, μ and the contribution 60 / 35,
-    tracking ≈ 10. With two threads the orders and the runs of modes go two at a time and identify's BLAS steps
-    take both threads, OpenBLAS's idle workers being stopped around them (era.blas.rest_blas_workers)."""
+    On 1280 × 2000 with two threads, wall-clock ms inside this loop against the gesdd's ~930: identify ≈ 125
+    (the Gram matrix 8, its tridiagonal reduction 65, sterf 20.5 on one core while the other builds the
+    reflectors' factors and H(0), stein 6.5, the reflectors 6.5, h^T v 10.5), the 60 eigensolutions ≈ 86, γ, μ
+    and the contribution ≈ 30, tracking ≈ 5. With two threads the orders and the runs of modes go two at a time
+    and identify's reduction takes both threads, OpenBLAS's idle workers being stopped after it
+    (era.blas.rest_blas_workers). The ratio must not be worse with two threads than with one (5 % for noise)."""
     name, data, rows, cols = case
     assert era.identify(data, rows, cols, max_order=max(ORDERS)).svd_method == "truncated"
+    ratio = {}
     for threads in (1, 2):
         shape, (svd, sweep, sigma), (svd_cpu, sweep_cpu) = _ratios(data, rows, cols, threads)
         cpu = f" | CPU time {sweep_cpu:.3f} s / {svd_cpu:.3f} s = {sweep_cpu / svd_cpu:.2f}×" if threads == 1 else ""
@@ -82,6 +84,8 @@ def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(c
               f"identify + stabilization(2..120) {sweep:.3f} s = {sweep / svd:.2f}× SVD (issue target 0.5){cpu} | "
               f"with the stable poles' σ {sigma:.3f} s = {sigma / svd:.2f}× SVD | load {os.getloadavg()[0]:.1f}")
         assert sweep / svd <= LIMIT[name][threads]
+        ratio[threads] = sweep / svd
+    assert ratio[2] <= 1.05 * ratio[1]
 
 
 def test_every_stable_pole_equals_the_dense_paths_to_1e_8(case):
