@@ -122,9 +122,10 @@ def truncated_svd(h: np.ndarray, rank: int, gram: np.ndarray | None = None,
     limit passes its own count).
 
     BLAS runs with one thread (era.blas: the stabilization's own threads follow) except in the tridiagonal
-    reduction of the Gram matrix, its reflectors and the product giving Q, which take the caller's threads when
-    OpenBLAS's idle workers can be stopped after them (era.blas.rest_blas_workers) or the Gram matrix's order
-    is ≥ THREADED_REDUCTION_MIN.
+    reduction of the Gram matrix, which takes the caller's threads when OpenBLAS's idle workers can be stopped
+    after it (era.blas.rest_blas_workers) or the Gram matrix's order is ≥ THREADED_REDUCTION_MIN. With two or
+    more threads the steps after it go in two Python threads with one BLAS thread each (:func:`gram_eigen`,
+    :func:`_product_t`), so no OpenBLAS worker is left spinning.
 
     Returns
     -------
@@ -188,9 +189,10 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
 
     ``workers`` > 1: a second thread takes what does not wait for sterf (sequential, one core), the reflectors'
     block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
-    iteration (:func:`_stein_in_parts`); then the factors are applied to the vectors (era.lapack.apply_reflectors)
-    with ``threads``. On tests/bench/bench_sweep.py's Gram matrices with 2 threads, gram_eigen less its
-    reduction took 33 → 27 ms (900 × 900) and 50 → 44 ms (1280 × 1280). ``beside``: a callable of the
+    iteration (:func:`_stein_in_parts`); then the factors are applied to the two halves of the vectors
+    (:func:`_reflected`), all with one BLAS thread. On tests/bench/bench_sweep.py's Gram matrices with 2
+    threads, gram_eigen less its reduction took 33 → 22 ms (900 × 900) and 50 → 40 ms (1280 × 1280) against
+    one thread's steps with a threaded ormqr (sessions 8-9). ``beside``: a callable of the
     caller's that the helper runs after the factors, while sterf still runs (the sweep's dense H(0), built
     there: era.hankel.HankelOperator.prepare); with one worker it runs first.
     """
