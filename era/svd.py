@@ -145,8 +145,9 @@ def truncated_svd(h: np.ndarray, rank: int, gram: np.ndarray | None = None,
 
 def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int, workers: int,
                    prepare=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols); the tridiagonal reduction, its reflectors and the
-    product giving Q with ``threads`` BLAS threads, the inverse iteration in ``workers`` threads."""
+    """:func:`truncated_svd` of a wide ``h`` (rows ≤ cols): the tridiagonal reduction with ``threads`` BLAS
+    threads; with ``workers`` > 1 the steps after it in two threads of one BLAS thread each, else with
+    ``threads``. ``prepare``: run beside sterf (:func:`gram_eigen`'s ``beside``)."""
     if gram is None:
         gram = h @ h.T if isinstance(h, np.ndarray) else h @ (h.T @ np.eye(h.shape[0]))
     every, v = gram_eigen(gram, rank, threads, workers, overwrite=True, beside=prepare)
@@ -184,8 +185,8 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
     One tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
     the leading eigenvectors by inverse iteration on those eigenvalues (:func:`_tridiagonal_vectors`), and back
     to ``gram``'s basis by the reduction's reflectors (ormqr) — what syevr does for the subset, plus every
-    eigenvalue for a² more work. ``threads``: BLAS threads for the reduction and the reflectors (default: as
-    the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
+    eigenvalue for a² more work. ``threads``: BLAS threads for the reduction, and for the reflectors with
+    one worker (default: as the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
 
     ``workers`` > 1: a second thread takes what does not wait for sterf (sequential, one core), the reflectors'
     block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
@@ -200,7 +201,7 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
     lapack = scipy.linalg.lapack
     try:
         lwork = int(lapack.dsytrd_lwork(a, lower=1)[0])
-        # one limit for the reduction and the reflectors: sterf and stein between them use no threaded BLAS
+        # one limit for the reduction and, with one worker, the reflectors (sterf and stein use no BLAS threads)
         with blas_threads_limited(threads) if threads else contextlib.nullcontext():
             # gram's transpose is a Fortran view whose lower triangle is gram's upper one: no transposing copy
             c, diag, off, tau, info = lapack.dsytrd(np.asarray(gram).T, lower=1, lwork=max(lwork, 1),
