@@ -114,9 +114,9 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0,
     shifts slides by one sample), so only the first block row is a product and each further block row costs
     two products of rank m: r p · r p · m work instead of (r p)² s m / 2 for the product (about 1/100 of it
     for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the entries, is of the order of
-    the product's. The first block row, G_0j = Σ_k Y(k) Y(j + k)^T: from the dense ``h0``, by FFT when
-    ``h0`` is a :class:`HankelOperator` whose products go that way, else lag by lag from the data
-    (:func:`_first_gram_row`), without H(0). ``workers`` > 1: that first block row in two threads (by lags)
+    the product's. The first block row, G_0j = Σ_k Y(k) Y(j + k)^T: by FFT when ``h0`` is a
+    :class:`HankelOperator` whose products go that way, else lag by lag from the data
+    (:func:`_first_gram_row`), without H(0) (also when ``h0`` is the dense H(0)). ``workers`` > 1: that first block row in two threads (by lags)
     when its blocks are large enough to gain (:data:`SPLIT_MIN`).
     Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
 
@@ -130,15 +130,13 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0,
     y, r, s = markov, len(row_shifts), len(col_shifts)
     if rows > cols:  # H^T is the block Hankel matrix of the blocks Y(k)^T, rows and columns swapped
         y, r, s = markov.transpose(0, 2, 1), s, r
-    p = y.shape[1]
-    two = workers > 1 and r * p * p >= SPLIT_MIN
+    fft = isinstance(h0, HankelOperator) and h0.by_fft
+    two = not fft and workers > 1 and r * y.shape[1] ** 2 >= SPLIT_MIN
     with single_threaded_blas(), ThreadPoolExecutor(1) if two else contextlib.nullcontext() as helper:
-        if isinstance(h0, HankelOperator) and h0.by_fft:
+        if fft:
             first = (h0 @ h0.first_block_row().T).T if rows <= cols else (h0.T @ h0.first_block_column()).T
-        elif isinstance(h0, HankelOperator):
-            first = _first_gram_row(y, r, s, helper)
         else:
-            first = h0[:p] @ h0.T if rows <= cols else h0[:, :p].T @ h0
+            first = _first_gram_row(y, r, s, helper)
         return _sliding_gram(y, r, s, first)
 
 
