@@ -116,9 +116,9 @@ def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0,
     for H(0) 900 × 2392). Its round-off, r additions of terms no larger than the entries, is of the order of
     the product's. The first block row, G_0j = Σ_k Y(k) Y(j + k)^T: by FFT when ``h0`` is a
     :class:`HankelOperator` whose products go that way, else lag by lag from the data
-    (:func:`_first_gram_row`), without H(0) (also when ``h0`` is the dense H(0)). ``workers`` > 1: that first block row in two threads (by lags)
-    when its blocks are large enough to gain (:data:`SPLIT_MIN`).
-    Other shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
+    (:func:`_first_gram_row`), without H(0) (also when ``h0`` is the dense H(0)). ``workers`` > 1: that first
+    block row in two threads (by lags) when its blocks are large enough to gain (:data:`SPLIT_MIN`). Other
+    shifts: ``h0 @ h0.T`` (or ``h0.T @ h0``).
 
     Returns
     -------

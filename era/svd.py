@@ -167,13 +167,21 @@ def _product_t(h, v: np.ndarray, threads: int, workers: int) -> np.ndarray:
     """h^T v (h (a, b) a matrix or an operator, v (a, k)): with ``workers`` > 1, v's columns in two halves in
     two threads with one BLAS thread each (no OpenBLAS worker left spinning: stopping one costs 1.6-3.2 ms
     after a threaded product, era.blas), else one product with ``threads`` BLAS threads."""
-    half = v.shape[1] // 2 if workers > 1 else 0
-    if not half:
+    if workers < 2:
         with blas_threads_limited(threads):  # for a dense H(0) one BLAS-3 product (by FFT: small ones)
             return h.T @ v
     with single_threaded_blas(), ThreadPoolExecutor(1) as helper:
-        pending = helper.submit(lambda: h.T @ v[:, half:])
-        return np.hstack([h.T @ v[:, :half], pending.result()])
+        return np.hstack(_by_halves(lambda part: h.T @ part, v, helper))
+
+
+def _by_halves(fn, x: np.ndarray, helper: ThreadPoolExecutor | None) -> list:
+    """[fn(x[:, :half]), fn(x[:, half:])], the second half in the ``helper`` thread meanwhile; [fn(x)] without
+    a helper or for one column."""
+    half = x.shape[1] // 2 if helper is not None else 0
+    if not half:
+        return [fn(x)]
+    pending = helper.submit(fn, x[:, half:])
+    return [fn(x[:, :half]), pending.result()]
 
 
 def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers: int = 1, *,
@@ -238,11 +246,9 @@ def _reflected(v: np.ndarray, tau: np.ndarray, blocks: list | None, y: np.ndarra
     (era.lapack.apply_reflectors; with a ``helper`` thread, the columns in two halves, one BLAS thread each, so
     no OpenBLAS worker is left spinning after it), else by ormqr."""
     if blocks is not None:
-        half = y.shape[1] // 2 if helper is not None else 0
-        pending = helper.submit(apply_reflectors, v, blocks, y[:, half:]) if half else None
-        parts = [apply_reflectors(v, blocks, y[:, :half] if half else y)] + ([pending.result()] if half else [])
+        parts = _by_halves(lambda part: apply_reflectors(v, blocks, part), y, helper)
         if all(x is not None for x in parts):
-            return np.hstack(parts) if half else parts[0]
+            return np.hstack(parts) if len(parts) > 1 else parts[0]
     out, _, info = scipy.linalg.lapack.dormqr("L", "N", v, tau, y, lwork=64 * y.shape[1] + 4160)
     if info != 0:
         raise np.linalg.LinAlgError(f"ormqr info {info}")
