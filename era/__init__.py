@@ -15,6 +15,10 @@ from .selection import keep_mask, kept_modes
 from .realization import Identification, identify
 from .stabilization import StableMode, Stabilization, stabilization
 
+# modes in one click (issue 25): the default analysis and the automatic choice of the structure's modes
+from .choice import Candidate, ModeChoice, choose_modes
+from .analysis import AnalysisResult, analyse
+
 # test data in (issue 3): readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
 from .markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
@@ -30,6 +34,7 @@ from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 __all__ = [
     "__version__",
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
+    "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",

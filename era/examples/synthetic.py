@@ -64,3 +64,36 @@ def modal_response(frequency_hz, damping_ratio, n_outputs: int, n_inputs: int, n
     truth = SyntheticTruth(frequency_hz=f, damping_ratio=np.array(zeta), shapes=phi, residues=residues,
                            snr_db=snr_db)
     return ResponseData(y, dt), truth
+
+
+def ambient_response(frequency_hz, damping_ratio, n_outputs: int, n_samples: int, dt: float,
+                     snr_db: float | None = None, seed: int = 0, shapes=None) -> tuple[np.ndarray, SyntheticTruth]:
+    """Outputs of normal modes driven by white noise (an ambient test), for era.markov_from_ambient.
+
+    Each mode's complex modal coordinate follows η_j(k+1) = z_j η_j(k) + w_j(k) with z_j = exp(s_j Δτ) and w_j
+    complex white noise of unit variance (independent modal forces), and y(k) = Σ_j 2 Re(φ_j η_j(k)); so the
+    output correlations decay with the poles s_j (James et al.'s NExT). Parameters as :func:`modal_response`
+    (``snr_db``: white measurement noise on each channel).
+
+    Returns
+    -------
+    y : (n_samples, p) float; SyntheticTruth (residues: ones, as the forces are unit white noise)
+    """
+    from scipy.signal import lfilter
+
+    f = np.asarray(frequency_hz, dtype=float)
+    zeta = np.broadcast_to(np.asarray(damping_ratio, dtype=float), f.shape)
+    rng = np.random.default_rng(seed)
+    phi = rng.standard_normal((n_outputs, f.size)) if shapes is None else np.asarray(shapes, dtype=float)
+    wd = 2 * np.pi * f
+    s = -zeta * wd / np.sqrt(1 - zeta**2) + 1j * wd
+    z = np.exp(s * dt)
+    w = rng.standard_normal((f.size, n_samples)) + 1j * rng.standard_normal((f.size, n_samples))
+    eta = np.stack([lfilter([1.0], [1.0, -zj], wj) for zj, wj in zip(z, w)])  # (modes, N)
+    y = 2 * (phi @ eta).real.T
+    if snr_db is not None:
+        rms = np.sqrt(np.mean(y**2, axis=0, keepdims=True))
+        y = y + rng.standard_normal(y.shape) * rms * 10 ** (-snr_db / 20)
+    truth = SyntheticTruth(frequency_hz=f, damping_ratio=np.array(zeta), shapes=phi,
+                           residues=np.ones((f.size, 1), complex), snr_db=snr_db)
+    return y, truth

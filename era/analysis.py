@@ -1,0 +1,113 @@
+"""analyse(): the default analysis in one call: Hankel size, orders, one SVD, the stabilization diagram with the
+data's uncertainty, and the automatic choice of the structure's modes (era.choice)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .choice import ModeChoice, choose_modes
+from .data import ResponseData
+from .errors import DataError, EraError
+from .hankel import MAX_HANKEL_ELEMENTS
+from .modal import ModalModel
+from .realization import Identification, identify
+from .stabilization import Stabilization, stabilization
+from .suggest import hankel_size
+
+#: The largest order realized by default (H(0)'s leading singular triplets kept).
+DEFAULT_MAX_ORDER = 200
+#: The stabilization diagram's highest order by default (every even order from 2).
+DIAGRAM_MAX_ORDER = 160
+#: H(0) at most this many elements by default (rows·p × cols·m), and at most this many rows and columns.
+DEFAULT_MAX_ELEMENTS = 25_000_000
+DEFAULT_MAX_SIDE = 800
+
+
+@dataclass(frozen=True, eq=False)
+class AnalysisResult:
+    """What :func:`analyse` found.
+
+    identification : the one SVD (era.Identification); stabilization : the diagram over ``orders``;
+    order : the diagram order at which every chosen mode has a pole; model : the ModalModel of exactly the chosen
+    modes at that order, sorted by frequency, with the data's standard deviations (``frequency_std_hz``,
+    ``damping_std``); choice : the verdict on every cluster (era.choice.ModeChoice); rejected : every candidate
+    left out, each with its reason in words (``choice.rejected``); band_hz : the band the choice used.
+    """
+
+    identification: Identification
+    stabilization: Stabilization
+    choice: ModeChoice
+    model: ModalModel
+    band_hz: tuple
+
+    @property
+    def order(self) -> int:
+        return self.choice.order
+
+    @property
+    def rejected(self) -> tuple:
+        return self.choice.rejected
+
+    @property
+    def indices(self) -> np.ndarray:
+        """(modes,) the chosen modes' positions among ``identification.model(order)``'s modes."""
+        return self.choice.indices
+
+
+def diagram_orders(max_order: int, top: int = DIAGRAM_MAX_ORDER) -> range:
+    """The diagram's orders: every even order from 2 up to min(max_order, top) (1, 2, … below 2)."""
+    top = min(int(max_order), int(top))
+    return range(2, top + 1, 2) if top >= 2 else range(1, top + 1)
+
+
+def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = None, max_order: int | None = None,
+            orders=None, band_hz: tuple[float, float] | None = None,
+            max_elements: int = DEFAULT_MAX_ELEMENTS, workers: int | None = None) -> AnalysisResult:
+    """The structure's modes from a ResponseData, chosen for you, with the evidence for and against every pole.
+
+    Parameters
+    ----------
+    data : era.ResponseData (pulse responses, free decays, or NExT correlation functions), (N, p, m).
+    rows, cols : block rows r and columns s of H(0) (eq. 16, consecutive shifts); default
+        :func:`era.suggest.hankel_size` (about 45 % of N each, H(0) at most ``max_elements`` elements).
+    max_order : the largest order realized; default min(r·p, s·m, DEFAULT_MAX_ORDER).
+    orders : the diagram's orders; default every even order from 2 to min(max_order, DIAGRAM_MAX_ORDER).
+    band_hz : (low, high) Hz, the band the data hold; default ``data.meta["band_hz"]`` (FRF data), else
+        (0, Nyquist).
+    workers : threads for the diagram's orders (era.stabilization).
+
+    Returns
+    -------
+    AnalysisResult
+
+    Raises era.DataError when the records hold nothing to identify, era.EraError (HankelError, OrderError) for
+    parameters that do not fit the data.
+    """
+    if not isinstance(data, ResponseData):
+        raise EraError(f"analyse needs an era.ResponseData (era.load(...).data), got {type(data).__name__}.")
+    n, p, m = data.markov.shape
+    if rows is None or cols is None:
+        choice = hankel_size(n, p, m, max_side=DEFAULT_MAX_SIDE, max_elements=min(max_elements, MAX_HANKEL_ELEMENTS),
+                             max_order=DEFAULT_MAX_ORDER)
+        rows = choice.rows if rows is None else rows
+        cols = choice.cols if cols is None else cols
+    if max_order is None:
+        max_order = min(int(rows) * p, int(cols) * m, DEFAULT_MAX_ORDER)
+    ident = identify(data, rows, cols, max_order=max_order)
+    if ident.max_order == 0:
+        raise DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is nothing to "
+                        "identify. Check the file's channels and scaling.")
+    orders = diagram_orders(ident.max_order) if orders is None else orders
+    stab = stabilization(ident, orders, uncertainty=True, workers=workers)
+    if band_hz is None and data.meta.get("band_hz") is not None:
+        band_hz = tuple(float(x) for x in data.meta["band_hz"])
+    picked = choose_modes(ident, stab, band_hz=band_hz)
+    return AnalysisResult(identification=ident, stabilization=stab, choice=picked,
+                          model=chosen_model(ident, picked), band_hz=band_hz or (0.0, 0.5 / data.dt))
+
+
+def chosen_model(ident: Identification, picked: ModeChoice) -> ModalModel:
+    """The ModalModel of exactly the chosen modes at the chosen order (with the data's standard deviations)."""
+    return ident.model(picked.order).select(picked.indices)
