@@ -5,14 +5,15 @@ cluster or on local processes, and every mode followed through time.
 tracked mode), ``modes`` (the tracked modes) and ``failed`` (records that could not be analysed, with the reason).
 Needs the ``campaign`` extra (``pip install 'era-modal[campaign]'``: dask[distributed], pandas, threadpoolctl).
 
-record.py  one record → its modes (the task); tracking.py  modes matched through the records; runner.py  the
-tasks and the cache; result.py  the table; simulated.py  a simulated monitored structure for tests and demos.
+record.py  one record → its modes, chosen by era.analyse (the task); tracking.py  modes matched through the
+records; runner.py  the tasks and the cache; result.py  the table; simulated.py  simulated monitored structures
+for tests and demos.
 """
 
-from .record import RecordFailure, RecordModes, Settings, analyse_record, select_modes, time_from_name
+from .record import RecordFailure, RecordModes, Settings, analyse_record, modes_of, record_modes, time_from_name
 from .result import COLUMNS, CampaignResult
 from .runner import run_campaign
 from .tracking import TrackedMode, Tracking, track_modes
 
 __all__ = ["run_campaign", "CampaignResult", "COLUMNS", "RecordModes", "RecordFailure", "Settings", "analyse_record",
-           "select_modes", "time_from_name", "track_modes", "Tracking", "TrackedMode"]
+           "modes_of", "record_modes", "time_from_name", "track_modes", "Tracking", "TrackedMode"]

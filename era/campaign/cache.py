@@ -18,8 +18,9 @@ import numpy as np
 
 from .record import RecordModes
 
-_ARRAYS = ("frequency_hz", "frequency_std_hz", "damping_ratio", "emac", "mpc")
-_VERSION = 1
+_ARRAYS = ("frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "emac", "mpc")
+#: 2: the modes era.choose_modes chose, at one order, with the data's σ (1: the campaign's own rule)
+_VERSION = 2
 
 
 def record_key(source, fingerprint: str) -> str:
@@ -45,7 +46,8 @@ def to_json(rec: RecordModes) -> dict:
     out.update(version=_VERSION, index=rec.index, name=rec.name, time=None if rec.time is None else str(rec.time),
                n_orders=rec.n_orders.tolist(), shapes_re=rec.shapes.real.tolist(),
                shapes_im=rec.shapes.imag.tolist(), outputs=list(rec.outputs), kind=rec.kind, rows=rec.rows,
-               cols=rec.cols, n_samples=rec.n_samples, p=int(rec.shapes.shape[0]))
+               cols=rec.cols, n_samples=rec.n_samples, p=int(rec.shapes.shape[0]), order=rec.order,
+               rejected=[list(r) for r in rec.rejected])
     return out
 
 
@@ -56,7 +58,8 @@ def from_json(d: dict, index: int, name: str) -> RecordModes:
     return RecordModes(index=index, name=name, time=None if d["time"] is None else np.datetime64(d["time"], "s"),
                        **{k: np.array(d[k], float) for k in _ARRAYS}, n_orders=np.array(d["n_orders"], int),
                        shapes=shapes, outputs=tuple(d["outputs"]), kind=d["kind"], rows=int(d["rows"]),
-                       cols=int(d["cols"]), n_samples=int(d["n_samples"]))
+                       cols=int(d["cols"]), n_samples=int(d["n_samples"]), order=int(d["order"]),
+                       rejected=tuple((float(f), str(c), str(r)) for f, c, r in d["rejected"]))
 
 
 def load_entry(folder, key: str, index: int, name: str) -> RecordModes | None:

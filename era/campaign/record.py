@@ -1,10 +1,11 @@
 """One record of a campaign, analysed the way the app analyses a dataset: the task every worker runs.
 
-era.load → Markov parameters by the record's kind (NExT for ambient records) → era.identify with the Hankel size of
-era.suggest.hankel_size → era.stabilization over the campaign's orders → the stable modes that pass the app's keep
-rule (coherent: mean γ·μ ≥ era.stabilization.COHERENT_MIN; a decaying complex pair, era.keep_mask with
-physical_only). What goes back to the caller is a few numbers per mode (:class:`RecordModes`), never a Hankel
-matrix, so a task's answer is a few kB whatever the record's length.
+era.load → Markov parameters by the record's kind (NExT for ambient records) → era.analyse (one SVD, the
+stabilization diagram over the campaign's orders with the data's uncertainty, and THE choice of the structure's
+modes, era.choose_modes) with the campaign's Hankel size. A record's modes are the chosen model's: frequencies,
+damping, γ, μ and shapes at the one order era.choose_modes reads them at, with their standard deviations from the
+data. What goes back to the caller is a few numbers per mode (:class:`RecordModes`), never a Hankel matrix, so a
+task's answer is a few kB whatever the record's length.
 """
 
 from __future__ import annotations
@@ -16,12 +17,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..analysis import AnalysisResult, analyse
 from ..errors import EraError
-from ..indicators import mac
 from ..io import load
-from ..realization import identify
-from ..selection import keep_mask
-from ..stabilization import stabilization
 from ..suggest import hankel_size
 
 
@@ -32,13 +30,13 @@ class Settings:
     kind : era.load's conversion ("auto", "ambient", "decay", "pulse", "frf", "io").
     dt : sampling interval in s for CSV files without a time column, or None.
     rows, cols : Hankel block rows and columns; None: era.suggest.hankel_size of each record.
-    orders : model orders of the stabilization diagram (tuple of int).
-    min_stable_fraction : a mode must be stable in at least this fraction of the computed orders. The app's
-        diagram asks for 3 orders because a person looks at it; a campaign has nobody to reject short-lived
-        noise poles, and a physical mode of an ambient record stays stable over most orders (0 keeps every
-        mode the app would mark coherent).
+    orders : model orders of the stabilization diagram (tuple of int); orders above what the Hankel size allows
+        are left out.
     load_options : extra keywords for era.load (e.g. references=[0, 1], n_lags=1024), as sorted (name, value)
         pairs so the settings stay hashable.
+
+    Which of the diagram's modes a record keeps is not a setting: it is era.choose_modes, the rule the app and
+    explain use.
     """
 
     kind: str = "auto"
@@ -46,24 +44,34 @@ class Settings:
     rows: int | None = None
     cols: int | None = None
     orders: tuple = tuple(range(2, 81, 2))
-    min_stable_fraction: float = 0.5
     load_options: tuple = field(default_factory=tuple)
 
     def fingerprint(self) -> str:
-        """A text that changes whenever a setting that changes the result changes (for the cache)."""
-        return repr((self.kind, self.dt, self.rows, self.cols, self.orders, self.min_stable_fraction,
-                     self.load_options))
+        """A text that changes whenever a setting that changes the result changes (for the cache), the thresholds
+        of era.choose_modes included: a cache made under other thresholds is not mixed into a new table."""
+        return repr((self.kind, self.dt, self.rows, self.cols, self.orders, self.load_options, _rule_constants()))
+
+
+def _rule_constants() -> tuple:
+    from .. import __version__, choice
+    return (__version__,) + tuple((k, getattr(choice, k)) for k in sorted(vars(choice)) if k.isupper())
 
 
 @dataclass(frozen=True, eq=False)
 class RecordModes:
-    """The modes one record gave, sorted by frequency (k modes, p outputs).
+    """The modes one record gave: those era.choose_modes chose, sorted by frequency (k modes, p outputs).
 
     index : position of the record in the campaign's sources; name : its file name (or "record i");
     time : numpy.datetime64 (s) read from the file name, or None;
-    frequency_hz, frequency_std_hz, damping_ratio, emac, mpc : (k,) means over the orders where each mode is
-    stable (the std is the spread across orders); n_orders : (k,) how many orders;
-    shapes : (p, k) complex, the shape at the highest of those orders; outputs : the p channel names;
+    frequency_hz, damping_ratio, emac, mpc : (k,) the chosen model's (ModalModel at ``order``: Hz, fraction, γ, μ);
+    frequency_std_hz, damping_std : (k,) their standard deviations from the data at that order (era.uncertainty;
+        NaN where not computed);
+    n_orders : (k,) at how many of the diagram's orders the mode is a stable pole (its track and its split
+        twins);
+    shapes : (p, k) complex, the chosen model's shapes; outputs : the p channel names;
+    order : the diagram order the modes are read at (ModeChoice.order);
+    rejected : ((frequency_hz, code, reason), ...) the diagram's other clusters and why each is not a mode
+        (era.Candidate's code and reason), by frequency;
     kind : the conversion era.load used; rows, cols : the Hankel size; n_samples : Markov parameters used.
     """
 
@@ -73,6 +81,7 @@ class RecordModes:
     frequency_hz: np.ndarray
     frequency_std_hz: np.ndarray
     damping_ratio: np.ndarray
+    damping_std: np.ndarray
     emac: np.ndarray
     mpc: np.ndarray
     n_orders: np.ndarray
@@ -82,6 +91,8 @@ class RecordModes:
     rows: int
     cols: int
     n_samples: int
+    order: int = 0
+    rejected: tuple = ()
 
     @property
     def n_modes(self) -> int:
@@ -120,44 +131,31 @@ def record_name(source, index: int) -> str:
     return f"record {index}"
 
 
-def select_modes(stab, *, min_stable_fraction: float = 0.5, twin_mac: float = 0.9, twin_freq: float = 0.01) -> list:
-    """The stable modes of a diagram a campaign keeps, as (StableMode, n_orders) sorted by frequency.
-
-    Candidates are the Stabilization.modes that are coherent (StableMode.coherent, the app's mark) and decaying
-    complex pairs (era.keep_mask with physical_only; a real pole has frequency 0). Noise often splits one physical
-    mode into two tracks over the orders (two poles within ``twin_freq``, relative, with MAC ≥ ``twin_mac``):
-    such twins count as one mode, the track stable over more orders, stable in the union of their orders. A mode
-    is kept when that union covers ≥ ``min_stable_fraction`` of the diagram's orders.
-    """
-    modes = list(stab.modes)
-    if not modes:
-        return []
-    f = np.array([m.frequency_hz for m in modes])
-    keep = keep_mask([m.emac for m in modes], [m.mpc for m in modes], damping_ratio=[m.damping_ratio for m in modes],
-                     is_pair=f > 0, physical_only=True) & np.array([m.coherent for m in modes])
-    groups: list[tuple] = []  # (representative, set of orders)
-    for m in sorted((m for m, k in zip(modes, keep) if k), key=lambda m: -len(m.orders)):
-        for g, (rep, orders) in enumerate(groups):
-            if (abs(rep.frequency_hz - m.frequency_hz) <= twin_freq * rep.frequency_hz
-                    and mac(rep.shape[:, None], m.shape[:, None])[0, 0] >= twin_mac):
-                groups[g] = (rep, orders | set(m.orders))
-                break
-        else:
-            groups.append((m, set(m.orders)))
-    need = min_stable_fraction * len(stab.orders)
-    return sorted(((rep, len(o)) for rep, o in groups if len(o) >= need), key=lambda x: x[0].frequency_hz)
-
-
-def modes_of(data, settings: Settings) -> tuple:
-    """(kept StableModes, rows, cols) of one record's ResponseData: identify, stabilization, selection."""
+def modes_of(data, settings: Settings) -> tuple[AnalysisResult, int, int]:
+    """(era.AnalysisResult, rows, cols) of one record's ResponseData: era.analyse with the campaign's Hankel size
+    (era.suggest.hankel_size of the record where ``settings`` gives none) and orders."""
     n, p, m = data.markov.shape
-    choice = hankel_size(n, p, m)
-    rows = settings.rows or choice.rows
-    cols = settings.cols or choice.cols
-    top = max(settings.orders)
-    ident = identify(data, rows, cols, max_order=min(top, rows * p, cols * m))
-    stab = stabilization(ident, settings.orders)
-    return select_modes(stab, min_stable_fraction=settings.min_stable_fraction), rows, cols
+    size = hankel_size(n, p, m)
+    rows = settings.rows or size.rows
+    cols = settings.cols or size.cols
+    top = min(max(settings.orders), rows * p, cols * m)
+    return analyse(data, rows=rows, cols=cols, max_order=top, orders=settings.orders), rows, cols
+
+
+def record_modes(result: AnalysisResult, *, index: int, name: str, outputs, kind: str, rows: int, cols: int,
+                 n_samples: int) -> RecordModes:
+    """The :class:`RecordModes` of one record's era.analyse result: the chosen model's values."""
+    model, choice = result.model, result.choice
+    std = lambda v: np.full(model.n_modes, np.nan) if v is None else np.asarray(v, dtype=float)  # noqa: E731
+    n_orders = [len(set(c.orders).union(*(t.orders for t in choice.rejected if t.code == "twin" and t.mode == k)))
+                for k, c in enumerate(choice.chosen)]
+    return RecordModes(
+        index=index, name=name, time=time_from_name(name), frequency_hz=np.asarray(model.frequency_hz, float),
+        frequency_std_hz=std(model.frequency_std_hz), damping_ratio=np.asarray(model.damping_ratio, float),
+        damping_std=std(model.damping_std), emac=np.asarray(model.emac, float), mpc=np.asarray(model.mpc, float),
+        n_orders=np.array(n_orders, dtype=int), shapes=np.asarray(model.shapes, complex), outputs=tuple(outputs),
+        kind=str(kind), rows=int(rows), cols=int(cols), n_samples=int(n_samples), order=int(choice.order),
+        rejected=tuple((float(c.frequency_hz), str(c.code), str(c.reason)) for c in choice.rejected))
 
 
 def analyse_record(source, index: int, settings: Settings):
@@ -172,16 +170,9 @@ def analyse_record(source, index: int, settings: Settings):
                   dt=settings.dt, **dict(settings.load_options))
         if ds.data is None:
             raise EraError(f"{name}: the file holds no response records (only geometry or modes).")
-        modes, rows, cols = modes_of(ds.data, settings)
-        p = ds.data.n_outputs
-        shapes = np.stack([mo.shape for mo, _ in modes], axis=1) if modes else np.zeros((p, 0), complex)
-        col = lambda attr: np.array([getattr(mo, attr) for mo, _ in modes], dtype=float)  # noqa: E731
-        return RecordModes(
-            index=index, name=name, time=time_from_name(name), frequency_hz=col("frequency_hz"),
-            frequency_std_hz=col("frequency_std_hz"), damping_ratio=col("damping_ratio"), emac=col("emac"),
-            mpc=col("mpc"), n_orders=np.array([n for _, n in modes], dtype=int), shapes=shapes,
-            outputs=tuple(ds.data.outputs), kind=str(ds.source.get("kind")), rows=int(rows), cols=int(cols),
-            n_samples=int(ds.data.n_samples))
+        result, rows, cols = modes_of(ds.data, settings)
+        return record_modes(result, index=index, name=name, outputs=ds.data.outputs, kind=ds.source.get("kind"),
+                            rows=rows, cols=cols, n_samples=ds.data.n_samples)
     except EraError as exc:
         return RecordFailure(index, name, str(exc))
     except MemoryError:

@@ -10,7 +10,7 @@ from ..errors import EraError
 
 #: The table's columns, in order (see :class:`CampaignResult`).
 COLUMNS = ("record", "name", "time", "mode", "found", "frequency_hz", "damping_ratio", "mac_to_reference", "emac",
-           "mpc", "n_orders", "frequency_std_hz")
+           "mpc", "n_orders", "frequency_std_hz", "damping_std", "order", "record_mode")
 
 
 @dataclass(frozen=True, eq=False)
@@ -22,9 +22,11 @@ class CampaignResult:
         time (pandas Timestamp when every record's time is known, from its file name or ``times=``; otherwise
         the record's position in the campaign, a float), mode (int, see ``modes``), found (bool), frequency_hz,
         damping_ratio (fraction), mac_to_reference (MAC with the tracked mode's reference shape), emac (γ),
-        mpc (μ), n_orders (orders of the diagram where the mode is stable), frequency_std_hz (its spread over
-        those orders). Where a record does not show a tracked mode, ``found`` is False and the numbers are NaN
-        (n_orders 0). Failed records have no rows.
+        mpc (μ), n_orders (orders of the diagram where the mode is stable), frequency_std_hz and damping_std
+        (standard deviations from the data, era.uncertainty), order (the diagram order the record's modes are
+        read at, era.choose_modes), record_mode (the mode's index in the record's own RecordModes, -1 where
+        missing). The values are the record's chosen model's (era.analyse). Where a record does not show a
+        tracked mode, ``found`` is False and the numbers are NaN (n_orders 0). Failed records have no rows.
     modes : tuple of era.campaign.TrackedMode: number, reference frequency, damping and shape, origin
         ("reference" or "new"), the record that defined it and how many records found it.
     failed : tuple of era.campaign.RecordFailure (record, name, reason), in record order.
@@ -94,8 +96,12 @@ def build_table(tracking):
             rows["mpc"].append(value(rec.mpc))
             rows["n_orders"].append(int(rec.n_orders[i]) if found else 0)
             rows["frequency_std_hz"].append(value(rec.frequency_std_hz))
+            rows["damping_std"].append(value(rec.damping_std))
+            rows["order"].append(int(rec.order))
+            rows["record_mode"].append(i)
     table = pd.DataFrame(rows, columns=list(COLUMNS))
     if len(table) and isinstance(times[0], np.datetime64):
         table["time"] = pd.to_datetime(table["time"])
-    table = table.astype({"record": int, "mode": int, "found": bool, "n_orders": int})
+    table = table.astype({"record": int, "mode": int, "found": bool, "n_orders": int, "order": int,
+                          "record_mode": int})
     return table.sort_values(["time", "record", "mode"], kind="stable").reset_index(drop=True)

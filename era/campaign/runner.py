@@ -66,7 +66,7 @@ def _as_time(value):
                        f"{value!r}.") from None
 
 
-def _settings(kind, dt, rows, cols, orders, min_stable_fraction, load_options) -> Settings:
+def _settings(kind, dt, rows, cols, orders, load_options) -> Settings:
     try:
         orders = tuple(sorted({int(n) for n in orders}))
     except (TypeError, ValueError):
@@ -77,20 +77,19 @@ def _settings(kind, dt, rows, cols, orders, min_stable_fraction, load_options) -
     for name, v in (("rows", rows), ("cols", cols)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1):
             raise EraError(f"`{name}` must be a positive integer or None (the suggested Hankel size), got {v!r}.")
-    if not 0.0 <= float(min_stable_fraction) <= 1.0:
-        raise EraError(f"`min_stable_fraction` is a fraction in [0, 1], got {min_stable_fraction!r}.")
     return Settings(kind=str(kind), dt=None if dt is None else float(dt), rows=None if rows is None else int(rows),
                     cols=None if cols is None else int(cols), orders=orders,
-                    min_stable_fraction=float(min_stable_fraction),
                     load_options=tuple(sorted((load_options or {}).items())))
 
 
 def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: int | None = None,
                  cols: int | None = None, orders=range(2, 81, 2), reference=None, client=None, progress=None,
                  times=None, cache_dir=None, workers: int | None = None, retries: int = 2,
-                 min_stable_fraction: float = 0.5, load_options: dict | None = None,
-                 tracking: dict | None = None) -> CampaignResult:
+                 load_options: dict | None = None, tracking: dict | None = None) -> CampaignResult:
     """Identify every record the same way and follow each mode through the records.
+
+    Each record's modes are those era.analyse chooses (era.choose_modes, the app's rule) from its stabilization
+    diagram over ``orders``, read at one order with their standard deviations from the data.
 
     Parameters
     ----------
@@ -111,7 +110,6 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     workers : local processes when client is None (default: one per core; 0: in this process).
     retries : times a record is run again when its task fails outside the analysis (Dask's ``retries=``) or its
         local worker process dies (a broken pool); Dask re-runs the tasks of a lost worker by itself.
-    min_stable_fraction : see era.campaign.Settings (the campaign's rule against short-lived noise poles).
     load_options : more keywords for era.load, e.g. {"references": [0, 1]} for NExT.
     tracking : keywords of era.campaign.track_modes (min_mac, max_freq_error, freq_scale, new_mode_records, …).
 
@@ -128,7 +126,7 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     except TypeError:
         raise EraError(f"`tracking` takes keywords of era.campaign.track_modes (freq_scale, min_mac, max_freq_error, "
                        f"new_mode_records, new_mode_gap), got {sorted(tracking)}.") from None
-    settings = _settings(kind, dt, rows, cols, orders, min_stable_fraction, load_options)
+    settings = _settings(kind, dt, rows, cols, orders, load_options)
     if times is not None:
         times = list(times)
         if len(times) != len(srcs):
