@@ -1,8 +1,8 @@
 """Following modes through a campaign: each record's modes matched to the tracked modes by frequency and MAC.
 
 One optimal assignment per record (scipy.optimize.linear_sum_assignment, the cost of era.correlation.pairing_cost:
-1 − MAC plus the relative frequency error), so no mode is used twice and two modes that cross in frequency keep
-their identities: the shape decides, not the frequency order. The rules:
+1 − MAC plus the relative frequency error, over the pairs that pass the gates), so no mode is used twice and two
+modes that cross in frequency keep their identities: the shape decides, not the frequency order. The rules:
 
 - the frequency compared is the tracked mode's latest one (modes drift with temperature), the shape is its
   reference shape (identity does not drift); a pair is refused when MAC < ``min_mac`` or the frequency moved more
@@ -83,17 +83,27 @@ def reference_from_model(model) -> tuple:
             np.asarray(model.shapes)[:, keep][:, order])
 
 
+#: The cost of a pair the gates refuse: more than any assignment of admissible pairs can cost (each costs ≤ 2).
+_REFUSED = 1e6
+
+
 def _assign(f, shapes, tracks, *, freq_scale, min_mac, max_freq_error) -> list:
-    """[(record mode i, track j)] of the optimal assignment that passes the gates."""
+    """[(record mode i, track j)] of the optimal assignment among the pairs that pass the gates.
+
+    The gates act before the assignment, not after it: a pair whose shapes differ (MAC < ``min_mac``) can never be
+    cheaper than one whose shapes agree, whatever their frequencies say. So where two modes cross and each sits
+    at the other's latest frequency, the shapes keep their identities (gated afterwards, the frequency term could
+    prefer the swapped pairs, which the gate then refused: both modes lost in that record)."""
     if not len(f) or not tracks:
         return []
     ft = np.array([t.frequency_hz for t in tracks])
     st = np.stack([t.shape for t in tracks], axis=1)
     cost, m = pairing_cost(f, shapes, ft, st, freq_scale=freq_scale)
-    rows, cols = linear_sum_assignment(cost)
-    rel = np.abs(ft[cols] - f[rows]) / np.maximum(np.abs(f[rows]), 1e-12)
-    ok = (m[rows, cols] >= min_mac) & (rel <= max_freq_error)
-    return [(int(i), int(j)) for i, j in zip(rows[ok], cols[ok])]
+    rel = np.abs(ft[None, :] - f[:, None]) / np.maximum(np.abs(f[:, None]), 1e-12)
+    ok = (m >= min_mac) & (rel <= max_freq_error)
+    rows, cols = linear_sum_assignment(np.where(ok, cost, _REFUSED))
+    keep = ok[rows, cols]
+    return [(int(i), int(j)) for i, j in zip(rows[keep], cols[keep])]
 
 
 def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: float = 0.8,
