@@ -30,21 +30,25 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .stabilization import COHERENT_MIN
+
 #: Shapes of two tracks with at least this MAC may be one mode split in two (with different shapes: two modes).
 TWIN_MAC = 0.9
 #: Two tracks are one mode when their frequencies differ by at most this many combined standard deviations ...
 TWIN_SIGMAS = 3.0
 #: ... or by at most this many half-power bandwidths (2 ζ f) of the stronger: peaks that close are one peak.
 TWIN_BANDWIDTHS = 1.0
-#: A mode is found in at least this fraction of the diagram's orders from the one where it first appears ...
-MIN_PERSISTENCE = 0.75
-#: ... and in at least this fraction of all the diagram's orders.
-MIN_COVERAGE = 0.3
-#: Mean γ·μ of a mode's poles at least this (era.stabilization.COHERENT_MIN, Pappa's consistent-mode mark).
-MIN_EMAC_MPC = 0.9
-#: A mode's contribution (units of the singular values) at least this fraction of the largest singular value:
-#: below it a pole describes round-off, not the data.
-MIN_STRENGTH = 1e-6
+#: The evidence a mode needs: persistence × log10(strength) ≥ MIN_EVIDENCE, where persistence is the fraction of
+#: the diagram's orders, from the first where it appears, that have it, and strength its pole amplitude over that
+#: of a typical pole at the top order (noise). A mode present at every order needs 10^0.7 = 5 times the noise's
+#: amplitude, one present at half of them 25 times: the louder a mode, the less its presence in every order
+#: matters (noise breaks the tracks of strong modes of ambient records too).
+MIN_EVIDENCE = 0.7
+#: ... and a mode is found in at least this fraction of all the diagram's orders.
+MIN_COVERAGE = 0.15
+#: Mean γ·μ of a mode's poles at least this: the paper's indicators, low for a pole fitting noise (one sensor
+#: makes μ = 1, so the other evidence carries that case).
+MIN_EMAC_MPC = 0.5
 #: Width of the band's edge zone as a fraction of the band's width: poles there fit the band's cut, not modes.
 EDGE_FRACTION = 0.01
 #: Above this damping ratio no pole is taken for a structural mode ...
@@ -55,6 +59,9 @@ DAMPING_FACTOR = 10.0
 #: Mains frequencies (Hz) whose multiples are checked for undamped lines, and the relative tolerance.
 MAINS_HZ = (50.0, 60.0)
 MAINS_TOLERANCE = 0.003
+#: Only the first multiples: the mains' harmonics fade above them, and higher multiples lie so densely that a
+#: mode would sit on one by chance.
+MAINS_MULTIPLES = 10
 
 #: Reason codes of a rejected candidate, in the order they are tested.
 REASONS = ("rigid", "band", "harmonic", "damping", "uncertain", "twin", "orders", "noise", "absent")
@@ -70,7 +77,11 @@ class Candidate:
     at that order (NaN when the diagram was computed without them);
     code : "chosen" or one of :data:`REASONS`; reason : the verdict in words ("" when chosen);
     mode : the chosen mode it is (its index in ModeChoice.chosen) for a chosen cluster and for a split twin,
-    else None; diagram_index : its position in ``Stabilization.modes``.
+    else None; diagram_index : its position in ``Stabilization.modes``;
+    evidence : what the verdict weighed for the cluster's mode (with its split twins), None when a physical
+    reason decided first: ``orders`` (how many of the diagram's orders have it), ``persistence`` (fraction of
+    the orders from its first one), ``coverage`` (fraction of all orders), ``emac_mpc`` (mean γ·μ of its
+    poles), ``strength`` (its contribution over that of a typical pole at the top order), ``first_order``.
     """
 
     frequency_hz: float
@@ -86,6 +97,7 @@ class Candidate:
     code: str = "chosen"
     reason: str = ""
     mode: int | None = None
+    evidence: dict | None = None
 
     @property
     def chosen(self) -> bool:
@@ -140,7 +152,7 @@ def _mains_line(f: float) -> bool:
     """f (Hz) within MAINS_TOLERANCE of a multiple of a mains frequency."""
     for base in MAINS_HZ:
         k = round(f / base)
-        if k >= 1 and abs(f - k * base) <= MAINS_TOLERANCE * f:
+        if 1 <= k <= MAINS_MULTIPLES and abs(f - k * base) <= MAINS_TOLERANCE * f:
             return True
     return False
 
@@ -183,12 +195,16 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
 
     Parameters
     ----------
-    ident : era.Identification the diagram was computed from (its Δτ and singular values).
+    ident : era.Identification the diagram was computed from (its Δτ, shifts and singular values).
     stab : era.Stabilization (``uncertainty=True`` gives the data's standard deviations the twin test uses).
     band_hz : (low, high) Hz, the band the data hold (an FRF's measured band, ``ResponseData.meta["band_hz"]``);
         default (0, Nyquist).
     record_s : duration of the pulse responses in seconds (an undamped line does not decay over it); default the
         Hankel matrix's span, (rows + cols) Δτ.
+
+    Noise-free data (H(0) of exact rank n below the order asked for, the paper's simulated cases) need no
+    diagram: the realization of order n is the system, and its decaying modes with γ·μ ≥ COHERENT_MIN are
+    chosen at order n (which the diagram must hold, as era.analyse makes it).
 
     Returns
     -------
@@ -200,55 +216,140 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
     edge = EDGE_FRACTION * (hi - lo)
     record_s = float(record_s) if record_s else (ident.rows + ident.cols) * dt
     orders = np.asarray(stab.orders)
-    n_orders = max(len(orders), 1)
-    d1 = float(ident.singular_values[0]) if ident.singular_values.size else 0.0
+    if exact_rank(ident) and ident.max_order in orders:
+        return _choose_exact(ident, stab, lo, hi, edge, record_s)
 
     cands = _candidates(stab)
-    verdict: dict[int, tuple[str, str]] = {}
+    verdict: dict[int, tuple] = {}  # diagram_index -> (code, words[, mode])
     for c in cands:
         v = _physics(c, lo, hi, edge, record_s)
         if v:
             verdict[c.diagram_index] = v
+    groups = _twin_groups([c for c in cands if c.diagram_index not in verdict], stab)
+    passing, weighed = _weigh(groups, stab, pole_amplitudes(stab, ident), verdict)
 
-    # one mode, once: the strongest track (most orders, then largest contribution) speaks for its twins
-    def strength(c):
-        return float(np.median(stab.contribution[list(c.pole_indices)]))
+    order, at = _read_order(stab, orders, passing)
+    kept = sorted(((g, at[id(g)]) for g in passing if id(g) in at), key=lambda x: stab.frequency_hz[x[1]])
+    for g in passing:
+        if id(g) not in at:
+            verdict[g[0].diagram_index] = ("absent", f"no pole at order {order}, where the other modes are read")
+    chosen, indices = [], []
+    for k, (g, pole) in enumerate(kept):
+        chosen.append(replace(g[0], code="chosen", reason="", mode=k, evidence=weighed.get(g[0].diagram_index)))
+        indices.append(int(stab.mode_index[pole]))
+        for twin in g[1:]:
+            verdict[twin.diagram_index] = ("twin", f"split twin of mode {k + 1} ({_fmt_hz(g[0].frequency_hz)}): one "
+                                                   "mode the model split in two", k)
+    for g in groups:  # the twins of a rejected cluster go with it
+        code, words = verdict.get(g[0].diagram_index, ("chosen", ""))[:2]
+        if code != "chosen":
+            for twin in g[1:]:
+                verdict[twin.diagram_index] = (code, f"split twin of the {_fmt_hz(g[0].frequency_hz)} cluster, "
+                                                     f"which is left out: {words}")
+    rejected = sorted((replace(c, code=verdict[c.diagram_index][0], reason=verdict[c.diagram_index][1],
+                               mode=verdict[c.diagram_index][2] if len(verdict[c.diagram_index]) > 2 else None,
+                               evidence=weighed.get(c.diagram_index))
+                       for c in cands if c.diagram_index in verdict), key=lambda c: c.frequency_hz)
+    return ModeChoice(order=int(order), indices=np.array(indices, dtype=int), chosen=tuple(chosen),
+                      rejected=tuple(rejected))
 
-    alive = sorted((c for c in cands if c.diagram_index not in verdict),
-                   key=lambda c: (-len(c.orders), -strength(c)))
+
+def exact_rank(ident, tol: float = 1e-10) -> bool:
+    """True when H(0) has an exact rank below what was computed (noise-free data): a singular value past the
+    identification's max_order exists and is below ``tol`` × the largest."""
+    d = np.asarray(ident.singular_values)
+    k = int(ident.max_order)
+    return bool(d.size > k > 0 and d[k] <= tol * d[0])
+
+
+def _choose_exact(ident, stab, lo, hi, edge, record_s) -> ModeChoice:
+    """Noise-free data: the decaying modes of the exact realization (order = rank) with γ·μ ≥ COHERENT_MIN."""
+    order = int(ident.max_order)
+    poles = np.flatnonzero(stab.order == order)
+    chosen, rejected, indices = [], [], []
+    for i in poles[np.argsort(stab.frequency_hz[poles], kind="stable")]:
+        c = Candidate(frequency_hz=float(stab.frequency_hz[i]), damping_ratio=float(stab.damping_ratio[i]),
+                      emac=float(stab.emac[i]), mpc=float(stab.mpc[i]), orders=(order,), pole_indices=(int(i),),
+                      shape=stab.shapes[:, i].copy(), frequency_std_hz=float(stab.frequency_std_hz[i]),
+                      damping_std=float(stab.damping_std[i]), diagram_index=-1)
+        v = _physics(c, lo, hi, edge, record_s)
+        if v is None and c.emac * c.mpc < COHERENT_MIN:
+            v = ("noise", f"noise pole: γ·μ {c.emac * c.mpc:.2f} in the exact realization (a mode reaches "
+                          f"{COHERENT_MIN})")
+        if v is None:
+            chosen.append(replace(c, mode=len(chosen)))
+            indices.append(int(stab.mode_index[i]))
+        else:
+            rejected.append(replace(c, code=v[0], reason=v[1]))
+    return ModeChoice(order=order, indices=np.array(indices, dtype=int), chosen=tuple(chosen),
+                      rejected=tuple(rejected))
+
+
+def _twin_groups(alive: list, stab) -> list[list[Candidate]]:
+    """The clusters grouped into modes: each joins the first group, strongest first (most orders, then largest
+    contribution), whose first cluster it is a split twin of (:func:`_twin_tolerance`, MAC ≥ TWIN_MAC)."""
+    def key(c):
+        return -len(c.orders), -float(np.median(stab.contribution[list(c.pole_indices)]))
+
     groups: list[list[Candidate]] = []
-    for c in alive:
+    for c in sorted(alive, key=key):
         for g in groups:
             rep = g[0]
-            if abs(c.frequency_hz - rep.frequency_hz) <= _twin_tolerance(rep, c) and _mac(rep.shape, c.shape) >= TWIN_MAC:
+            if abs(c.frequency_hz - rep.frequency_hz) <= _twin_tolerance(rep, c) and \
+                    _mac(rep.shape, c.shape) >= TWIN_MAC:
                 g.append(c)
                 break
         else:
             groups.append([c])
+    return groups
 
-    # the damping of the structure's other modes: an outlier far above it is the fit's, not the structure's
-    def evidence(g):
-        union = sorted({o for c in g for o in c.orders})
-        later = int(np.count_nonzero(orders >= union[0]))
-        poles = [i for c in g for i in c.pole_indices]
-        gm = float(np.mean(stab.emac[poles] * stab.mpc[poles]))
-        return len(union), len(union) / max(later, 1), len(union) / n_orders, gm, strength(g[0])
 
-    passing = []
+def _weigh(groups: list, stab, amplitude: np.ndarray, verdict: dict) -> tuple[list, dict]:
+    """The groups that are modes of the structure, and every group's evidence (by diagram_index of each member).
+
+    The noise scale is the median pole amplitude at the diagram's top order without the poles of the modes
+    found so far, found again until the modes found do not change (a structure with many modes has many of
+    them among the top order's poles)."""
+    orders = np.asarray(stab.orders)
+    n_orders = max(len(orders), 1)
+    top = np.flatnonzero(stab.order == orders[-1]) if len(orders) else np.zeros(0, int)
+    facts = []
     for g in groups:
-        n, persistence, coverage, gm, s = evidence(g)
-        rep = g[0]
-        if persistence < MIN_PERSISTENCE or coverage < MIN_COVERAGE:
-            verdict[rep.diagram_index] = ("orders", f"too few orders: found in {n} of the diagram's {n_orders} "
-                                                    f"orders ({persistence:.0%} of those from order {min(rep.orders)} on)")
-        elif gm < MIN_EMAC_MPC:
-            verdict[rep.diagram_index] = ("noise", f"noise pole: γ·μ {gm:.2f} over its orders "
-                                                   f"(a mode of the structure reaches {MIN_EMAC_MPC})")
-        elif not s >= MIN_STRENGTH * d1:
-            verdict[rep.diagram_index] = ("noise", f"noise pole: its contribution is {s / d1:.1e} of the largest "
-                                                   "singular value (round-off)")
-        else:
-            passing.append(g)
+        present = np.unique([o for c in g for o in c.orders])
+        later = int(np.count_nonzero(orders >= present[0]))
+        poles = [i for c in g for i in c.pole_indices]
+        facts.append(dict(orders=len(present), persistence=len(present) / max(later, 1),
+                          coverage=len(present) / n_orders,
+                          emac_mpc=float(np.mean(stab.emac[poles] * stab.mpc[poles])),
+                          loud=float(np.median(amplitude[list(g[0].pole_indices)])), first_order=int(present[0]),
+                          poles=set(poles)))
+    passing_idx: list[int] = []
+    verdicts: dict[int, tuple] = {}
+    for _ in range(6):
+        taken = set().union(*(facts[k]["poles"] for k in passing_idx)) if passing_idx else set()
+        background = amplitude[[i for i in top if i not in taken and amplitude[i] > 0]]
+        noise = float(np.median(background)) if background.size else 1.0
+        now, verdicts = [], {}
+        for k, f in enumerate(facts):
+            f["strength"] = f["loud"] / noise if noise > 0 else np.inf
+            v = _evidence_verdict(f, n_orders)
+            if v is None:
+                now.append(k)
+            else:
+                verdicts[k] = v
+        if now == passing_idx:
+            break
+        passing_idx = now
+    weighed = {}
+    for k, g in enumerate(groups):
+        e = {key: facts[k][key] for key in ("orders", "persistence", "coverage", "emac_mpc", "strength",
+                                             "first_order")}
+        for c in g:
+            weighed[c.diagram_index] = e
+        if k in verdicts:
+            verdict[g[0].diagram_index] = verdicts[k]
+    passing = [groups[k] for k in passing_idx]
+    # the damping of the structure's other modes: an outlier far above it is the fit's, not the structure's
     if passing:
         typical = float(np.median([g[0].damping_ratio for g in passing]))
         limit = max(DAMPING_FLOOR, DAMPING_FACTOR * typical)
@@ -258,34 +359,38 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
                 verdict[g[0].diagram_index] = ("damping", f"implausible damping (ζ {100 * z:.3g} % where the "
                                                           f"structure's other modes have {100 * typical:.2g} %)")
                 passing.remove(g)
+    return passing, weighed
 
-    order, at = _read_order(stab, orders, passing)
-    kept = [(g, at[id(g)]) for g in passing if id(g) in at]
-    for g in passing:
-        if id(g) not in at:
-            verdict[g[0].diagram_index] = ("absent", f"no pole at order {order}, where the other modes are read")
-    kept.sort(key=lambda x: stab.frequency_hz[x[1]])
-    chosen, indices = [], []
-    for k, (g, pole) in enumerate(kept):
-        chosen.append(replace(g[0], code="chosen", reason="", mode=k))
-        indices.append(int(stab.mode_index[pole]))
-        for twin in g[1:]:
-            verdict[twin.diagram_index] = ("twin", f"split twin of mode {k + 1} ({_fmt_hz(g[0].frequency_hz)}): "
-                                                   "one mode the model split in two")
-            verdict[twin.diagram_index] += (k,)
-    for g in groups:  # twins of a rejected group share its verdict
-        if g[0].diagram_index in verdict:
-            for twin in g[1:]:
-                verdict.setdefault(twin.diagram_index, verdict[g[0].diagram_index][:2])
-    rejected = []
-    for c in cands:
-        v = verdict.get(c.diagram_index)
-        if v is None or any(c.diagram_index == x.diagram_index for x in chosen):
-            continue
-        rejected.append(replace(c, code=v[0], reason=v[1], mode=v[2] if len(v) > 2 else None))
-    rejected.sort(key=lambda c: c.frequency_hz)
-    return ModeChoice(order=int(order), indices=np.array(indices, dtype=int), chosen=tuple(chosen),
-                      rejected=tuple(rejected))
+
+def _evidence_verdict(f: dict, n_orders: int) -> tuple | None:
+    """(code, words) when a group's evidence ``f`` does not make it a mode of the structure, else None."""
+    s, persistence = f["strength"], f["persistence"]
+    if not s >= 10 ** MIN_EVIDENCE:
+        return "noise", (f"noise pole: its amplitude is {s:.2g} times a typical noise pole's (a mode of the "
+                         f"structure stands {10 ** MIN_EVIDENCE:.0f} times above)")
+    if persistence * np.log10(s) < MIN_EVIDENCE or f["coverage"] < MIN_COVERAGE:
+        return "orders", (f"too few orders for its strength: found in {f['orders']} of the diagram's {n_orders} "
+                          f"orders ({persistence:.0%} of those from order {f['first_order']} on) at {s:.3g} times "
+                          "a noise pole's amplitude")
+    if f["emac_mpc"] < MIN_EMAC_MPC:
+        return "noise", (f"noise pole: γ·μ {f['emac_mpc']:.2f} over its orders (a mode of the structure reaches "
+                         f"{MIN_EMAC_MPC})")
+    return None
+
+
+def pole_amplitudes(stab, ident) -> np.ndarray:
+    """(n_poles,) each pole's initial amplitude |c||b|: its contribution to H(0) (era.indicators.contribution)
+    without the factor its decay over the Hankel matrix's shifts gives it, sqrt(Σ_i |z|^{2 j_i} Σ_i |z|^{2 t_i}).
+    A nearly undamped pole that fits noise spreads a small amplitude over the whole matrix; its contribution
+    would rank it with the modes, its amplitude does not."""
+    zeta = np.clip(stab.damping_ratio, -0.999, 0.999)
+    wn = 2 * np.pi * np.abs(stab.frequency_hz) / np.sqrt(1 - zeta**2)
+    log_mag = -zeta * wn * float(ident.dt)  # ln |z|
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        rows = np.exp(2 * log_mag[:, None] * np.asarray(ident.row_shifts)[None, :]).sum(axis=1)
+        cols = np.exp(2 * log_mag[:, None] * np.asarray(ident.col_shifts)[None, :]).sum(axis=1)
+        amp = stab.contribution / np.sqrt(rows * cols)
+    return np.where(np.isfinite(amp), amp, 0.0)
 
 
 def _read_order(stab, orders: np.ndarray, groups: list) -> tuple[int, dict]:
