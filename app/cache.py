@@ -1,7 +1,9 @@
-"""What the app keeps in memory: datasets, identifications, realized models and stabilization diagrams.
+"""What the app keeps in memory: datasets, identifications, realized models and stabilization diagrams with the
+modes chosen from them.
 
-One SVD per analysis (era.identify); every order after that is a cheap ``ident.model(order)`` (eq. 34 from
-the leading block), cached per (analysis, order) for the order slider. Each result is computed once even when
+One SVD per analysis (era.identify), with its diagram and era's choice of modes (app/choosing.py) computed in the
+same worker call; every order after that is a cheap ``ident.model(order)`` (eq. 34 from the leading block),
+cached per (analysis, order) for the order slider. Each result is computed once even when
 several requests ask for it at the same time. An identification evicted from its LRU, or lost in a restart, is
 recomputed from the stored dataset and the stored parameters. Every method may block (an SVD, a file read):
 call them through app.jobs.
@@ -10,13 +12,12 @@ call them through app.jobs.
 from __future__ import annotations
 
 import threading
-from functools import partial
 from collections import OrderedDict
 from dataclasses import dataclass
 
 import era
 
-from . import compute, limits
+from . import choosing, compute, limits
 from .config import Settings
 from .errors import NotFound
 from .store import Store
@@ -89,7 +90,7 @@ class Cache:
         self._datasets = LRU(DATASETS_KEPT)
         self._idents = LRU(settings.cache_identifications)
         self._models = LRU(settings.cache_models)
-        self._stabs = LRU(settings.cache_identifications)
+        self._diagrams = LRU(settings.cache_identifications)
         self._inflight: dict = {}
         self._inflight_lock = threading.Lock()
 
@@ -136,15 +137,21 @@ class Cache:
         return Analysis(analysis_id, dataset_id, params, ds.data, ds.geometry, ds.name)
 
     def new_analysis(self, dataset: Dataset, params: dict) -> tuple[Analysis, era.Identification]:
-        """Identify a dataset (one SVD, within the server's limits), then store the analysis and cache its result."""
-        ident = self._compute(limits.identify, dataset.data, params, self.settings)
+        """Identify a dataset (one SVD, within the server's limits) with its diagram and chosen modes, then store
+        the analysis and cache its results."""
+        ident, diagram = self._compute(choosing.analyse, dataset.data, params, self.settings)
         analysis_id = self.store.add_analysis(dataset.id, params)
         a = Analysis(analysis_id, dataset.id, params, dataset.data, dataset.geometry, dataset.name)
+        self._diagrams.put(analysis_id, diagram)
         return a, self._idents.put(analysis_id, ident)
 
     def is_identified(self, a: Analysis) -> bool:
         """The identification is in memory: asking for it, or for a model, will not take an SVD."""
         return self._idents.get(a.id) is not None
+
+    def is_diagrammed(self, a: Analysis) -> bool:
+        """The diagram and the choice are in memory: asking for them takes no computation."""
+        return self._diagrams.get(a.id) is not None
 
     def identification(self, a: Analysis) -> era.Identification:
         """The cached Identification, or recomputed from the stored dataset (once, even if asked twice)."""
@@ -161,17 +168,19 @@ class Cache:
             hit = self._once(self._models, key, lambda: self.identification(a).model(int(order)))
         return hit
 
-    def stabilization(self, a: Analysis) -> era.Stabilization:
-        """The stabilization diagram over orders 2, 4, … up to min(max_order, the diagram's limit)."""
-        hit = self._stabs.get(a.id)
+    def diagram(self, a: Analysis) -> choosing.Diagram:
+        """The stabilization diagram (orders 2, 4, … up to min(max_order, the diagram's limit)) and the modes era
+        chooses from it in the dataset's band; recomputed from the identification when not in memory."""
+        hit = self._diagrams.get(a.id)
         if hit is None:
-            def diagram():
-                ident = self.identification(a)
-                top = min(ident.max_order, self.settings.max_stabilization_order)
-                orders = range(2, top + 1, 2) if top >= 2 else range(1, top + 1)
-                return self._compute(partial(era.stabilization, uncertainty=True), ident, orders)
-            hit = self._once(self._stabs, a.id, diagram)
+            band = choosing.band_of(a.data)
+            hit = self._once(self._diagrams, a.id, lambda: self._compute(choosing.diagram, self.identification(a),
+                                                                         band, self.settings))
         return hit
+
+    def stabilization(self, a: Analysis) -> era.Stabilization:
+        """The stabilization diagram alone (see :meth:`diagram`)."""
+        return self.diagram(a).stabilization
 
     def _compute(self, fn, *args):
         """CPU-bound work in a worker process (app/compute.py): it holds neither this process's GIL nor its

@@ -10,6 +10,8 @@ import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from era.analysis import DIAGRAM_MAX_ORDER
+
 
 def _static_dir() -> Path:
     """The browser UI: ``app/static`` inside an installed wheel, else ``static/`` beside ``app/`` in a checkout."""
@@ -46,8 +48,9 @@ class Settings:
     max_hankel_elements: int = 25_000_000
     #: Largest model order (state dimension) kept from the SVD.
     max_order: int = 400
-    #: Largest order shown in the stabilization diagram (every 2nd order from 2).
-    max_stabilization_order: int = 160
+    #: Largest order shown in the stabilization diagram (every 2nd order from 2): a cap on era's own
+    #: (era.analysis.DIAGRAM_MAX_ORDER); the diagram goes up to the lower of the two (app/choosing.py).
+    max_stabilization_order: int = DIAGRAM_MAX_ORDER
     #: Samples per curve sent to the browser for plots (records are decimated above it; fits use all).
     max_plot_points: int = 4000
     #: Heavy jobs (file parsing, SVD, stabilization) running at once; more wait in a queue.

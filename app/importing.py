@@ -16,7 +16,9 @@ from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
 READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "frf_sign", "start_sample", "drop", "forces",
-                "references")
+                "references", "band_hz")
+#: Options of the conversion to pulse responses only: the preview shows the records as read, without them.
+CONVERSION_OPTIONS = ("references", "band_hz")
 
 
 def given(options: dict) -> dict:
@@ -32,7 +34,7 @@ def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int)
     """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
     stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
     be read at all."""
-    reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k != "references"}
+    reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k not in CONVERSION_OPTIONS}
     sources = named_sources(files)
     pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
                  max_points=max_points, **{k: v for k, v in reading.items() if k != "frf_sign"})

@@ -9,15 +9,16 @@ from __future__ import annotations
 import math
 
 import era
+from era.analysis import DEFAULT_MAX_ORDER
 from era.suggest import order_cap
 
 from .config import Settings
 
-#: max_order of an analysis that does not ask for one (and the one the dataset suggests): above the stabilization
-#: diagram's 160 so the slider goes past the diagram, and low enough that H(0) of the usual sizes takes the
-#: truncated SVD of only these leading triplets (era.svd.choose_method: max_order ≤ min(H(0) shape) / 3; the
-#: grid example's 792 × 798 H(0) does). An analysis that needs more asks for it, up to ERA_MAX_ORDER.
-DEFAULT_MAX_ORDER = 200
+# max_order of an analysis that does not ask for one (and the one the dataset suggests) is era's default
+# (era.analysis.DEFAULT_MAX_ORDER, 200), capped by ERA_MAX_ORDER: above the stabilization diagram's 160 so the
+# slider goes past the diagram, and low enough that H(0) of the usual sizes takes the truncated SVD of only these
+# leading triplets (era.svd.choose_method: max_order ≤ min(H(0) shape) / 3; the grid example's 792 × 798 H(0)
+# does). An analysis that needs more asks for it, up to ERA_MAX_ORDER.
 
 
 def check_hankel(rows: int, cols: int, max_order: int | None, p: int, m: int, settings: Settings) -> None:

@@ -36,14 +36,20 @@ def named_sources(files: list[tuple[str, bytes]]) -> list:
 
 def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
-    variable, group, frf_sign, start_sample, drop, forces, references; None means not given). Raises an
+    variable, group, frf_sign, start_sample, drop, forces, references, band_hz; None means not given). Raises an
     era.EraError (shown to the person as is)."""
     if kind not in KINDS:
         raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")
     sources = named_sources(files)  # checked on arrival (routes/datasets.read_parts)
     given = {k: v for k, v in options.items() if v is not None}
-    ds = era.load(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
-                  kind=kind, **given)
+    try:
+        ds = era.load(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
+                      kind=kind, **given)
+    except era.DataError as exc:
+        if "band_hz" in given and "argument 'band_hz'" in str(exc):  # the conversion of time records takes none
+            raise era.DataError(f"{files[0][0]}: a band applies to FRF records only; leave it out for these "
+                                "records.", option="band_hz") from None
+        raise
     if ds.data is None:
         raise era.DataError(f"{files[0][0]}: the file holds geometry or modes but no response records; upload the "
                             "measured responses.")
@@ -59,6 +65,18 @@ def channel_list(text: str | None, option: str) -> list[int] | None:
     except ValueError:
         raise era.DataError(f"`{option}` lists channel positions (0-based), comma-separated, e.g. 0,2; got {text!r}.",
                             option=option) from None
+
+
+def band(text: str | None) -> list[float] | None:
+    """The band [low, high] Hz from a form field such as "65, 1000" (None or blank: not given)."""
+    if text is None or not text.strip():
+        return None
+    try:
+        low, high = (float(x) for x in text.replace(";", ",").split(","))
+    except ValueError:
+        raise era.DataError(f"`band_hz` is two frequencies in Hz, low,high, e.g. 65,1000; got {text!r}.",
+                            option="band_hz") from None
+    return [low, high]
 
 
 def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict) -> dict:

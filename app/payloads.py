@@ -15,10 +15,10 @@ import numpy as np
 import era
 from era.spectrum import cmif
 from era.stabilization import COHERENT_MIN
-from era.suggest import hankel_size, order_cap, order_from_singular_values
+from era.suggest import order_from_singular_values
 
+from .choosing import Diagram, band_of, default_hankel, named_hankel
 from .config import Settings
-from .limits import DEFAULT_MAX_ORDER  # the default largest order offered for a new dataset
 
 
 def floats(values) -> list:
@@ -50,14 +50,11 @@ def fit_percent(error) -> list | float | None:
 def dataset_summary(data: era.ResponseData, geometry: era.Geometry | None, name: str, settings: Settings,
                     source: dict | None = None, rows: int | None = None, cols: int | None = None) -> dict:
     """What the API says about a dataset (schemas.Dataset without the id and sha256 the store adds): labels,
-    sampling, the default Hankel size (``rows``/``cols`` override it, e.g. the paper's choice) and the limits."""
+    sampling, era's default Hankel size within the server's limits (``rows``/``cols`` override it, e.g. the
+    paper's choice), the limits, and the band FRF records hold (kept here: the stored NPZ does not carry it)."""
     n, p, m = data.markov.shape
-    top = min(DEFAULT_MAX_ORDER, settings.max_order)
-    if rows and cols:
-        defaults = {"rows": int(rows), "cols": int(cols), "max_order": order_cap(rows, cols, p, m, top)}
-    else:
-        choice = hankel_size(n, p, m, max_elements=settings.max_hankel_elements, max_order=top)
-        defaults = {"rows": choice.rows, "cols": choice.cols, "max_order": choice.max_order}
+    choice = named_hankel(rows, cols, p, m, settings) if rows and cols else default_hankel(n, p, m, settings)
+    band = band_of(data)
     return {
         "name": name,
         "outputs": list(data.outputs), "inputs": list(data.inputs),
@@ -68,7 +65,8 @@ def dataset_summary(data: era.ResponseData, geometry: era.Geometry | None, name:
         "geometry": None if geometry is None else {"n_nodes": int(geometry.n_nodes), "units": geometry.units,
                                                    "n_edges": int(len(geometry.edges))},
         "source": source or {},
-        "defaults": defaults,
+        "defaults": {"rows": choice.rows, "cols": choice.cols, "max_order": choice.max_order},
+        "band_hz": None if band is None else floats(band),
         "limits": {"rows_plus_cols_max": n, "max_hankel_elements": settings.max_hankel_elements,
                    "max_order": settings.max_order,
                    "note": (f"With consecutive shifts rows + cols ≤ {n} (N samples); rows·{p} × cols·{m} ≤ "
@@ -96,8 +94,10 @@ def spectrum_json(data: era.ResponseData, max_points: int) -> dict:
 
 
 # ---- analyses ---------------------------------------------------------------------------------------------
-def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Identification) -> dict:
-    """An identification: its Hankel parameters, the singular values and the suggested order (schemas.Analysis)."""
+def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Identification,
+                  diagram: Diagram) -> dict:
+    """An identification (schemas.Analysis): its Hankel parameters, the singular values, and the order and modes
+    era chooses from its diagram (``suggested_order``, ``chosen_indices``: era.choose_modes)."""
     d = ident.singular_values
     return {
         "id": analysis_id, "dataset_id": dataset_id, "rows": ident.rows, "cols": ident.cols,
@@ -105,7 +105,8 @@ def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Id
         "max_order": ident.max_order, "requested_max_order": params.get("max_order"),
         "hankel_shape": [int(ident.P.shape[0]), int(ident.Q.shape[0])], "svd_method": ident.svd_method,
         "singular_values": floats(d[: min(d.size, max(2 * ident.max_order, 50), 2000)]),
-        "suggested_order": order_from_singular_values(d, ident.max_order),
+        "suggested_order": diagram.order, "chosen_indices": diagram.chosen_indices,
+        "noise_floor_order": order_from_singular_values(d, ident.max_order),
     }
 
 
@@ -161,10 +162,23 @@ def _pole_std(values, order) -> list:
     return floats(np.full(np.shape(order), np.nan) if values is None else values)
 
 
-def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
+#: A cluster era.choose_modes gave no verdict (none today: every cluster is chosen or rejected with a reason).
+_NO_VERDICT = {"chosen": False, "code": None, "reason": None, "mode": None}
+
+
+def _verdict(candidate) -> dict:
+    """A cluster's verdict from era.choose_modes (schemas.StableMode's chosen, code, reason, mode)."""
+    return {"chosen": candidate.chosen, "code": candidate.code, "reason": candidate.reason,
+            "mode": None if candidate.mode is None else int(candidate.mode)}
+
+
+def stabilization_json(diagram: Diagram, data: era.ResponseData, max_points: int) -> dict:
     """The stabilization diagram (schemas.Stabilization): every pole of every order with its stability flags,
-    the suggested modes (each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN), and the CMIF
-    of the records drawn under it."""
+    the suggested modes (clusters: each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN, and
+    with era.choose_modes' verdict: chosen, or why not), the order and modes chosen, and the CMIF of the records
+    drawn under it."""
+    stab, choice = diagram.stabilization, diagram.choice
+    verdicts = {c.diagram_index: _verdict(c) for c in choice.candidates()}
     return {
         "orders": np.asarray(stab.orders).tolist(), "order": np.asarray(stab.order).tolist(),
         "mode_index": np.asarray(stab.mode_index).tolist(),
@@ -181,8 +195,11 @@ def stabilization_json(stab, data: era.ResponseData, max_points: int) -> dict:
                    "data_frequency_std_hz": floats(getattr(mo, "data_frequency_std_hz", np.nan)),
                    "data_damping_std": floats(getattr(mo, "data_damping_std", np.nan)),
                    "emac": floats(mo.emac), "mpc": floats(mo.mpc), "orders": list(mo.orders),
-                   "coherent": bool(mo.coherent)} for mo in stab.modes],
+                   "pole_indices": [int(i) for i in mo.pole_indices], "coherent": bool(mo.coherent),
+                   **verdicts.get(k, _NO_VERDICT)} for k, mo in enumerate(stab.modes)],
         "coherent_min": COHERENT_MIN,
+        "chosen_order": diagram.order, "chosen_indices": diagram.chosen_indices,
+        "band_hz": floats(diagram.band_hz),
         "nyquist_hz": 0.5 / data.dt,
         "spectrum": spectrum_json(data, max_points),
     }

@@ -23,6 +23,7 @@ import era
 
 from . import config, modeling, payloads
 from .cache import Analysis
+from .choosing import Diagram
 
 #: Reconstructions stored per report: at most this many (output, input) pairs, this many points each.
 MAX_REPORT_PAIRS = 36
@@ -46,10 +47,11 @@ def geometry_json(geometry: era.Geometry | None) -> dict | None:
 
 
 def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: np.ndarray,
-          stab: era.Stabilization, *, dataset: dict, explanation: dict | None, recordings: dict[str, str],
+          diagram: Diagram, *, dataset: dict, explanation: dict | None, recordings: dict[str, str],
           version: str, plot_points: int, structure: dict | None = None) -> dict:
     """The report document (schemas.ReportDocument) of analysis ``a`` at the order of ``model`` (from ``ident``)
-    with the modes ``kept`` (sorted indices). Blocking (one full reconstruction): run it on a pool.
+    with the modes ``kept`` (sorted indices); ``diagram``: its stabilization diagram and era's choice of modes
+    (app/choosing.py), frozen with the verdict on every cluster. Blocking (one full reconstruction): run it on a pool.
 
     dataset : the dataset's stored summary; explanation : the stored simulation-vs-test result with every
     overlay (explaining.for_report), or None; recordings : {mode index: file name} of the mode-shape recordings;
@@ -65,7 +67,7 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
         "created": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
         "software": _software(version),
         "dataset": dataset,
-        "analysis": payloads.analysis_json(a.id, a.dataset_id, a.params, ident),
+        "analysis": payloads.analysis_json(a.id, a.dataset_id, a.params, ident, diagram),
         "order": int(model.order), "kept": kept.tolist(),
         "modes": payloads.modes_json(model, data, shape_scatter=ident.shape_scatter(model.order)),
         "kept_fit_percent": payloads.fit_percent(reduced.fit_error(data)),
@@ -74,7 +76,7 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
             "pairs": [{"output": data.outputs[i], "input": data.inputs[j], "output_index": i, "input_index": j,
                        "measured": payloads.floats(data.markov[sl, i, j]),
                        "reconstructed": payloads.floats(rebuilt[sl, i, j])} for i, j in pairs]},
-        "stabilization": payloads.stabilization_json(stab, data, plot_points),
+        "stabilization": payloads.stabilization_json(diagram, data, plot_points),
         "geometry": geometry_json(a.geometry),
         "explanation": explanation,
         "structure_model": None if structure is None else {

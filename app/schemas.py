@@ -39,7 +39,7 @@ class GeometrySummary(Schema):
 class HankelDefaults(Schema):
     rows: int = Field(description="r, block rows of H(0) suggested for this dataset")
     cols: int = Field(description="s, block columns of H(0) suggested for this dataset")
-    max_order: int = Field(description="largest order suggested: min(r·p, s·m, 200, ERA_MAX_ORDER)")
+    max_order: int = Field(description="largest order suggested: min(r·p, s·m, era's 200, ERA_MAX_ORDER)")
 
 
 class DatasetLimits(Schema):
@@ -82,6 +82,8 @@ class Dataset(Schema):
     source: DatasetSource
     defaults: HankelDefaults
     limits: DatasetLimits
+    band_hz: list[float] | None = Field(None, description="[low, high] Hz, the band FRF records hold (the choice of "
+                                                          "modes looks only there); null: 0 to Nyquist")
 
 
 class ImportOptions(Schema):
@@ -103,6 +105,10 @@ class ImportOptions(Schema):
     forces: list[int] | None = Field(None, description="channels that measure the excitation (input-output records); "
                                                        "null: as the files' units and names say")
     references: list[int] | None = Field(None, description="reference channels of ambient records (NExT); null: all")
+    band_hz: list[float] | None = Field(None, min_length=2, max_length=2,
+                                        description="[low, high] Hz, the band FRFs are valid in (e.g. the analyser's "
+                                                    "fMin, fMax): lines outside it are cut and no mode is chosen "
+                                                    "there; null: all lines")
 
 
 class ImportChannel(Schema):
@@ -184,7 +190,13 @@ class Analysis(Schema):
     hankel_shape: list[int] = Field(description="[r·p, s·m], the size of H(0)")
     svd_method: str = Field(description="'dense' or 'randomized'")
     singular_values: Floats = Field(description="d_1 ≥ d_2 ≥ … of H(0) (eqs. 38-39), the leading ones")
-    suggested_order: int = Field(description="singular values clearly above the noise floor, even")
+    suggested_order: int = Field(description="the order era's choice of modes is read at (era.choose_modes): one of "
+                                             "the stabilization diagram's orders, where every chosen mode has a "
+                                             "pole; when era chose none, the diagram order nearest noise_floor_order")
+    chosen_indices: list[int] = Field(description="the chosen modes' indices among the modes of suggested_order "
+                                                  "(GET /modes), by frequency: what the table keeps by default "
+                                                  "(empty when era chose none)")
+    noise_floor_order: int = Field(description="singular values clearly above the noise floor, even (eqs. 38-39)")
 
 
 class Modes(Schema):
@@ -244,8 +256,17 @@ class StableMode(Schema):
     emac: float | None = Field(description="mean γ, fraction")
     mpc: float | None = Field(description="mean μ, fraction")
     orders: list[int] = Field(description="the orders it is stable in")
+    pole_indices: list[int] | None = Field(None, description="its poles: indices into the pole arrays (order, "
+                                                             "frequency_hz, …)")
     coherent: bool | None = Field(None, description="mean γ·μ ≥ coherent_min: a likely physical mode "
                                                     "(absent in reports frozen before it existed)")
+    chosen: bool | None = Field(None, description="era.choose_modes chose it as one of the structure's modes "
+                                                  "(null in reports frozen before the choice existed)")
+    code: str | None = Field(None, description="'chosen', or why not (era.choice.REASONS): rigid, band, harmonic, "
+                                               "damping, uncertain, twin, orders, noise, absent")
+    reason: str | None = Field(None, description="why it was not chosen, in words ('' when chosen)")
+    mode: int | None = Field(None, description="the chosen mode it is, or of which it is a split twin (index into "
+                                               "chosen_indices), else null")
 
 
 class Stabilization(Schema):
@@ -266,8 +287,15 @@ class Stabilization(Schema):
     stable_damping: list[bool] = Field(description="(poles,) damping within 5 %")
     stable_shape: list[bool] = Field(description="(poles,) MAC ≥ 0.98 with it")
     stable: list[bool] = Field(description="(poles,) stable in frequency, damping and shape")
-    modes: list[StableMode] = Field(description="suggested modes: poles stable over ≥ 3 orders, by frequency")
+    modes: list[StableMode] = Field(description="suggested modes: poles stable over ≥ 3 orders, by frequency, each "
+                                                "with era.choose_modes' verdict")
     coherent_min: float | None = Field(None, description="γ·μ a suggested mode needs to be coherent, fraction")
+    chosen_order: int | None = Field(None, description="the diagram order the chosen modes are read at (the "
+                                                       "analysis's suggested_order, which see when none is chosen); "
+                                                       "null in older reports")
+    chosen_indices: list[int] | None = Field(None, description="the chosen modes' indices among the modes of "
+                                                               "chosen_order, by frequency")
+    band_hz: list[float] | None = Field(None, description="[low, high] Hz, the band the choice looked in")
     nyquist_hz: float = Field(description="1/(2Δτ), Hz: the frequency axis ends there")
     spectrum: Spectrum = Field(description="CMIF of the records, drawn under the poles")
 

@@ -1,5 +1,5 @@
-"""Analyses: one identification (one SVD) per request, then modes of any order, the stabilization diagram,
-reconstructions, and the mode-shape viewer."""
+"""Analyses: one identification (one SVD) per request with its stabilization diagram and era's choice of modes,
+then modes of any order, reconstructions, and the mode-shape viewer."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ import era
 
 from .. import payloads, schemas, viewing
 from ..cache import Analysis
+from ..choosing import Diagram
 from .deps import analysis, cache, find_dataset, jobs, progress_key
 
 router = APIRouter(prefix="/api/analyses", tags=["analyses"])
@@ -30,18 +31,23 @@ class ViewerRequest(BaseModel):
     order: int = Field(ge=1)
 
 
-@router.post("", summary="Identify: build H(0), H(1) and take one SVD", response_model=schemas.Analysis)
+@router.post("", summary="Identify: build H(0), H(1), take one SVD, and choose the modes from its diagram",
+             response_model=schemas.Analysis)
 async def create(request: Request, body: AnalysisRequest):
+    """The answer's ``suggested_order`` and ``chosen_indices`` are era's choice (era.choose_modes) from the
+    stabilization diagram, computed with the SVD (GET /stabilization then answers from memory)."""
     ds = await find_dataset(request, body.dataset_id)
     params = body.model_dump()
 
     def work():
-        a, ident = cache(request).new_analysis(ds, params)
-        return payloads.analysis_json(a.id, a.dataset_id, a.params, ident)
+        c = cache(request)
+        a, ident = c.new_analysis(ds, params)
+        return payloads.analysis_json(a.id, a.dataset_id, a.params, ident, c.diagram(a))
 
     shape = f"{body.rows * ds.data.n_outputs} × {body.cols * ds.data.n_inputs}"
     return await jobs(request).heavy(work, progress=progress_key(request),
-                                     message=f"Building H(0), H(1) and taking the SVD of H(0) ({shape})")
+                                     message=f"Building H(0), H(1), taking the SVD of H(0) ({shape}) and choosing "
+                                             "the modes from the stabilization diagram")
 
 
 async def identified(request: Request, a: Analysis) -> era.Identification:
@@ -53,14 +59,26 @@ async def identified(request: Request, a: Analysis) -> era.Identification:
                                      message="Recomputing the SVD of this analysis (first use since a restart)")
 
 
+async def diagrammed(request: Request, a: Analysis) -> Diagram:
+    """The diagram and the chosen modes of ``a``; after a restart or an eviction recomputed on the heavy pool."""
+    c = cache(request)
+    if c.is_diagrammed(a):
+        return c.diagram(a)
+    await identified(request, a)
+    return await jobs(request).heavy(c.diagram, a, progress=progress_key(request),
+                                     message="Realizing every order, tracking the stable poles and choosing the modes")
+
+
 async def _model(request: Request, a: Analysis, order: int) -> era.ModalModel:
     await identified(request, a)
     return await jobs(request).quick(cache(request).model, a, order)
 
 
-@router.get("/{analysis_id}", summary="An analysis: parameters and singular values", response_model=schemas.Analysis)
+@router.get("/{analysis_id}", summary="An analysis: parameters, singular values and the chosen order and modes",
+            response_model=schemas.Analysis)
 async def read(request: Request, a: Analysis = Depends(analysis)):
-    return payloads.analysis_json(a.id, a.dataset_id, a.params, await identified(request, a))
+    ident = await identified(request, a)
+    return payloads.analysis_json(a.id, a.dataset_id, a.params, ident, await diagrammed(request, a))
 
 
 @router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit",
@@ -134,16 +152,17 @@ async def step(request: Request, a: Analysis = Depends(analysis), order: int = Q
     return JSONResponse(await jobs(request).quick(work))
 
 
-@router.get("/{analysis_id}/stabilization", summary="Poles of every order, their stability, suggested modes",
+@router.get("/{analysis_id}/stabilization", summary="Poles of every order, their stability, the stable clusters "
+            "with era's verdict on each (chosen, or why not), the chosen order and modes",
             response_model=schemas.Stabilization)
 async def stabilization(request: Request, a: Analysis = Depends(analysis)):
     c = cache(request)
 
     def work():
-        return payloads.stabilization_json(c.stabilization(a), a.data, c.settings.max_plot_points)
+        return payloads.stabilization_json(c.diagram(a), a.data, c.settings.max_plot_points)
 
     return await jobs(request).heavy(work, progress=progress_key(request),
-                                     message="Realizing every order and tracking the stable poles")
+                                     message="Realizing every order, tracking the stable poles and choosing the modes")
 
 
 @router.post("/{analysis_id}/viewer", summary="Publish the modes of one order to the viser viewer",

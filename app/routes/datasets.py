@@ -6,7 +6,7 @@ from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 
 from .. import payloads, schemas
 from ..cache import Dataset
-from ..loading import channel_list, check_files, new_dataset
+from ..loading import band, channel_list, check_files, new_dataset
 from .deps import cache, dataset, jobs, read_files
 
 router = APIRouter(prefix="/api/datasets", tags=["datasets"])
@@ -38,14 +38,17 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
                                                                          "record (pre-trigger)"),
                  drop: str | None = Form(None, description="channels left out: positions as read, e.g. 0,3"),
                  forces: str | None = Form(None, description="channels measuring the excitation, e.g. 0"),
-                 references: str | None = Form(None, description="NExT reference channels of ambient records")):
+                 references: str | None = Form(None, description="NExT reference channels of ambient records"),
+                 band_hz: str | None = Form(None, description="the band FRFs are valid in, Hz: low,high (e.g. "
+                                                              "65,1000); no mode is chosen outside it")):
     """Multipart parts ``file`` (one or several) and the options the files cannot say themselves (the import step
     of the page uses /api/imports to show what was read first). Returns the dataset: id, outputs, inputs, dt,
     n_samples, units, source (format, conversions, options), defaults, limits."""
     files = await read_parts(file)
     options = dict(dt=dt, format=format, orientation=orientation, variable=variable, group=group, frf_sign=frf_sign,
                    start_sample=start_sample, drop=channel_list(drop, "drop"),
-                   forces=channel_list(forces, "forces"), references=channel_list(references, "references"))
+                   forces=channel_list(forces, "forces"), references=channel_list(references, "references"),
+                   band_hz=band(band_hz))
     return await read_files(request, files, new_dataset, cache(request), files, kind, options)
 
 

@@ -9,9 +9,10 @@ from pydantic import BaseModel, Field
 import era
 
 from .. import explaining, reporting, schemas
+from ..choosing import Diagram
 from ..errors import NotFound
 from ..store import new_token
-from .analyses import identified
+from .analyses import diagrammed, identified
 from .deps import cache, find_analysis, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/reports", tags=["reports"])
@@ -21,30 +22,47 @@ MAX_RECORDINGS = 12
 
 class ReportRequest(BaseModel):
     analysis_id: str = Field(min_length=1, max_length=100)
-    order: int = Field(ge=1)
-    modes: list[int] = Field(description="indices of the kept modes at this order")
+    order: int | None = Field(None, ge=1, description="the model order; default the order era's choice is read at "
+                                                      "(the analysis's suggested_order)")
+    modes: list[int] | None = Field(None, description="indices of the kept modes at this order; default the modes "
+                                                      "era chose (chosen_indices), at the chosen order only")
+
+
+def _kept(body: ReportRequest, diagram: Diagram) -> tuple[int, list[int]]:
+    """(order, kept modes) of a report: as asked, with era's choice for what is not (era.EraError when modes are
+    left out where the choice names none: at another order, or when it chose no mode)."""
+    order = diagram.order if body.order is None else body.order
+    if body.modes is not None:
+        return order, body.modes
+    if order != diagram.order or not diagram.chosen_indices:
+        why = (f"modes at order {diagram.order} only" if diagram.chosen_indices else "no mode of this analysis")
+        raise era.EraError(f"Name the modes kept at order {order} (`modes`): the automatic choice keeps {why}.")
+    return order, diagram.chosen_indices
 
 
 def _recording_name(k: int) -> str:
     return f"mode_{k}.viser"
 
 
-@router.post("", summary="Freeze an analysis into a report; returns its token and link",
+@router.post("", summary="Freeze an analysis into a report (by default at the chosen order with the chosen modes); "
+             "returns its token and link",
              response_model=schemas.ReportCreated)
 async def create(request: Request, body: ReportRequest):
     a = await find_analysis(request, body.analysis_id)
     c, viewer, version = cache(request), request.app.state.viewer, request.app.version
     ident = await identified(request, a)
+    diagram = await diagrammed(request, a)
+    order, modes = _kept(body, diagram)
 
     def work():
-        model = c.model(a, body.order)
-        kept = era.kept_modes(model, body.modes)
+        model = c.model(a, order)
+        kept = era.kept_modes(model, modes)
         recorded = kept.tolist()[:MAX_RECORDINGS] if viewer is not None else []
         files = {_recording_name(k): viewer.record(a.geometry, model.frequency_hz, model.shapes, k) for k in recorded}
         recordings = {str(k): _recording_name(k) for k in recorded}
         structure = c.store.model(a.dataset_id)
         explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id), structure)
-        report = reporting.build(a, ident, model, kept, c.stabilization(a), dataset=c.summary(a.dataset_id),
+        report = reporting.build(a, ident, model, kept, diagram, dataset=c.summary(a.dataset_id),
                                  explanation=explanation, recordings=recordings, version=version,
                                  plot_points=c.settings.max_plot_points, structure=structure)
         token = new_token()
@@ -52,7 +70,7 @@ async def create(request: Request, body: ReportRequest):
         return token
 
     token = await jobs(request).heavy(work, progress=progress_key(request),
-                                      message=f"Freezing the report and recording {min(len(body.modes), MAX_RECORDINGS)} mode shapes")
+                                      message=f"Freezing the report and recording {min(len(modes), MAX_RECORDINGS)} mode shapes")
     return {"token": token, "url": f"/r/{token}"}
 
 

@@ -104,12 +104,18 @@ class Store:
         return None if row is None else json.loads(row[0])
 
     def load_dataset(self, dataset_id: str) -> tuple[era.ResponseData, era.Geometry | None, str] | None:
-        """(data, geometry or None, name) of a stored dataset, or None for an unknown id."""
-        row = self._one(sa.select(datasets.c.name).where(datasets.c.id == dataset_id))
+        """(data, geometry or None, name) of a stored dataset, or None for an unknown id.
+
+        The NPZ format does not carry the band FRF records hold (``data.meta["band_hz"]``, which the choice of
+        modes needs); the summary keeps it (payloads.dataset_summary) and it is put back here."""
+        row = self._one(sa.select(datasets.c.name, datasets.c.summary).where(datasets.c.id == dataset_id))
         if row is None:
             return None
         path = self.dataset_path(dataset_id)
         data, geometry, name, _ = read_npz(path.read_bytes(), f"stored dataset {path}")
+        band = json.loads(row[1]).get("band_hz")
+        if band is not None and data.meta.get("band_hz") is None:
+            data.meta["band_hz"] = (float(band[0]), float(band[1]))
         return data, geometry, row[0] if name is None else name
 
     # ---- structure models (one per dataset, replaced when saved again) ------------------------------------

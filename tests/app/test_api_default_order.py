@@ -1,5 +1,5 @@
-"""The order an analysis keeps when it names none (app/limits.py): the leading DEFAULT_MAX_ORDER triplets, by the
-truncated SVD when that is far below H(0)'s size, and a clear refusal above them."""
+"""The order an analysis keeps when it names none (app/limits.py, era's DEFAULT_MAX_ORDER): the leading triplets, by
+the truncated SVD when that is far below H(0)'s size, and a clear refusal above them; the order it opens at."""
 
 from __future__ import annotations
 
@@ -19,7 +19,11 @@ def test_the_grid_example_keeps_200_orders_by_the_truncated_svd_and_says_how_to_
         assert a["requested_max_order"] is None and a["svd_method"] == "truncated"
         # the whole spectrum is still there for the plot and the suggestion (a dense SVD gives the same)
         d = np.array(a["singular_values"])
-        assert d.size == 2 * DEFAULT_MAX_ORDER and np.all(np.diff(d) <= 0) and a["suggested_order"] == 30
+        assert d.size == 2 * DEFAULT_MAX_ORDER and np.all(np.diff(d) <= 0) and a["noise_floor_order"] == 30
+        # the order the page opens at is the automatic choice's, one of the diagram's orders (2 … 160)
+        stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
+        assert a["suggested_order"] == stab["chosen_order"] and a["suggested_order"] in stab["orders"]
+        assert stab["orders"][-1] == 160 and a["chosen_indices"] == stab["chosen_indices"]
         above_diagram = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 180, "fit": False})
         assert above_diagram.status_code == 200 and above_diagram.json()["order"] == 180
         r = c.get(f"/api/analyses/{a['id']}/modes", params={"order": DEFAULT_MAX_ORDER + 2})

@@ -13,7 +13,7 @@ from pydantic import TypeAdapter
 import era
 import era.examples.paper_cases
 from apiclient import client
-from app import payloads, reporting, schemas
+from app import choosing, payloads, reporting, schemas
 from app.cache import Analysis
 from app.config import Settings
 from era.stabilization import COHERENT_MIN
@@ -133,14 +133,14 @@ def test_the_builders_send_exactly_the_schema_fields_for_a_mimo_dataset():
     exact(schemas.Dataset, dict(summary, id="x", sha256="0" * 64))
     exact(schemas.Records, payloads.records_json(data, 1, 4000))
     exact(schemas.Spectrum, payloads.spectrum_json(data, 4000))
-    exact(schemas.Analysis, payloads.analysis_json("a", "d", {"rows": 45, "cols": 45}, ident))
+    diagram = choosing.diagram(ident, None, settings)
+    exact(schemas.Analysis, payloads.analysis_json("a", "d", {"rows": 45, "cols": 45}, ident, diagram))
     exact(schemas.Modes, payloads.modes_json(model, data))
     rec = exact(schemas.Reconstruction, payloads.reconstruction_json(model, data, np.array([0, 2]), 1, 1, 4000))
     assert rec.kept == [0, 2] and (rec.output, rec.input) == (data.outputs[1], data.inputs[1])
-    stab = era.stabilization(ident, range(2, 13, 2))
-    exact(schemas.Stabilization, payloads.stabilization_json(stab, data, 4000))
+    exact(schemas.Stabilization, payloads.stabilization_json(diagram, data, 4000))
     a = Analysis("a", "d", {"rows": 45, "cols": 45}, data, None, "case 2")
-    report = reporting.build(a, ident, model, np.array([1, 3]), stab, dataset=dict(summary, id="d", sha256="0"),
+    report = reporting.build(a, ident, model, np.array([1, 3]), diagram, dataset=dict(summary, id="d", sha256="0"),
                              explanation=None, recordings={}, version="0", plot_points=4000)
     exact(schemas.ReportDocument, report)
     assert len(report["reconstruction"]["pairs"]) == 4 and report["kept"] == [1, 3]
