@@ -1,9 +1,11 @@
-"""A simulated monitored structure: hourly ambient records whose modes drift with temperature, one of which
-drops after damage, two of which cross. For tests, benchmarks and demos of campaigns (the truth is returned).
+"""A simulated monitored structure: hourly records whose modes drift with temperature, one of which drops after
+damage, two of which cross. For tests, benchmarks and demos of campaigns (the truth is returned).
 
-The structure has five modes seen by six sensors. Each record is the response of the modes to independent white
-noise (exact discrete second-order filters, one per mode), plus white measurement noise, so NExT's correlations
-are sums of the modes' free decays. Frequencies are held constant within a record (a record of minutes against a
+The structure has five modes seen by six sensors. An ambient record (:func:`write_campaign`, CSV) is the response
+of the modes to independent white noise (exact discrete second-order filters, one per mode), plus white
+measurement noise, so NExT's correlations are sums of the modes' free decays. A pulse-response record
+(:func:`write_pulse_campaign`, NPZ) is what hammer or shaker tests at two sensors give: the normal modes' impulse
+responses, plus white noise. Frequencies are held constant within a record (a record of minutes against a
 temperature that changes over hours).
 """
 
@@ -14,6 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.signal import lfilter
+
+from ..data import ResponseData
+from ..io import save_npz
 
 #: Nominal damped frequencies (Hz) of the five modes at the mean temperature.
 NOMINAL_HZ = (1.25, 2.41, 3.90, 3.90, 6.15)
@@ -110,6 +115,50 @@ def write_campaign(folder, truth: MonitoringTruth, *, snr_db: float = 20.0, seed
         path = os.path.join(folder, f"rec_{stamp}.csv")
         with open(path + ".part", "wb") as fh:
             fh.write(record_csv(y, truth.dt))
+        os.replace(path + ".part", path)
+        paths.append(path)
+    return paths
+
+
+#: The sensors where the pulse-response records' two inputs act (the first and fifth: each mode moves at one).
+PULSE_INPUTS = (0, 4)
+
+
+def pulse_record(frequency_hz, damping_ratio, shapes, *, dt: float, n_samples: int, inputs=PULSE_INPUTS,
+                 snr_db: float = 30.0, seed: int = 0) -> np.ndarray:
+    """(N, p, m) pulse responses of unit-mass normal modes to unit impulses at the sensors ``inputs``, with noise.
+
+    Y[k]_il = Σ_j φ_ij φ_lj e^(-ζ_j ω_j t_k) sin(ω_dj t_k) / ω_dj · dt, t_k = k dt (the impulse response of each
+    mode, ω_j = ω_dj / sqrt(1 - ζ_j²)), l over ``inputs``; frequency_hz : (k,) damped, damping_ratio : (k,),
+    shapes : (p, k). White noise of rms(Y_i)·10^(-snr_db/20) is added to each output channel i.
+    """
+    rng = np.random.default_rng(seed)
+    f, zeta = np.asarray(frequency_hz, float), np.asarray(damping_ratio, float)
+    phi = np.asarray(shapes, float)
+    wd = 2 * np.pi * f
+    wn = wd / np.sqrt(1 - zeta**2)
+    t = np.arange(int(n_samples))[:, None] * dt
+    decay = np.exp(-zeta * wn * t) * np.sin(wd * t) / wd * dt  # (N, k)
+    y = np.einsum("nk,pk,mk->npm", decay, phi, phi[list(inputs)])
+    rms = np.sqrt(np.mean(y**2, axis=(0, 2), keepdims=True))
+    return y + rng.standard_normal(y.shape) * rms * 10 ** (-snr_db / 20)
+
+
+def write_pulse_campaign(folder, truth: MonitoringTruth, *, n_samples: int = 1500, snr_db: float = 30.0,
+                         seed: int = 0, start: str = "2026-03-02") -> list[str]:
+    """One NPZ file of pulse responses (:func:`pulse_record` at ``truth.dt``, era.save_npz) per record in ``folder``,
+    named with its date and hour (``rec_2026-03-02T05-00.npz``). Returns the paths in time order."""
+    os.makedirs(folder, exist_ok=True)
+    base = np.datetime64(f"{start}T00:00")
+    outputs = [f"a{i + 1}" for i in range(truth.shapes.shape[0])]
+    paths = []
+    for r, hours in enumerate(truth.time_h):
+        stamp = str(base + np.timedelta64(int(round(hours * 60)), "m")).replace(":", "-")
+        y = pulse_record(truth.frequency_hz[r], truth.damping_ratio, truth.shapes, dt=truth.dt, n_samples=n_samples,
+                         snr_db=snr_db, seed=seed * 100003 + r)
+        data = ResponseData(markov=y, dt=truth.dt, outputs=outputs, inputs=[f"hit {outputs[i]}" for i in PULSE_INPUTS])
+        path = os.path.join(folder, f"rec_{stamp}.npz")
+        save_npz(path + ".part", data, name=f"record {r}")
         os.replace(path + ".part", path)
         paths.append(path)
     return paths
