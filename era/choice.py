@@ -385,12 +385,21 @@ def pole_amplitudes(stab, ident) -> np.ndarray:
     would rank it with the modes, its amplitude does not."""
     zeta = np.clip(stab.damping_ratio, -0.999, 0.999)
     wn = 2 * np.pi * np.abs(stab.frequency_hz) / np.sqrt(1 - zeta**2)
-    log_mag = -zeta * wn * float(ident.dt)  # ln |z|
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        rows = np.exp(2 * log_mag[:, None] * np.asarray(ident.row_shifts)[None, :]).sum(axis=1)
-        cols = np.exp(2 * log_mag[:, None] * np.asarray(ident.col_shifts)[None, :]).sum(axis=1)
-        amp = stab.contribution / np.sqrt(rows * cols)
+    two_log = -2 * zeta * wn * float(ident.dt)  # ln |z|²
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        amp = stab.contribution / np.sqrt(_power_sums(two_log, ident.row_shifts) *
+                                          _power_sums(two_log, ident.col_shifts))
     return np.where(np.isfinite(amp), amp, 0.0)
+
+
+def _power_sums(two_log: np.ndarray, shifts) -> np.ndarray:
+    """Σ_i |z|^{2 t_i} for each pole (ln |z|² given), by the geometric series when the shifts are 0, 1, …, s-1."""
+    t = np.asarray(shifts)
+    if t.size and t[0] == 0 and np.array_equal(t, np.arange(t.size)):
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            ratio = np.expm1(t.size * two_log) / np.expm1(two_log)
+        return np.where(two_log == 0, float(t.size), ratio)
+    return np.exp(two_log[:, None] * t[None, :]).sum(axis=1)
 
 
 def _read_order(stab, orders: np.ndarray, groups: list) -> tuple[int, dict]:
