@@ -172,11 +172,28 @@ def _verdict(candidate) -> dict:
             "mode": None if candidate.mode is None else int(candidate.mode)}
 
 
+def _evidence(values: dict | None) -> dict | None:
+    """What era weighed for a candidate ({name: number}), JSON-safe."""
+    if not values:
+        return None
+    return {str(k): (None if v is None or not math.isfinite(float(v)) else float(v)) for k, v in values.items()}
+
+
+def candidate_json(c) -> dict:
+    """One of era.choose_modes' candidates (schemas.ChoiceCandidate): a cluster of the diagram, or, for noise-free
+    data of exact rank, a mode of the exact realization (``cluster`` null)."""
+    return {"frequency_hz": floats(c.frequency_hz), "damping_ratio": floats(c.damping_ratio),
+            "emac": floats(c.emac), "mpc": floats(c.mpc), "orders": [int(o) for o in c.orders],
+            "pole_indices": [int(i) for i in c.pole_indices],
+            "cluster": int(c.diagram_index) if c.diagram_index >= 0 else None,
+            **_verdict(c), "evidence": _evidence(getattr(c, "evidence", None))}
+
+
 def stabilization_json(diagram: Diagram, data: era.ResponseData, max_points: int) -> dict:
     """The stabilization diagram (schemas.Stabilization): every pole of every order with its stability flags,
     the suggested modes (clusters: each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN, and
-    with era.choose_modes' verdict: chosen, or why not), the order and modes chosen, and the CMIF of the records
-    drawn under it."""
+    with era.choose_modes' verdict: chosen, or why not), every candidate era judged with its verdict, the order
+    and modes chosen, and the CMIF of the records drawn under it."""
     stab, choice = diagram.stabilization, diagram.choice
     verdicts = {c.diagram_index: _verdict(c) for c in choice.candidates()}
     return {
@@ -198,6 +215,8 @@ def stabilization_json(diagram: Diagram, data: era.ResponseData, max_points: int
                    "pole_indices": [int(i) for i in mo.pole_indices], "coherent": bool(mo.coherent),
                    **verdicts.get(k, _NO_VERDICT)} for k, mo in enumerate(stab.modes)],
         "coherent_min": COHERENT_MIN,
+        "candidates": [candidate_json(c) for c in sorted(choice.chosen + choice.rejected,
+                                                          key=lambda c: (c.frequency_hz, c.diagram_index))],
         "chosen_order": diagram.order, "chosen_indices": diagram.chosen_indices,
         "band_hz": floats(diagram.band_hz),
         "nyquist_hz": 0.5 / data.dt,

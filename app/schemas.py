@@ -269,6 +269,27 @@ class StableMode(Schema):
                                                "chosen_indices), else null")
 
 
+class ChoiceCandidate(Schema):
+    """One candidate era.choose_modes judged: a cluster of the diagram (``cluster``: its index in ``modes``), or,
+    for noise-free data of exact rank, a mode of the exact realization (``cluster`` null)."""
+
+    frequency_hz: float | None = Field(description="mean damped frequency over its orders, Hz")
+    damping_ratio: float | None = Field(description="mean ζ, fraction")
+    emac: float | None = Field(description="mean γ, fraction")
+    mpc: float | None = Field(description="mean μ, fraction")
+    orders: list[int] = Field(description="the orders it is found at")
+    pole_indices: list[int] = Field(description="its poles: indices into the pole arrays")
+    cluster: int | None = Field(description="its index in modes, or null when it is no cluster of the diagram")
+    chosen: bool = Field(description="chosen as one of the structure's modes")
+    code: str | None = Field(description="'chosen', or why not (era.choice.REASONS)")
+    reason: str | None = Field(description="why it was not chosen, in words ('' when chosen)")
+    mode: int | None = Field(description="the chosen mode it is, or of which it is a split twin (index into "
+                                         "chosen_indices), else null")
+    evidence: dict[str, float | None] | None = Field(description="what the verdict weighed (era's names: orders, "
+                                                                 "persistence, coverage, emac_mpc, strength, ...), "
+                                                                 "or null when a physical reason decided")
+
+
 class Stabilization(Schema):
     orders: list[int] = Field(description="the orders computed (2, 4, …)")
     order: list[int] = Field(description="(poles,) each pole's order")
@@ -290,6 +311,9 @@ class Stabilization(Schema):
     modes: list[StableMode] = Field(description="suggested modes: poles stable over ≥ 3 orders, by frequency, each "
                                                 "with era.choose_modes' verdict")
     coherent_min: float | None = Field(None, description="γ·μ a suggested mode needs to be coherent, fraction")
+    candidates: list[ChoiceCandidate] | None = Field(None, description="everything era.choose_modes judged, by "
+                                                                       "frequency, with its verdict; null in older "
+                                                                       "reports")
     chosen_order: int | None = Field(None, description="the diagram order the chosen modes are read at (the "
                                                        "analysis's suggested_order, which see when none is chosen); "
                                                        "null in older reports")

@@ -58,6 +58,15 @@ def test_the_stabilization_answer_carries_every_clusters_verdict_and_the_chosen_
         picked = sorted((mo for mo in clusters if mo["chosen"]), key=lambda mo: mo["mode"])
         assert [mo["mode"] for mo in picked] == list(range(4))
         np.testing.assert_allclose([mo["frequency_hz"] for mo in picked], TRUE_HZ, rtol=2e-3)
+        # the same verdicts in the list of everything era judged (here every candidate is a cluster)
+        cands = stab["candidates"]
+        assert sorted(cand["cluster"] for cand in cands) == list(range(len(clusters)))
+        for cand in cands:
+            mo = clusters[cand["cluster"]]
+            assert (cand["chosen"], cand["code"], cand["reason"], cand["mode"]) == \
+                (mo["chosen"], mo["code"], mo["reason"], mo["mode"])
+            assert cand["pole_indices"] == mo["pole_indices"]
+        assert all(cand["evidence"] for cand in cands if cand["chosen"])
 
         # the default ticks: each known mode once, at the chosen order (GET /modes of that order)
         m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": order, "fit": False}).json()
@@ -87,16 +96,32 @@ def test_a_report_made_without_naming_modes_holds_the_chosen_modes_and_so_do_its
         assert other.status_code == 422 and "Name the modes" in other.json()["error"]
 
 
-def test_noise_free_data_where_era_chooses_nothing_open_at_the_singular_values_order(tmp_path):
-    """The paper's Case I: exact rank 10, so no cluster is stable below order 10 and the choice is empty; the
-    analysis opens at the diagram order the singular values give, with nothing chosen (the table's thresholds
-    tick there)."""
+def test_noise_free_data_of_exact_rank_open_at_that_rank_with_every_mode_chosen(tmp_path):
+    """The paper's Case I: H(0) of exact rank 10 has no cluster stable below order 10; era takes the exact
+    realization's five modes, which are candidates of no cluster."""
     with client(tmp_path) as c:
         ds = c.post("/api/examples/case1").json()
         a = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": 90, "cols": 90}).json()
         stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
     assert a["suggested_order"] == a["noise_floor_order"] == stab["chosen_order"] == 10
-    assert a["chosen_indices"] == [] and not any(mo["chosen"] for mo in stab["modes"])
+    assert a["chosen_indices"] == [0, 1, 2, 3, 4]
+    picked = [cand for cand in stab["candidates"] if cand["chosen"]]
+    assert [cand["mode"] for cand in picked] == [0, 1, 2, 3, 4] and all(cand["orders"] == [10] for cand in picked)
+    np.testing.assert_allclose([cand["frequency_hz"] for cand in picked], np.arange(1, 6) / (2 * np.pi), rtol=1e-8)
+
+
+def test_records_of_pure_noise_open_at_a_diagram_order_with_nothing_chosen_and_every_reason_given(tmp_path):
+    noise = era.ResponseData(markov=np.random.default_rng(0).standard_normal((400, 2, 1)), dt=0.01)
+    with client(tmp_path) as c:
+        _, a = identify_defaults(c, npz_bytes(noise), "noise.npz")
+        stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
+        refused = c.post("/api/reports", json={"analysis_id": a["id"]})
+    assert a["chosen_indices"] == [] == stab["chosen_indices"] and a["suggested_order"] in stab["orders"]
+    # the diagram order nearest the singular values' (the lower of two)
+    nearest = min(stab["orders"], key=lambda o: (abs(o - a["noise_floor_order"]), o))
+    assert a["suggested_order"] == stab["chosen_order"] == nearest
+    assert stab["candidates"] and all(not cand["chosen"] and cand["reason"] for cand in stab["candidates"])
+    assert refused.status_code == 422 and "no mode" in refused.json()["error"]
 
 
 def test_the_hankel_size_and_orders_are_eras_defaults_with_the_server_settings_as_caps(tmp_path):
@@ -142,7 +167,7 @@ def test_an_frf_datasets_band_bounds_the_choice_and_survives_a_restart(tmp_path,
                                           "cols": ds["defaults"]["cols"]}).json()
         stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
         assert stab["band_hz"] == [2.0, 40.0]
-        picked = sorted(mo["frequency_hz"] for mo in stab["modes"] if mo["chosen"])
+        picked = sorted(cand["frequency_hz"] for cand in stab["candidates"] if cand["chosen"])
         np.testing.assert_allclose(picked, f_modes, rtol=5e-3)
         bad = c.post("/api/datasets", files=parts, data={"band_hz": "2 to 40"})
         assert bad.status_code == 422 and bad.json()["option"] == "band_hz"
