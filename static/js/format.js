@@ -43,6 +43,7 @@
     if (o.variable) out.push(`array ${o.variable}`);
     if (o.group) out.push(`group ${o.group}`);
     if (o.frf_sign && o.frf_sign !== "auto") out.push(`FRF sign ${o.frf_sign}`);
+    if (o.band_hz) out.push(`band ${o.band_hz[0]}–${o.band_hz[1]} Hz`);
     if (o.start_sample) out.push(`records start at sample ${o.start_sample}`);
     if (o.drop && o.drop.length) out.push(`left out: ${ch(o.drop)}`);
     if (o.forces) out.push(o.forces.length ? `force channels: ${ch(o.forces)}` : "no force channel");

@@ -130,7 +130,11 @@ export function init() {
     slider.disabled = false;
     state.order = null;
     plotSingularValues(a);
-    $("order-note").textContent = `Suggested order ${a.suggested_order} (singular values above the noise floor). ` +
+    const n = a.chosen_indices.length;
+    $("order-note").textContent = (n
+      ? `Order ${a.suggested_order}: where the ${n} mode${n > 1 ? "s" : ""} era chose automatically are read (one of the diagram's orders). `
+      : `Order ${a.suggested_order}: era chose no mode; this is the diagram order nearest the singular values' ${a.noise_floor_order}. `) +
+      `The singular values stand above the noise floor up to ${a.noise_floor_order}. ` +
       "Move the slider: poles, table and reconstruction follow; the SVD is not recomputed.";
     setOrder(a.suggested_order);
   });

@@ -1,6 +1,6 @@
 // The import step: after a drop, what was read (channels, units, nodes, sampling, a plot of every channel) and
 // the controls for what the files could not say (sample rate, rows/columns, record kind, start sample, channel
-// roles, channels left out). Every change reads the staged files again (POST /api/imports/{id}/preview); "Use
+// roles, channels left out, the band of FRFs). Every change reads the staged files again (POST /api/imports/{id}/preview); "Use
 // these records" makes the dataset (POST /api/imports/{id}/dataset). A refusal is shown next to its control.
 import { api, upload } from "./api.js";
 import { el, plotConfig, plain, showError } from "./state.js";
@@ -10,7 +10,7 @@ const $ = (id) => document.getElementById(id);
 // The option a refusal names -> the element that shows it (next to its control).
 const ERROR_BOX = { dt: "import-error-dt", orientation: "import-error-orientation", kind: "import-error-kind",
                     start_sample: "import-error-start_sample", variable: "import-error-variable",
-                    group: "import-error-group", frf_sign: "import-error-frf_sign",
+                    group: "import-error-group", frf_sign: "import-error-frf_sign", band_hz: "import-error-band_hz",
                     forces: "import-error-channels", references: "import-error-channels",
                     drop: "import-error-channels" };
 const ROLES = { response: "response", force: "force (excitation, input)", reference: "NExT reference response",
@@ -54,6 +54,8 @@ export function options() {
   if (!$("field-variable").hidden && $("import-variable").value.trim()) o.variable = $("import-variable").value.trim();
   if (!$("field-group").hidden && $("import-group").value.trim()) o.group = $("import-group").value.trim();
   if (!$("field-frf-sign").hidden && $("import-frf-sign").value !== "auto") o.frf_sign = $("import-frf-sign").value;
+  const low = parseFloat($("import-band-low").value), high = parseFloat($("import-band-high").value);
+  if (!$("field-band").hidden && low >= 0 && high > 0) o.band_hz = [low, high];  // FRFs: the band they are valid in
   const pick = (role) => roles.flatMap((r, i) => (r === role ? [i] : []));
   if (pick("drop").length) o.drop = pick("drop");
   const pv = current && current.preview;
@@ -99,6 +101,7 @@ function renderRead(answer) {
   $("field-variable").hidden = !["mat", "hdf5"].includes(pv.format) && answer.option !== "variable";
   $("field-group").hidden = pv.format !== "tdms";
   $("field-frf-sign").hidden = pv.domain !== "frequency";
+  $("field-band").hidden = pv.domain !== "frequency";
   $("import-start").disabled = pv.domain === "frequency";
   const step = pv.dt === null ? "no sampling interval yet"
     : timeLike ? `Δt ${pv.dt} s (${Number(pv.sample_rate_hz.toPrecision(8))} Hz)` : `Δf ${pv.dt} Hz`;
@@ -173,6 +176,8 @@ export async function start(files, setDataStatus) {
   $("import-variable").value = "";
   $("import-group").value = "";
   $("import-frf-sign").value = "auto";
+  $("import-band-low").value = "";
+  $("import-band-high").value = "";
   try {
     const answer = await upload("/api/imports", files, (f) => {
       bar.value = f;

@@ -1,5 +1,6 @@
 // Wires the panels. The order slider drives: modes of that order (table, poles) -> reconstruction.
 // Requests are coalesced: while one order is on its way, only the latest slider position waits.
+// The analysis opens at the order era's choice of modes is read at, with the chosen modes ticked (table.js).
 import { api } from "./api.js";
 import { state, on, emit, showError } from "./state.js";
 import * as data from "./data.js";
@@ -28,11 +29,13 @@ async function pump() {
   busy = true;
   let curve = null, t1, t2, t3;
   try {
-    const { modes, reconstruction: rec } = await reconstruction.fetchStep(order);
+    const keep = table.defaultKept(order);
+    const { modes, reconstruction: rec } = await reconstruction.fetchStep(order, keep);
     if (order !== state.order) return;
     t1 = performance.now();
     state.modes = modes;
     state.kept = new Set(rec.kept);
+    state.keptBy = keep === "thresholds" ? "thresholds" : "choice";
     if (pendingSelect !== null && pendingSelect.order === order) {
       state.selected = pendingSelect.index < modes.n_modes ? pendingSelect.index : null;
       pendingSelect = null;
@@ -90,6 +93,18 @@ on("pole", ({ order, index }) => {
 on("thresholds", async () => {
   const rec = await reconstruction.fetchFor(state.order, "thresholds");
   state.kept = new Set(rec.kept);
+  state.keptBy = "thresholds";
+  emit("modes", state.modes);
+  reconstruction.draw(rec);
+});
+// Back to the automatic choice: its order (a slider step there ticks the chosen modes), or at that order its modes.
+on("choice", async () => {
+  const a = state.analysis;
+  if (!a) return;
+  if (state.order !== a.suggested_order) { hankel.setOrder(a.suggested_order); return; }
+  const rec = await reconstruction.fetchFor(state.order, table.chosenAt(state.order));
+  state.kept = new Set(rec.kept);
+  state.keptBy = "choice";
   emit("modes", state.modes);
   reconstruction.draw(rec);
 });

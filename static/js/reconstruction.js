@@ -25,9 +25,9 @@ export async function fetchFor(order, kept) {
   return api(`/api/analyses/${state.analysis.id}/reconstruction?${query(order, kept)}`);
 }
 
-// One slider step: {modes, reconstruction} of an order, the kept modes chosen by the thresholds.
-export async function fetchStep(order) {
-  return api(`/api/analyses/${state.analysis.id}/step?${query(order, "thresholds")}`);
+// One slider step: {modes, reconstruction} of an order; kept: "thresholds" or a Set of mode indices.
+export async function fetchStep(order, kept = "thresholds") {
+  return api(`/api/analyses/${state.analysis.id}/step?${query(order, kept)}`);
 }
 
 let shown = null;  // the channel pair and the time axis that the plot shows: `${output}|${input}|${samples}`

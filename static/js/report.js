@@ -25,6 +25,15 @@
     return body;
   }
 
+  // Whether the kept modes are era's automatic choice (reports frozen before it existed say nothing).
+  function keptHow(r) {
+    const chosen = r.analysis.chosen_indices;
+    if (!chosen) return "";
+    if (!chosen.length) return " (era chose no mode; kept by hand or by the thresholds)";
+    const same = r.order === r.analysis.suggested_order && chosen.length === r.kept.length && chosen.every((k) => r.kept.includes(k));
+    return same ? ": the modes era chose automatically" : ` (changed by hand: era chose ${chosen.length} at order ${r.analysis.suggested_order})`;
+  }
+
   function meta(r) {
     const a = r.analysis, d = r.dataset, kept = new Set(r.kept);
     $("report-title").textContent = `ERA report: ${d.name}`;
@@ -38,8 +47,8 @@
                                                      (d.source.records ? `: ${d.source.records.join("; ")}` : "")]] : []),
       ...(window.EraFormat.importChoices(d.source) ? [["Import choices", window.EraFormat.importChoices(d.source)]] : []),
       ["Hankel matrix", `rows r = ${a.rows}, columns s = ${a.cols}, H(0) ${a.hankel_shape[0]} × ${a.hankel_shape[1]}, ${a.svd_method} SVD`],
-      ["Order", `n = ${r.order} (max ${a.max_order}, suggested ${a.suggested_order})`],
-      ["Kept modes", `${kept.size} of ${r.modes.n_modes}`],
+      ["Order", `n = ${r.order} (max ${a.max_order}, ${a.chosen_indices ? "automatic choice at" : "suggested"} ${a.suggested_order})`],
+      ["Kept modes", `${kept.size} of ${r.modes.n_modes}${keptHow(r)}`],
       ["Uncertainty (±: 95 % intervals)", r.modes.uncertainty_source || "–"],
       ["Fit with kept modes", mean === null ? "–" : `${mean.toFixed(2)} % (mean over channels)`],
       ["Created", r.created], ["Software", Object.entries(r.software).map(([k, v]) => `${k} ${v}`).join(", ")],
@@ -97,7 +106,19 @@
       color: groups.all.map((i) => s.emac[i] * s.mpc[i]), colorbar: { title: { text: "γ·μ" }, x: 1.07, len: 0.8 } }));
     traces.push({ x: r.kept.map((k) => m.frequency_hz[k]), y: r.kept.map(() => r.order), type: "scatter", mode: "markers",
       name: "kept modes", marker: { symbol: "star", size: 15, color: "#ffb000", line: { width: 1, color: "#000" } } });
-    Plotly.newPlot("report-stab", traces, { margin: { l: 55, r: 90, t: 10, b: 45 }, hovermode: "closest",
+    // era's verdict on every cluster (reports frozen before the automatic choice have none): green lines for the
+    // chosen modes, the reason of every other in its pole's hover
+    const judged = s.candidates || [];
+    const shapes = judged.filter((c) => c.chosen).map((c) => ({ type: "line", x0: c.frequency_hz, x1: c.frequency_hz,
+      yref: "paper", y0: 0, y1: 1, layer: "below", line: { color: "rgba(26,154,74,0.55)", width: 1.5 } }));
+    const others = judged.filter((c) => !c.chosen && c.pole_indices.length);
+    if (others.length) {
+      const last = others.map((mo) => mo.pole_indices.at(-1));
+      traces.push({ x: last.map((i) => s.frequency_hz[i]), y: last.map((i) => s.order[i]), type: "scatter", mode: "markers",
+        name: "not chosen (hover: why)", marker: { symbol: "triangle-down-open", size: 8, color: "#8a93a6" },
+        hovertext: others.map((mo) => `${mo.frequency_hz.toFixed(4)} Hz: ${plain(mo.reason)}`), hovertemplate: "%{hovertext}<extra></extra>" });
+    }
+    Plotly.newPlot("report-stab", traces, { margin: { l: 55, r: 90, t: 10, b: 45 }, hovermode: "closest", shapes,
       xaxis: { title: { text: "frequency (Hz)" }, range: [0, s.nyquist_hz] }, yaxis: { title: { text: "model order n" } },
       yaxis2: { overlaying: "y", side: "right", type: "log", showgrid: false, showticklabels: false, title: { text: "CMIF (log scale)" } },
       legend: { orientation: "h", y: -0.18 } }, cfg);

@@ -2,8 +2,10 @@
 //   dataset  -> summary of the loaded dataset          analysis -> {id, singular_values, ...}
 //   order    -> chosen model order                     modes    -> modes at that order (from the API)
 //   kept     -> Set of kept mode indices               selected -> selected mode index or null
-export const state = { dataset: null, analysis: null, order: null, modes: null, kept: new Set(), selected: null,
-                       stabilization: null };
+//   keptBy   -> what ticked them: "choice" (era's automatic choice, at its order), "thresholds" or "hand"
+//   choice   -> (event) back to the automatic choice: its order, its modes ticked
+export const state = { dataset: null, analysis: null, order: null, modes: null, kept: new Set(), keptBy: null,
+                       selected: null, stabilization: null };
 
 const listeners = {};
 export function on(event, fn) { (listeners[event] ||= []).push(fn); }

@@ -1,4 +1,6 @@
-// Panel 4: the γ/μ table: sortable, a keep/reject checkbox per mode, thresholds that select modes.
+// Panel 4: the γ/μ table: sortable, a keep/reject checkbox per mode. At the order era's automatic choice is read at
+// (the analysis's suggested_order) the chosen modes are ticked; at other orders the thresholds tick; the person may
+// tick and untick anything, and what is ticked is what the reconstruction, the report and explain use.
 import { state, emit, on, el } from "./state.js";
 import { api } from "./api.js";
 
@@ -9,6 +11,18 @@ let sortKey = "frequency_hz", ascending = true;
 export function thresholds() {
   return { emac: Number($("min-emac").value), mpc: Number($("min-mpc").value),
            contribution: Number($("min-contrib").value) / 100, physicalOnly: $("physical-only").checked };
+}
+
+// The modes era chose (era.choose_modes) at this order: a Set of their indices, or null at any other order (and when
+// era chose none).
+export function chosenAt(order) {
+  const a = state.analysis;
+  return a && order === a.suggested_order && a.chosen_indices.length ? new Set(a.chosen_indices) : null;
+}
+
+// What a slider step ticks at an order: the chosen modes at the choice's order, else the thresholds.
+export function defaultKept(order) {
+  return chosenAt(order) || "thresholds";
 }
 
 function sortedIndices(m) {
@@ -33,6 +47,7 @@ export function render() {
     head.append(th);
   }
   table.tHead.replaceChildren(head);
+  const chosen = chosenAt(m.order) || new Set();
   const rows = sortedIndices(m).map((k) => {
     const box = el("input", { type: "checkbox", "aria-label": `keep mode ${k + 1}`, "data-mode": k });
     box.checked = state.kept.has(k);
@@ -40,10 +55,12 @@ export function render() {
     box.addEventListener("change", () => {
       if (box.checked) state.kept.add(k); else state.kept.delete(k);
       tr.classList.toggle("rejected", !box.checked);
+      state.keptBy = "hand";
       note();
       emit("kept", state.kept);
     });
-    const tr = el("tr", { "data-mode": k }, el("td", { class: "keep" }, box),
+    const keep = el("td", { class: "keep", title: chosen.has(k) ? "chosen automatically (era.choose_modes)" : null }, box);
+    const tr = el("tr", { "data-mode": k, class: chosen.has(k) ? "chosen" : null }, keep,
                   ...columns.map((c) => el("td", { text: c.text(m, k), "data-key": c.key })));
     if (!state.kept.has(k)) tr.classList.add("rejected");
     if (state.selected === k) tr.classList.add("selected");
@@ -58,6 +75,23 @@ function note() {
   // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.uncertainty)
   const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source} · ` : "";
   $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
+  rule();
+}
+
+// Which rule ticked the table, and the way back to the automatic choice when another did.
+function rule() {
+  const a = state.analysis, box = $("table-rule");
+  if (!a || !state.modes) { box.textContent = ""; return; }
+  const n = a.chosen_indices.length, at = a.suggested_order;
+  const choice = n ? `the ${n} mode${n > 1 ? "s" : ""} era chose at order ${at}` : "";
+  const same = chosenAt(state.order) && state.kept.size === n && a.chosen_indices.every((k) => state.kept.has(k));
+  let text;
+  if (!n) text = "era chose no mode (no cluster of the diagram qualifies): the thresholds tick the table.";
+  else if (same) text = `Ticked: ${choice} (era.choose_modes; hover over the marks above the diagram for why each other candidate was left out).`;
+  else if (state.keptBy === "hand") text = `Ticked by hand. The automatic choice: ${choice}.`;
+  else text = `Ticked by the thresholds at this order. The automatic choice: ${choice}.`;
+  box.textContent = text + " ";
+  $("use-choice").hidden = !n || same;
 }
 
 function markSelected() {
@@ -90,6 +124,7 @@ function askScatter() {
 }
 
 export function init() {
+  $("use-choice").addEventListener("click", () => emit("choice"));
   for (const id of ["min-emac", "min-mpc", "min-contrib", "physical-only"]) {
     $(id).addEventListener("change", () => { if (state.modes) emit("thresholds", thresholds()); });
   }

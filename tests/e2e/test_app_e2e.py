@@ -150,7 +150,13 @@ def test_upload_to_report_survives_a_restart(tmp_path, browser, shots):
         assert page.text_content("#order-value") == "10"
         assert len(table_rows(page, "#modes-table")) == 5
         page.wait_for_function("document.getElementById('stab-plot').data?.length > 3")
-        assert "coherent (mean γ·μ ≥ 0.9" in page.text_content("#stab-status")  # the server's rule, shown
+        # the server's rules, shown: coherence, and era's choice (noise-free Case II is of exact rank 10: its five
+        # modes at order 10, the order and the ticks the page opens with)
+        page.wait_for_function("document.getElementById('stab-status').textContent.includes('coherent')")
+        assert "coherent, mean γ·μ ≥ 0.9" in page.text_content("#stab-status")
+        assert "era chose 5 modes of the structure, read at order 10" in page.text_content("#stab-status")
+        assert "Ticked: the 5 modes era chose at order 10" in page.text_content("#table-rule")
+        assert all(r["kept"] for r in table_rows(page, "#modes-table"))
         page.screenshot(path=str(shots / "app-1-uploaded.png"), full_page=True)
 
         # 2. move the order slider (keyboard on the range input): table and reconstruction follow
