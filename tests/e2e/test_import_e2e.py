@@ -29,8 +29,8 @@ CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
 USC = SHARED_DATASETS / "usc_cantilever_free_decay" / "timeseries_data.lvm"
 
 
-def coherent_modes(page) -> list[float]:
-    """Frequencies (Hz) of the suggested coherent modes: the faint vertical lines of the stabilization diagram."""
+def chosen_modes(page) -> list[float]:
+    """Frequencies (Hz) of the modes era chose (era.choose_modes): the green lines of the stabilization diagram."""
     page.wait_for_function("(document.getElementById('stab-plot').layout?.shapes || []).length > 0", timeout=120000)
     return page.evaluate("document.getElementById('stab-plot').layout.shapes.map(s => s.x0)")
 
@@ -63,7 +63,7 @@ def test_drop_the_lvm_and_see_its_modes(tmp_path, browser, shots):  # noqa: F811
         page.click("#import-use")
         page.wait_for_selector("#summary:not([hidden])")
         page.wait_for_selector("#modes-table tbody tr", timeout=120000)
-        near(coherent_modes(page), [6.614, 41.36, 116.85], 0.005)  # the published frequencies
+        near(chosen_modes(page), [6.614, 41.36, 116.85], 0.005)  # the published frequencies
         assert page.locator("#import").is_hidden() and not errors, errors
     finally:
         server.stop()
@@ -92,7 +92,7 @@ def test_the_rows_file_asks_for_its_sample_rate_next_to_the_control(tmp_path, br
         summary = page.text_content("#summary")
         assert "sample rate 25 Hz (Δt 0.04 s); channels in rows" in summary  # the choices, kept with the dataset
         page.wait_for_selector("#modes-table tbody tr", timeout=120000)
-        near(coherent_modes(page), [2.31, 4.96, 7.37], 0.01)
+        near(chosen_modes(page), [2.31, 4.96, 7.37], 0.01)
         page.click("#create-report")
         page.wait_for_selector("#report-link-box:not([hidden])", timeout=120000)
         report = browser.new_page()
@@ -131,7 +131,7 @@ def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, brows
         page.wait_for_selector("#summary:not([hidden])")
         assert page.locator("#records-input option").count() == 3  # one dataset, three references
         page.wait_for_selector("#modes-table tbody tr", timeout=120000)
-        near(coherent_modes(page), list(f_modes), 0.005)
+        near(chosen_modes(page), list(f_modes), 0.005)
         page.screenshot(path=str(shots / "import-3-roving.png"), full_page=True)
         assert not errors, errors
     finally:
@@ -164,7 +164,7 @@ def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_
         assert page.locator("#records-input option").all_text_contents() == ["drive"]
         assert "force channels: drive" in page.text_content("#summary")
         page.wait_for_selector("#modes-table tbody tr", timeout=120000)
-        near(coherent_modes(page), list(f_modes), 0.01)
+        near(chosen_modes(page), list(f_modes), 0.01)
         assert not errors, errors
     finally:
         server.stop()
