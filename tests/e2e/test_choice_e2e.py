@@ -2,8 +2,10 @@
 records", without touching anything. The table ticks era's choice of modes (era.choose_modes) at the order the
 slider starts at, which is always one of the stabilization diagram's orders.
 
-- the USC cantilever's LabVIEW free decay: exactly three modes below 130 Hz ticked, 6.62 / 41.4 / ~117 Hz, each once;
-- Carini's ambient rows file at 25 Hz: the slider starts at an order inside the diagram;
+- the USC cantilever's LabVIEW free decay: exactly three modes below 130 Hz ticked, 6.62 / 41.4 / ~117 Hz, each once,
+  and a report made at once holds the ticked modes;
+- Carini's ambient rows file at 25 Hz: the slider starts at an order inside the diagram, and "Back to the automatic
+  choice" returns there from another order;
 - the ModeLAB beam's nine SignalCalc FRFs (band 65-1000 Hz, setup.csv's fMin and fMax, given in the import step):
   111.99 / 306.86 / 596.37 / 974.14 Hz ticked, one each.
 
@@ -103,6 +105,16 @@ def test_the_usc_cantilever_opens_with_its_three_modes_ticked_each_once(tmp_path
                                    f".some(n => n.textContent.includes({words!r}))", timeout=10000)
             print(f"hover over {where['frequency']:.4g} Hz:", page.text_content("#stab-plot .hovertext"))
         page.locator("#panel-stab").screenshot(path=str(shots / "choice-usc-diagram-hover.png"))
+        # a report made without touching anything holds exactly the chosen modes, and says so
+        page.click("#create-report")
+        page.wait_for_selector("#report-link-box:not([hidden])", timeout=120000)
+        report = browser.new_page(viewport={"width": 1400, "height": 1000})
+        report.goto(server.base + page.get_attribute("#report-link", "href"))
+        report.wait_for_selector("body[data-ready='1']", timeout=60000)
+        kept = sorted(float(r["cells"]["frequency_hz"].split()[0]) for r in table_rows(report, "#report-table")
+                      if r["kept"])
+        assert kept == shown["ticked_hz"], (kept, shown["ticked_hz"])
+        assert "the modes era chose automatically" in report.text_content("#report-meta")
         assert not errors, errors
     finally:
         server.stop()
@@ -125,6 +137,14 @@ def test_carinis_ambient_records_open_at_an_order_inside_the_diagram(tmp_path, b
         assert in_diagram(shown), shown
         # the current order's line is drawn inside the diagram, not on an axis stretched above it
         assert page.get_attribute("#stab-marks", "data-order") == str(shown["order"])
+        # one step away the thresholds tick, and one click brings the automatic choice back
+        page.focus("#order")
+        page.keyboard.press("ArrowRight")
+        page.wait_for_function(f"document.getElementById('table-note').textContent.endsWith('at order {shown['order'] + 1}')")
+        assert page.text_content("#table-rule").startswith("Ticked by the thresholds") and page.is_visible("#use-choice")
+        page.click("#use-choice")
+        page.wait_for_function(f"document.getElementById('table-note').textContent.endsWith('at order {shown['order']}')")
+        assert opened(page)["ticked_hz"] == shown["ticked_hz"] and page.is_hidden("#use-choice")
         assert not errors, errors
     finally:
         server.stop()
