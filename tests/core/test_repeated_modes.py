@@ -56,7 +56,7 @@ def test_noise_free_repeated_real_modes_have_mu_one_whatever_basis_the_solver_re
         monkeypatch.setattr(np.linalg, "eig", real_eig)
         pair = _at(model, 3.0)
         assert pair.size == 2 and len(rotated) == 2 * (trial + 1)
-        assert mpc(raw.shapes).min() < 0.99  # the rotated basis: complex mixtures
+        assert mpc(raw.shapes).min() < 0.999  # the rotated basis: complex mixtures (how complex depends on the draw)
         np.testing.assert_allclose(model.mpc, 1.0, atol=1e-9)
         scale = np.abs(data.markov).max()
         np.testing.assert_allclose(model.reconstruct(data.n_samples), data.markov, atol=1e-9 * scale)
