@@ -49,6 +49,12 @@ MIN_COVERAGE = 0.15
 #: Mean γ·μ of a mode's poles at least this: the paper's indicators, low for a pole fitting noise (one sensor
 #: makes μ = 1, so the other evidence carries that case).
 MIN_EMAC_MPC = 0.5
+#: A weaker cluster with a stronger mode's shape (MAC ≥ SHADOW_MAC over at least SHADOW_SENSORS sensors), within
+#: SHADOW_SPAN of its frequency and SHADOW_RATIO times weaker or more, is that mode's shadow (a split twin).
+SHADOW_MAC = 0.99
+SHADOW_SENSORS = 3
+SHADOW_SPAN = 0.2
+SHADOW_RATIO = 10.0
 #: Width of the band's edge zone as a fraction of the band's width: poles there fit the band's cut, not modes.
 EDGE_FRACTION = 0.01
 #: Above this damping ratio no pole is taken for a structural mode ...
@@ -143,6 +149,16 @@ def _candidates(stab) -> list[Candidate]:
     return out
 
 
+def _median_std(std, poles) -> float:
+    """The median over a cluster's poles of their standard deviations from the data (NaN when none computed):
+    one order's σ can be far off where the order fits noise."""
+    if std is None:
+        return float("nan")
+    v = np.asarray(std, dtype=float)[poles]
+    v = v[np.isfinite(v)]
+    return float(np.median(v)) if v.size else float("nan")
+
+
 def _mac(a: np.ndarray, b: np.ndarray) -> float:
     na, nb = np.vdot(a, a).real, np.vdot(b, b).real
     return float(abs(np.vdot(a, b)) ** 2 / (na * nb)) if na > 0 and nb > 0 else 0.0
@@ -157,7 +173,8 @@ def _mains_line(f: float) -> bool:
     return False
 
 
-def _physics(c: Candidate, lo: float, hi: float, edge: float, record_s: float) -> tuple[str, str] | None:
+def _physics(c: Candidate, lo: float, hi: float, edge: float, record_s: float,
+             typical_std_hz: float | None = None) -> tuple[str, str] | None:
     """(code, words) when ``c`` is not a vibration mode of the structure whatever the other clusters say."""
     f, z = c.frequency_hz, c.damping_ratio
     if not f > 0 or z >= 0.999:
@@ -176,7 +193,7 @@ def _physics(c: Candidate, lo: float, hi: float, edge: float, record_s: float) -
         return "damping", f"negative damping (ζ {100 * z:.3g} %): a growing pole fits noise, not a mode"
     if z > MAX_DAMPING:
         return "damping", f"implausible damping (ζ {100 * z:.3g} %)"
-    sf = c.frequency_std_hz
+    sf = c.frequency_std_hz if typical_std_hz is None else typical_std_hz
     if np.isfinite(sf) and sf >= 0.5 * f:
         return "uncertain", f"uncertainty as large as the value (σ {sf:.3g} Hz at {_fmt_hz(f)})"
     return None
@@ -202,6 +219,10 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
     record_s : duration of the pulse responses in seconds (an undamped line does not decay over it); default the
         Hankel matrix's span, (rows + cols) Δτ.
 
+    The noise poles a mode is weighed against are those of the diagram's top order: a diagram that stops a few
+    orders past the modes has few, strong noise poles there, and the weaker modes fall below them (era.analyse
+    goes to order 160; campaigns of 5-minute ambient records need 80).
+
     Noise-free data (H(0) of exact rank n below the order asked for, the paper's simulated cases) need no
     diagram: the realization of order n is the system, and its decaying modes with γ·μ ≥ COHERENT_MIN are
     chosen at order n (which the diagram must hold, as era.analyse makes it).
@@ -221,12 +242,13 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
 
     cands = _candidates(stab)
     verdict: dict[int, tuple] = {}  # diagram_index -> (code, words[, mode])
-    for c in cands:
-        v = _physics(c, lo, hi, edge, record_s)
+    for c in cands:  # the uncertainty test takes the median σ of the cluster's poles (one order's can be far off)
+        v = _physics(c, lo, hi, edge, record_s, _median_std(stab.frequency_std_hz, list(c.pole_indices)))
         if v:
             verdict[c.diagram_index] = v
     groups = _twin_groups([c for c in cands if c.diagram_index not in verdict], stab)
     passing, weighed = _weigh(groups, stab, pole_amplitudes(stab, ident), verdict)
+    shadows = _shadows(passing, weighed)  # {diagram_index: words}; their clusters join the stronger mode's group
 
     order, at = _read_order(stab, orders, passing)
     kept = sorted(((g, at[id(g)]) for g in passing if id(g) in at), key=lambda x: stab.frequency_hz[x[1]])
@@ -238,8 +260,9 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
         chosen.append(replace(g[0], code="chosen", reason="", mode=k, evidence=weighed.get(g[0].diagram_index)))
         indices.append(int(stab.mode_index[pole]))
         for twin in g[1:]:
-            verdict[twin.diagram_index] = ("twin", f"split twin of mode {k + 1} ({_fmt_hz(g[0].frequency_hz)}): one "
-                                                   "mode the model split in two", k)
+            words = shadows.get(twin.diagram_index, "one mode the model split in two")
+            verdict[twin.diagram_index] = ("twin", f"split twin of mode {k + 1} ({_fmt_hz(g[0].frequency_hz)}): "
+                                                   f"{words}", k)
     for g in groups:  # the twins of a rejected cluster go with it
         code, words = verdict.get(g[0].diagram_index, ("chosen", ""))[:2]
         if code != "chosen":
@@ -360,6 +383,36 @@ def _weigh(groups: list, stab, amplitude: np.ndarray, verdict: dict) -> tuple[li
                                                           f"structure's other modes have {100 * typical:.2g} %)")
                 passing.remove(g)
     return passing, weighed
+
+
+def _shadows(passing: list, weighed: dict) -> dict:
+    """Fold into a stronger mode's group each passing group with the same shape (MAC ≥ SHADOW_MAC over at least
+    SHADOW_SENSORS sensors), at most SHADOW_SPAN away in frequency and SHADOW_RATIO times weaker or more: two
+    modes of a structure do not share a shape, and such a pole fits the stronger mode's estimation error (an
+    ambient record's correlation functions, a drifting frequency). ``passing`` is changed in place; returns the
+    words for each folded cluster by diagram_index."""
+    words: dict[int, str] = {}
+    loud = sorted(passing, key=lambda g: -weighed[g[0].diagram_index]["strength"])
+    for i, g in enumerate(loud):
+        rep = g[0]
+        if rep.shape.size < SHADOW_SENSORS or g not in passing:
+            continue
+        s = weighed[rep.diagram_index]["strength"]
+        for h in loud[:i]:
+            if h not in passing:
+                continue
+            strong = h[0]
+            ratio = weighed[strong.diagram_index]["strength"] / max(s, 1e-300)
+            away = abs(rep.frequency_hz - strong.frequency_hz) / strong.frequency_hz
+            m = _mac(rep.shape, strong.shape)
+            if m >= SHADOW_MAC and away <= SHADOW_SPAN and ratio >= SHADOW_RATIO:
+                for c in g:
+                    words[c.diagram_index] = (f"its shape (MAC {m:.3f}), {away:.0%} away and {ratio:.0f} times "
+                                              "weaker: it fits the mode's estimation error")
+                h.extend(g)
+                passing.remove(g)
+                break
+    return words
 
 
 def _evidence_verdict(f: dict, n_orders: int) -> tuple | None:
