@@ -193,10 +193,13 @@ class Analysis(Schema):
     suggested_order: int = Field(description="the order era's choice of modes is read at (era.choose_modes): one of "
                                              "the stabilization diagram's orders, where every chosen mode has a "
                                              "pole; when era chose none, the diagram order nearest noise_floor_order")
-    chosen_indices: list[int] = Field(description="the chosen modes' indices among the modes of suggested_order "
-                                                  "(GET /modes), by frequency: what the table keeps by default "
-                                                  "(empty when era chose none)")
-    noise_floor_order: int = Field(description="singular values clearly above the noise floor, even (eqs. 38-39)")
+    chosen_indices: list[int] | None = Field(None, description="the chosen modes' indices among the modes of "
+                                                               "suggested_order (GET /modes), by frequency: what the "
+                                                               "table keeps by default (empty when era chose none; "
+                                                               "null in reports frozen before the choice existed)")
+    noise_floor_order: int | None = Field(None, description="singular values clearly above the noise floor, even "
+                                                            "(eqs. 38-39); null in reports frozen before it existed, "
+                                                            "whose suggested_order is this")
 
 
 class Modes(Schema):

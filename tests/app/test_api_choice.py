@@ -4,6 +4,7 @@ dataset's band (which the choice looks in) survives the store."""
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -175,3 +176,24 @@ def test_an_frf_datasets_band_bounds_the_choice_and_survives_a_restart(tmp_path,
         again = c.get(f"/api/analyses/{a['id']}/stabilization").json()
         assert again["band_hz"] == [2.0, 40.0] and again["chosen_indices"] == stab["chosen_indices"]
         assert c.get(f"/api/datasets/{ds['id']}").json()["band_hz"] == [2.0, 40.0]
+
+
+def test_a_report_frozen_before_the_choice_still_opens(tmp_path):
+    """Reports are kept for good: one stored without the choice's fields reads and downloads as before."""
+    with client(tmp_path) as c:
+        _, a = identify_defaults(c, npz_bytes(noisy_four_modes()))
+        token = c.post("/api/reports", json={"analysis_id": a["id"]}).json()["token"]
+        path = tmp_path / "reports" / token / "report.json"
+        old = json.loads(path.read_text())
+        for key in ("chosen_indices", "noise_floor_order"):
+            del old["analysis"][key]
+        for key in ("candidates", "chosen_order", "chosen_indices", "band_hz"):
+            del old["stabilization"][key]
+        for mo in old["stabilization"]["modes"]:
+            for key in ("pole_indices", "chosen", "code", "reason", "mode"):
+                del mo[key]
+        path.write_text(json.dumps(old))
+        r = c.get(f"/api/reports/{token}")
+        assert r.status_code == 200, r.text
+        assert r.json()["analysis"]["chosen_indices"] is None and r.json()["stabilization"]["candidates"] is None
+        assert c.get(f"/api/reports/{token}/report.html").status_code == 200
