@@ -40,10 +40,15 @@ TWIN_SIGMAS = 3.0
 TWIN_BANDWIDTHS = 1.0
 #: The evidence a mode needs: persistence × log10(strength) ≥ MIN_EVIDENCE, where persistence is the fraction of
 #: the diagram's orders, from the first where it appears, that have it, and strength its pole amplitude over that
-#: of a typical pole at the top order (noise). A mode present at every order needs 10^0.7 = 5 times the noise's
-#: amplitude, one present at half of them 25 times: the louder a mode, the less its presence in every order
+#: of a typical pole at the top order (noise). A mode present at every order needs 10^0.6 = 4 times the noise's
+#: amplitude, one present at half of them 16 times: the louder a mode, the less its presence in every order
 #: matters (noise breaks the tracks of strong modes of ambient records too).
-MIN_EVIDENCE = 0.7
+MIN_EVIDENCE = 0.6
+#: A steady mode (found at ≥ 95 % of the orders from its first, over ≥ half the diagram, γ·μ ≥ COHERENT_MIN) needs
+#: only 3 times the noise's amplitude: no noise cluster of the test records was that steady.
+STEADY_PERSISTENCE = 0.95
+STEADY_COVERAGE = 0.5
+STEADY_STRENGTH = 3.0
 #: ... and a mode is found in at least this fraction of all the diagram's orders.
 MIN_COVERAGE = 0.15
 #: Mean γ·μ of a mode's poles at least this: the paper's indicators, low for a pole fitting noise (one sensor
@@ -54,7 +59,7 @@ MIN_EMAC_MPC = 0.5
 SHADOW_MAC = 0.99
 SHADOW_SENSORS = 3
 SHADOW_SPAN = 0.2
-SHADOW_RATIO = 10.0
+SHADOW_RATIO = 3.0
 #: Width of the band's edge zone as a fraction of the band's width: poles there fit the band's cut, not modes.
 EDGE_FRACTION = 0.01
 #: Above this damping ratio no pole is taken for a structural mode ...
@@ -418,6 +423,9 @@ def _shadows(passing: list, weighed: dict) -> dict:
 def _evidence_verdict(f: dict, n_orders: int) -> tuple | None:
     """(code, words) when a group's evidence ``f`` does not make it a mode of the structure, else None."""
     s, persistence = f["strength"], f["persistence"]
+    if (persistence >= STEADY_PERSISTENCE and f["coverage"] >= STEADY_COVERAGE and s >= STEADY_STRENGTH
+            and f["emac_mpc"] >= COHERENT_MIN):
+        return None  # steady: at nearly every order from its first, over half the diagram, coherent, above noise
     if not s >= 10 ** MIN_EVIDENCE:
         return "noise", (f"noise pole: its amplitude is {s:.2g} times a typical noise pole's (a mode of the "
                          f"structure stands {10 ** MIN_EVIDENCE:.0f} times above)")
