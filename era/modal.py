@@ -254,6 +254,12 @@ class ModalModel:
     uncertainty_source : str
         Which covariance gave them: "σ from N records" (the scatter of independent records) or "σ from one
         record's residuals" (residual blocks); "" when not computed.
+    points : tuple of str
+        A label per measured point, each once (issue 26): by default the outputs. A test whose inputs were at known
+        points (a roving hammer) or a merge of several setups (era.merge_setups) adds the struck points and the
+        roving sensors.
+    point_shapes : (n_points, modes) complex
+        The mode shape at each of ``points``, largest component 1: by default ``shapes``.
 
     Modes are sorted by frequency (then by |s|). Modes whose eigenvalues coincide within their uncertainty (a
     repeated mode) are given the basis of their eigenspace that makes their shapes most real (align_repeated).
@@ -276,6 +282,13 @@ class ModalModel:
     frequency_std_hz: np.ndarray | None = None
     damping_std: np.ndarray | None = None
     uncertainty_source: str = ""
+    points: tuple = ()
+    point_shapes: np.ndarray | None = None
+
+    def __post_init__(self):
+        if not self.points and self.point_shapes is None:  # by default the points are the sensors
+            object.__setattr__(self, "points", tuple(self.outputs))
+            object.__setattr__(self, "point_shapes", self.shapes)
 
     # ---- derived modal parameters -------------------------------------------------------------
     @property
@@ -387,6 +400,7 @@ class ModalModel:
                 A[k, k], B[k], C[:, k] = z[j].real, b[j].real, c[:, j].real
                 k += 1
         return replace(self, A=A, B=B, C=C, z=z, shapes=c, amplitudes=b, emac=self.emac[idx],
+                       point_shapes=None if self.point_shapes is None else self.point_shapes[:, idx],
                        mpc=self.mpc[idx], contribution=self.contribution[idx], is_pair=pair,
                        frequency_std_hz=self._std(self.frequency_std_hz)[idx],
                        damping_std=self._std(self.damping_std)[idx])
