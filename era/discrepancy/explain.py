@@ -1,8 +1,9 @@
 """era.explain: from test data and a nominal model to the named missing effects (or an honest "don't know").
 
-ERA modes (several orders) → pairing with the model → every candidate effect fitted and weighed by its evidence
-→ further effects on top of the first while the gap stays beyond the noise (search.py) → a verdict, the updated
-model, and the gap before, after each named effect, and after.
+ERA modes (those era.choose_modes chooses from the diagram, or those a person kept) → pairing with the model
+→ every candidate effect fitted and weighed by its evidence → further effects on top of the first while the gap
+stays beyond the noise (search.py) → a verdict, the updated model, and the gap before, after each named effect,
+and after.
 """
 
 from __future__ import annotations
@@ -306,7 +307,7 @@ def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, clo
 
 
 def explain(data: ResponseData | Identification | MeasuredModes, model, *, effects: tuple | None = None,
-            errors: ErrorLevels = ErrorLevels(), orders=range(20, 61, 4), kept: tuple | None = None,
+            errors: ErrorLevels = ErrorLevels(), orders=None, kept: tuple | None = None,
             min_probability: float = 0.9,
             min_log_bayes: float = float(np.log(100.0)), refine_locations: int = 4,
             extra_model_modes: int = 6, max_effects: int = 3, adequacy_test: dict | None = None) -> Explanation:
@@ -314,9 +315,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
 
     Parameters
     ----------
-    data : era.ResponseData (N, p, m) with one output per model sensor, in model.sensors order (ERA then runs on a
-        Hankel matrix chosen by :func:`identify_modes`); or an era.Identification of such data (a person's own
-        Hankel size: its SVD is used as it is); or MeasuredModes already identified. Pulse
+    data : era.ResponseData (N, p, m) with one output per model sensor, in model.sensors order (ERA then takes
+        era.analyse's default path on the balanced inputs, :func:`identify_modes`); or an era.Identification of
+        such data (a person's own Hankel size: its SVD is used as it is); or MeasuredModes already identified. Pulse
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only.
@@ -327,9 +328,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     effects : candidate EffectSpecs, "none" first (default: :func:`frame_effects` for a Frame,
         :func:`era.discrepancy.effects.grid_effects` otherwise).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
-    orders : the model orders ERA's modes are tracked over (their stable tracks and spread).
+    orders : the stabilization diagram's orders: era.choose_modes chooses the modes from it, and the modes are
+        tracked over it (their spread); default era.analyse's (every even order from 2 to 160).
     kept : (order, indices) with an Identification: compare exactly the modes a person kept at that order
-        (see :func:`measured_modes`) instead of every stable mode.
+        (see :func:`measured_modes`) instead of the modes era chooses.
     min_probability, min_log_bayes : naming thresholds — posterior ≥ 0.9 and Bayes factor ≥ 100 against the
         nominal (+ stiffness factor), and for a further effect against the model with the effects named before
         it; the named set must also pass the χ² adequacy test (ranking.adequacy) or nothing is named.

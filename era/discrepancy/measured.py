@@ -1,4 +1,5 @@
-"""Measured modes for correlation: ERA at several orders, the stable clusters, and their error levels."""
+"""Measured modes for correlation: the modes era chooses from the stabilization diagram (era.choose_modes, the one
+rule the app and era.analyse follow), or the modes a person kept at one order, with their error levels."""
 
 from __future__ import annotations
 
@@ -7,12 +8,20 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..analysis import analyse, diagram_orders
+from ..blas import single_threaded_blas
+from ..choice import ModeChoice, choose_modes
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
-from ..realization import Identification, identify
+from ..realization import Identification
 from ..selection import keep_mask, kept_modes
-from ..stabilization import StableMode, stabilization
+from ..stabilization import Stabilization, StableMode, stabilization
+
+#: A kept mode below this frequency (Hz) is refused: a pole that slow is drift, not a vibration mode to compare.
+KEPT_MIN_FREQUENCY_HZ = 0.05
+#: ... and above this fraction of Nyquist: the anti-alias region, where ERA fits the filter, not the structure.
+KEPT_MAX_NYQUIST = 0.95
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,7 +124,8 @@ def modal_constants(ident, stab, chosen, to_metres: float, weights=None):
     """
     unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
     orders = sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})
-    models = {o: ident.model(o, uncertainty=False) for o in orders}  # the spread across orders is the error
+    with single_threaded_blas():  # tens of small eigensolutions: BLAS threads only contend (10× slower on 2 cores)
+        models = {o: ident.model(o, uncertainty=False) for o in orders}  # the spread across orders is the error
     out, spread = [], []
     for md in chosen:
         each = []
@@ -144,45 +154,36 @@ def input_weights(markov: np.ndarray) -> np.ndarray:
     return np.where(rms > 0, 1.0 / np.where(rms > 0, rms, 1.0), 1.0)
 
 
-def identify_modes(data: ResponseData, *, orders=range(20, 61, 4), rows: int | None = None,
-                   balance_inputs: bool = True, **rules) -> MeasuredModes:
-    """Run ERA on ``data`` at several orders and keep the modes that stay stable across them.
+def identify_modes(data: ResponseData, *, orders=None, rows: int | None = None, cols: int | None = None,
+                   balance_inputs: bool = True) -> MeasuredModes:
+    """The modes era chooses from ``data`` by its default path (:func:`era.analyse`: Hankel size, one SVD, the
+    stabilization diagram with the data's uncertainty, :func:`era.choose_modes`), with their error levels.
 
-    One Hankel matrix and one SVD (era.identify) of a size chosen here, then :func:`measured_modes` over
-    ``orders`` (``rules``: its min_orders, min_mpc, min_emac, max_damping, min_frequency_hz).
-
+    orders : the diagram's orders (default era.analyse's: every even order from 2 to 160 within the rank);
+    rows, cols : block rows and columns of H(0) (default era.analyse's, era.suggest.hankel_size).
     balance_inputs : scale each input's records to unit RMS first (:func:`input_weights`), so that small
     decays (e.g. dwells at higher modes) are not buried under the noise of large ones; modal constants are
-    scaled back. Balanced, weak poles (e.g. the lesser of a close pair) also rise above the noise floor; the
-    EMAC floor of 0.7 keeps out those whose amplitude history is inconsistent with their pole (their shapes
-    then pair at MAC ≈ 0.9, not ≥ 0.95).
-    rows : block rows r of H(0) (default: enough for the largest order, r p ≥ 2 max order, at most N/3);
-    the columns take most of the remaining samples, capped so H(0) stays a few hundred wide.
+    scaled back. The choice's noise level is then each input's alike: unbalanced, a dwell test's higher modes
+    sink below the noise of the largest decay and the choice keeps the first two or three.
     """
-    n, p, m = data.markov.shape
-    top = max(int(o) for o in orders)
-    if rows is None:
-        rows = int(min(max(np.ceil(2 * top / p), 8), n // 3))
-    cols = int(min(max(n - rows - 2, 1), max(4 * rows * p // max(m, 1), 200)))
-    if n < rows + cols + 2 or rows < 2:
-        raise DataError(f"identify_modes: {n} samples are too few for ERA up to order {top}; record longer.")
     weights = input_weights(data.markov) if balance_inputs else None
     weighted = data if weights is None else replace(
         data, markov=data.markov * weights[None, None, :],
         records=None if data.records is None else data.records * weights[None, None, None, :])
-    return measured_modes(identify(weighted, rows, cols), orders, input_weights=weights, **rules)
+    found = analyse(weighted, rows=rows, cols=cols, orders=orders)
+    return _from_choice(found.identification, found.stabilization, found.choice, weights)
 
 
-def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tuple | None = None,
-                   input_weights=None, min_orders: int = 4, min_mpc: float = 0.7, min_emac: float = 0.7,
-                   max_damping: float = 0.1, min_frequency_hz: float = 0.05) -> MeasuredModes:
+def measured_modes(ident: Identification, orders=None, *, kept: tuple | None = None,
+                   input_weights=None) -> MeasuredModes:
     """The measured modes of an identification, with error levels from their spread across ``orders``.
 
-    era.stabilization over ``orders`` (every order from the same SVD). Then either
+    era.stabilization over ``orders`` (every order from the same SVD; default era.analyse's: every even order
+    from 2 to 160 within the identification's max_order). Then either
 
-    - ``kept=None``: every mode stable in at least ``min_orders`` orders that passes the keep rule
-      (:func:`era.selection.keep_mask`: γ ≥ min_emac, μ ≥ min_mpc, decaying pair with ζ ≤ max_damping) and lies
-      between ``min_frequency_hz`` and 95 % of Nyquist; frequency, damping, γ, μ are means over its orders; or
+    - ``kept=None``: the modes :func:`era.choose_modes` chooses from that diagram (in the band of
+      ``data.meta["band_hz"]``, else 0 to Nyquist), each with its track's means over its orders (frequency,
+      damping, γ, μ, unit shape); or
     - ``kept=(order, indices)``: exactly the modes a person kept at one order (indices into
       ``ident.model(order)``), with that order's frequency, damping, γ, μ and shape. Their spread is that of the
       stable track they belong to (0 and one order when the pole is stable nowhere else).
@@ -191,20 +192,51 @@ def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tupl
     modal constants. Modal constants are computed when the data are impulse responses of known size at known
     points (see :func:`modal_constants`).
     """
-    data = ident.data
-    orders = {int(o) for o in orders}
-    if kept is not None:
-        order, indices = int(kept[0]), np.asarray(kept[1], dtype=int).reshape(-1)
-        orders.add(order)
-    stab = stabilization(ident, sorted(orders), min_orders=min_orders)
+    orders = {int(o) for o in (diagram_orders(ident.max_order) if orders is None else orders)}
     if kept is None:
-        chosen = _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, 0.5 / data.dt)
-    else:
-        chosen = _kept_modes(ident, stab, order, indices, min_frequency_hz, 0.5 / data.dt)
+        stab = stabilization(ident, sorted(orders), uncertainty=True)   # the choice's twin test uses the σ
+        return _from_choice(ident, stab, choose_modes(ident, stab, band_hz=_band(ident.data)), input_weights)
+    order, indices = int(kept[0]), np.asarray(kept[1], dtype=int).reshape(-1)
+    stab = stabilization(ident, sorted(orders | {order}))
+    chosen = _kept_modes(ident, stab, order, indices)
     if not chosen:
-        raise DataError("ERA found no mode that is stable across orders; check the data (units, sampling, a "
-                        "record long enough to hold several periods of the lowest mode)." if kept is None else
-                        f"No mode was kept at order {kept[0]}: keep at least one mode to compare with the model.")
+        raise DataError(f"No mode was kept at order {order}: keep at least one mode to compare with the model.")
+    return _measured(ident, stab, chosen, input_weights)
+
+
+def _band(data: ResponseData) -> tuple[float, float] | None:
+    """The band the records hold (``data.meta["band_hz"]`` of FRF data), as era.analyse reads it; else None."""
+    band = (data.meta or {}).get("band_hz")
+    return None if band is None else (float(band[0]), float(band[1]))
+
+
+def _from_choice(ident: Identification, stab: Stabilization, choice: ModeChoice, weights) -> MeasuredModes:
+    """MeasuredModes of the chosen clusters: each chosen Candidate's track in the diagram (its means, spread,
+    orders and poles); a mode of an exact realization (noise-free data: no cluster, ``diagram_index`` -1) as
+    the model of the choice's order has it."""
+    if not choice.n_modes:
+        best = max(choice.rejected, key=lambda c: len(c.orders), default=None)
+        said = "" if best is None else (f" (of its {len(choice.rejected)} clusters the longest-lived, "
+                                        f"{best.frequency_hz:.4g} Hz in {len(best.orders)} orders, is left out: "
+                                        f"{best.reason})")
+        raise DataError(f"era chose no mode of the structure from the stabilization diagram{said}; check the data "
+                        "(units, sampling, a record long enough to hold several periods of the lowest mode), or "
+                        "keep modes at an order yourself.")
+    tracks = [stab.modes[c.diagram_index] if c.diagram_index >= 0 else _pole_modes(ident, stab, choice.order, [k])[0]
+              for c, k in zip(choice.chosen, choice.indices.tolist())]
+    return _measured(ident, stab, tracks, weights, mean_shapes=True)
+
+
+def _measured(ident: Identification, stab: Stabilization, chosen: list[StableMode], weights,
+              mean_shapes: bool = False) -> MeasuredModes:
+    """MeasuredModes of tracks of ``stab`` (StableModes, by frequency): their shapes, spreads and modal constants.
+
+    mean_shapes : each shape is the mean of its track's unit shapes (real, signs aligned) instead of the
+    StableMode's own (its highest order's, or a kept order's): over a diagram up to order 160 the highest order's
+    shape is the noisiest (the grid's 9.84 Hz mode: 1 - MAC with the truth 0.048 at order 160, 0.0003 for the
+    mean), as the frequency is a mean too.
+    """
+    data = ident.data
     shapes = real_shapes(np.stack([md.shape for md in chosen], axis=1))
     shapes = shapes / np.linalg.norm(shapes, axis=0, keepdims=True)
     spread = []
@@ -212,11 +244,13 @@ def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tupl
         each = real_shapes(stab.shapes[:, list(md.pole_indices)])
         each = each / np.linalg.norm(each, axis=0, keepdims=True)
         each = each * np.where(each.T @ shapes[:, k] < 0, -1.0, 1.0)[None, :]
+        if mean_shapes:
+            shapes[:, k] = each.mean(axis=1) / np.linalg.norm(each.mean(axis=1))
         spread.append(float(np.sqrt(np.mean(np.var(each, axis=1)))))
     constants = constant_std = None
     impulses = _impulse_inputs(data)
     if impulses is not None:
-        constants, constant_std = modal_constants(ident, stab, chosen, impulses[1], input_weights)
+        constants, constant_std = modal_constants(ident, stab, chosen, impulses[1], weights)
     return MeasuredModes(
         frequency_hz=np.array([md.frequency_hz for md in chosen]),
         frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
@@ -227,39 +261,31 @@ def measured_modes(ident: Identification, orders=range(20, 61, 4), *, kept: tupl
         input_locations=None if impulses is None else impulses[0])
 
 
-def _stable_modes(stab, min_mpc, min_emac, max_damping, min_frequency_hz, nyquist_hz) -> list[StableMode]:
-    """The suggested modes that pass the keep rule and the band; two tracks of one physical mode (drift with
-    order) would pair twice, so of modes within 0.5 % the longer-lived one stays. Sorted by frequency."""
-    modes = stab.modes
-    f = np.array([md.frequency_hz for md in modes])
-    ok = keep_mask([md.emac for md in modes], [md.mpc for md in modes], min_emac=min_emac, min_mpc=min_mpc,
-                   damping_ratio=[md.damping_ratio for md in modes], is_pair=np.ones(len(modes), bool),
-                   physical_only=True, max_damping=max_damping)
-    ok &= (f >= min_frequency_hz) & (f <= 0.95 * nyquist_hz)
-    chosen = []
-    for md in sorted((md for md, good in zip(modes, ok) if good), key=lambda md: -len(md.orders)):
-        if all(abs(md.frequency_hz - c.frequency_hz) > 0.005 * md.frequency_hz for c in chosen):
-            chosen.append(md)
-    return sorted(chosen, key=lambda md: md.frequency_hz)
-
-
-def _kept_modes(ident, stab, order: int, indices: np.ndarray, min_frequency_hz: float,
-                nyquist_hz: float) -> list[StableMode]:
+def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode]:
     """The modes kept at one order, each with the track (stable mode) its pole belongs to, if any. Only decaying
     vibration modes can be compared with a model: a real or growing pole, or one outside the band, is refused."""
     model = ident.model(order)
     indices = kept_modes(model, indices)
+    min_frequency_hz, top_hz = KEPT_MIN_FREQUENCY_HZ, KEPT_MAX_NYQUIST * 0.5 / ident.dt
     f = model.frequency_hz[indices]
     vibrating = keep_mask(model.emac[indices], model.mpc[indices], damping_ratio=model.damping_ratio[indices],
                           is_pair=model.is_pair[indices], physical_only=True)
-    bad = indices[~vibrating | (f < min_frequency_hz) | (f > 0.95 * nyquist_hz)]
+    bad = indices[~vibrating | (f < min_frequency_hz) | (f > top_hz)]
     if bad.size:
         raise DataError(f"Mode(s) {', '.join(str(int(k)) for k in bad)} at order {order} are not decaying vibration "
-                        f"modes between {min_frequency_hz:g} Hz and 95 % of Nyquist ({0.95 * nyquist_hz:.3g} Hz): "
-                        "real or growing poles, or at the band's edge. Untick them, or compare the stable modes.")
+                        f"modes between {min_frequency_hz:g} Hz and {100 * KEPT_MAX_NYQUIST:g} % of Nyquist "
+                        f"({top_hz:.3g} Hz): real or growing poles, or at the band's edge. Untick them, or compare "
+                        "the modes era chooses.")
+    return _pole_modes(ident, stab, order, indices)
+
+
+def _pole_modes(ident, stab, order: int, indices) -> list[StableMode]:
+    """Modes ``indices`` of ``ident.model(order)`` with that order's frequency, damping, γ, μ and shape, and the
+    spread and orders of the track (stable mode) each one's pole belongs to: 0 and that order alone when none."""
+    model = ident.model(order)
     track = {pole: md for md in stab.modes for pole in md.pole_indices}
     out = []
-    for k in indices.tolist():
+    for k in np.asarray(indices, dtype=int).tolist():
         pole = int(np.flatnonzero((stab.order == order) & (stab.mode_index == k))[0])
         md = track.get(pole)
         out.append(StableMode(

@@ -1,4 +1,5 @@
-"""identify_modes balances the inputs before ERA: the kept records (σ from their scatter) are balanced alike."""
+"""identify_modes balances the inputs before era.analyse: the kept records (σ from their scatter) are balanced
+alike."""
 
 import numpy as np
 
@@ -12,11 +13,11 @@ def test_balanced_inputs_scale_the_records_like_their_mean(monkeypatch):
     data = era.ResponseData(records.mean(axis=0), 0.01, records=records)
     seen = {}
 
-    def capture(d, rows, cols):
+    def capture(d, **kw):
         seen["data"] = d
         raise RuntimeError("captured")
 
-    monkeypatch.setattr(measured, "identify", capture)
+    monkeypatch.setattr(measured, "analyse", capture)
     try:
         measured.identify_modes(data)
     except RuntimeError:
