@@ -1,10 +1,11 @@
 """Simulation against test for one analysis (issue 5): era.explain on the analysis itself, and the result kept.
 
-Explain runs on the analysis it is named after: the analysis's own identification (its Hankel size and SVD), its
-modes tracked over a stated set of orders, and, when asked, exactly the modes the person kept at their order. The
-summary says which (``basis``). The result goes through the store (summary JSON and the full measured / nominal /
-updated responses), so a reload, a restart or a report shows it without running the ranking again. Blocking
-functions: call them through app.jobs.
+Explain runs on the analysis it is named after: the analysis's own identification (its Hankel size and SVD) and
+the modes era chose from its diagram (era.choose_modes, the modes the page ticks by default) at the choice's
+order, or, when asked, exactly the modes the person kept at their order; either tracked over the diagram's orders
+(or a stated set) for their spread. The summary says which (``basis``). The result goes through the store
+(summary JSON and the full measured / nominal / updated responses), so a reload, a restart or a report shows it
+without running the ranking again. Blocking functions: call them through app.jobs.
 """
 
 from __future__ import annotations
@@ -23,9 +24,6 @@ from . import payloads
 MAX_OVERLAY_POINTS = 1500
 #: The same in a report, which keeps every (output, input) pair.
 REPORT_OVERLAY_POINTS = 700
-#: Orders over which the measured modes are tracked by default (their spread is the measurement error level);
-#: orders above the analysis's largest order are left out.
-DEFAULT_ORDERS = tuple(range(20, 61, 4))
 #: Nominal-model keywords a request may set, with the JSON types each accepts.
 _NUMBER = (int, float)
 
@@ -96,9 +94,10 @@ def _json(x):
     return x
 
 
-def orders_for(ident: era.Identification, orders=None, order: int | None = None) -> list[int]:
-    """The orders the modes are tracked over: ``orders`` as asked (each ≤ the analysis's largest order), by default
-    DEFAULT_ORDERS up to that largest order (every even order up to it when it is below 20), plus ``order``."""
+def orders_for(ident: era.Identification, diagram_orders, orders=None, order: int | None = None) -> list[int]:
+    """The orders the modes are tracked over (their spread is the measurement error level): ``orders`` as asked
+    (each ≤ the analysis's largest order), by default the analysis's diagram orders (``diagram_orders``, those
+    the page shows), plus ``order``, the order the modes are read at."""
     top = ident.max_order
     if orders:
         bad = [o for o in orders if not 1 <= int(o) <= top]
@@ -107,20 +106,30 @@ def orders_for(ident: era.Identification, orders=None, order: int | None = None)
                                  "spread within it.")
         chosen = {int(o) for o in orders}
     else:
-        chosen = {o for o in DEFAULT_ORDERS if o <= top} or set(range(2, top + 1, 2)) or {top}
+        chosen = {int(o) for o in diagram_orders if int(o) <= top} or {top}
     if order is not None:
         chosen.add(int(order))
     return sorted(chosen)
 
 
+def chosen_modes(choice: era.ModeChoice) -> tuple[int, list[int]]:
+    """(order, indices) of the modes era chose (era.choose_modes), the modes the page ticks by default; an
+    era.DataError (422) when it chose none."""
+    if not choice.n_modes:
+        raise era.DataError("era chose no mode of the structure from this analysis's stabilization diagram (see "
+                            "the reasons in its table): tick the modes to compare at an order and run with the "
+                            "kept modes.")
+    return int(choice.order), [int(k) for k in choice.indices]
+
+
 def run(ident: era.Identification, geometry: era.Geometry | None, model, params: dict | None, *,
-        orders=None, kept: tuple | None = None, described: dict | None = None) -> tuple[dict, dict]:
+        orders: list[int], kept: tuple, chosen: bool = False, described: dict | None = None) -> tuple[dict, dict]:
     """era.explain on the identification of a dataset against the nominal ``model``: the grid
     (nominal_model(params)), or None with ``described``, the dataset's structure model as stored (app/modeling.py:
     the era.Frame is built from it here, in the worker process, so the stored JSON is what travels to it).
 
-    orders : the orders the modes are tracked over (:func:`orders_for`); kept : (order, mode indices) to compare
-    exactly the modes the person kept at that order, else every mode stable over the orders.
+    orders : the orders the modes are tracked over (:func:`orders_for`); kept : (order, mode indices), the modes
+    compared at that order: those era chose (``chosen``, :func:`chosen_modes`) or those the person kept.
     Returns (summary JSON, {"measured", "nominal", "updated": (N, p, m)} responses).
     """
     from era.discrepancy import overlay
@@ -133,15 +142,14 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         modeling.check_channels(model, data.outputs, geometry)
     else:
         check_grid_dataset(data, geometry, model)
-    tracked = orders_for(ident, orders, None if kept is None else kept[0])
     t0 = time.perf_counter()
-    result = era.explain(ident, model, orders=tracked, kept=kept)
+    result = era.explain(ident, model, orders=orders, kept=kept)
     seconds = time.perf_counter() - t0
     summary = result.as_dict()
     n_model = len(summary["mac_before"][0]) if summary["mac_before"] else 0
     responses = overlay(result, data)
     summary.update(
-        basis=basis(ident, tracked, kept),
+        basis=basis(ident, orders, kept, chosen),
         nominal_params=_json(params or {}),
         model_hz_before=result.nominal_model.modes(n_model)[0] if n_model else [],
         model_hz_after=result.updated_model.modes(n_model)[0] if n_model else [],
@@ -166,18 +174,18 @@ def frame_json(frame: era.Frame, node_labels) -> dict:
             "node_labels": list(node_labels)}
 
 
-def basis(ident: era.Identification, orders: list[int], kept: tuple | None) -> dict:
+def basis(ident: era.Identification, orders: list[int], kept: tuple, chosen: bool = False) -> dict:
     """What the explanation was computed from, for the panel and the report: the analysis's Hankel size, the
-    orders tracked, and which modes ("stable": every mode stable over those orders; "kept": the modes kept at
-    one order)."""
+    orders tracked, and which modes ("stable": the modes era chose from the diagram, at the choice's order;
+    "kept": the modes the person kept at one order), with that order and their indices."""
     rows, cols = int(ident.P.shape[0]), int(ident.Q.shape[0])
+    order, indices = int(kept[0]), [int(k) for k in kept[1]]
     out = {"hankel_rows": ident.rows, "hankel_cols": ident.cols, "hankel_shape": [rows, cols],
-           "orders": [int(o) for o in orders], "modes": "stable" if kept is None else "kept",
-           "order": None if kept is None else int(kept[0]),
-           "kept": None if kept is None else [int(k) for k in kept[1]]}
+           "orders": [int(o) for o in orders], "modes": "stable" if chosen else "kept", "order": order,
+           "kept": indices}
     span = f"orders {orders[0]}-{orders[-1]}" if len(orders) > 1 else f"order {orders[0]}"
-    which = ("every mode stable over " + span if kept is None else
-             f"the {len(kept[1])} mode(s) kept at order {int(kept[0])} (spread over {span})")
+    which = (f"the {len(indices)} mode(s) era chose at order {order}" if chosen else
+             f"the {len(indices)} mode(s) kept at order {order}") + f" (spread over {span})"
     out["text"] = f"This analysis's H(0) ({rows} × {cols}, r = {ident.rows}, s = {ident.cols}); {which}."
     return out
 

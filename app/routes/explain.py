@@ -1,6 +1,7 @@
-"""Simulation vs test (issues 5, 9): run era.explain on an analysis (its identification, and the modes kept when
-asked) against its dataset's structure model (app/routes/models.py) or, without one, the NASA grid model, read
-the stored result back, and show the measured (SEREP-expanded) and model shapes in the viewer."""
+"""Simulation vs test (issues 5, 9): run era.explain on an analysis (its identification, and the modes era chose
+from its diagram, or the modes kept when asked) against its dataset's structure model (app/routes/models.py) or,
+without one, the NASA grid model, read the stored result back, and show the measured (SEREP-expanded) and model
+shapes in the viewer."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import era
 from .. import compute, explaining, modeling, schemas, viewing
 from ..cache import Analysis
 from ..errors import NotFound
-from .analyses import identified
+from .analyses import diagrammed, identified
 from .deps import analysis, cache, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
@@ -23,13 +24,15 @@ router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
 class ExplainRequest(BaseModel):
     nominal: dict = Field(default_factory=dict,
                           description="keywords of era.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
-    modes: Literal["stable", "kept"] = Field("stable", description="stable: every mode stable over `orders`; kept: "
-                                                                   "exactly the modes `kept` at `order`")
+    modes: Literal["stable", "kept"] = Field("stable", description="stable: the modes era chose from the analysis's "
+                                                                   "diagram (era.choose_modes, ticked by default) "
+                                                                   "at its order; kept: exactly the modes `kept` at "
+                                                                   "`order`")
     order: int | None = Field(None, ge=1, description="the order the modes were kept at (modes = kept)")
     kept: list[int] | None = Field(None, description="indices of the kept modes at `order` (modes = kept)")
     orders: list[int] | None = Field(None, min_length=1, max_length=200,
                                      description="orders the modes are tracked over (their spread is the "
-                                                 "measurement error); default 20, 24, … 60 within the analysis")
+                                                 "measurement error); default the analysis's diagram orders")
     output: int = Field(0, ge=0, description="output of the response overlay")
     input: int = Field(0, ge=0, description="input of the response overlay")
 
@@ -58,10 +61,11 @@ def _overlay(request: Request, analysis_id: str, output: int, input: int) -> dic
              summary="Simulation vs test: name the effect the model is missing, update it, show the gap",
              response_model=schemas.Explanation)
 async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(analysis)):
-    """Runs era.explain on this analysis (its Hankel size and SVD; the modes stable over ``orders``, or the modes
-    kept at ``order``) against the dataset's structure model, or, without one, the NASA grid (then the dataset
-    must have the grid's nine sensors in order). Stores the result with the analysis; ``basis`` in the answer
-    says what was used."""
+    """Runs era.explain on this analysis (its Hankel size and SVD; the modes era chose from its diagram at the
+    choice's order, the ones the page ticks by default, or the modes kept at ``order``; their spread over
+    ``orders``, by default the diagram's) against the dataset's structure model, or, without one, the NASA grid
+    (then the dataset must have the grid's nine sensors in order). Stores the result with the analysis; ``basis``
+    in the answer says what was used."""
     stored = store(request).model(a.dataset_id)     # the dataset's own structure model, else the grid's
     if stored is None:
         model = explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
@@ -76,20 +80,25 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
         kept = (body.order, body.kept)
     c, files = cache(request), store(request)
     ident = await identified(request, a)
+    diagram = await diagrammed(request, a)
+    if kept is None:   # the modes era chose, at its order: what the page ticks by default
+        kept = explaining.chosen_modes(diagram.choice)
+    tracked = explaining.orders_for(ident, diagram.stabilization.orders, body.orders, kept[0])
 
     def work():
-        chosen = kept if kept is None else (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
+        compared = (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
         nominal, described = (body.nominal, None) if stored is None else ({}, stored["model"])
-        summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=body.orders,
-                                         kept=chosen, described=described, workers=c.settings.heavy_workers)
+        summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=tracked,
+                                         kept=compared, chosen=body.modes == "stable", described=described,
+                                         workers=c.settings.heavy_workers)
         summary["model_used"] = modeling.used(stored)      # so a later model change shows this result as stale
         files.add_explanation(a.id, summary, responses, a.data.dt)
         return summary, responses
 
     summary, responses = await jobs(request).heavy(
         work, progress=progress_key(request),
-        message="Simulation vs test: the analysis's modes over several orders, then fitting and weighing every "
-                "candidate effect")
+        message="Simulation vs test: the analysis's modes tracked over its diagram, then fitting and weighing "
+                "every candidate effect")
     return dict(summary, stale=modeling.stale(summary, store(request).model(a.dataset_id)),
                 overlay=explaining.overlay_json(responses, a.data.dt, body.output, body.input))
 

@@ -6,9 +6,12 @@ One explain run (a few seconds) is shared by the module: the grid example, ident
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
+import era
 from apiclient import analysis, client
+from app import explaining
 
 VERDICTS = {"explained", "no_significant_discrepancy", "ambiguous", "unexplained"}
 
@@ -139,12 +142,19 @@ def test_the_built_in_example_names_its_hidden_point_mass_at_the_right_joint(gri
 
 
 def test_explain_runs_on_the_analysis_and_says_so(grid_run):
-    """The default run uses this analysis's H(0) and its modes stable over orders 20-60, and says so."""
-    _, a, s = grid_run
+    """The default run uses this analysis's H(0) and the modes era chose from its diagram (the ones the page
+    ticks: the analysis's chosen_indices at its suggested_order), tracked over the diagram's orders, and says so."""
+    c, a, s = grid_run
     b = s["basis"]
     assert (b["hankel_rows"], b["hankel_cols"]) == (a["rows"], a["cols"]) and b["hankel_shape"] == a["hankel_shape"]
-    assert b["modes"] == "stable" and b["orders"] == list(range(20, 61, 4)) and b["kept"] is None
+    assert (b["modes"], b["order"], b["kept"]) == ("stable", a["suggested_order"], a["chosen_indices"])
+    assert b["orders"] == c.get(f"/api/analyses/{a['id']}/stabilization").json()["orders"]
     assert f"{a['hankel_shape'][0]} × {a['hankel_shape'][1]}" in b["text"]
+    assert f"the {len(a['chosen_indices'])} mode(s) era chose at order {a['suggested_order']}" in b["text"]
+    # the measured modes compared are the chosen ones, at the choice's order (unpaired ones set aside)
+    modes = c.get(f"/api/analyses/{a['id']}/modes", params={"order": a["suggested_order"], "fit": False}).json()
+    assert sorted(s["measured_hz"] + s["unpaired_measured_hz"]) == pytest.approx(
+        sorted(modes["frequency_hz"][k] for k in a["chosen_indices"]), rel=1e-9)
 
 
 def test_explain_compares_exactly_the_modes_kept_at_the_chosen_order(grid_run):
@@ -171,3 +181,10 @@ def test_explain_compares_exactly_the_modes_kept_at_the_chosen_order(grid_run):
     assert outside.status_code == 422 and "outside this analysis" in outside.json()["error"]
     bad = c.post(f"/api/analyses/{a['id']}/explain", json={"modes": "kept", "order": order, "kept": [999]})
     assert bad.status_code == 422 and "out of range" in bad.json()["error"]
+
+
+def test_with_no_mode_chosen_the_default_run_asks_for_ticked_modes():
+    """era.choose_modes chose nothing (records of noise, say): the default run says so and what to do (422)."""
+    empty = era.ModeChoice(order=2, indices=np.zeros(0, dtype=int), chosen=(), rejected=())
+    with pytest.raises(era.DataError, match="era chose no mode.*tick the modes to compare"):
+        explaining.chosen_modes(empty)
