@@ -130,6 +130,9 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],
+        "points": list(model.points),
+        "point_shapes_re": [floats(c) for c in model.point_shapes.real.T],
+        "point_shapes_im": [floats(c) for c in model.point_shapes.imag.T],
         "fit_percent": fit_percent(model.fit_error(data)) if with_fit else None,
         "shape_scatter": None if shape_scatter is None else floats(shape_scatter),
     }

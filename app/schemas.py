@@ -229,6 +229,13 @@ class Modes(Schema):
     is_pair: list[bool] = Field(description="(k,) complex-conjugate pair (true) or real pole (false)")
     shapes_re: Matrix = Field(description="(k, p) real part of each shape, largest component 1")
     shapes_im: Matrix = Field(description="(k, p) imaginary part of each shape")
+    points: list[str] = Field(default_factory=list, description="(q,) a label per measured or struck point, each "
+                              "once (era ModalModel.points): the outputs, and where the inputs' points are known "
+                              "(a roving hammer) the struck points too; \"4X\" is node 4 along X")
+    point_shapes_re: Matrix = Field(default_factory=list, description="(k, q) real part of each mode's shape at "
+                                    "the points (era ModalModel.point_shapes, by reciprocity at struck points), "
+                                    "largest component 1")
+    point_shapes_im: Matrix = Field(default_factory=list, description="(k, q) imaginary part of the point shapes")
     fit_percent: Matrix | None = Field(description="(p, m) fit 100·(1 - e) of all modes per channel, %; "
                                                    "null when fit=false")
 

@@ -8,14 +8,21 @@ from __future__ import annotations
 import numpy as np
 
 import era
+import era.points
 
 from .cache import Analysis, Cache
 from .errors import NotFound
 
 
 def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
-    """(geometry, frequency_hz (k,), shapes (p, k) complex, labels) of the modes of one order."""
+    """(geometry, frequency_hz (k,), shapes (q, k) complex, labels) of the modes of one order: the shape at every
+    measured or struck point (ModalModel.point_shapes, issue 26) when the geometry places those points, else at the
+    sensors."""
     labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
+    if tuple(model.points) != tuple(model.outputs):
+        placed = era.points.point_geometry(a.geometry, model.points)
+        if placed is not None and (placed.channel_nodes >= 0).any():
+            return placed, model.frequency_hz, model.point_shapes, labels
     return a.geometry, model.frequency_hz, model.shapes, labels
 
 

@@ -12,6 +12,7 @@ from . import hankel, svd
 from .blas import blas_threads, single_threaded_blas
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
+from .points import with_points
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
                     modal_sum, mode_order, repeated_clusters)
 from .uncertainty import (MIN_RECORDS, PoleCovariance, _block_sums, correlation_length, modal_std,
@@ -177,6 +178,7 @@ class Identification:
                             dec=dec, frequency_std_hz=f_std if uncertainty else None,
                             damping_std=d_std if uncertainty else None,
                             uncertainty_source=self.uncertainty_source(records) if uncertainty else "")
+        model = with_points(model, d.meta)  # the struck points' shapes too, where the inputs' points are known
         return model, raw, mode_order(dec.z, d.dt), clusters
 
     def _decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
@@ -362,7 +364,8 @@ class Identification:
             A, B, C, W = h1 @ h_pinv, h0[:, :m].copy(), np.eye(h0.shape[0])[:p], h0
         else:
             A, B, C, W = h_pinv @ h1, np.eye(h0.shape[1])[:, :m], h0[:p].copy(), h_pinv @ h0
-        return build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, method)
+        return with_points(build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs,
+                                       method), d.meta)
 
 
 def _count(value, name: str) -> int:

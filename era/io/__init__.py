@@ -20,13 +20,14 @@ from ..errors import DataError, EraError
 from ..geometry import Geometry
 from .csv import read_csv
 from .hdf5 import read_hdf5
+from .inflate import Budget
 from .lvm import read_lvm
 from .mat import read_mat
 from .npy import read_npy
 from .npz import npz_bytes, read_npz, save_npz
 from .choices import choose, renumber
 from .records import Records, merge, to_response
-from .signalcalc import is_signalcalc, read_signalcalc
+from .signalcalc import is_setup, is_signalcalc, read_signalcalc
 from .tdms import read_tdms
 from .uff import ModeSet, read_modes_uff, read_uff
 from .uff_geometry import build_geometry
@@ -43,6 +44,8 @@ _MAGIC = ((b"PK\x03\x04", "npz"), (b"LabVIEW Measurement", "lvm"), (b"\x89HDF\r\
 #: Readers of time records from one file's bytes: (raw, label, dt, **how) -> Records.
 _TIME_READERS = {"csv": read_csv, "text": read_csv, "lvm": read_lvm, "npy": read_npy, "mat": read_mat,
                  "hdf5": read_hdf5, "tdms": read_tdms}
+#: Readers of compressed content: they take the read's ``budget`` of uncompressed bytes (era/io/inflate.py).
+_INFLATING = ("mat", "hdf5")
 #: Readers that take a path on disk themselves (a large binary file is then not copied into memory first).
 _PATH_READERS = ("npy", "hdf5", "tdms")
 #: Options that say how to read a file (the others go to the conversion), and the formats that take each.
@@ -120,7 +123,8 @@ def sniff(raw: bytes, name: str) -> str:
 
 
 def load(source, format: str | None = None, *, name: str | None = None, kind: str = "auto",
-         dt: float | None = None, start_sample: int | None = None, drop=None, forces=None, **options) -> Dataset:
+         dt: float | None = None, start_sample: int | None = None, drop=None, forces=None,
+         max_bytes: int | None = None, **options) -> Dataset:
     """Read test data and turn it into Markov parameters for :func:`era.identify`.
 
     Parameters
@@ -142,13 +146,16 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
     group : the TDMS group to read, when groups hold different channels
+    max_bytes : the uncompressed bytes all the files together may inflate to (NPZ members, HDF5 datasets, MATLAB
+        variables), checked before anything is inflated and while it is (era/io/inflate.py); TooLargeError above
+        it. None: no such limit (each array still at most 2 GiB)
     options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
 
     Raises DataError naming the file, record or line and what is wrong (``option`` names the parameter that fixes
     it, when one does).
     """
     how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
-    got = read(source, format, name=name, dt=dt, **how)
+    got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)
     if got.npz is not None:
         if start_sample or drop or forces is not None:
             raise DataError(f"{got.labels[0]}: an NPZ file holds era's pulse responses; start_sample, drop and forces "
@@ -182,9 +189,11 @@ class Read:
     npz: Dataset | None = None
 
 
-def read(source, format: str | None = None, *, name: str | None = None, dt: float | None = None, **how) -> Read:
-    """Read files as they are: the first half of :func:`load` (same ``source``, ``format``, ``name``, ``dt`` and
-    reader options ``orientation``, ``variable``, ``group``), for a preview before anything is converted."""
+def read(source, format: str | None = None, *, name: str | None = None, dt: float | None = None,
+         max_bytes: int | None = None, **how) -> Read:
+    """Read files as they are: the first half of :func:`load` (same ``source``, ``format``, ``name``, ``dt``,
+    ``max_bytes`` and reader options ``orientation``, ``variable``, ``group``), for a preview before anything is
+    converted."""
     unknown = set(how) - set(_READER_OPTIONS)
     if unknown:
         raise DataError(f"Unknown reading option(s) {sorted(unknown)}; the readers take {sorted(_READER_OPTIONS)}.")
@@ -193,6 +202,18 @@ def read(source, format: str | None = None, *, name: str | None = None, dt: floa
     if not sources:
         raise DataError("No file given.")
     raws = [_read_bytes(s, name if len(sources) == 1 else None) for s in sources]
+    setup = None
+    if len(raws) > 1 and (format is None or format.lower() == "signalcalc"):  # a roving-hammer test's setup table
+        at = [k for k, (raw, _) in enumerate(raws) if is_setup(raw)]
+        if len(at) > 1:
+            raise DataError(f"{', '.join(raws[k][1] for k in at)}: several setup tables; give the test's one.")
+        if at:
+            k = at[0]
+            setup = (_whole(raws[k][0], sources[k]), raws[k][1])
+            raws, sources = raws[:k] + raws[k + 1:], sources[:k] + sources[k + 1:]
+            if not is_signalcalc(raws[0][0]):
+                raise DataError(f"{setup[1]}: a roving-hammer setup table, read with SignalCalc FRF files only; "
+                                f"{raws[0][1]} is not one.")
     labels = [lab for _, lab in raws]
     fmt = format.lower() if format else sniff(raws[0][0], labels[0])
     if fmt not in FORMATS:
@@ -213,19 +234,21 @@ def read(source, format: str | None = None, *, name: str | None = None, dt: floa
                 raise DataError(f"{lab} is {other.upper()} but {labels[0]} is {fmt.upper()}; the files of one "
                                 "dataset must share one format.")
     got = Read(labels, fmt)
+    budget = Budget(max_bytes)  # shared by every file of this read
     if fmt == "npz":
-        data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0])
+        data, geometry, stored_name, described = read_npz(_whole(raws[0][0], sources[0]), labels[0], budget)
         return replace(got, npz=Dataset(data, geometry, dict(_source(labels, fmt, "markov", described, data),
                                                              name=stored_name), None))
 
     def records():
         if fmt in _TIME_READERS:
             reader = _TIME_READERS[fmt]
-            return replace(got, records=merge([reader(_payload(fmt, raw, src), lab, dt, **how)
+            more = dict(how, budget=budget) if fmt in _INFLATING else how
+            return replace(got, records=merge([reader(_payload(fmt, raw, src), lab, dt, **more)
                                                for (raw, lab), src in zip(raws, sources)], labels))
         if fmt == "signalcalc":
-            return replace(got, records=read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)],
-                                                        labels))
+            rec, parts = read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)], labels, setup)
+            return replace(got, records=rec, parts=parts)
         with _on_disk([r for r, _ in raws], sources) as paths:  # messages may count lines until the end
             rec, parts, modes = read_uff(paths if len(paths) > 1 else paths[0],
                                          labels if len(paths) > 1 else labels[0])

@@ -13,6 +13,10 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``input_locations``       (m, d)     the point each input acts at: float (grid joints (x_ft, y_ft)) or str (an
                                      era.Frame's (node id, direction), e.g. ("E", "x"));
                                      ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
+``output_points``         (p,)       str point label of each output ("" unknown; era.points), optional  } where the
+``output_signs``          (p,)       float ±1, the output's sense along its point's axis, optional      } channels
+``input_points``          (m,)       str point label of each input: where it was struck, optional      } are:
+``input_signs``           (m,)       float ±1, the force's sense along its point's axis, optional       } meta
 ``name``                  ()         the dataset's name (e.g. the uploaded file name); optional
 ``records``               (n_b, N, p, m)  the pulse responses of each record (ResponseData.records); optional
 ``node_ids``              (n,)       int node labels                                 } the Geometry:
@@ -47,6 +51,7 @@ import numpy as np
 from ..data import ResponseData
 from ..errors import DataError
 from ..geometry import Geometry
+from .inflate import Budget
 
 #: Largest array read from an NPZ file, in bytes (uncompressed).
 MAX_ARRAY_BYTES = 2 << 30
@@ -57,11 +62,13 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-_NAMES = ("markov", "dt", *_LABELS, "input_locations", "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
+#: Where the channels are (era.points), kept in ResponseData.meta under the same names.
+_POINTS = ("output_points", "output_signs", "input_points", "input_signs")
+_NAMES = ("markov", "dt", *_LABELS, "input_locations", *_POINTS, "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
           *_FLAGS, *_LEGACY_GEOMETRY)
 
 
-def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.ndarray:
+def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str, budget: Budget) -> np.ndarray:
     where = f"{label}: array {info.filename!r}"
     with zf.open(info) as fh:
         try:
@@ -82,18 +89,21 @@ def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, label: str) -> np.n
         if promised > MAX_ARRAY_BYTES:
             raise DataError(f"{where}: {promised / 2**30:.1f} GiB is above the "
                             f"{MAX_ARRAY_BYTES / 2**30:.0f} GiB limit.")
-        buf = fh.read(promised)
+        buf = budget.read(fh, promised, where)  # claimed before it is inflated, then read in bounded chunks
     if len(buf) != promised:
         raise DataError(f"{where}: the archive ends after {len(buf)} of {promised} bytes; the file is truncated.")
     arr = np.frombuffer(buf, dtype=dtype)
     return arr.reshape(shape, order="F" if fortran else "C")
 
 
-def read_arrays(raw: bytes, label: str, names, required=()) -> dict[str, np.ndarray]:
+def read_arrays(raw: bytes, label: str, names, required=(), budget: Budget | None = None) -> dict[str, np.ndarray]:
     """The arrays ``names`` that the .npz bytes ``raw`` hold (absent ones left out), read safely (see above).
 
-    Other members are not read. Raises DataError naming ``label`` for a bad archive or a missing ``required`` array.
+    Other members are not read. Raises DataError naming ``label`` for a bad archive or a missing ``required`` array,
+    TooLargeError when the members read inflate past ``budget`` (era.io.inflate; their declared sizes are checked
+    before anything is inflated).
     """
+    budget = Budget(None) if budget is None else budget
     try:
         zf = zipfile.ZipFile(io.BytesIO(raw))
         infos = {i.filename[:-4] if i.filename.endswith(".npy") else i.filename: i for i in zf.infolist()}
@@ -104,7 +114,7 @@ def read_arrays(raw: bytes, label: str, names, required=()) -> dict[str, np.ndar
         raise DataError(f"{label}: the archive has no {' and no '.join(map(repr, missing))} array; it needs "
                         f"{' and '.join(required)} (found: {sorted(infos)}).")
     try:
-        return {k: _read_member(zf, infos[k], label) for k in names if k in infos}
+        return {k: _read_member(zf, infos[k], label, budget) for k in names if k in infos}
     except (zipfile.BadZipFile, OSError, EOFError) as exc:  # CRC errors, cut archives
         raise DataError(f"{label}: the archive is corrupt ({exc}).") from None
 
@@ -127,12 +137,14 @@ def _from_legacy(arrays: dict) -> dict:
     return out
 
 
-def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str | None, list[str]]:
+def read_npz(raw: bytes, label: str, budget: Budget | None = None) -> tuple[ResponseData, Geometry | None,
+                                                                           str | None, list[str]]:
     """(ResponseData, Geometry or None, the stored name or None, description) from the bytes of an .npz file.
 
-    Reads this module's format and the store's old layout (module docstring); ``label`` names the file in errors.
+    Reads this module's format and the store's old layout (module docstring); ``label`` names the file in errors;
+    ``budget`` (era.io.inflate.Budget) bounds the uncompressed bytes read.
     """
-    arrays = read_arrays(raw, label, _NAMES, required=("markov", "dt"))
+    arrays = read_arrays(raw, label, _NAMES, required=("markov", "dt"), budget=budget)
     if any(k in arrays for k in _FLAGS):
         arrays = _from_legacy(arrays)
     dt = _one(arrays, "dt", label, "one number (seconds)")
@@ -149,6 +161,14 @@ def read_npz(raw: bytes, label: str) -> tuple[ResponseData, Geometry | None, str
                             f"node names of shape (m, d) = ({data.n_inputs}, d), one point per input.")
         data.meta["input_locations"] = tuple(tuple(str(v) if where.dtype.kind == "U" else float(v) for v in row)
                                              for row in where)
+    for key in _POINTS:
+        if key in arrays:
+            value = arrays[key].reshape(-1)
+            n = data.n_outputs if key.startswith("output") else data.n_inputs
+            if value.size != n or value.dtype.kind not in ("U" if key.endswith("points") else "iuf"):
+                raise DataError(f"{label}: `{key}` is {value.dtype} of shape {value.shape}; expected {n} "
+                                f"{'labels' if key.endswith('points') else 'signs (±1)'}, one per channel.")
+            data.meta[key] = tuple(str(v) if value.dtype.kind == "U" else float(v) for v in value)
     name = str(_one(arrays, "name", label, "one string")) if "name" in arrays else None
     geometry = None
     present = [k for k in _GEOMETRY if k in arrays]
@@ -185,6 +205,10 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
             raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
                             f"(m, d) = ({data.n_inputs}, d), or remove it.")
         arrays["input_locations"] = where
+    for key in _POINTS:  # where the channels are: the point shapes (era.points) need them
+        value = (data.meta or {}).get(key)
+        if value is not None:
+            arrays[key] = np.array(value, dtype=str if key.endswith("points") else float)
     if name is not None:
         arrays["name"] = np.array(str(name))
     if data.records is not None:  # the records' scatter gives σ (era.uncertainty)

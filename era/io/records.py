@@ -35,6 +35,8 @@ class Records:
     nodes : (c or p,) int node label of each channel (0 = unknown); directions : (c or p, 3) unit vectors.
     frf_type : "accelerance", "mobility", "receptance" or None.
     described : list of str, what was read (for Dataset.source).
+    points : where the channels are, for ResponseData.meta (era.points: output_points, output_signs, input_points,
+        input_signs; and proposed_band_hz, a band the test's setup proposes), or None.
     named : False when the channel names were made up from the file name (an .npy file names nothing): files of
         one dataset then match by channel count, and the first file's names are used.
     """
@@ -53,6 +55,7 @@ class Records:
     frf_type: str | None = None
     described: list = field(default_factory=list)
     named: bool = True
+    points: dict | None = None
 
 
 def guess_kind(rec: Records) -> str:
@@ -129,6 +132,8 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
                                        names=rec.outputs, output_units=units, **options)
     if kind == "frf" and note:
         data.meta["conversions"].insert(0, note)
+    if rec.points and kind in ("frf", "pulse"):  # the channels stay as read: their points hold
+        data.meta.update(rec.points)
     if data.n_samples < MIN_SAMPLES:
         raise DataError(f"Only {data.n_samples} pulse-response samples; ERA needs at least {MIN_SAMPLES} (and "
                         "usually hundreds). Record longer or at a higher sampling rate.")

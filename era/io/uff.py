@@ -217,10 +217,23 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
                    inputs=tuple(f"ref {_dof_label(*k)}" for k in refs),
                    input_units=tuple(first[0, j]["den_unit"] for j in range(len(refs))),
                    nodes=np.array([k[0] for k in outs]), directions=np.array([direction_vector(k[1]) for k in outs]),
-                   frf_type=frf_type,
+                   frf_type=frf_type, points=_points(outs, refs),
                    described=[f"{len(recs)} UFF 58 {'FRF' if domain == 'frequency' else 'impulse response'} records "
                               f"(sets {recs[0]['set']}..{recs[-1]['set']}) as {len(outs)} outputs × {len(refs)} "
                               f"references" + (f", {frf_type}" if frf_type else "")])
+
+
+def _points(outs: list, refs: list) -> dict | None:
+    """Where the responses and references are (era.points): node and axis from each record's node and direction
+    code ("4X"; "" when node or direction is 0), the code's sign apart. None when no reference is placed."""
+    def side(keys):
+        pts = tuple(f"{n}{_DIR_LABEL[abs(c)]}" if n and abs(c) in _DIR_LABEL else "" for n, c in keys)
+        return pts, tuple(-1.0 if c < 0 else 1.0 for _, c in keys)
+
+    (op, os_), (ip, is_) = side(outs), side(refs)
+    if not any(ip):
+        return None
+    return {"output_points": op, "output_signs": os_, "input_points": ip, "input_signs": is_}
 
 
 def _channels(recs: list[dict], label: str) -> Records:

@@ -30,10 +30,13 @@ async function showMode() {
   const k = state.selected, m = state.modes;
   if (k === null || !m) return;
   $("shape-title").textContent = `mode ${k + 1}: ${m.frequency_hz[k].toFixed(4)} Hz, ζ ${(100 * m.damping_ratio[k]).toFixed(3)} %`;
-  const re = m.shapes_re[k], im = m.shapes_im[k];
+  // the shape at every measured or struck point (a roving hammer's hit points too), else at the sensors
+  const atPoints = m.points && m.points.length && m.point_shapes_re && m.point_shapes_re.length === m.n_modes;
+  const re = atPoints ? m.point_shapes_re[k] : m.shapes_re[k], im = atPoints ? m.point_shapes_im[k] : m.shapes_im[k];
+  const where = (atPoints ? m.points : m.outputs).map(plain);
   Plotly.react("shape-plot", [
-    { x: m.outputs.map(plain), y: re, name: "real", type: "bar", marker: { color: "#1f5fbf" } },
-    { x: m.outputs.map(plain), y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
+    { x: where, y: re, name: "real", type: "bar", marker: { color: "#1f5fbf" } },
+    { x: where, y: im, name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
   ], { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group", yaxis: { title: { text: "shape (largest = 1)" } },
        legend: { orientation: "h", y: 1.15 } }, plotConfig);
   // Publishing loads a new viewer page; wait until the order slider has settled so dragging stays fast.

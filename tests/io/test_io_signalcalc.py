@@ -83,3 +83,44 @@ def _named(raw, name):
     buf = io.BytesIO(raw)
     buf.name = name
     return buf
+
+
+def _free_free_beam(z_m, beta_l, length_m=1.3):
+    """Euler-Bernoulli free-free bending shape with β L = ``beta_l`` at ``z_m`` along a beam of ``length_m``."""
+    b = beta_l / length_m
+    sigma = (np.cosh(beta_l) - np.cos(beta_l)) / (np.sinh(beta_l) - np.sin(beta_l))
+    return np.cosh(b * z_m) + np.cos(b * z_m) - sigma * (np.sinh(b * z_m) + np.sin(b * z_m))
+
+
+def test_the_modelab_setup_places_the_nine_hits_and_the_point_shapes_are_the_beams_bending_shapes():
+    """Issue 26: with setup.csv the hammer points and the accelerometer are placed; by reciprocity the input-side
+    shapes are the mode shapes at the nine hit points (scaled through the driving point z = 0.5 m), each with
+    MAC ≥ 0.95 against the free-free beam's (0-1.3 m, β L = 4.7300, 7.8532, 10.9956, 14.1372)."""
+    require_shared(MODELAB)
+    paths = [MODELAB / f"ASCII0000{k}" / f"Hxysv0000{k}.txt" for k in range(1, 10)] + [MODELAB / "setup.csv"]
+    ds = era.load(paths, band_hz=(65.0, 1000.0))
+    meta = ds.data.meta
+    assert meta["input_points"] == tuple(f"{k}X" for k in range(1, 10)) and meta["input_signs"] == (1.0,) * 9
+    assert meta["output_points"] == ("4X",) and meta["output_signs"] == (-1.0,)  # z = 0.5 m, along -x
+    assert meta["proposed_band_hz"] == (65.0, 1000.0)
+    geo = ds.geometry
+    np.testing.assert_allclose(geo.coordinates[:, 2], [0.1, 0.25, 0.375, 0.5, 0.65, 0.8, 0.925, 1.05, 1.2])
+    assert geo.edges.tolist() == [[k, k + 1] for k in range(8)] and geo.channel_nodes.tolist() == [3]
+    model = era.analyse(ds.data).model
+    np.testing.assert_allclose(model.frequency_hz, PUBLISHED_HZ, rtol=5e-4)
+    assert model.points == tuple(f"{k}X" for k in range(1, 10)) and model.point_shapes.shape == (9, 4)
+    z = geo.coordinates[[int(p[:-1]) - 1 for p in model.points], 2]
+    for j, beta_l in enumerate([4.7300, 7.8532, 10.9956, 14.1372]):
+        mac = era.mac(model.point_shapes[:, j:j + 1], _free_free_beam(z, beta_l)[:, None].astype(complex))[0, 0]
+        assert mac >= 0.95, (j, mac)
+
+
+def test_a_setup_that_does_not_fit_the_files_is_refused_with_what_to_fix(tmp_path):
+    require_shared(MODELAB)
+    paths = [MODELAB / f"ASCII0000{k}" / f"Hxysv0000{k}.txt" for k in range(1, 4)] + [MODELAB / "setup.csv"]
+    with pytest.raises(era.DataError, match="9 hammer points .* 3 reference"):
+        era.load(paths)
+    bad = tmp_path / "setup.csv"
+    bad.write_text((MODELAB / "setup.csv").read_text().replace("zHammer,0.1", "zHammer,near"))
+    with pytest.raises(era.DataError, match="'near' in row 'zHammer' is not a number"):
+        era.load(paths[:3] + [bad])

@@ -1,0 +1,42 @@
+"""Issue 26 through the API: the ModeLAB roving-hammer beam uploaded as its nine SignalCalc files and setup.csv
+answers each mode's shape at the nine hit points (``points``, ``point_shapes_re/_im``), and the viewer draws them
+on the line of points the setup gives; the UFF 55 export writes them at those nodes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from apiclient import client
+from app import viewing
+from shared_data import require_shared
+
+MODELAB = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "modelab_beam_frf" / "SignalCalc"
+
+
+def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_path):
+    folder = require_shared(MODELAB)
+    paths = [folder / f"ASCII0000{k}" / f"Hxysv0000{k}.txt" for k in range(1, 10)] + [folder / "setup.csv"]
+    parts = [("file", (p.name, p.read_bytes(), "application/octet-stream")) for p in paths]
+    with client(tmp_path) as c:
+        r = c.post("/api/datasets", files=parts, data={"band_hz": "65,1000"})
+        assert r.status_code == 200, r.text
+        ds = r.json()
+        assert ds["n_inputs"] == 9 and ds["n_outputs"] == 1
+        a = c.post("/api/analyses", json={"dataset_id": ds["id"], "rows": ds["defaults"]["rows"],
+                                          "cols": ds["defaults"]["cols"]}).json()
+        stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
+        order, chosen = stab["chosen_order"], stab["chosen_indices"]
+        modes = c.get(f"/api/analyses/{a['id']}/modes", params={"order": order, "fit": "false"}).json()
+        assert modes["points"] == [f"{k}X" for k in range(1, 10)] and modes["outputs"] == ["resp 0-Z"]
+        shapes = np.array(modes["point_shapes_re"]) + 1j * np.array(modes["point_shapes_im"])
+        assert shapes.shape == (modes["n_modes"], 9)
+        first = shapes[chosen[0]]  # the first bending mode: both ends against the middle
+        real = (first * np.exp(-1j * np.angle(first[np.argmax(abs(first))]))).real
+        assert np.sign(real[0]) == np.sign(real[-1]) != np.sign(real[4])
+        cache = c.app.state.cache  # the viewer's scene: nine points on the line of nodes, along x
+        analysis = cache.analysis(a["id"])
+        geometry, _, drawn, _ = viewing.modes_scene(analysis, cache.model(analysis, order))
+        assert geometry.channel_nodes.tolist() == list(range(9)) and drawn.shape[0] == 9
+        np.testing.assert_allclose(geometry.channel_directions, [[1, 0, 0]] * 9)
