@@ -22,7 +22,7 @@ from .config import Settings
 from .errors import NotFound
 from .store import Store
 
-#: Loaded datasets kept in memory.
+#: Loaded datasets kept in memory at most (and at most Settings.cache_dataset_bytes of them).
 DATASETS_KEPT = 16
 
 
@@ -49,11 +49,20 @@ class Analysis:
     name: str
 
 
-class LRU:
-    """A small thread-safe least-recently-used cache."""
+def dataset_bytes(ds: Dataset) -> int:
+    """The bytes a loaded dataset holds in memory (its pulse responses and records)."""
+    records = ds.data.records
+    return ds.data.markov.nbytes + (records.nbytes if records is not None else 0)
 
-    def __init__(self, size: int):
+
+class LRU:
+    """A small thread-safe least-recently-used cache of at most ``size`` items and, when ``weigh`` (item -> bytes)
+    is given, at most ``max_bytes`` in all (the newest item is kept even when it alone is larger)."""
+
+    def __init__(self, size: int, max_bytes: int | None = None, weigh=None):
         self.size = max(1, int(size))
+        self.max_bytes, self._weigh = max_bytes, weigh
+        self.nbytes = 0
         self._items: OrderedDict = OrderedDict()
         self._lock = threading.Lock()
 
@@ -66,11 +75,18 @@ class LRU:
 
     def put(self, key, value):
         with self._lock:
+            if key in self._items:
+                self.nbytes -= self._bytes(self._items[key])
             self._items[key] = value
             self._items.move_to_end(key)
-            while len(self._items) > self.size:
-                self._items.popitem(last=False)
+            self.nbytes += self._bytes(value)
+            while len(self._items) > self.size or (
+                    self.max_bytes is not None and self.nbytes > self.max_bytes and len(self._items) > 1):
+                self.nbytes -= self._bytes(self._items.popitem(last=False)[1])
         return value
+
+    def _bytes(self, value) -> int:
+        return self._weigh(value) if self._weigh is not None else 0
 
 
 def _no_dataset(dataset_id: str) -> NotFound:
@@ -87,7 +103,7 @@ class Cache:
     def __init__(self, store: Store, settings: Settings):
         self.store = store
         self.settings = settings
-        self._datasets = LRU(DATASETS_KEPT)
+        self._datasets = LRU(DATASETS_KEPT, settings.cache_dataset_bytes, dataset_bytes)
         self._idents = LRU(settings.cache_identifications)
         self._models = LRU(settings.cache_models)
         self._diagrams = LRU(settings.cache_identifications)

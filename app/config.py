@@ -64,6 +64,9 @@ class Settings:
     cache_identifications: int = 64
     #: Realized models (analysis, order) kept in memory for the order slider.
     cache_models: int = 128
+    #: Loaded datasets kept in memory, bytes in all (besides at most 16 of them): a few large uploads cannot fill
+    #: the memory; an evicted dataset is read from the store again.
+    cache_dataset_bytes: int = 512 * 1024 * 1024
     #: Per client (IP address) and minute: requests to /api/ in all, and those that start heavy work.
     rate_limit_per_minute: int = 1200
     rate_limit_heavy_per_minute: int = 60

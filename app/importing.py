@@ -29,15 +29,16 @@ def given(options: dict) -> dict:
     return out
 
 
-def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int) -> tuple[dict, str | None,
-                                                                                        str | None]:
+def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,
+                 max_bytes: int | None = None) -> tuple[dict, str | None, str | None]:
     """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
     stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
-    be read at all."""
+    be read at all; ``max_bytes`` bounds what they inflate to (era.load's)."""
     reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k not in CONVERSION_OPTIONS}
     sources = named_sources(files)
     pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
-                 max_points=max_points, **{k: v for k, v in reading.items() if k != "frf_sign"})
+                 max_points=max_points, max_bytes=max_bytes,
+                 **{k: v for k, v in reading.items() if k != "frf_sign"})
     time_like = pv.domain != "frequency"
     x_label = ("sample" if pv.step is None else "time (s)") if time_like else "frequency (Hz)"
     return {
@@ -49,12 +50,16 @@ def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int)
     }, pv.problem, pv.problem_option
 
 
-def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, max_points: int) -> dict:
-    """schemas.Import: the preview, or the reason there is none, with the option that fixes it."""
+def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, max_points: int,
+                max_bytes: int | None = None) -> dict:
+    """schemas.Import: the preview, or the reason there is none, with the option that fixes it. Files that inflate
+    past ``max_bytes`` raise era.TooLargeError (413: no option fixes them)."""
     out = {"id": upload_id, "files": [n for n, _ in files], "bytes": sum(len(b) for _, b in files),
            "options": given(options), "preview": None, "error": None, "option": None}
     try:
-        out["preview"], out["error"], out["option"] = preview_json(files, options, max_points)
+        out["preview"], out["error"], out["option"] = preview_json(files, options, max_points, max_bytes)
+    except era.TooLargeError:
+        raise
     except era.EraError as exc:
         out["error"], out["option"] = str(exc), getattr(exc, "option", None)
     return out

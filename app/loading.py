@@ -34,17 +34,18 @@ def named_sources(files: list[tuple[str, bytes]]) -> list:
     return sources
 
 
-def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", **options):
+def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", max_bytes: int | None = None, **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
-    variable, group, frf_sign, start_sample, drop, forces, references, band_hz; None means not given). Raises an
-    era.EraError (shown to the person as is)."""
+    variable, group, frf_sign, start_sample, drop, forces, references, band_hz; None means not given);
+    ``max_bytes`` bounds what the files inflate to (era.load's, ERA_MAX_UPLOAD_MB). Raises an era.EraError (shown
+    to the person as is; era.TooLargeError: 413)."""
     if kind not in KINDS:
         raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")
     sources = named_sources(files)  # checked on arrival (routes/datasets.read_parts)
     given = {k: v for k, v in options.items() if v is not None}
     try:
         ds = era.load(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
-                      kind=kind, **given)
+                      kind=kind, max_bytes=max_bytes, **given)
     except era.DataError as exc:
         if "band_hz" in given and "argument 'band_hz'" in str(exc):  # the conversion of time records takes none
             raise era.DataError(f"{files[0][0]}: a band applies to FRF records only; leave it out for these "
@@ -79,12 +80,29 @@ def band(text: str | None) -> list[float] | None:
     return [low, high]
 
 
+#: A stored dataset's arrays (pulse responses and records, float64) at most this many times ERA_MAX_UPLOAD_MB:
+#: 16-bit samples read as float64 take 4 times their bytes.
+STORED_FACTOR = 4
+
+
+def check_stored(data: era.ResponseData, max_upload_bytes: int) -> None:
+    """era.TooLargeError when the dataset made from an upload would be stored larger than STORED_FACTOR × the
+    upload limit (a conversion that multiplies the data must not fill the disk)."""
+    nbytes = data.markov.nbytes + (data.records.nbytes if data.records is not None else 0)
+    limit = STORED_FACTOR * max_upload_bytes
+    if nbytes > limit:
+        raise era.TooLargeError(f"The dataset would hold {nbytes / 2**20:,.1f} MB of pulse responses, above "
+                                f"{STORED_FACTOR} × the upload limit ({limit / 2**20:,.0f} MB). Send fewer channels "
+                                "or samples.")
+
+
 def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict) -> dict:
     """Read ``files`` with ``options`` into a stored dataset; returns its summary (schemas.Dataset), whose
     ``source.options`` keeps what the person said (shown in the summary, frozen into reports)."""
     from .payloads import dataset_summary
 
-    data, geometry, source = load_upload(files, kind, **options)
+    data, geometry, source = load_upload(files, kind, cache.settings.max_upload_bytes, **options)
+    check_stored(data, cache.settings.max_upload_bytes)
     name = files[0][0] if len(files) == 1 else f"{files[0][0]} + {len(files) - 1} more"
     said = {k: v for k, v in options.items() if v is not None}
     if kind != "auto":

@@ -141,7 +141,8 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             app.state.campaigns.shutdown()
             store.close()
 
-    errors = {404: "unknown id", 422: "invalid request or data, with what to change", 429: "rate limit",
+    errors = {404: "unknown id", 413: "the upload, or what its files inflate to, is above ERA_MAX_UPLOAD_MB",
+              422: "invalid request or data, with what to change", 429: "rate limit",
               500: "internal error, with a logged reference"}
     app = FastAPI(title="ERA modal analysis", version=era.__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   responses={code: {"model": schemas.Error, "description": text} for code, text in errors.items()},
@@ -173,6 +174,11 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     @app.exception_handler(era.EraError)
     async def era_error(request: Request, exc: era.EraError):
         return _error(422, str(exc), option=getattr(exc, "option", None))
+
+    @app.exception_handler(era.TooLargeError)
+    async def too_large(request: Request, exc: era.TooLargeError):  # files that inflate past ERA_MAX_UPLOAD_MB
+        return _error(413, f"{exc} This server's limit is {settings.max_upload_bytes / 2**20:.0f} MB "
+                           "(ERA_MAX_UPLOAD_MB), for the upload and for what it inflates to.")
 
     @app.exception_handler(NotFound)
     async def not_found(request: Request, exc: NotFound):

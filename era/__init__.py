@@ -7,7 +7,7 @@ __version__ = "0.2.0"
 
 # the ERA core (issue 2)
 from .data import ResponseData
-from .errors import DataError, EraError, HankelError, OrderError
+from .errors import DataError, EraError, HankelError, OrderError, TooLargeError
 from .geometry import Geometry
 from .indicators import mac
 from .modal import ModalModel
@@ -36,6 +36,7 @@ __all__ = [
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
     "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
+    "TooLargeError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",

@@ -32,5 +32,10 @@ class OrderError(EraError):
     """The requested model order is impossible: above the numerical rank or the basis kept."""
 
 
+class TooLargeError(DataError):
+    """A file (or an upload) is larger than a limit allows, e.g. it inflates past the uncompressed size one read
+    may produce (era.io.inflate); the web app answers 413."""
+
+
 def _rebuild(cls, args, option):
     return cls(*args, option=option)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from fastapi import APIRouter, File, Form, Request, UploadFile
 
+import era
+
 from .. import schemas
 from ..errors import NotFound
 from ..importing import given, import_json
@@ -42,16 +44,22 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
                    start_sample=start_sample, drop=channel_list(drop, "drop"))
     upload_id = new_token()
     await jobs(request).quick(store(request).staging.add, upload_id, files)
-    points = cache(request).settings.max_plot_points
-    return await read_files(request, files, import_json, upload_id, files, options, points)
+    settings = cache(request).settings
+    try:
+        return await read_files(request, files, import_json, upload_id, files, options, settings.max_plot_points,
+                                settings.max_upload_bytes)
+    except era.TooLargeError:  # 413: files that inflate past the limit are not kept for another try
+        await jobs(request).quick(store(request).staging.remove, upload_id)
+        raise
 
 
 @router.post("/{upload_id}/preview", summary="Read the staged files again with the person's options",
              response_model=schemas.Import)
 async def preview(request: Request, upload_id: str, options: schemas.ImportOptions):
     files = _staged(request, upload_id)
-    points = cache(request).settings.max_plot_points
-    return await read_files(request, files, import_json, upload_id, files, options.model_dump(), points)
+    settings = cache(request).settings
+    return await read_files(request, files, import_json, upload_id, files, options.model_dump(),
+                            settings.max_plot_points, settings.max_upload_bytes)
 
 
 @router.post("/{upload_id}/dataset", summary="Make the dataset from the staged files with the person's options",

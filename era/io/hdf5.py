@@ -15,8 +15,9 @@ For example ``h5py.File("test.h5", "w")`` with ``f["acc"] = y`` (N × 3), ``f["a
 is stored 3 × N) and only numeric ``MATLAB_class`` datasets considered; a struct's fields are datasets in a group.
 
 Before a dataset is read, its shape is checked against the bytes stored for it (uncompressed: all of them; filtered:
-at most 1032:1) and against the file's size; virtual datasets and external storage (other files) are refused, and
-external links are not followed.
+at most 1032:1), against the file's size and against the uncompressed bytes one read may produce (``budget``,
+era/io/inflate.py; h5py fills an array of exactly the declared size, so no dataset inflates past it); virtual
+datasets and external storage (other files) are refused, and external links are not followed.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ import numpy as np
 
 from ..errors import DataError
 from .arrays import DT_NAMES, FS_NAMES, Var, check_size, records_from_vars
+from .inflate import Budget
 from .records import Records
 
 MAGIC = b"\x89HDF\r\n\x1a\n"
@@ -61,10 +63,12 @@ def _attrs(obj, label: str) -> dict:
 
 
 def read_hdf5(raw, label: str, dt: float | None = None, variable=None, orientation: str | None = None,
-              matlab: bool = False) -> Records:
-    """Records ("time") from an HDF5 (or MATLAB v7.3, ``matlab=True``) file's bytes or path; module docstring."""
+              matlab: bool = False, budget: Budget | None = None) -> Records:
+    """Records ("time") from an HDF5 (or MATLAB v7.3, ``matlab=True``) file's bytes or path; module docstring.
+    ``budget`` (era.io.inflate.Budget) bounds the uncompressed bytes of the datasets read."""
     import h5py
 
+    budget = Budget(None) if budget is None else budget
     size = os.path.getsize(raw) if isinstance(raw, str) else len(raw)
     try:
         f = h5py.File(raw if isinstance(raw, str) else io.BytesIO(raw), "r")
@@ -76,7 +80,7 @@ def read_hdf5(raw, label: str, dt: float | None = None, variable=None, orientati
 
         def visit(name, obj):
             if isinstance(obj, h5py.Dataset) and not name.startswith("#refs#"):
-                vars_.append(_var(obj, name, root, size, label, matlab))
+                vars_.append(_var(obj, name, root, size, label, matlab, budget))
 
         try:
             f.visititems(visit)
@@ -86,7 +90,7 @@ def read_hdf5(raw, label: str, dt: float | None = None, variable=None, orientati
                                  orientation)
 
 
-def _var(ds, name: str, root: dict, file_size: int, label: str, matlab: bool) -> Var:
+def _var(ds, name: str, root: dict, file_size: int, label: str, matlab: bool, budget: Budget) -> Var:
     where = f"{label}: dataset {name!r}"
     attrs = dict(root)
     parent = ds.parent
@@ -113,6 +117,7 @@ def _var(ds, name: str, root: dict, file_size: int, label: str, matlab: bool) ->
         if stored > file_size:
             raise DataError(f"{where}: {stored} bytes stored in a file of {file_size}; the file is truncated.")
         check_size(ds.shape or (1,), ds.dtype.itemsize, stored, where, compressed=filtered)
+        budget.claim(int(np.prod(ds.shape or (1,), dtype=np.float64)) * ds.dtype.itemsize, where)
         try:
             a = ds[()]
         except (OSError, ValueError, TypeError, RuntimeError) as exc:

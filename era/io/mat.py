@@ -1,16 +1,23 @@
 """MATLAB .mat files: v4/v5/v7 through scipy.io (whosmat lists, loadmat reads only the arrays chosen), v7.3 (HDF5)
 through era/io/hdf5.py. Variables are chosen by name (era/io/arrays.py): the data, and ``fs``/``dt``/a time
 vector; a struct's fields are read in v7.3 (HDF5 groups), top-level variables in v5.
+
+A v5 file's compressed variables are measured before scipy inflates any: the whole file's uncompressed size (each
+compressed element inflated in bounded chunks, nothing kept) and each variable's declared size must fit the read's
+``budget`` (era/io/inflate.py).
 """
 
 from __future__ import annotations
 
 import io
+import struct
+import zlib
 
 import numpy as np
 
 from ..errors import DataError
 from .arrays import Var, check_size, records_from_vars
+from .inflate import Budget
 from .records import Records
 
 MAGIC_V5 = b"MATLAB 5.0 MAT-file"
@@ -25,13 +32,38 @@ def is_v73(raw: bytes) -> bool:
     return raw[:19] == MAGIC_V73 or raw[512:520] == b"\x89HDF\r\n\x1a\n"
 
 
+_MI_COMPRESSED = 15
+
+
+def _measure_v5(raw: bytes, label: str, limit: int | None) -> None:
+    """TooLargeError when the v5 file's compressed elements inflate past ``limit`` bytes in all (measured in
+    bounded chunks, stopping at the limit). A malformed file is left for scipy to refuse."""
+    if limit is None or len(raw) < 136:
+        return
+    order = "<" if raw[126:128] == b"IM" else ">"
+    measure, pos = Budget(limit), 128
+    while pos + 8 <= len(raw):
+        mdtype, nbytes = struct.unpack(order + "II", raw[pos:pos + 8])
+        pos += 8
+        if mdtype == _MI_COMPRESSED:
+            try:
+                measure.inflate_size(raw[pos:pos + nbytes], f"{label}: the compressed variables")
+            except zlib.error:
+                return
+        pos += nbytes
+
+
 def read_mat(raw: bytes, label: str, dt: float | None = None, variable=None,
-             orientation: str | None = None) -> Records:
-    """Records ("time") from the bytes of a .mat file; ``variable`` names the data (str or list) when ambiguous."""
+             orientation: str | None = None, budget: Budget | None = None) -> Records:
+    """Records ("time") from the bytes of a .mat file; ``variable`` names the data (str or list) when ambiguous;
+    ``budget`` (era.io.inflate.Budget) bounds the uncompressed bytes (module docstring)."""
+    budget = Budget(None) if budget is None else budget
     if is_v73(raw):
         from .hdf5 import read_hdf5
-        return read_hdf5(raw, label, dt, variable, orientation, matlab=True)
+        return read_hdf5(raw, label, dt, variable, orientation, matlab=True, budget=budget)
     import scipy.io
+
+    _measure_v5(raw, label, budget.limit)
 
     try:
         listing = scipy.io.whosmat(io.BytesIO(raw))
@@ -43,6 +75,7 @@ def read_mat(raw: bytes, label: str, dt: float | None = None, variable=None,
     def reader(name: str, shape, cls: str):
         def read():
             check_size(shape, _ITEMSIZE.get(cls, 8), len(raw), f"{label}: variable {name!r}", compressed=True)
+            budget.claim(int(np.prod(shape, dtype=np.float64)) * _ITEMSIZE.get(cls, 8), f"{label}: variable {name!r}")
             try:
                 value = scipy.io.loadmat(io.BytesIO(raw), variable_names=[name], squeeze_me=False,
                                          mat_dtype=False)[name]

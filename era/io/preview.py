@@ -101,7 +101,7 @@ def thin(y: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:
 
 def preview(source, format: str | None = None, *, name: str | None = None, dt: float | None = None,
             start_sample: int | None = None, drop=None, forces=None, max_points: int = MAX_POINTS,
-            **how) -> Preview:
+            max_bytes: int | None = None, **how) -> Preview:
     """Read ``source`` as era.load would (same arguments; no conversion) and describe it for the import step.
 
     Raises DataError when the files cannot be read at all; a missing sampling interval is not raised but returned
@@ -109,7 +109,7 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
     """
     problem = option = None
     try:
-        got = read(source, format, name=name, dt=dt, **how)
+        got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)
     except DataError as exc:
         if exc.option != "dt":
             raise
@@ -117,7 +117,8 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
         for src in source if isinstance(source, (list, tuple)) else [source]:
             if hasattr(src, "seek"):  # a file object was read once already
                 src.seek(0)
-        got = read(source, format, name=name, dt=1.0, **how)  # show the samples; the step stays unknown
+        # show the samples; the step stays unknown
+        got = read(source, format, name=name, dt=1.0, max_bytes=max_bytes, **how)
     if got.npz is not None:
         d = got.npz.data
         rec = Records(domain="pulse", values=[d.markov], step=d.dt, start=d.dt, outputs=tuple(d.outputs),
