@@ -95,6 +95,9 @@ def modes_csv(report: dict) -> str:
     buf = io.StringIO()
     w = csv.writer(buf)
     shape_cols = [f"{_cell(o)} {part}" for o in m["outputs"] for part in ("re", "im")]
+    points = m.get("points") or []  # the shape at every measured or struck point, when more than the sensors
+    points = points if points != m["outputs"] else []
+    shape_cols += [f"point {_cell(q)} {part}" for q in points for part in ("re", "im")]
     w.writerow(["mode", "kept", "frequency_hz", "frequency_std_hz", "natural_frequency_hz", "damping_ratio",
                 "damping_std", "std_source", "emac", "mpc", "shape_scatter", "contribution_relative", "is_pair",
                 *shape_cols])
@@ -104,6 +107,8 @@ def modes_csv(report: dict) -> str:
     source = m.get("uncertainty_source") or ""
     for k in range(m["n_modes"]):
         shape = [v for re, im in zip(m["shapes_re"][k], m["shapes_im"][k]) for v in (re, im)]
+        if points:
+            shape += [v for re, im in zip(m["point_shapes_re"][k], m["point_shapes_im"][k]) for v in (re, im)]
         w.writerow([k, int(k in kept), m["frequency_hz"][k], f_std[k], m["natural_frequency_hz"][k],
                     m["damping_ratio"][k], d_std[k], source, m["emac"][k], m["mpc"][k], scatter[k],
                     m["contribution_relative"][k], int(m["is_pair"][k]), *shape])
@@ -196,7 +201,11 @@ def modes_uff(report: dict) -> bytes:
     pick = (lambda key: None if not m.get(key) else
             np.array([np.nan if m[key][k] is None else m[key][k] for k in kept], dtype=float))
     # what save_modes_uff reads of a ModalModel; a report frozen before σ or the scatter existed leaves them NONE
+    points = m.get("points") or []  # reports frozen before issue 26 have none: the sensors' shapes are written
+    at_points = (np.array(m["point_shapes_re"], dtype=float) + 1j * np.array(m["point_shapes_im"], dtype=float)
+                 ).T.reshape(len(points), -1)[:, kept] if points else None
     modes = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=pick("frequency_std_hz"),
+                            outputs=tuple(m["outputs"]), points=tuple(points), point_shapes=at_points,
                             damping_std=pick("damping_std"), uncertainty_source=m.get("uncertainty_source") or "")
     buf = io.BytesIO()
     era.save_modes_uff(buf, modes, geometry_from_json(report.get("geometry")), name="ERA",

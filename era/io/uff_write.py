@@ -39,6 +39,26 @@ def node_shapes(shapes: np.ndarray, geometry: Geometry | None) -> tuple[np.ndarr
     return geometry.node_ids, geometry.coordinates, disp
 
 
+def written_shapes(model, geometry: Geometry | None) -> tuple[np.ndarray, Geometry | None]:
+    """(shapes (q, modes) complex, geometry) to write: the model's ``point_shapes`` with a geometry whose channels
+    are its ``points`` (era.points.point_geometry; "4X" is node 4 along X) when it has points beyond its outputs
+    (a roving hammer's hit points) and the geometry places some of them, or there is no geometry (point k is then
+    node k + 1); else its ``shapes`` with ``geometry``."""
+    shapes = np.asarray(model.shapes, dtype=complex)
+    points = tuple(getattr(model, "points", ()) or ())
+    at_points = getattr(model, "point_shapes", None)
+    if at_points is None or not points or points == tuple(getattr(model, "outputs", ()) or ()):
+        return shapes, geometry
+    at_points = np.asarray(at_points, dtype=complex)
+    if geometry is None:
+        return at_points, None
+    from ..points import point_geometry
+    placed = point_geometry(geometry, points)
+    if (placed.channel_nodes >= 0).any():
+        return at_points, placed
+    return shapes, geometry
+
+
 def _finite(values, k) -> float | None:
     if values is None:
         return None
@@ -76,12 +96,13 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
     (UFF 15) and trace lines (UFF 82) of ``geometry``.
 
     path : str, os.PathLike, or a binary file object (written from its current position).
-    model : era.ModalModel; shapes (p, modes) as identified (largest component 1). Its frequency_std_hz and
+    model : era.ModalModel; shapes (p, modes) as identified (largest component 1), or its point_shapes at every
+        measured or struck point (issue 26, :func:`written_shapes`) when it has points beyond its outputs. Its frequency_std_hz and
         damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,) (expected 1 - MAC,
         Identification.shape_scatter) with the model's uncertainty_source to ID line 4 (:func:`uncertainty_lines`;
         :func:`read_uncertainty_lines` reads them back).
     """
-    shapes = np.asarray(model.shapes, dtype=complex)
+    shapes, geometry = written_shapes(model, geometry)
     if shapes.ndim != 2 or shapes.shape[1] == 0:
         raise DataError("The model has no modes to write; realize a model (and select modes) first.")
     ids, xyz, disp = node_shapes(shapes, geometry)

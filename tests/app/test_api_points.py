@@ -4,9 +4,12 @@ on the line of points the setup gives; the UFF 55 export writes them at those no
 
 from __future__ import annotations
 
+import csv
+import io
 from pathlib import Path
 
 import numpy as np
+import pyuff
 
 from apiclient import client
 from app import viewing
@@ -40,3 +43,15 @@ def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_pa
         geometry, _, drawn, _ = viewing.modes_scene(analysis, cache.model(analysis, order))
         assert geometry.channel_nodes.tolist() == list(range(9)) and drawn.shape[0] == 9
         np.testing.assert_allclose(geometry.channel_directions, [[1, 0, 0]] * 9)
+        # the report's UFF 55 holds the kept modes at the nine nodes, moving along x; its CSV the nine points
+        token = c.post("/api/reports", json={"analysis_id": a["id"], "order": order, "modes": chosen}).json()["token"]
+        blob = c.get(f"/api/reports/{token}/modes.uff").content
+        rows = list(csv.DictReader(io.StringIO(c.get(f"/api/reports/{token}/modes.csv").text)))
+    path = tmp_path / "modes.uff"
+    path.write_bytes(blob)
+    sets = [d for d in pyuff.UFF(str(path)).read_sets() if d["type"] == 55]
+    assert len(sets) == 4 and all(list(d["node_nums"]) == list(range(1, 10)) for d in sets)
+    for d, k in zip(sets, chosen):
+        np.testing.assert_allclose(d["r1"], shapes[k], atol=1e-6)
+        assert np.allclose(d["r2"], 0) and np.allclose(d["r3"], 0)
+    assert all(f"point {k}X re" in rows[0] for k in range(1, 10)) and "resp 0-Z re" in rows[0]

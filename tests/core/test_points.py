@@ -80,3 +80,17 @@ def test_a_sensor_measured_twice_is_one_point_and_a_geometry_places_each_point()
     placed = point_geometry(geo, ["2Y", "1X", "9Z", "E x"])
     assert placed.channel_nodes.tolist() == [1, 0, -1, -1]
     np.testing.assert_allclose(placed.channel_directions[:2], [[0, 1, 0], [1, 0, 0]])
+
+
+def test_the_uff_55_export_writes_the_point_shapes_at_their_nodes(tmp_path):
+    _, truth = modal_response(F_HZ, ZETA, 6, 1, 10, DT, seed=5)
+    data = roving_hammer(truth.shapes, outputs=[2], inputs=[0, 1, 2, 3, 4, 5], modal_constant=np.ones(3))
+    model = era.identify(data, rows=40, cols=40).model(6)
+    geo = era.Geometry(np.arange(1, 7), np.column_stack([np.arange(6.0), np.zeros(6), np.zeros(6)]),
+                       [[k, k + 1] for k in range(5)], [2], [[0, 0, 1]])  # the sensor at node 3 along z
+    era.save_modes_uff(tmp_path / "modes.uff", model, geo)
+    back = era.read_modes_uff(str(tmp_path / "modes.uff"))
+    assert back.node_ids.tolist() == [1, 2, 3, 4, 5, 6]
+    at = [model.points.index(f"{k}Z") for k in range(1, 7)]
+    np.testing.assert_allclose(back.shapes[:, 2, :], model.point_shapes[at], atol=1e-5)
+    np.testing.assert_allclose(back.shapes[:, :2, :], 0, atol=1e-12)
