@@ -21,7 +21,7 @@ import numpy as np
 
 import era
 
-from . import config, modeling, payloads
+from . import config, modeling, payloads, viewing
 from .cache import Analysis
 from .choosing import Diagram
 
@@ -77,7 +77,7 @@ def build(a: Analysis, ident: era.Identification, model: era.ModalModel, kept: n
                        "measured": payloads.floats(data.markov[sl, i, j]),
                        "reconstructed": payloads.floats(rebuilt[sl, i, j])} for i, j in pairs]},
         "stabilization": payloads.stabilization_json(diagram, data, plot_points),
-        "geometry": geometry_json(a.geometry),
+        "geometry": geometry_json(viewing.modes_scene(a, model)[0]),  # its channels the points, when placed
         "explanation": explanation,
         "structure_model": None if structure is None else {
             k: structure.get(k) for k in ("model", "source", "name", "saved")} | {

@@ -177,7 +177,8 @@
   }
 
   function shape(r, k) {
-    const m = r.modes, g = r.geometry;
+    const m = r.modes;
+    let g = r.geometry;
     $("report-shape-title").textContent = `mode ${k + 1}: ${F.num(m.frequency_hz[k], 4)} Hz, ζ ${F.num(100 * m.damping_ratio[k], 3)} %`;
     if (animation) { clearInterval(animation); animation = null; }
     const box = $("report-viewer");
@@ -194,13 +195,19 @@
       box.append(frame);
       viser = true;
     }
-    const re = m.shapes_re[k];
+    // the shape at every measured or struck point (issue 26: a roving hammer's hit points) when the report has
+    // them; the geometry then places the points (app/viewing.modes_scene), else the sensors
+    const atPoints = m.points && m.point_shapes_re && m.point_shapes_re.length === m.n_modes &&
+      m.points.join("\u0001") !== m.outputs.join("\u0001");
+    const re = atPoints ? m.point_shapes_re[k] : m.shapes_re[k], im = atPoints ? m.point_shapes_im[k] : m.shapes_im[k];
+    const where = atPoints ? m.points : m.outputs;
+    if (g && g.channel_nodes.length !== re.length) g = null;  // a report frozen with the sensors' geometry only
     $("report-shape").hidden = viser;  // plotly animates the shape only where viser cannot
     $("report-shape").style.height = g ? "460px" : "300px";
     if (viser) return;
     if (!g) {
-      Plotly.react("report-shape", [{ x: m.outputs.map(plain), y: re, type: "bar", name: "real" },
-                                    { x: m.outputs.map(plain), y: m.shapes_im[k], type: "bar", name: "imaginary" }],
+      Plotly.react("report-shape", [{ x: where.map(plain), y: re, type: "bar", name: "real" },
+                                    { x: where.map(plain), y: im, type: "bar", name: "imaginary" }],
                    { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group" }, cfg);
       return;
     }

@@ -45,6 +45,8 @@ def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_pa
         np.testing.assert_allclose(geometry.channel_directions, [[1, 0, 0]] * 9)
         # the report's UFF 55 holds the kept modes at the nine nodes, moving along x; its CSV the nine points
         token = c.post("/api/reports", json={"analysis_id": a["id"], "order": order, "modes": chosen}).json()["token"]
+        report = c.get(f"/api/reports/{token}").json()
+        assert report["geometry"]["channel_nodes"] == list(range(9))  # the report's animation: the nine points
         blob = c.get(f"/api/reports/{token}/modes.uff").content
         rows = list(csv.DictReader(io.StringIO(c.get(f"/api/reports/{token}/modes.csv").text)))
     path = tmp_path / "modes.uff"
