@@ -14,11 +14,12 @@ import time
 from collections import deque
 from contextlib import asynccontextmanager
 
-from fastapi import FastAPI, HTTPException, Request
+from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+from starlette.exceptions import HTTPException
 from swagger_ui_bundle import swagger_ui_path
 
 import era
@@ -141,9 +142,11 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
             app.state.campaigns.shutdown()
             store.close()
 
-    errors = {404: "unknown id", 413: "the upload, or what its files inflate to, is above ERA_MAX_UPLOAD_MB",
-              422: "invalid request or data, with what to change", 429: "rate limit",
-              500: "internal error, with a logged reference"}
+    errors = {400: "a body that cannot be parsed (not UTF-8, a broken multipart form)",
+              401: "signed-in users only (ERA_ACCESS_TOKEN, ERA_TRUST_USER_HEADER)", 404: "unknown id",
+              413: "the upload, or what its files inflate to, is above ERA_MAX_UPLOAD_MB",
+              422: "invalid request or data, with what to change", 429: "rate limit, with Retry-After",
+              500: "internal error, with a logged reference", 503: "busy or off, with Retry-After when busy"}
     app = FastAPI(title="ERA modal analysis", version=era.__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   responses={code: {"model": schemas.Error, "description": text} for code, text in errors.items()},
                   description="Eigensystem Realization Algorithm (Juang & Pappa 1985): upload pulse responses, "
@@ -184,9 +187,12 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     async def not_found(request: Request, exc: NotFound):
         return _error(404, str(exc))
 
-    @app.exception_handler(HTTPException)
+    @app.exception_handler(HTTPException)  # starlette's: also a malformed body's 400 and an unknown route's 404
     async def http_error(request: Request, exc: HTTPException):
-        return _error(exc.status_code, str(exc.detail), getattr(exc, "headers", None))
+        said = str(exc.detail)
+        if exc.status_code == 404 and said == "Not Found":
+            said = f"No such address: {request.method} {request.url.path}. The API is listed at /docs."
+        return _error(exc.status_code, said, getattr(exc, "headers", None))
 
     @app.exception_handler(RequestValidationError)
     async def invalid_request(request: Request, exc: RequestValidationError):
@@ -210,9 +216,28 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         app.include_router(viewer.router)
     app.mount("/static", StaticFiles(directory=config.STATIC_DIR), name="static")
     _api_docs(app)
+    _errors_are_json(app)
     # Outermost: refuse oversized bodies before anything reads them.
     app.add_middleware(UploadLimit, limit=settings.max_upload_bytes)
     return app
+
+
+def _errors_are_json(app: FastAPI) -> None:
+    """Declare every error answer as what it is, JSON ``{"error"}``, also on routes whose success is HTML, CSV or a
+    file (FastAPI would declare their errors in the success's media type)."""
+    make = app.openapi
+
+    def openapi() -> dict:
+        if app.openapi_schema is None:
+            for ops in make()["paths"].values():
+                for op in ops.values():
+                    for status, answer in op.get("responses", {}).items():
+                        content = answer.get("content")
+                        if status[:1] in "45" and content and "application/json" not in content:
+                            answer["content"] = {"application/json": next(iter(content.values()))}
+        return app.openapi_schema
+
+    app.openapi = openapi
 
 
 def _api_docs(app: FastAPI) -> None:

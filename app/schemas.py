@@ -7,12 +7,17 @@ as plain dicts in app/payloads.py; tests/app/test_schemas.py checks that they ca
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
 Floats = list[float | None]
 Matrix = list[list[float | None]]
+#: The largest integer a request may carry (2³¹ − 1, far above any sample, channel, shift or order count): larger
+#: ones are refused (422) before numpy, which would overflow or wrap them, sees them.
+MAX_INT = 2**31 - 1
+#: An index, count or shift in a request: 0 ≤ n ≤ MAX_INT.
+Index = Annotated[int, Field(ge=0, le=MAX_INT)]
 
 
 class Schema(BaseModel):
@@ -22,7 +27,7 @@ class Schema(BaseModel):
 
 
 class Error(Schema):
-    """Every refusal and failure (404, 413, 422, 429, 500, 503): no stack trace, a sentence to act on."""
+    """Every refusal and failure (400, 401, 404, 413, 422, 429, 500, 503): no stack trace, a sentence to act on."""
 
     error: str = Field(description="what is wrong and what to do about it")
     option: str | None = Field(None, description="the option that fixes it (e.g. dt, orientation, forces), when one "
@@ -99,12 +104,12 @@ class ImportOptions(Schema):
     variable: str | None = Field(None, description="the array to read in a MAT or HDF5 file")
     group: str | None = Field(None, description="the TDMS group to read")
     frf_sign: Literal["auto", "+", "-"] | None = Field(None, description="the FRFs' sign convention")
-    start_sample: int | None = Field(None, ge=0, description="samples skipped at the start of every record "
+    start_sample: int | None = Field(None, ge=0, le=MAX_INT, description="samples skipped at the start of every record "
                                                             "(pre-trigger)")
-    drop: list[int] | None = Field(None, description="channels left out")
-    forces: list[int] | None = Field(None, description="channels that measure the excitation (input-output records); "
+    drop: list[Index] | None = Field(None, description="channels left out")
+    forces: list[Index] | None = Field(None, description="channels that measure the excitation (input-output records); "
                                                        "null: as the files' units and names say")
-    references: list[int] | None = Field(None, description="reference channels of ambient records (NExT); null: all")
+    references: list[Index] | None = Field(None, description="reference channels of ambient records (NExT); null: all")
     band_hz: list[float] | None = Field(None, min_length=2, max_length=2,
                                         description="[low, high] Hz, the band FRFs are valid in (e.g. the analyser's "
                                                     "fMin, fMax): lines outside it are cut and no mode is chosen "

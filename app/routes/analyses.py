@@ -20,15 +20,15 @@ router = APIRouter(prefix="/api/analyses", tags=["analyses"])
 
 class AnalysisRequest(BaseModel):
     dataset_id: str = Field(min_length=1, max_length=100)
-    rows: int = Field(ge=1, description="r, block rows of H(0) (eq. 16)")
-    cols: int = Field(ge=1, description="s, block columns of H(0)")
-    row_shifts: list[int] | None = Field(None, description="j_1..j_{r-1}, increasing; default 1..r-1")
-    col_shifts: list[int] | None = Field(None, description="t_1..t_{s-1}, increasing; default 1..s-1")
-    max_order: int | None = Field(None, ge=1, description="largest order kept from the SVD")
+    rows: int = Field(ge=1, le=schemas.MAX_INT, description="r, block rows of H(0) (eq. 16)")
+    cols: int = Field(ge=1, le=schemas.MAX_INT, description="s, block columns of H(0)")
+    row_shifts: list[schemas.Index] | None = Field(None, description="j_1..j_{r-1}, increasing; default 1..r-1")
+    col_shifts: list[schemas.Index] | None = Field(None, description="t_1..t_{s-1}, increasing; default 1..s-1")
+    max_order: int | None = Field(None, ge=1, le=schemas.MAX_INT, description="largest order kept from the SVD")
 
 
 class ViewerRequest(BaseModel):
-    order: int = Field(ge=1)
+    order: int = Field(ge=1, le=schemas.MAX_INT)
 
 
 @router.post("", summary="Identify: build H(0), H(1), take one SVD, and choose the modes from its diagram",
@@ -83,7 +83,7 @@ async def read(request: Request, a: Analysis = Depends(analysis)):
 
 @router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit",
             response_model=schemas.Modes)
-async def modes(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1),
+async def modes(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1, le=schemas.MAX_INT),
                 fit: bool = Query(True, description="add the fit of all modes per channel (costs a reconstruction)"),
                 scatter: bool = Query(False, description="add each shape's scatter from the data, expected 1 - MAC "
                                       "(n pole functionals per mode: 0.03 s at order 20, 1.7 s at 160 on the grid)")):
@@ -125,8 +125,10 @@ def keep_rule(modes: str | None = Query(None, description="kept modes, e.g. 0,2,
 
 @router.get("/{analysis_id}/reconstruction", summary="Measured against reconstructed response for kept modes",
             response_model=schemas.Reconstruction)
-async def reconstruction(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1),
-                         kept=Depends(keep_rule), output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+async def reconstruction(request: Request, a: Analysis = Depends(analysis),
+                         order: int = Query(ge=1, le=schemas.MAX_INT), kept=Depends(keep_rule),
+                         output: int = Query(0, ge=0, le=schemas.MAX_INT),
+                         input: int = Query(0, ge=0, le=schemas.MAX_INT)):
     """The answer names the kept modes in ``kept``, so the page can mark its table from the same rule."""
     model = await _model(request, a, order)
     points = cache(request).settings.max_plot_points
@@ -136,8 +138,9 @@ async def reconstruction(request: Request, a: Analysis = Depends(analysis), orde
 
 @router.get("/{analysis_id}/step", summary="One order-slider step: the modes of one order and the reconstruction",
             responses={200: {"model": schemas.Step}})
-async def step(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1), kept=Depends(keep_rule),
-               output: int = Query(0, ge=0), input: int = Query(0, ge=0)):
+async def step(request: Request, a: Analysis = Depends(analysis), order: int = Query(ge=1, le=schemas.MAX_INT),
+               kept=Depends(keep_rule), output: int = Query(0, ge=0, le=schemas.MAX_INT),
+               input: int = Query(0, ge=0, le=schemas.MAX_INT)):
     """``{"modes": …, "reconstruction": …}``: what GET /modes?fit=false and GET /reconstruction answer for the
     same parameters, in one request and one realization. The page sends one per slider step: one round trip
     instead of two, and the answer goes out as JSON directly (its lists are JSON-safe already), not through

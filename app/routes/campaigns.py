@@ -31,7 +31,8 @@ async def start(request: Request,
                 kind: str = Form("auto", description="auto, ambient (NExT), decay, pulse, frf or io"),
                 dt: float | None = Form(None, gt=0, description="sampling interval, s, for files without a time "
                                                                 "column"),
-                max_order: int = Form(80, description="highest order of each record's stabilization diagram")):
+                max_order: int = Form(80, ge=1, le=schemas.MAX_INT,
+                                      description="highest order of each record's stabilization diagram")):
     """Multipart parts ``file`` (one per record; times are read from names such as rec_2026-03-02T05-00.csv, else
     the records are in the order sent) or a form field ``folder``. Answers 202 at once; GET /api/campaigns/{id}
     follows it. A file that cannot be analysed is listed in the result's ``failed``; it never stops the campaign."""

@@ -34,8 +34,9 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
                  variable: str | None = Form(None, description="the array to read in a MAT or HDF5 file"),
                  group: str | None = Form(None, description="the TDMS group to read"),
                  frf_sign: str | None = Form(None, description="auto, + or -: the FRFs' sign convention"),
-                 start_sample: int | None = Form(None, ge=0, description="samples skipped at the start of every "
-                                                                         "record (pre-trigger)"),
+                 start_sample: int | None = Form(None, ge=0, le=schemas.MAX_INT,
+                                                 description="samples skipped at the start of every record "
+                                                             "(pre-trigger)"),
                  drop: str | None = Form(None, description="channels left out: positions as read, e.g. 0,3"),
                  forces: str | None = Form(None, description="channels measuring the excitation, e.g. 0"),
                  references: str | None = Form(None, description="NExT reference channels of ambient records"),
@@ -59,7 +60,7 @@ async def summary(request: Request, dataset_id: str):
 
 @router.get("/{dataset_id}/records", summary="The records of every output for one input, for plotting",
             response_model=schemas.Records)
-async def records(request: Request, ds: Dataset = Depends(dataset), input: int = Query(0, ge=0)):
+async def records(request: Request, ds: Dataset = Depends(dataset), input: int = Query(0, ge=0, le=schemas.MAX_INT)):
     points = cache(request).settings.max_plot_points
     return await jobs(request).quick(payloads.records_json, ds.data, input, points)
 

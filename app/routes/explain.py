@@ -28,13 +28,14 @@ class ExplainRequest(BaseModel):
                                                                    "diagram (era.choose_modes, ticked by default) "
                                                                    "at its order; kept: exactly the modes `kept` at "
                                                                    "`order`")
-    order: int | None = Field(None, ge=1, description="the order the modes were kept at (modes = kept)")
-    kept: list[int] | None = Field(None, description="indices of the kept modes at `order` (modes = kept)")
-    orders: list[int] | None = Field(None, min_length=1, max_length=200,
+    order: int | None = Field(None, ge=1, le=schemas.MAX_INT,
+                              description="the order the modes were kept at (modes = kept)")
+    kept: list[schemas.Index] | None = Field(None, description="indices of the kept modes at `order` (modes = kept)")
+    orders: list[schemas.Index] | None = Field(None, min_length=1, max_length=200,
                                      description="orders the modes are tracked over (their spread is the "
                                                  "measurement error); default the analysis's diagram orders")
-    output: int = Field(0, ge=0, description="output of the response overlay")
-    input: int = Field(0, ge=0, description="input of the response overlay")
+    output: int = Field(0, ge=0, le=schemas.MAX_INT, description="output of the response overlay")
+    input: int = Field(0, ge=0, le=schemas.MAX_INT, description="input of the response overlay")
 
 
 class ExplainViewerRequest(BaseModel):
@@ -105,8 +106,8 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 
 @router.get("/{analysis_id}/explain", summary="The stored simulation-vs-test result of an analysis",
             response_model=schemas.Explanation | schemas.ExplanationOverlay)
-async def read(request: Request, a: Analysis = Depends(analysis), output: int = Query(0, ge=0),
-               input: int = Query(0, ge=0),
+async def read(request: Request, a: Analysis = Depends(analysis),
+               output: int = Query(0, ge=0, le=schemas.MAX_INT), input: int = Query(0, ge=0, le=schemas.MAX_INT),
                overlay_only: bool = Query(False, description="only the overlay of this output and input")):
     summary = None if overlay_only else _stored(request, a.id)
     overlay = await jobs(request).quick(_overlay, request, a.id, output, input)

@@ -34,7 +34,8 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
                  orientation: str | None = Form(None, description="rows or columns: channels of a headerless table"),
                  variable: str | None = Form(None, description="the array to read in a MAT or HDF5 file"),
                  group: str | None = Form(None, description="the TDMS group to read"),
-                 start_sample: int | None = Form(None, ge=0, description="samples skipped at the start of records"),
+                 start_sample: int | None = Form(None, ge=0, le=schemas.MAX_INT,
+                                                 description="samples skipped at the start of records"),
                  drop: str | None = Form(None, description="channels left out: positions as read, e.g. 0,3")):
     """Multipart parts ``file``; optional first options. Returns the upload's id and what was read (or what stops
     reading it, with the option that fixes it). The files are kept a day for POST /api/imports/{id}/preview and

@@ -105,7 +105,7 @@ async def view(request: Request, body: ModelView, ds: Dataset = Depends(dataset)
 
 @router.get("/api/analyses/{analysis_id}/model/mac", summary="The dataset's model beside this analysis's modes of "
             "one order: frequencies and MAC at the sensors", response_model=schemas.ModelComparison)
-async def mac(request: Request, order: int = Query(ge=1), modes: str | None = Query(
+async def mac(request: Request, order: int = Query(ge=1, le=schemas.MAX_INT), modes: str | None = Query(
         None, description="comma-separated indices of the modes to compare (default: every mode of the order)"),
         a: Analysis = Depends(analysis)):
     stored = store(request).model(a.dataset_id)

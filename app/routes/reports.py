@@ -22,10 +22,12 @@ MAX_RECORDINGS = 12
 
 class ReportRequest(BaseModel):
     analysis_id: str = Field(min_length=1, max_length=100)
-    order: int | None = Field(None, ge=1, description="the model order; default the order era's choice is read at "
-                                                      "(the analysis's suggested_order)")
-    modes: list[int] | None = Field(None, description="indices of the kept modes at this order; default the modes "
-                                                      "era chose (chosen_indices), at the chosen order only")
+    order: int | None = Field(None, ge=1, le=schemas.MAX_INT,
+                              description="the model order; default the order era's choice is read at (the "
+                                          "analysis's suggested_order)")
+    modes: list[schemas.Index] | None = Field(None, description="indices of the kept modes at this order; default "
+                                                                "the modes era chose (chosen_indices), at the chosen "
+                                                                "order only")
 
 
 def _kept(body: ReportRequest, diagram: Diagram) -> tuple[int, list[int]]:
