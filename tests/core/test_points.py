@@ -94,3 +94,13 @@ def test_the_uff_55_export_writes_the_point_shapes_at_their_nodes(tmp_path):
     at = [model.points.index(f"{k}Z") for k in range(1, 7)]
     np.testing.assert_allclose(back.shapes[:, 2, :], model.point_shapes[at], atol=1e-5)
     np.testing.assert_allclose(back.shapes[:, :2, :], 0, atol=1e-12)
+
+
+def test_a_simulated_tests_input_locations_name_the_struck_points_as_its_sensors():
+    _, truth = modal_response(F_HZ, ZETA, 4, 1, 10, DT, seed=6)
+    data = roving_hammer(truth.shapes, outputs=[0, 1, 2, 3], inputs=[1, 3], modal_constant=np.ones(3))
+    frame = era.ResponseData(markov=data.markov, dt=DT, outputs=("A x", "B x", "C x", "D x"),
+                             meta={"input_locations": (("B", "x"), ("D", "x"))})
+    model = era.identify(frame, rows=40, cols=40).model(6)
+    assert model.points == frame.outputs  # every struck point is measured: the sensors' shapes
+    np.testing.assert_allclose(model.point_shapes, model.shapes, atol=1e-12)
