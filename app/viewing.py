@@ -16,12 +16,14 @@ from .errors import NotFound
 
 def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
     """(geometry, frequency_hz (k,), shapes (q, k) complex, labels) of the modes of one order: the shape at every
-    measured or struck point (ModalModel.point_shapes, issue 26) when the geometry places those points, else at the
-    sensors."""
+    measured or struck point (ModalModel.point_shapes, issue 26) when the geometry places those points or there is
+    no geometry (the points then in a row), else at the sensors."""
     labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
     if tuple(model.points) != tuple(model.outputs):
+        if a.geometry is None:  # the points in a row (app.viewer.scene.geometry_for)
+            return None, model.frequency_hz, model.point_shapes, labels
         placed = era.points.point_geometry(a.geometry, model.points)
-        if placed is not None and (placed.channel_nodes >= 0).any():
+        if (placed.channel_nodes >= 0).any():
             return placed, model.frequency_hz, model.point_shapes, labels
     return a.geometry, model.frequency_hz, model.shapes, labels
 

@@ -57,3 +57,17 @@ def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_pa
         np.testing.assert_allclose(d["r1"], shapes[k], atol=1e-6)
         assert np.allclose(d["r2"], 0) and np.allclose(d["r3"], 0)
     assert all(f"point {k}X re" in rows[0] for k in range(1, 10)) and "resp 0-Z re" in rows[0]
+
+
+def test_without_a_geometry_the_viewer_draws_the_points_in_a_row():
+    import era
+    from app.cache import Analysis
+    y = np.zeros((200, 1, 3))
+    t = np.arange(200) * 0.01
+    for k, phi in enumerate([0.3, 0.8, 1.0]):  # one sensor at point 3, hits at points 1, 2, 3: one mode
+        y[:, 0, k] = phi * np.exp(-0.5 * t) * np.sin(2 * np.pi * 5 * t)
+    data = era.ResponseData(markov=y, dt=0.01, meta={"output_points": ("3Z",), "input_points": ("1Z", "2Z", "3Z")})
+    model = era.identify(data, rows=40, cols=40).model(2)
+    geometry, _, drawn, _ = viewing.modes_scene(Analysis("a", "d", {}, data, None, "row"), model)
+    assert geometry is None and model.points == ("1Z", "2Z", "3Z")
+    np.testing.assert_allclose(drawn[:, 0].real, [0.3, 0.8, 1.0], atol=1e-6)
