@@ -47,6 +47,7 @@ def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,
         "channels": [vars(c) for c in pv.channels], "references": pv.references, "n_records": pv.n_records,
         "n_samples": pv.n_samples, "kind": pv.kind, "described": pv.described, "x": floats(pv.x),
         "x_label": x_label, "traces": floats(np.asarray(pv.traces)), "geometry_nodes": pv.geometry_nodes,
+        "proposed_band_hz": None if pv.proposed_band_hz is None else list(pv.proposed_band_hz),
     }, pv.problem, pv.problem_option
 
 

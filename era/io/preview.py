@@ -52,7 +52,9 @@ class Preview:
     traces : (n_channels, n_points) first record of every channel in ``channels`` order, thinned (|FRF| for the
         first reference; the samples before ``start_sample`` included, so the cut is visible).
     problem, problem_option : a DataError that still stops the import (e.g. no sampling interval), and the option
-        that fixes it. geometry_nodes : nodes of the test geometry in the files (UFF 15/2411).
+        that fixes it. geometry_nodes : nodes of the test geometry in the files (UFF 15/2411, a SignalCalc setup).
+    proposed_band_hz : (low, high) Hz, the band the test's setup proposes for FRFs (a SignalCalc setup.csv's fMin and
+        fMax), or None.
     """
 
     files: list
@@ -71,6 +73,7 @@ class Preview:
     problem: str | None = None
     problem_option: str | None = None
     geometry_nodes: int = 0
+    proposed_band_hz: tuple | None = None
 
 
 def _direction(d: np.ndarray) -> str | None:
@@ -160,5 +163,6 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
         kind=guess_kind(chosen),
         described=list(chosen.described), x=np.asarray(x, float), traces=np.asarray(y[idx].T, float),
         problem=problem, problem_option=option,
-        geometry_nodes=len(got.parts[0]) if got.parts is not None else 0)
+        geometry_nodes=len(got.parts[0]) if got.parts is not None else 0,
+        proposed_band_hz=(rec.points or {}).get("proposed_band_hz"))
 

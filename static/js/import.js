@@ -23,6 +23,7 @@ let fileRate = false;      // the files carry their own sampling interval
 let onDataset = null;      // callback(dataset summary)
 let rereading = null;      // debounce timer
 let generation = 0;        // answers to older previews are ignored
+let bandProposed = false;  // the setup's band (fMin, fMax) was put in the band fields for this upload
 
 function clearErrors() {
   for (const id of new Set(Object.values(ERROR_BOX))) showError(id, null);
@@ -102,6 +103,10 @@ function renderRead(answer) {
   $("field-group").hidden = pv.format !== "tdms";
   $("field-frf-sign").hidden = pv.domain !== "frequency";
   $("field-band").hidden = pv.domain !== "frequency";
+  if (pv.proposed_band_hz && !bandProposed && !$("import-band-low").value && !$("import-band-high").value) {
+    [$("import-band-low").value, $("import-band-high").value] = pv.proposed_band_hz.map(String);  // setup.csv's fMin, fMax
+    bandProposed = true;  // once per upload: a band the person cleared stays cleared
+  }
   $("import-start").disabled = pv.domain === "frequency";
   const step = pv.dt === null ? "no sampling interval yet"
     : timeLike ? `Δt ${pv.dt} s (${Number(pv.sample_rate_hz.toPrecision(8))} Hz)` : `Δf ${pv.dt} Hz`;
@@ -178,6 +183,7 @@ export async function start(files, setDataStatus) {
   $("import-frf-sign").value = "auto";
   $("import-band-low").value = "";
   $("import-band-high").value = "";
+  bandProposed = false;
   try {
     const answer = await upload("/api/imports", files, (f) => {
       bar.value = f;
