@@ -3,8 +3,11 @@ shared team token (``ERA_ACCESS_TOKEN``), or the users a reverse proxy has authe
 e.g. X-Forwarded-User; the proxy must strip it from outside requests).
 
 Report links stay readable by whoever has them (the token in the link is the secret): the report page, its JSON
-and downloads, the static files and the viewer's client. A browser signs in once at /login (the token goes into
-an HttpOnly cookie); scripts send ``Authorization: Bearer <token>``.
+and downloads (its mode shapes are recordings the viewer's client plays at /viser/, with no live connection), the
+static files. A browser signs in once at /login (the token goes into an HttpOnly cookie); scripts send
+``Authorization: Bearer <token>``. The live viewer (its pages /viser/{key}/ and websockets /viser/{key}) is behind
+the same rule (:class:`SocketGuard` for the websockets, which no HTTP middleware sees), with a cap on the
+connections each user holds open.
 """
 
 from __future__ import annotations
@@ -15,12 +18,14 @@ import secrets
 
 from fastapi import Request
 from fastapi.responses import HTMLResponse, JSONResponse, RedirectResponse, Response
+from starlette.requests import HTTPConnection
+from starlette.websockets import WebSocket
 
 COOKIE = "era_token"
-#: Open without signing in (GET only): report and campaign links, the page's assets, the viewer's client, health,
-#: sign-in.
+#: Open without signing in (GET only): report and campaign links, the page's assets, the viewer's client for
+#: recordings (/viser/ itself: a live key's page, picks and websocket are not), health, sign-in.
 _PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|c/[^/]+|api/campaigns/(?!folders$)[^/]+(/.*)?|static/.*|"
-                     r"vendor/.*|viser/.*|api/health|login|favicon\.ico)$")
+                     r"vendor/.*|viser/|api/health|login|favicon\.ico)$")
 
 
 class Access:
@@ -34,7 +39,17 @@ class Access:
     def open(self) -> bool:
         return self.token is None and self.user_header is None
 
-    def _allowed(self, request: Request) -> bool:
+    def allowed(self, request: HTTPConnection) -> bool:
+        """The request (or websocket) is let in: the server is open, or it carries the proxy's user / the token."""
+        return self.open or self._allowed(request)
+
+    def user(self, request: HTTPConnection) -> str:
+        """Who a request counts for: the proxy's user when this server trusts one, else the client address."""
+        if self.user_header and request.headers.get(self.user_header):
+            return "user:" + request.headers[self.user_header]
+        return "address:" + (request.client.host if request.client else "unknown")
+
+    def _allowed(self, request: HTTPConnection) -> bool:
         if self.user_header and not request.headers.get(self.user_header):
             return False
         if self.token:
@@ -78,3 +93,32 @@ def login_page(message: str, status: int = 200, next_path: str = "/") -> HTMLRes
         f"<input type=hidden name=next value='{html.escape(next_path, quote=True)}'>"
         "<label>Team access token <input type=password name=token autofocus required></label> "
         "<button>Sign in</button></form></body>", status_code=status)
+
+
+class SocketGuard:
+    """Pure ASGI middleware for websockets (the viewer's /viser/{key}), which HTTP middleware never sees: the access
+    rule as for the API, and at most ``per_user`` open at once per user (Access.user). A refusal closes the socket
+    before it is accepted (the server answers the handshake with 403)."""
+
+    def __init__(self, app, access: Access, per_user: int):
+        self.app, self.access, self.per_user = app, access, max(1, int(per_user))
+        self.open: dict[str, int] = {}
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "websocket":
+            return await self.app(scope, receive, send)
+        conn = HTTPConnection(scope)
+        if not self.access.allowed(conn):
+            return await WebSocket(scope, receive, send).close(1008, "Sign in first (the team token or the lab's "
+                                                                     "sign-in proxy).")
+        who = self.access.user(conn)
+        if self.open.get(who, 0) >= self.per_user:
+            return await WebSocket(scope, receive, send).close(
+                1013, f"At most {self.per_user} open viewers per user (ERA_VIEWER_CONNECTIONS): close one.")
+        self.open[who] = self.open.get(who, 0) + 1
+        try:
+            await self.app(scope, receive, send)
+        finally:
+            self.open[who] -= 1
+            if not self.open[who]:
+                del self.open[who]

@@ -78,6 +78,8 @@ class Settings:
     expire_days: float = 30.0
     #: Start the viser mode-shape viewer (app/viewer/); ERA_VIEWER=0 turns it off.
     viewer: bool = True
+    #: Viewer websockets one user (the proxy's user, else one address) holds open at once; more are refused.
+    viewer_connections: int = 16
     #: Campaigns (app/campaigns.py): the Dask scheduler their records run on (tcp://host:8786); None: local processes.
     dask_scheduler: str | None = None
     #: Local processes one campaign uses when there is no scheduler (0: half the cores, at least 1).
@@ -97,8 +99,9 @@ class Settings:
 def from_env() -> Settings:
     """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
     ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE, ERA_ACCESS_TOKEN,
-    ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS, ERA_VIEWER (0 turns the viser viewer off) and the campaigns'
-    ERA_DASK_SCHEDULER, ERA_CAMPAIGN_WORKERS, ERA_CAMPAIGN_ROOT, ERA_MAX_CAMPAIGN_RECORDS and ERA_CAMPAIGN_QUEUE."""
+    ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS, ERA_VIEWER (0 turns the viser viewer off), ERA_VIEWER_CONNECTIONS and the
+    campaigns' ERA_DASK_SCHEDULER, ERA_CAMPAIGN_WORKERS, ERA_CAMPAIGN_ROOT, ERA_MAX_CAMPAIGN_RECORDS and
+    ERA_CAMPAIGN_QUEUE."""
     base = Settings()
     return replace(
         base,
@@ -115,6 +118,7 @@ def from_env() -> Settings:
         trust_user_header=_env("ERA_TRUST_USER_HEADER", None, str),
         expire_days=_env("ERA_EXPIRE_DAYS", base.expire_days, float),
         viewer=_env("ERA_VIEWER", 1, int) != 0,
+        viewer_connections=_env("ERA_VIEWER_CONNECTIONS", base.viewer_connections, int),
         dask_scheduler=_env("ERA_DASK_SCHEDULER", None, str),
         campaign_workers=_env("ERA_CAMPAIGN_WORKERS", base.campaign_workers, int),
         campaign_root=_env("ERA_CAMPAIGN_ROOT", None, Path),

@@ -25,7 +25,7 @@ from swagger_ui_bundle import swagger_ui_path
 import era
 
 from . import config, housekeeping, schemas, viewing
-from .access import Access
+from .access import Access, SocketGuard
 from .cache import Cache
 from .campaigns import Campaigns
 from .errors import NotFound
@@ -217,6 +217,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     app.mount("/static", StaticFiles(directory=config.STATIC_DIR), name="static")
     _api_docs(app)
     _errors_are_json(app)
+    app.add_middleware(SocketGuard, access=access, per_user=settings.viewer_connections)
     # Outermost: refuse oversized bodies before anything reads them.
     app.add_middleware(UploadLimit, limit=settings.max_upload_bytes)
     return app
