@@ -18,6 +18,7 @@ from .stabilization import StableMode, Stabilization, stabilization
 # modes in one click (issue 25): the default analysis and the automatic choice of the structure's modes
 from .choice import Candidate, ModeChoice, choose_modes
 from .analysis import AnalysisResult, analyse
+from .setups import SetupMerge, merge_setups  # multi-setup tests (issue 26): one shape through the references
 
 # test data in (issue 3): readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz

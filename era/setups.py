@@ -1,0 +1,456 @@
+"""merge_setups(): one mode shape over several setups of a test through the reference sensors they share (issue 26).
+
+A multi-setup ambient test (a building, a bridge) keeps a few reference sensors in place while the others rove over
+the structure, one setup at a time. Each setup is identified on its own (era.analyse); its shapes are known only up to
+a complex factor per mode, different in every setup. The references are in every setup, so each setup's part of a
+mode can be brought onto one scale by the factor that best maps its reference components onto the others'
+(post-identification rescaling, "PoSER": Döhler, Reynders, Magalhães, Mevel, De Roeck & Cunha, IMAC 2010; pyOMA2's
+MultiSetup_PoSER). Unlike pyOMA2, the modes need not be picked by hand in the same order in every setup: they are
+paired here by frequency and reference MAC, and a mode some setups missed is kept (see merge_setups).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from . import indicators
+from .errors import DataError
+from .modal import ModalModel
+
+#: Two setups' modes are the same mode only if their frequencies differ by at most this fraction ...
+FREQUENCY_TOLERANCE = 0.03
+#: ... and their reference components have a MAC of at least this.
+MIN_REFERENCE_MAC = 0.9
+#: A setup's part of a mode cannot be scaled when its references move less than this (the shape's largest
+#: component is 1): the references sit near a node of that mode.
+MIN_REFERENCE_LEVEL = 0.05
+#: A mode is kept when this many setups saw it (fewer when there are fewer setups).
+MIN_SETUPS = 2
+#: The reasons (era.choice.REASONS) for which a setup's cluster, left out by era.analyse for want of evidence alone,
+#: may be taken as a mode other setups confirm (see merge_setups, ``recover``).
+RECOVERABLE = ("orders", "noise")
+
+_FORBIDDEN = 1e6
+
+
+@dataclass(frozen=True)
+class DroppedMode:
+    """A setup's mode that is not in the merged model: setup (0-based), index (in that setup's model),
+    frequency_hz, and the reason in words."""
+
+    setup: int
+    index: int
+    frequency_hz: float
+    reason: str
+
+
+@dataclass(frozen=True, eq=False)
+class SetupMerge:
+    """What :func:`merge` found.
+
+    model : the merged era.ModalModel (see :func:`merge_setups`).
+    members : (modes, setups) int, each merged mode's index in each setup's model, -1 where that setup did not see it.
+    scales : (modes, setups) complex, the factor each setup's shape was multiplied by (before the final
+        normalisation), NaN where not seen.
+    reference_mac : (modes, setups), MAC of each setup's reference components with the merged ones, NaN where not seen.
+    reference_residual : (modes, setups), |r̄ - α r_k| / |r̄| after the scale α: how far the references disagree.
+    point_setup : (n_points,) int, the setup each point was measured in, -1 for the references (every setup).
+    dropped : every setup mode left out, with its reason.
+    recovered : (modes, setups) bool, True where a setup's part of the shape is a cluster era.analyse had left out
+        for want of evidence (``recover``), its index in ``recovered_from`` (the setup's ``choice.rejected``).
+    """
+
+    model: ModalModel
+    members: np.ndarray
+    scales: np.ndarray
+    reference_mac: np.ndarray
+    reference_residual: np.ndarray
+    point_setup: np.ndarray
+    dropped: tuple
+    recovered: np.ndarray
+    recovered_from: np.ndarray
+
+    @property
+    def complete(self) -> np.ndarray:
+        """(modes,) bool: its shape is known in every setup (chosen or recovered), so its point shape has no NaN."""
+        return np.all((self.members >= 0) | self.recovered, axis=1)
+
+
+def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE,
+                 min_reference_mac: float = MIN_REFERENCE_MAC, min_reference_level: float = MIN_REFERENCE_LEVEL,
+                 min_setups: int = MIN_SETUPS, recover: bool = True) -> ModalModel:
+    """The modes of a multi-setup test, each with one shape over every point of every setup.
+
+    Parameters
+    ----------
+    analyses : list of era.AnalysisResult (or era.ModalModel), one per setup, in the order of the test.
+    references : list (one per setup) of sequences of int, the indices of that setup's reference channels among its
+        outputs: the same physical sensors, in the same order, in every setup.
+    frequency_tolerance : two setups' modes are paired only within this relative frequency difference.
+    min_reference_mac : ... and when the MAC of their reference components is at least this.
+    min_reference_level : a setup's part of a mode whose reference components are all below this (its largest
+        component being 1) cannot be scaled (the references are near a node of it): it is left out, with the reason.
+    min_setups : a merged mode must have been seen in at least this many setups (at most the number of setups).
+    recover : where a setup did not choose a mode that ``min_setups`` others did, take that setup's part of the
+        shape from a cluster of its own diagram that era.analyse left out for want of evidence alone (reason
+        "orders" or "noise", era.choice) when it matches the mode in frequency (``frequency_tolerance``) and in
+        its reference components (``min_reference_mac``, ``min_reference_level``): the other setups have
+        confirmed that the mode exists, so the question "is this weak cluster a mode?" is answered. Only the shape
+        is taken from it; frequency and damping come from the setups that chose the mode. Needs era.analyse
+        results (a ModalModel has no diagram).
+
+    Returns
+    -------
+    era.ModalModel with
+        points : the references (labelled as in the first setup), then each setup's roving channels in setup order,
+            each label once (prefixed "S<k>:" when labels repeat across setups, as y1, y2, ... from NExT do);
+        point_shapes : (n_points, modes) complex, largest component 1; NaN at the points of a setup that did not
+            see the mode; shapes is the same array and outputs the same labels;
+        frequency_hz, damping_ratio : combined over the setups that saw the mode, weighted by 1/σ² where every σ is
+            finite (else the plain mean); frequency_std_hz, damping_std : 1/sqrt(Σ 1/σ²), widened by the setups'
+            scatter when they disagree by more than their σ (sqrt of χ²/(k-1) when above 1; the setups of a test
+            are hours apart and the structure changes with temperature), NaN when not all σ are finite;
+        emac : the mean over the setups; mpc : of the merged shape (its finite points); contribution : the mean of
+            each setup's contribution over that setup's largest (1 is the strongest mode);
+        A, B, C : NOT a realization of any record (each setup has its own excitation and NExT scaling, so there is
+            no common input matrix): A is the real modal form of the merged eigenvalues (2 × 2 blocks as in
+            ModalModel.select), C maps it to the points (2 Re φ, -2 Im φ), B has no columns (inputs = ()), so
+            ``order``, ``z`` and ``eigenvalues`` agree with the merged modes and ``reconstruct`` has nothing to say.
+
+    A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed in
+    a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real evidence,
+    and its shape is known where it was measured (and where ``recover`` found it). At the other setups' points the
+    shape is NaN, not 0: a zero would claim a node there. :func:`merge` says which modes are complete. A mode seen
+    in one setup only is dropped (its pairing cannot be confirmed through the references, and its shape would be
+    unknown at most points).
+
+    Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
+    alone and a wrong reference cannot be told.
+
+    Raises era.DataError when the setups and references do not match (counts, indices out of range, repeated), a
+    setup has no modes, or a setup's references do not move like the others' (its modes agree in frequency with the
+    other setups' but their reference components do not: the wrong channels were named as references).
+    """
+    return merge(analyses, references, frequency_tolerance=frequency_tolerance,
+                 min_reference_mac=min_reference_mac, min_reference_level=min_reference_level,
+                 min_setups=min_setups, recover=recover).model
+
+
+def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE,
+          min_reference_mac: float = MIN_REFERENCE_MAC, min_reference_level: float = MIN_REFERENCE_LEVEL,
+          min_setups: int = MIN_SETUPS, recover: bool = True) -> SetupMerge:
+    """:func:`merge_setups` with its evidence: which setup mode went where, the scales, the reference agreement,
+    and every mode left out with its reason (parameters as there)."""
+    analyses = list(analyses)
+    models, refs = _checked(analyses, references)
+    n_setups = len(models)
+    min_setups = max(1, min(int(min_setups), n_setups))
+    groups, dropped = _pair(models, refs, frequency_tolerance, min_reference_mac, min_reference_level)
+
+    kept = []
+    for g in groups:
+        seen = [k for k in range(n_setups) if g[k] >= 0]
+        if len(seen) >= min_setups:
+            kept.append(g)
+            continue
+        for k in seen:
+            dropped.append(DroppedMode(k, int(g[k]), float(models[k].frequency_hz[g[k]]),
+                                       f"seen in {len(seen)} of {n_setups} setups (at least {min_setups} needed): no "
+                                       "other setup confirms it through the references"))
+    members = np.array(kept, dtype=int).reshape(-1, n_setups)
+    order = np.argsort([_mean_frequency(models, m) for m in members], kind="stable")
+    members = members[order]
+
+    found = {}
+    if recover:
+        found = _recover(analyses, models, refs, members, frequency_tolerance, min_reference_mac, min_reference_level)
+    recovered = np.zeros(members.shape, bool)
+    recovered_from = np.full(members.shape, -1)
+    for (m, k), (i, _) in found.items():
+        recovered[m, k], recovered_from[m, k] = True, i
+
+    labels, point_setup = _points(models, refs)
+    shapes, scales, rmac, resid = _scaled_shapes(models, refs, members, len(labels), found)
+    model = _merged_model(models, members, shapes, labels)
+    return SetupMerge(model=model, members=members, scales=scales, reference_mac=rmac, reference_residual=resid,
+                      point_setup=point_setup, dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
+                      recovered=recovered, recovered_from=recovered_from)
+
+
+# ---- checks -----------------------------------------------------------------------------------------------------
+def _checked(analyses, references) -> tuple[list[ModalModel], list[np.ndarray]]:
+    analyses = list(analyses)
+    references = list(references)
+    if not analyses:
+        raise DataError("merge_setups needs at least one setup (a list of era.analyse results).")
+    if len(references) != len(analyses):
+        raise DataError(f"{len(analyses)} setups but {len(references)} reference lists: give each setup the indices "
+                        "of its reference channels.")
+    models, refs = [], []
+    for k, (a, r) in enumerate(zip(analyses, references)):
+        model = getattr(a, "model", a)
+        if not isinstance(model, ModalModel):
+            raise DataError(f"Setup {k + 1} is a {type(a).__name__}; give era.analyse(...) results (or ModalModels).")
+        p = model.shapes.shape[0]
+        try:
+            idx = np.asarray(r, dtype=int).reshape(-1)
+        except (TypeError, ValueError):
+            raise DataError(f"Setup {k + 1}'s references {r!r} are not channel indices.") from None
+        if idx.size == 0:
+            raise DataError(f"Setup {k + 1} names no reference channel: the setups can only be joined through "
+                            "sensors that stay in place.")
+        if np.any(idx < 0) or np.any(idx >= p):
+            raise DataError(f"Setup {k + 1}'s reference indices {idx.tolist()} are out of range: it has {p} channels "
+                            f"(0..{p - 1}).")
+        if np.unique(idx).size != idx.size:
+            raise DataError(f"Setup {k + 1} names a reference channel twice: {idx.tolist()}.")
+        if idx.size != len(refs[0] if refs else idx):
+            raise DataError(f"Setup {k + 1} has {idx.size} reference channels where setup 1 has {len(refs[0])}: the "
+                            "references must be the same sensors, in the same order, in every setup.")
+        if model.n_modes == 0:
+            raise DataError(f"Setup {k + 1} has no modes (era.analyse chose none): nothing of it can be merged. "
+                            "Check its records, or leave it out.")
+        models.append(model)
+        refs.append(idx)
+    return models, refs
+
+
+# ---- pairing ----------------------------------------------------------------------------------------------------
+def _pair(models, refs, tol, min_mac, min_level):
+    """Groups: a list of (setups,) int arrays, one per distinct mode (its index in each setup, -1 where not seen),
+    built setup by setup by an optimal assignment (frequency and reference MAC); and the modes that cannot be
+    scaled (references near a node)."""
+    n_setups = len(models)
+    dropped = []
+    groups: list[np.ndarray] = []
+    for k, model in enumerate(models):
+        r = model.shapes[refs[k]]
+        level = np.max(np.abs(r), axis=0) / np.maximum(np.max(np.abs(model.shapes), axis=0), 1e-300)
+        usable = np.flatnonzero(level >= min_level)
+        for j in np.flatnonzero(level < min_level):
+            dropped.append(DroppedMode(k, int(j), float(model.frequency_hz[j]),
+                                       f"its reference components are at most {level[j]:.3f} of its largest: the "
+                                       "references sit near a node of this mode, so this setup's part of it cannot be "
+                                       "scaled to the others'; put a reference where it moves"))
+        if not groups:
+            groups = [_new_group(n_setups, k, j) for j in usable]
+            continue
+        f_new = model.frequency_hz[usable]
+        f_old = np.array([_mean_frequency(models, g) for g in groups])
+        r_old = np.stack([_anchor_references(models, refs, g) for g in groups], axis=1)
+        mac = indicators.mac(r_old, r[:, usable])  # (groups, usable)
+        df = np.abs(f_old[:, None] - f_new[None, :]) / np.maximum(f_old[:, None], 1e-300)
+        near = df <= tol
+        _check_references(k, refs[k], near, mac, min_mac, f_new)
+        ok = near & (mac >= min_mac)
+        cost = np.where(ok, (df / tol) ** 2 + (1 - mac) / max(1 - min_mac, 1e-12), _FORBIDDEN)
+        rows, cols = linear_sum_assignment(cost)
+        taken = set()
+        for i, c in zip(rows, cols):
+            if ok[i, c]:
+                groups[i][k] = usable[c]
+                taken.add(c)
+        groups += [_new_group(n_setups, k, usable[c]) for c in range(usable.size) if c not in taken]
+    return groups, dropped
+
+
+def _check_references(k, idx, near, mac, min_mac, f_new):
+    """A setup whose modes agree with the earlier setups' in frequency but mostly not in their reference components
+    named the wrong channels (or the right ones in another order) as references."""
+    rows, cols = linear_sum_assignment(np.where(near, 0.0, 1.0))  # as many frequency matches as possible
+    matched = [(i, c) for i, c in zip(rows, cols) if near[i, c]]
+    bad = [(i, c) for i, c in matched if mac[i, c] < min_mac]
+    if matched and 2 * len(bad) >= len(matched):
+        detail = ", ".join(f"{f_new[c]:.4g} Hz MAC {mac[i, c]:.2f}" for i, c in bad)
+        raise DataError(f"Setup {k + 1}'s reference channels {idx.tolist()} do not move like those of the setups "
+                        f"before it: {len(bad)} of its {len(matched)} modes that match theirs in frequency do not "
+                        f"match in the reference components ({detail}; at least {min_mac} expected). Check "
+                        f"references[{k}] (or the earlier setups' references): the same sensors, in the same order, "
+                        "in every setup.")
+
+
+def _new_group(n_setups, k, j) -> np.ndarray:
+    g = np.full(n_setups, -1, dtype=int)
+    g[k] = j
+    return g
+
+
+def _mean_frequency(models, g) -> float:
+    return float(np.mean([models[k].frequency_hz[j] for k, j in enumerate(g) if j >= 0]))
+
+
+def _anchor_references(models, refs, g) -> np.ndarray:
+    k = int(np.flatnonzero(g >= 0)[0])
+    return models[k].shapes[refs[k], g[k]]
+
+
+def _recover(analyses, models, refs, members, tol, min_mac, min_level) -> dict:
+    """{(mode, setup): (index in that setup's choice.rejected, shape (p,))} for the merged modes a setup did not
+    choose, from its clusters rejected for want of evidence that match the mode in frequency and references (one
+    cluster per mode, an optimal assignment per setup)."""
+    found = {}
+    for k, a in enumerate(analyses):
+        choice = getattr(a, "choice", None)
+        missing = np.flatnonzero(members[:, k] < 0)
+        if choice is None or missing.size == 0:
+            continue
+        pool = [(i, c) for i, c in enumerate(choice.rejected) if c.code in RECOVERABLE
+                and np.asarray(c.shape).shape == (models[k].shapes.shape[0],)]
+        if not pool:
+            continue
+        shapes = np.stack([np.asarray(c.shape, dtype=complex) for _, c in pool], axis=1)
+        r = shapes[refs[k]]
+        level = np.max(np.abs(r), axis=0) / np.maximum(np.max(np.abs(shapes), axis=0), 1e-300)
+        f_c = np.array([c.frequency_hz for _, c in pool])
+        f_m = np.array([_mean_frequency(models, members[m]) for m in missing])
+        r_m = np.stack([_anchor_references(models, refs, members[m]) for m in missing], axis=1)
+        mac = indicators.mac(r_m, r)
+        df = np.abs(f_m[:, None] - f_c[None, :]) / np.maximum(f_m[:, None], 1e-300)
+        ok = (df <= tol) & (mac >= min_mac) & (level >= min_level)[None, :]
+        if not ok.any():
+            continue
+        cost = np.where(ok, (df / tol) ** 2 + (1 - mac) / max(1 - min_mac, 1e-12), _FORBIDDEN)
+        for i, c in zip(*linear_sum_assignment(cost)):
+            if ok[i, c]:
+                found[(int(missing[i]), k)] = (pool[c][0], shapes[:, c])
+    return found
+
+
+# ---- shapes -----------------------------------------------------------------------------------------------------
+def _points(models, refs) -> tuple[tuple, np.ndarray]:
+    """The point labels (references first, then each setup's roving channels) and the setup of each point."""
+    ref_labels = [_label(models[0], i) for i in refs[0]]
+    roving = [[i for i in range(models[k].shapes.shape[0]) if i not in set(refs[k].tolist())]
+              for k in range(len(models))]
+    rov_labels = [[_label(models[k], i) for i in roving[k]] for k in range(len(models))]
+    flat = ref_labels + [x for labels in rov_labels for x in labels]
+    if len(set(flat)) != len(flat):  # generic channel names repeat from setup to setup
+        rov_labels = [[f"S{k + 1}:{x}" for x in labels] for k, labels in enumerate(rov_labels)]
+        flat = ref_labels + [x for labels in rov_labels for x in labels]
+    setup = np.concatenate([np.full(len(ref_labels), -1)] + [np.full(len(r), k) for k, r in enumerate(roving)])
+    return tuple(flat), setup.astype(int)
+
+
+def _label(model, i) -> str:
+    return str(model.outputs[i]) if i < len(model.outputs) else f"ch{i}"
+
+
+def _scaled_shapes(models, refs, members, n_points, found):
+    """Each mode's merged shape: every setup's part (chosen, or recovered: ``found``) times the complex
+    α_k = r_k^H r_a / r_k^H r_k that best maps its reference components r_k onto the first seeing setup's r_a (least
+    squares); the references the mean of the scaled ones. Largest component 1. Also the scales, each setup's
+    reference MAC with the mean and its residual |r̄ - α_k r_k| / |r̄|, (modes, setups)."""
+    n_modes, n_setups = members.shape
+    n_ref = len(refs[0])
+    shapes = np.full((n_points, n_modes), np.nan + 0j)
+    scales = np.full((n_modes, n_setups), np.nan + 0j)
+    rmac = np.full((n_modes, n_setups), np.nan)
+    resid = np.full((n_modes, n_setups), np.nan)
+    for m, g in enumerate(members):
+        r_a = _anchor_references(models, refs, g)
+        ref_sum = np.zeros(n_ref, complex)
+        seen = 0
+        row = n_ref
+        for k, model in enumerate(models):
+            mask = np.ones(model.shapes.shape[0], bool)
+            mask[refs[k]] = False
+            n_rov = int(mask.sum())
+            phi = model.shapes[:, g[k]] if g[k] >= 0 else found.get((m, k), (None, None))[1]
+            if phi is not None:
+                r_k = phi[refs[k]]
+                alpha = np.vdot(r_k, r_a) / np.vdot(r_k, r_k)
+                scales[m, k] = alpha
+                shapes[row:row + n_rov, m] = alpha * phi[mask]
+                ref_sum += alpha * r_k
+                seen += 1
+            row += n_rov
+        r_bar = ref_sum / seen
+        shapes[:n_ref, m] = r_bar
+        for k, model in enumerate(models):
+            if np.isfinite(scales[m, k]):
+                phi = model.shapes[:, g[k]] if g[k] >= 0 else found[(m, k)][1]
+                r_k = phi[refs[k]]
+                rmac[m, k] = indicators.mac(r_bar, r_k)[0, 0]
+                resid[m, k] = np.linalg.norm(r_bar - scales[m, k] * r_k) / np.linalg.norm(r_bar)
+        finite = np.isfinite(shapes[:, m])
+        big = np.flatnonzero(finite)[np.argmax(np.abs(shapes[finite, m]))]
+        scale = shapes[big, m]
+        shapes[:, m] /= scale
+        scales[m] /= scale
+    return shapes, scales, rmac, resid
+
+
+# ---- the merged model -------------------------------------------------------------------------------------------
+def _merged_model(models, members, shapes, labels) -> ModalModel:
+    n_modes = members.shape[0]
+    first = models[0]
+    dt = first.dt
+    f = np.empty(n_modes)
+    f_sd = np.empty(n_modes)
+    zeta = np.empty(n_modes)
+    zeta_sd = np.empty(n_modes)
+    gamma = np.empty(n_modes)
+    contrib = np.empty(n_modes)
+    pair = np.empty(n_modes, bool)
+    sources = set()
+    for m, g in enumerate(members):
+        seen = [(k, j) for k, j in enumerate(g) if j >= 0]
+        f[m], f_sd[m] = combine([models[k].frequency_hz[j] for k, j in seen],
+                                [models[k]._std(models[k].frequency_std_hz)[j] for k, j in seen])
+        zeta[m], zeta_sd[m] = combine([models[k].damping_ratio[j] for k, j in seen],
+                                      [models[k]._std(models[k].damping_std)[j] for k, j in seen])
+        gamma[m] = np.mean([models[k].emac[j] for k, j in seen])
+        contrib[m] = np.mean([models[k].contribution[j] / np.max(models[k].contribution) for k, j in seen])
+        pair[m] = all(models[k].is_pair[j] for k, j in seen)
+        sources.update(models[k].uncertainty_source for k, _ in seen)
+    wd = 2 * np.pi * f
+    s = -zeta * wd / np.sqrt(np.maximum(1 - zeta**2, 1e-300)) + 1j * wd  # damped frequency f, ratio ζ
+    for m in np.flatnonzero(~pair):  # a real pole (no frequency to weigh): the mean of the setups' s
+        s[m] = np.mean([models[k].eigenvalues[j] for k, j in enumerate(members[m]) if j >= 0]).real
+    z = np.exp(s * dt)
+    mu = np.array([indicators.mpc(shapes[np.isfinite(shapes[:, m]), m:m + 1])[0] for m in range(n_modes)])
+    A, C = _modal_form(z, shapes, pair)
+    sources.discard("")
+    source = f"combined over {len(models)} setups" + (f" ({'; '.join(sorted(sources))})" if sources else "")
+    return ModalModel(A=A, B=np.zeros((A.shape[0], 0)), C=C, dt=dt, z=z, shapes=shapes,
+                      amplitudes=np.zeros((n_modes, 0), complex), emac=gamma, mpc=mu, contribution=contrib,
+                      is_pair=pair, outputs=labels, inputs=(), method=first.method, frequency_std_hz=f_sd,
+                      damping_std=zeta_sd, uncertainty_source=source, points=labels, point_shapes=shapes)
+
+
+def _modal_form(z, shapes, pair):
+    """A in real modal form (a 2 × 2 block [[Re z, -Im z], [Im z, Re z]] per pair) and C = [2 Re φ, -2 Im φ]."""
+    n = int(np.sum(np.where(pair, 2, 1)))
+    A, C = np.zeros((n, n)), np.zeros((shapes.shape[0], n))
+    k = 0
+    for j in range(len(z)):
+        if pair[j]:
+            A[k:k + 2, k:k + 2] = [[z[j].real, -z[j].imag], [z[j].imag, z[j].real]]
+            C[:, k], C[:, k + 1] = 2 * shapes[:, j].real, -2 * shapes[:, j].imag
+            k += 2
+        else:
+            A[k, k], C[:, k] = z[j].real, shapes[:, j].real
+            k += 1
+    return A, C
+
+
+def combine(values, stds) -> tuple[float, float]:
+    """One estimate from several setups' (value, σ): the 1/σ²-weighted mean and its σ = 1/sqrt(Σ 1/σ²), widened
+    by sqrt(χ²/(k-1)) when the values scatter more than their σ say (Birge's ratio); the plain mean and σ NaN when
+    a σ is not finite (or not positive)."""
+    x = np.asarray(values, dtype=float)
+    sd = np.asarray(stds, dtype=float)
+    if x.size == 0:
+        return np.nan, np.nan
+    if not np.all(np.isfinite(sd) & (sd > 0)):
+        return float(np.mean(x)), np.nan
+    w = 1 / sd**2
+    mean = float(np.sum(w * x) / np.sum(w))
+    sigma = float(1 / np.sqrt(np.sum(w)))
+    if x.size > 1:
+        chi2 = float(np.sum(w * (x - mean) ** 2))
+        sigma *= np.sqrt(max(1.0, chi2 / (x.size - 1)))
+    return mean, sigma
