@@ -463,10 +463,10 @@ class ExplainBasis(Schema):
     hankel_cols: int = Field(description="s, block columns")
     hankel_shape: list[int] = Field(description="[r·p, s·m] of H(0)")
     orders: list[int] = Field(description="orders the modes were tracked over (their spread is the measurement error)")
-    modes: Literal["stable", "kept"] = Field(description="stable: the modes era.choose_modes chose (the table's "
-                                                         "default ticks); kept: the modes kept at one order")
-    order: int | None = Field(description="the order the modes were read at (the choice's or the kept one)")
-    kept: list[int] | None = Field(description="their indices at that order")
+    modes: Literal["stable", "kept"] = Field(description="stable: every mode stable over the orders; kept: the "
+                                                         "modes kept at one order")
+    order: int | None = Field(description="the order the modes were kept at (modes = kept), else null")
+    kept: list[int] | None = Field(description="their indices at that order (modes = kept), else null")
     text: str = Field(description="the same in one sentence, as the panel shows it")
 
 
