@@ -357,10 +357,12 @@ class StoreUsage(Schema):
 class Health(Schema):
     status: str = Field(description="ok when the server answers")
     version: str = Field(description="era-modal version of this server (era.__version__)")
-    store: str = Field(description="the index database: sqlite or postgresql")
-    schema_revision: str = Field(description="its migration revision (app/store/migrations)")
-    usage: StoreUsage = Field(description="what the store holds")
-    expire_days: float = Field(description="datasets and analyses in no report are deleted after this, days (0: never)")
+    store: str | None = Field(description="the index database: sqlite or postgresql (null: not signed in to a "
+                                          "restricted server, as the next three)")
+    schema_revision: str | None = Field(description="its migration revision (app/store/migrations)")
+    usage: StoreUsage | None = Field(description="what the store holds")
+    expire_days: float | None = Field(description="datasets and analyses in no report are deleted after this, days "
+                                                  "(0: never)")
     access: str = Field(description="open, or restricted (a team token or a sign-in proxy)")
 
 
@@ -463,10 +465,10 @@ class ExplainBasis(Schema):
     hankel_cols: int = Field(description="s, block columns")
     hankel_shape: list[int] = Field(description="[r·p, s·m] of H(0)")
     orders: list[int] = Field(description="orders the modes were tracked over (their spread is the measurement error)")
-    modes: Literal["stable", "kept"] = Field(description="stable: every mode stable over the orders; kept: the "
-                                                         "modes kept at one order")
-    order: int | None = Field(description="the order the modes were kept at (modes = kept), else null")
-    kept: list[int] | None = Field(description="their indices at that order (modes = kept), else null")
+    modes: Literal["stable", "kept"] = Field(description="stable: the modes era.choose_modes chose (the table's "
+                                                         "default ticks); kept: the modes kept at one order")
+    order: int | None = Field(description="the order the modes were read at (the choice's or the kept one)")
+    kept: list[int] | None = Field(description="their indices at that order")
     text: str = Field(description="the same in one sentence, as the panel shows it")
 
 

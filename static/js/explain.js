@@ -1,5 +1,5 @@
-// Panel "Simulation vs test" (issues 5, 9): runs era.explain on the current analysis (its H(0); the modes stable over
-// several orders, or the modes kept in the table at the current order) against the dataset's structure model
+// Panel "Simulation vs test" (issues 5, 9): runs era.explain on the current analysis (its H(0); the modes era chose,
+// or the modes kept in the table at the current order) against the dataset's structure model
 // (model.js) or, for the grid example without one, the NASA grid model, then draws
 // the result with explain_view.js, which says what was used (basis). The server stores it with the analysis, so a reload shows it
 // again and a report created afterwards includes it. The 3-D viewers show the measured shapes expanded to all
