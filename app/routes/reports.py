@@ -8,7 +8,7 @@ from pydantic import BaseModel, Field
 
 import era
 
-from .. import explaining, reporting, schemas
+from .. import explaining, reporting, schemas, viewing
 from ..choosing import Diagram
 from ..errors import NotFound
 from ..store import new_token
@@ -60,7 +60,8 @@ async def create(request: Request, body: ReportRequest):
         model = c.model(a, order)
         kept = era.kept_modes(model, modes)
         recorded = kept.tolist()[:MAX_RECORDINGS] if viewer is not None else []
-        files = {_recording_name(k): viewer.record(a.geometry, model.frequency_hz, model.shapes, k) for k in recorded}
+        geometry, frequency_hz, shapes, _ = viewing.modes_scene(a, model)  # at every point measured or struck
+        files = {_recording_name(k): viewer.record(geometry, frequency_hz, shapes, k) for k in recorded}
         recordings = {str(k): _recording_name(k) for k in recorded}
         structure = c.store.model(a.dataset_id)
         explanation = explaining.for_report(c.store.explanation(a.id), c.store.explanation_responses(a.id), structure)

@@ -22,7 +22,10 @@ def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_pa
     folder = require_shared(MODELAB)
     paths = [folder / f"ASCII0000{k}" / f"Hxysv0000{k}.txt" for k in range(1, 10)] + [folder / "setup.csv"]
     parts = [("file", (p.name, p.read_bytes(), "application/octet-stream")) for p in paths]
-    with client(tmp_path) as c:
+    with client(tmp_path, viewer=True) as c:
+        recorded = []  # what the report's mode-shape recordings are drawn on
+        record = c.app.state.viewer.record
+        c.app.state.viewer.record = lambda g, f, psi, k: recorded.append((g, psi)) or record(g, f, psi, k)
         r = c.post("/api/datasets", files=parts, data={"band_hz": "65,1000"})
         assert r.status_code == 200, r.text
         ds = r.json()
@@ -47,6 +50,8 @@ def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_pa
         token = c.post("/api/reports", json={"analysis_id": a["id"], "order": order, "modes": chosen}).json()["token"]
         report = c.get(f"/api/reports/{token}").json()
         assert report["geometry"]["channel_nodes"] == list(range(9))  # the report's animation: the nine points
+        assert len(recorded) == 4 and all(g.channel_nodes.tolist() == list(range(9)) and psi.shape[0] == 9
+                                          for g, psi in recorded)
         blob = c.get(f"/api/reports/{token}/modes.uff").content
         rows = list(csv.DictReader(io.StringIO(c.get(f"/api/reports/{token}/modes.csv").text)))
     path = tmp_path / "modes.uff"
