@@ -34,6 +34,16 @@ def _env(name: str, default, cast):
         raise SystemExit(f"Environment variable {name}={raw!r} is not a valid {cast.__name__}.") from None
 
 
+def rate(raw: str) -> int:
+    """Requests per minute from a rate as the README writes it: ``1200``, ``1200/min``, ``20/s``, ``72000/h``."""
+    count, _, per = raw.strip().partition("/")
+    seconds = {"": 60, "s": 1, "sec": 1, "second": 1, "m": 60, "min": 60, "minute": 60, "h": 3600, "hour": 3600}
+    unit = per.strip().lower()
+    if unit not in seconds or not count.strip().isdigit():
+        raise ValueError(raw)
+    return max(1, round(int(count) * 60 / seconds[unit]))
+
+
 @dataclass(frozen=True)
 class Settings:
     """Limits and places. Build from the environment with :func:`from_env`, or directly in tests."""
@@ -110,8 +120,8 @@ def from_env() -> Settings:
         max_upload_bytes=int(_env("ERA_MAX_UPLOAD_MB", base.max_upload_bytes / 2**20, float) * 2**20),
         max_hankel_elements=_env("ERA_MAX_HANKEL_ELEMENTS", base.max_hankel_elements, int),
         max_order=_env("ERA_MAX_ORDER", base.max_order, int),
-        rate_limit_per_minute=_env("ERA_RATE_LIMIT", base.rate_limit_per_minute, int),
-        rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, int),
+        rate_limit_per_minute=_env("ERA_RATE_LIMIT", base.rate_limit_per_minute, rate),
+        rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, rate),
         heavy_workers=_env("ERA_HEAVY_WORKERS", base.heavy_workers, int),
         heavy_queue=_env("ERA_HEAVY_QUEUE", base.heavy_queue, int),
         access_token=_env("ERA_ACCESS_TOKEN", None, str),

@@ -1,6 +1,7 @@
 """Housekeeping: datasets and analyses that no report uses are deleted ``ERA_EXPIRE_DAYS`` after they were made;
-reports (and what they froze) are kept. Runs at start and every hour, in a thread; several app processes may run
-it at once (deleting is idempotent)."""
+reports (and what they froze) are kept; what a killed process left half-written (a report folder never indexed,
+temporary files) goes ORPHAN_AFTER_S after its last change. Runs at start and every hour, in a thread; several app
+processes may run it at once (deleting is idempotent)."""
 
 from __future__ import annotations
 
@@ -14,16 +15,21 @@ from .store.staging import IMPORT_TTL_S
 log = logging.getLogger("app.housekeeping")
 #: Seconds between sweeps.
 EVERY_S = 3600.0
+#: A half-written report folder or temporary file this old (s since its last change) is a killed process's: no
+#: write of the app takes this long, so another process's write in progress is never removed.
+ORPHAN_AFTER_S = 600.0
 
 
 def sweep(store: Store, expire_days: float, now: float | None = None) -> dict:
     """Delete what expired by ``now`` (Unix s); returns the counts. ``expire_days`` ≤ 0 keeps every dataset and
-    analysis; uploads never turned into a dataset (the import step's) go a day after they came, always."""
+    analysis; uploads never turned into a dataset (the import step's) go a day after they came, and what killed
+    processes left half-written (``orphans``) ORPHAN_AFTER_S after its last change, always."""
     now = time.time() if now is None else now
     imports = store.staging.expire(before=now - IMPORT_TTL_S)
+    orphans = store.sweep_orphans(before=now - ORPHAN_AFTER_S)
     if expire_days <= 0:
-        return {"analyses": 0, "datasets": 0, "imports": imports}
-    return dict(store.expire(before=now - 86400.0 * expire_days), imports=imports)
+        return {"analyses": 0, "datasets": 0, "imports": imports, "orphans": orphans}
+    return dict(store.expire(before=now - 86400.0 * expire_days), imports=imports, orphans=orphans)
 
 
 async def sweep_forever(store: Store, expire_days: float) -> None:

@@ -304,6 +304,28 @@ class Store:
             self._model_path(dataset_id).unlink(missing_ok=True)
         return {"analyses": len(gone), "datasets": len(dropped)}
 
+    def sweep_orphans(self, before: float) -> int:
+        """Remove what a killed process (kill -9 in the middle of a write) left, last changed before ``before``
+        (Unix s): report folders with no indexed report (the index row is written last), and the temporary
+        files of atomic writes (``.name.*.tmp``, app/store/files.py). Younger ones may be another process's
+        write in progress and are left. Returns how many were removed."""
+        removed = 0
+        folder = self.root / "reports"
+        if folder.is_dir():
+            for path in folder.iterdir():
+                if path.is_dir() and not self._has_report(path.name) and _last_change(path) < before:
+                    shutil.rmtree(path, ignore_errors=True)
+                    removed += 1
+        for name in ("datasets", "reports", "explanations", "imports", "models"):
+            for tmp in (self.root / name).rglob(".*.tmp") if (self.root / name).is_dir() else ():
+                try:
+                    if tmp.is_file() and tmp.stat().st_mtime < before:
+                        tmp.unlink()
+                        removed += 1
+                except FileNotFoundError:  # renamed into place or removed meanwhile
+                    pass
+        return removed
+
     def usage(self) -> dict:
         """What the store holds: rows per table, bytes per folder of the data folder, and the disk's free bytes."""
         with self._engine.connect() as conn:
@@ -312,6 +334,17 @@ class Store:
         folders = {name: _folder_bytes(self.root / name)
                    for name in ("datasets", "reports", "explanations", "imports", "models")}
         return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
+
+
+def _last_change(folder: Path) -> float:
+    """The latest modification time of a folder and the files directly in it (Unix s)."""
+    times = [folder.stat().st_mtime]
+    for p in folder.iterdir():
+        try:
+            times.append(p.stat().st_mtime)
+        except FileNotFoundError:
+            pass
+    return max(times)
 
 
 def _folder_bytes(folder: Path) -> int:

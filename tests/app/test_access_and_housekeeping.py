@@ -62,12 +62,14 @@ def test_what_no_report_uses_expires_and_reports_are_kept(tmp_path):
     store.add_explanation(old_a, {"verdict": "x"}, {k: np.zeros((3, 1, 1)) for k in ("measured", "nominal", "updated")},
                           0.1)
     store.staging.add("upload1", [("a.txt", b"1 2 3")])                           # an import never finished
-    assert housekeeping.sweep(store, 30) == {"analyses": 0, "datasets": 0, "imports": 0}  # nothing is old yet
+    assert housekeeping.sweep(store, 30) == {"analyses": 0, "datasets": 0, "imports": 0,  # nothing is old yet
+                                             "orphans": 0}
     assert housekeeping.sweep(store, 0, now=time.time() + 1e9) == {"analyses": 0, "datasets": 0,  # 0: never, but
-                                                                   "imports": 1}  # a staged upload goes after a day
+                                                                   "imports": 1,  # a staged upload goes after a day
+                                                                   "orphans": 0}
     assert store.staging.files("upload1") is None
     gone = housekeeping.sweep(store, 30, now=time.time() + 31 * 86400)
-    assert gone == {"analyses": 1, "datasets": 1, "imports": 0}
+    assert gone == {"analyses": 1, "datasets": 1, "imports": 0, "orphans": 0}
     assert store.analysis(old_a) is None and store.load_dataset(old_ds) is None and store.explanation(old_a) is None
     assert not store.dataset_path(old_ds).exists() and not (tmp_path / "explanations" / f"{old_a}.npz").exists()
     assert store.report("tok") == {"order": 10} and store.analysis(keep_a) is not None  # reports keep theirs
