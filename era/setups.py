@@ -123,9 +123,10 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed in
     a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real evidence,
     and its shape is known where it was measured (and where ``recover`` found it). At the other setups' points the
-    shape is NaN, not 0: a zero would claim a node there. :func:`merge` says which modes are complete. A mode seen
-    in one setup only is dropped (its pairing cannot be confirmed through the references, and its shape would be
-    unknown at most points).
+    shape is NaN, not 0: a zero would claim a node there. :func:`merge` says which modes are complete (with
+    ``r = merge(...)``, ``r.model.select(np.flatnonzero(r.complete))`` keeps those, e.g. for a UFF 55 export, whose
+    reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
+    references, and its shape would be unknown at most points).
 
     Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
     alone and a wrong reference cannot be told.

@@ -44,7 +44,7 @@ def setup(n: int) -> era.AnalysisResult:
 
 
 @pytest.mark.skipif(not (LDV_DIR / "measurement_1").is_dir(),
-                    reason=f"pyOMA's steel-frame records not found at {LDV_DIR} (set ERA_LDV_DIR to pyOMA's tests/files)")
+                    reason=f"pyOMA's steel-frame records not at {LDV_DIR} (set ERA_LDV_DIR to pyOMA's tests/files)")
 def test_pyoma_steel_frame_fifteen_setups():
     t0 = time.perf_counter()
     runs = [setup(n) for n in range(1, 16)]

@@ -141,6 +141,8 @@ def test_a_mode_a_setup_missed_is_kept_with_nan_at_that_setups_points():
     seen = ~missing
     assert era.mac(model.point_shapes[seen, 2], points_truth(model)[seen, 2])[0, 0] > 0.99
     assert abs(model.frequency_hz[2] - 9.0) < 3 * model.frequency_std_hz[2]
+    complete = model.select(np.flatnonzero(result.complete))  # what an export that needs every point takes
+    assert complete.n_modes == 3 and np.all(np.isfinite(complete.point_shapes))
 
 
 def test_a_weak_cluster_a_setup_left_out_is_recovered_when_the_other_setups_confirm_the_mode():
