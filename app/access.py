@@ -22,6 +22,8 @@ from starlette.requests import HTTPConnection
 from starlette.websockets import WebSocket
 
 COOKIE = "era_token"
+#: A browser's own random id, set at sign-in beside the token: who the limits count for on a token server.
+SESSION = "era_session"
 #: Open without signing in (GET only): report and campaign links, the page's assets, the viewer's client for
 #: recordings (/viser/ itself: a live key's page, picks and websocket are not), health, sign-in.
 _PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|c/[^/]+|api/campaigns/(?!folders$)[^/]+(/.*)?|static/.*|"
@@ -44,10 +46,15 @@ class Access:
         return self.open or self._allowed(request)
 
     def user(self, request: HTTPConnection) -> str:
-        """Who a request counts for: the proxy's user when this server trusts one, else the client address."""
+        """Who a request's limits count for: the proxy's user when this server trusts one, else the browser's
+        session of a token holder (signed in at /login), else the client address (scripts, open servers, and
+        every request that is not let in)."""
         if self.user_header and request.headers.get(self.user_header):
-            return "user:" + request.headers[self.user_header]
-        return "address:" + (request.client.host if request.client else "unknown")
+            return "user " + request.headers[self.user_header][:100]
+        session = request.cookies.get(SESSION, "")
+        if self.token and re.fullmatch(r"[A-Za-z0-9_-]{16,64}", session) and self._allowed(request):
+            return "session " + session
+        return "address " + (request.client.host if request.client else "unknown")
 
     def _allowed(self, request: HTTPConnection) -> bool:
         if self.user_header and not request.headers.get(self.user_header):
@@ -82,6 +89,7 @@ class Access:
         target = next_path if next_path.startswith("/") and not next_path.startswith("//") else "/"
         out = RedirectResponse(target, status_code=303)
         out.set_cookie(COOKIE, self.token, httponly=True, samesite="strict", max_age=30 * 86400)
+        out.set_cookie(SESSION, secrets.token_urlsafe(18), httponly=True, samesite="strict", max_age=30 * 86400)
         return out
 
 

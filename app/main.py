@@ -90,7 +90,8 @@ class UploadLimit:
 
 
 class RateLimit:
-    """Sliding one-minute windows per client address: all /api/ requests, and the heavy ones (POST)."""
+    """Sliding one-minute windows per user (app.access.Access.user: the proxy's user, a signed-in browser, else
+    the client address): all requests it limits, and the heavy ones (POST)."""
 
     def __init__(self, per_minute: int, heavy_per_minute: int):
         self.limits = {"all": per_minute, "heavy": heavy_per_minute}
@@ -160,18 +161,20 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
     async def rate_limit(request: Request, call_next):
         path = request.url.path
         refused = access.check(request)
-        if refused is not None:
-            return refused
-        if path.startswith("/api/"):
-            client = request.client.host if request.client else "unknown"
-            # uploads, identifications, examples and reports start heavy work; publishing to the viewer does not
+        # the API, and the links and sign-in a stranger could guess tokens at; refusals count for their address
+        if path.startswith(("/api/", "/r/", "/c/")) or path == "/login" or refused is not None:
+            who = access.user(request)
+            # uploads, identifications, examples, reports and sign-ins start heavy work (or guess a token);
+            # publishing to the viewer does not
             heavy = request.method == "POST" and not path.endswith("/viewer")
-            wait = limiter.check(client, heavy=heavy)
+            wait = limiter.check(who, heavy=heavy)
             if wait is not None:
-                return _error(429, f"Too many requests from {client}: the limit is "
+                return _error(429, f"Too many requests from {who}: the limit is "
                                    f"{settings.rate_limit_per_minute} per minute "
                                    f"({settings.rate_limit_heavy_per_minute} for uploads and computations). "
                                    f"Try again in {wait} s.", {"Retry-After": str(wait)})
+        if refused is not None:
+            return refused
         return await call_next(request)
 
     @app.exception_handler(era.EraError)

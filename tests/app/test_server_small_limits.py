@@ -56,3 +56,39 @@ def test_housekeeping_removes_a_report_folder_a_kill_left_half_written(tmp_path)
     assert not killed.exists() and not stray.exists()
     assert writing.exists() and store.report("kept") == {"order": 10}
     assert store.report_file("kept", "mode_0.viser") is not None
+
+
+def test_fifty_proxy_users_each_have_their_own_limits(tmp_path):
+    """Behind the sign-in proxy every request has the proxy's address: limits count per user, so 50 engineers doing
+    upload → analysis → slider → report all get through where one address's heavy limit (here 5) would stop them."""
+    with client(tmp_path, trust_user_header="X-Forwarded-User", rate_limit_heavy_per_minute=5) as c:
+        codes = set()
+        for k in range(50):
+            who = {"X-Forwarded-User": f"engineer{k}"}
+            ds = c.post("/api/examples/case1", headers=who)
+            a = c.post("/api/analyses", json={"dataset_id": ds.json()["id"], "rows": 20, "cols": 20}, headers=who)
+            step = c.get(f"/api/analyses/{a.json()['id']}/step", params={"order": 4}, headers=who)
+            report = c.post("/api/reports", json={"analysis_id": a.json()["id"], "order": 4, "modes": [0]},
+                            headers=who)
+            codes |= {ds.status_code, a.status_code, step.status_code, report.status_code}
+        assert codes == {200}
+        busy = {"X-Forwarded-User": "engineer0"}   # one user past the limit is told when to come back
+        for _ in range(3):
+            r = c.post("/api/examples/case1", headers=busy)
+        assert r.status_code == 429 and int(r.headers["retry-after"]) >= 1 and "engineer0" in r.json()["error"]
+
+
+def test_signed_in_browsers_count_apart_and_guessing_tokens_is_limited(tmp_path):
+    with client(tmp_path, access_token="s3cret-team", rate_limit_heavy_per_minute=3) as c:
+        browsers = []
+        for _ in range(2):
+            signed = c.post("/login", data={"token": "s3cret-team", "next": "/"}, follow_redirects=False)
+            browsers.append({"Cookie": f"era_token=s3cret-team; era_session={signed.cookies['era_session']}"})
+            c.cookies.clear()
+        for who in browsers:  # the same address, two sessions: 2 heavy requests each stay under 3
+            assert [c.post("/api/examples/case1", headers=who).status_code for _ in range(2)] == [200, 200]
+        guesses = [c.post("/login", data={"token": f"guess{k}"}).status_code for k in range(5)]
+        assert guesses[0] == 401 and guesses[-1] == 429  # sign-ins are heavy requests of the address
+    with client(tmp_path, access_token="s3cret-team", rate_limit_per_minute=10) as c:
+        guesses = [c.get(f"/r/guess{k:04d}").status_code for k in range(12)]
+        assert guesses[:10] == [404] * 10 and guesses[10:] == [429, 429]  # report links cannot be enumerated
