@@ -241,7 +241,10 @@ class Campaigns:
                     set_row(done=done)
 
                 stamps = [time_from_name(n) for n in names]
+                # an uploaded record may inflate to ERA_MAX_UPLOAD_MB at most (a folder's are the server's own)
+                uploaded = any(not isinstance(src, (str, Path)) for src in sources)
                 result = run_campaign(sources, kind=analysis["kind"], dt=analysis["dt"], orders=analysis["orders"],
+                                      load_options={"max_bytes": self.settings.max_upload_bytes} if uploaded else None,
                                       client=self.settings.dask_scheduler or None,
                                       workers=local_workers(self.settings), progress=progress,
                                       times=stamps if all(s is not None for s in stamps) else None)

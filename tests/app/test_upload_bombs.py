@@ -170,3 +170,24 @@ def test_the_dataset_cache_is_bounded_by_bytes_and_a_dataset_by_four_uploads():
     check_stored(ds(8).data, 2 * 2**20)
     with pytest.raises(era.TooLargeError, match="4 × the upload limit"):
         check_stored(ds(9).data, 2 * 2**20)
+
+
+def test_a_bomb_among_a_campaigns_uploaded_records_fails_alone_naming_the_limit(tmp_path):
+    from era.campaign.simulated import monitoring_truth, write_campaign
+    from test_api_campaigns import finish
+
+    folder = tmp_path / "site"
+    paths = write_campaign(folder, monitoring_truth(3, hours_between=3.0, damage_from=9, duration_s=300.0), seed=5)
+    blob = io.BytesIO()
+    np.savez_compressed(blob, markov=np.zeros((2_000_000, 1, 1)), dt=np.array(0.05))  # 16 MB from 16 kB
+    files = [("file", (Path(p).name, Path(p).read_bytes(), "text/csv")) for p in paths]
+    files.append(("file", ("rec_2026-03-02T09-00.npz", blob.getvalue(), "application/octet-stream")))
+    from apiclient import client
+
+    with client(tmp_path / "data", max_upload_bytes=8 * 2**20) as c:
+        done = finish(c, c.post("/api/campaigns", files=files, data={"kind": "ambient", "max_order": "40"}))
+    assert done["state"] == "done", done
+    failed = done["result"]["failed"]
+    assert len(failed) == 1 and "rec_2026-03-02T09-00.npz" in failed[0]["name"]
+    assert "8.0 MB" in failed[0]["reason"] and "uncompressed" in failed[0]["reason"]
+    assert len(done["result"]["records"]) == 3
