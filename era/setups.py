@@ -128,6 +128,9 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
     references, and its shape would be unknown at most points).
 
+    Two poles of one setup within the stronger one's half-power bandwidth and with the same shape (MAC ≥
+    ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other dropped.
+
     Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
     alone and a wrong reference cannot be told.
 
@@ -236,6 +239,11 @@ def _pair(models, refs, tol, min_mac, min_level):
                                        f"its reference components are at most {level[j]:.3f} of its largest: the "
                                        "references sit near a node of this mode, so this setup's part of it cannot be "
                                        "scaled to the others'; put a reference where it moves"))
+        usable, twins = _without_twins(model, usable, min_mac)
+        dropped += [DroppedMode(k, j, float(model.frequency_hz[j]),
+                                f"a second pole of the {model.frequency_hz[i]:.4g} Hz mode in this setup (its shape at "
+                                "every sensor, within its half-power bandwidth): a split twin; the stronger pole is "
+                                "kept") for j, i in twins]
         if not groups:
             groups = [_new_group(n_setups, k, j) for j in usable]
             continue
@@ -256,6 +264,23 @@ def _pair(models, refs, tol, min_mac, min_level):
                 taken.add(c)
         groups += [_new_group(n_setups, k, usable[c]) for c in range(usable.size) if c not in taken]
     return groups, dropped
+
+
+def _without_twins(model, usable, min_mac):
+    """The usable modes of one setup without split twins: of two modes within the stronger one's half-power
+    bandwidth (2 ζ f, era.choice's twin rule) whose shapes (every sensor) have MAC ≥ ``min_mac``, the one with the
+    larger contribution stays. Also [(twin, kept)]."""
+    f, zeta = model.frequency_hz, np.abs(model.damping_ratio)
+    order = sorted(usable.tolist(), key=lambda j: -model.contribution[j])
+    keep, twins = [], []
+    for j in order:
+        match = [i for i in keep if abs(f[i] - f[j]) <= 2 * zeta[i] * f[i]
+                 and indicators.mac(model.shapes[:, i], model.shapes[:, j])[0, 0] >= min_mac]
+        if match:
+            twins.append((int(j), int(match[0])))
+        else:
+            keep.append(j)
+    return np.array(sorted(keep), dtype=int), twins
 
 
 def _check_references(k, idx, near, mac, min_mac, f_new):

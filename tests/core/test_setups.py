@@ -181,6 +181,24 @@ def test_a_mode_seen_in_one_setup_only_is_dropped_with_its_reason():
     assert kept.model.n_modes == 4 and np.count_nonzero(np.isfinite(kept.model.point_shapes[:, 2])) == 5
 
 
+def test_a_split_twin_in_one_setup_is_dropped_as_such():
+    """Setup 1 reports mode 3 twice (9.01 and 9.03 Hz, one shape): one pole joins the other setups' mode 3, the
+    other is dropped and the reason names it a split twin."""
+    runs = list(analyses())
+    model = runs[0].model
+    idx = np.array([0, 1, 2, 2, 3])
+    z = model.z[idx].copy()
+    z[3] *= np.exp(2j * np.pi * 0.02 * model.dt)
+    per_mode = {name: getattr(model, name)[idx] for name in
+                ("amplitudes", "emac", "mpc", "contribution", "is_pair", "frequency_std_hz", "damping_std")}
+    runs[0] = replace(model, z=z, shapes=model.shapes[:, idx], point_shapes=model.shapes[:, idx], **per_mode)
+    result = merge(runs, [[0, 1]] * 4)
+    assert result.model.n_modes == 4 and np.all(result.complete)
+    assert len(result.dropped) == 1 and result.dropped[0].setup == 0 and result.dropped[0].index in (2, 3)
+    assert "split twin" in result.dropped[0].reason
+    assert np.all(np.diag(era.mac(result.model.point_shapes, points_truth(result.model))) >= 0.99)
+
+
 def test_a_mode_at_a_node_of_the_references_cannot_be_scaled():
     """References at the nodes of a mode leave its parts without a common scale: left out, and the reason says so."""
     runs = list(analyses())
