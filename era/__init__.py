@@ -35,7 +35,7 @@ from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 __all__ = [
     "__version__",
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
-    "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate",
+    "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate", "merge_setups", "SetupMerge",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "TooLargeError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",
