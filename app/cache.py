@@ -55,6 +55,14 @@ def dataset_bytes(ds: Dataset) -> int:
     return ds.data.markov.nbytes + (records.nbytes if records is not None else 0)
 
 
+def identification_bytes(ident: era.Identification) -> int:
+    """The bytes an identification holds: its P and Q and its own copy of the data (it comes back from a worker
+    process pickled)."""
+    data = ident.data
+    records = data.records.nbytes if data.records is not None else 0
+    return ident.P.nbytes + ident.Q.nbytes + data.markov.nbytes + records
+
+
 class LRU:
     """A small thread-safe least-recently-used cache of at most ``size`` items and, when ``weigh`` (item -> bytes)
     is given, at most ``max_bytes`` in all (the newest item is kept even when it alone is larger)."""
@@ -104,7 +112,8 @@ class Cache:
         self.store = store
         self.settings = settings
         self._datasets = LRU(DATASETS_KEPT, settings.cache_dataset_bytes, dataset_bytes)
-        self._idents = LRU(settings.cache_identifications)
+        self._idents = LRU(settings.cache_identifications, settings.cache_identification_bytes,
+                           identification_bytes)
         self._models = LRU(settings.cache_models)
         self._diagrams = LRU(settings.cache_identifications)
         self._inflight: dict = {}

@@ -74,6 +74,8 @@ class Settings:
     cache_identifications: int = 64
     #: Realized models (analysis, order) kept in memory for the order slider.
     cache_models: int = 128
+    #: Identifications kept in memory, bytes in all (besides their count above); an evicted one is recomputed.
+    cache_identification_bytes: int = 1024 * 1024 * 1024
     #: Loaded datasets kept in memory, bytes in all (besides at most 16 of them): a few large uploads cannot fill
     #: the memory; an evicted dataset is read from the store again.
     cache_dataset_bytes: int = 512 * 1024 * 1024

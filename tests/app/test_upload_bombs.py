@@ -191,3 +191,17 @@ def test_a_bomb_among_a_campaigns_uploaded_records_fails_alone_naming_the_limit(
     assert len(failed) == 1 and "rec_2026-03-02T09-00.npz" in failed[0]["name"]
     assert "8.0 MB" in failed[0]["reason"] and "uncompressed" in failed[0]["reason"]
     assert len(done["result"]["records"]) == 3
+
+
+def test_identifications_are_kept_within_their_bytes(tmp_path):
+    from apiclient import analysis, client
+    from app.cache import identification_bytes
+
+    with client(tmp_path, cache_identification_bytes=1) as c:  # room for the newest only
+        _, first = analysis(c, rows=20, cols=20)
+        _, second = analysis(c, rows=21, cols=21)
+        cache = c.app.state.cache
+        idents = cache._idents
+        assert idents.get(second["id"]) is not None and idents.get(first["id"]) is None
+        assert idents.nbytes == identification_bytes(idents.get(second["id"]))
+        assert c.get(f"/api/analyses/{first['id']}/step", params={"order": 4}).status_code == 200  # recomputed
