@@ -53,8 +53,9 @@ class Settings:
 
 
 def _rule_constants() -> tuple:
-    from .. import __version__, choice
-    return (__version__,) + tuple((k, getattr(choice, k)) for k in sorted(vars(choice)) if k.isupper())
+    from .. import __version__, choice, evidence
+    return (__version__,) + tuple((k, getattr(m, k)) for m in (choice, evidence) for k in sorted(vars(m))
+                                  if k.isupper())
 
 
 @dataclass(frozen=True, eq=False)
