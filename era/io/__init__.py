@@ -50,7 +50,7 @@ _INFLATING = ("mat", "hdf5")
 _PATH_READERS = ("npy", "hdf5", "tdms")
 #: Options that say how to read a file (the others go to the conversion), and the formats that take each.
 _READER_OPTIONS = {"orientation": ("csv", "text", "npy", "mat", "hdf5"), "variable": ("mat", "hdf5"),
-                   "group": ("tdms",)}
+                   "group": ("tdms",), "resample": ("csv", "text")}
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +146,10 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
     group : the TDMS group to read, when groups hold different channels
+    resample : True to resample CSV/text records whose time stamps scatter about a steady rate (a phone's or a
+        logger's jittered clock, no sample missing) onto an even grid at the mean rate, by linear interpolation;
+        what was done is the first entry of ``source["conversions"]``. Without it such a file is refused (option
+        "resample"), never resampled silently; a missing or repeated sample is refused either way
     max_bytes : the uncompressed bytes all the files together may inflate to (NPZ members, HDF5 datasets, MATLAB
         variables), checked before anything is inflated and while it is (era/io/inflate.py); TooLargeError above
         it. None: no such limit (each array still at most 2 GiB)
@@ -197,7 +201,7 @@ def read(source, format: str | None = None, *, name: str | None = None, dt: floa
     unknown = set(how) - set(_READER_OPTIONS)
     if unknown:
         raise DataError(f"Unknown reading option(s) {sorted(unknown)}; the readers take {sorted(_READER_OPTIONS)}.")
-    how = {k: v for k, v in how.items() if v is not None}
+    how = {k: v for k, v in how.items() if v is not None and v is not False}
     sources = list(source) if isinstance(source, (list, tuple)) else [source]
     if not sources:
         raise DataError("No file given.")
@@ -286,7 +290,9 @@ def _convert(rec, parts, modes, labels, fmt, kind, options) -> Dataset:
     if rec.nodes is not None:
         keep = ~rec.force if used == "io" and rec.force is not None else np.ones(len(rec.nodes), bool)
         geometry = build_geometry(parts, rec.nodes[keep], rec.directions[keep], labels[0])
-    return Dataset(data, geometry, _source(labels, fmt, used, rec.described, data), modes)
+    out = Dataset(data, geometry, _source(labels, fmt, used, rec.described, data), modes)
+    out.source["conversions"][:0] = rec.conversions  # what the reader did comes first
+    return out
 
 
 def _payload(fmt: str, raw: bytes, src):

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import DataError
 from .records import MIN_SAMPLES, Records
 from .text import ORIENTATIONS
-from .timebase import binary_resolution, even_step
+from .timebase import UnevenClock, binary_resolution, even_step as _even_step_any
 
 #: Largest array read from a binary file, in bytes (as for NPZ).
 MAX_ARRAY_BYTES = 2 << 30
@@ -158,6 +158,16 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
                    output_units=tuple(units) if any(units) else (), force=force,
                    described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as {y.shape[1]} channel(s) × "
                               f"{len(y)} samples, {how}"])
+
+
+def even_step(t, resolution, where):
+    """era.io.timebase.even_step; a jittered clock refused without the resample option (arrays take none)."""
+    try:
+        return _even_step_any(t, resolution, where)
+    except UnevenClock as clock:
+        raise DataError(str(clock).replace("Resample onto an even grid at that rate, or load an evenly sampled "
+                                           "record.", "Resample the record onto an even grid, or save it as CSV "
+                                           "with its time column: the import step can resample that.")) from None
 
 
 def _time_channel(y: np.ndarray, vars_: list[Var], label: str) -> tuple[float, float] | None:

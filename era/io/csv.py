@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import DataError
 from .records import Records
 from .text import read_headerless
-from .timebase import even_step_printed
+from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
 _TIME_NAMES = re.compile(r"^(t|time|times|zeit|temps|tiempo|tempo|sec|seconds|x_value|elapsed time)$", re.I)
 #: Time units in s; a time column's unit comes from (...)/[...], a units row or a suffix such as time_ms.
@@ -61,11 +61,13 @@ def _sniff_delimiter(lines: list[str]) -> str | None:
     return None
 
 
-def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str | None = None) -> Records:
+def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str | None = None,
+             resample: bool = False) -> Records:
     """Records ("time" domain) from the bytes of one delimited text file.
 
     dt : s, used only when the file has no time column. orientation : "rows" or "columns" for a file without a
-    header (era.io.text; default: from its shape).
+    header (era.io.text; default: from its shape). resample : True to put records whose time stamps scatter about
+    a steady rate onto an even grid at the mean rate (era.io.timebase.resample; said in ``conversions``).
     """
     text = _decode(raw, label)
     lines = text.splitlines()
@@ -73,6 +75,11 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     if not numbered:
         raise DataError(f"{label}: the file is empty (no data lines).")
     delim = _sniff_delimiter([ln for _, ln in numbered[-20:]] if len(numbered) > 2 else [numbered[-1][1]])
+    trailing = delim is not None and all(ln.rstrip().endswith(delim) for _, ln in numbered[-20:])
+    if trailing:  # every row ends in a delimiter (phone apps, some loggers): an empty last cell, not a channel
+        numbered = [(k, ln.rstrip()[:-1] if ln.rstrip().endswith(delim) else ln) for k, ln in numbered]
+    if trailing and delim == ",":
+        delim = _sniff_delimiter([ln for _, ln in numbered[-20:]] if len(numbered) > 2 else [numbered[-1][1]])
     header = []
     while numbered and not _is_data(_split(numbered[0][1][:8000], delim)):
         header.append(_split(numbered.pop(0)[1], delim))
@@ -86,9 +93,11 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     if not header:
         body = "\n".join(ln for _, ln in numbered)
         comma = delim != "," and "," in body and re.search(r"\d,\d", body) is not None
-        notes = (", decimal comma" if comma else "") + (f", delimiter {delim!r}" if delim else ", blank-separated")
+        notes = (", decimal comma" if comma else "") + (f", delimiter {delim!r}" if delim else ", blank-separated") \
+            + (", a delimiter ending every line" if trailing else "")
         return read_headerless(numbered, lambda ln: _split(ln.replace(",", ".") if comma else ln, delim),
-                               body.replace(",", ".") if comma else body, delim, label, dt, orientation, notes)
+                               body.replace(",", ".") if comma else body, delim, label, dt, orientation, notes,
+                               resample)
     if orientation is not None:
         raise DataError(f"{label}: `orientation` is for text without a header; this file has a header line, so its "
                         "columns are the channels. Leave orientation out.", option="orientation")
@@ -136,7 +145,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
         raise DataError(f"{label}: a time column but no channel columns.")
     groups = [np.arange(len(table))] if tests is None else [np.flatnonzero(tests == v)
                                                             for v in dict.fromkeys(tests.tolist())]
-    values, step, start = [], None, 0.0
+    values, step, start, conversions = [], None, 0.0, []
     for g in groups:
         if t is not None:
             if len(g) < 2:
@@ -146,13 +155,24 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
             def cells(rows, column=column):
                 return [_split(numbered[r][1], delim)[column] for r in rows]
 
-            h = even_step_printed(t[g], cells(np.r_[g[:200], g[-200:]]), lambda: cells(g), label, line_of[g])
+            block = table[g]
+            try:
+                h = even_step_printed(t[g], cells(np.r_[g[:200], g[-200:]]), lambda: cells(g), label, line_of[g])
+            except UnevenClock as clock:
+                if not resample:
+                    raise
+                h = clock.step
+                block, done = resample_onto(t[g], table[g], clock.step)
+                conversions.append(f"{label}" + (f", record at line {line_of[g[0]]}" if len(groups) > 1 else "")
+                                   + f": {done}")
             h_unit = h / scale
             if step is not None and abs(h - step) > 1e-6 * step:
                 raise DataError(f"{label}, line {line_of[g[0]]}: this record is sampled every {h:g} s, the first "
                                 f"every {step:g} s; every record must share the sampling step.")
             step, start = (h, float(t[g][0])) if step is None else (step, start)
-        values.append(table[g])
+            values.append(block)
+        else:
+            values.append(table[g])
     if step is None:
         step = float(dt)
         timing = f", Δt = {step:.9g} s given"
@@ -161,11 +181,12 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
             f", Δt = {step:.9g} s" + (f" ({h_unit:.9g} in the file's unit)" if scale != 1 else "")
     force = np.array([u.lower() in _FORCE_UNITS or "force" in n.lower() for n, u in zip(names, units)])
     return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
-                   output_units=tuple(units), force=force, nodes=None, directions=None,
+                   output_units=tuple(units), force=force, nodes=None, directions=None, conversions=conversions,
                    described=[f"{label}: {len(table)} lines × {len(names)} channels"
                               + (f" in {len(values)} records (column {tests is not None and 'test'})" if len(values) > 1
                                  else "") + timing + (", decimal comma" if decimal_comma else "")
-                              + (f", delimiter {delim!r}" if delim else ", blank-separated")])
+                              + (f", delimiter {delim!r}" if delim else ", blank-separated")
+                              + (", a delimiter ending every line" if trailing else "")])
 
 
 def _time_column(names: list[str], units: list[str], label: str) -> tuple[int | None, float]:

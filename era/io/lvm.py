@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import DataError
 from .csv import _FORCE_UNITS, _UNIT_IN_NAME, _decode
 from .records import Records, check_finite
-from .timebase import even_step_printed, printed_resolution
+from .timebase import UnevenClock, even_step_printed, printed_resolution
 
 MAGIC = "LabVIEW Measurement"
 _END = "***End_of_Header***"
@@ -216,7 +216,10 @@ def _read_segment(text: str, seg: _Segment, sep: str, decimal: str, label: str, 
                     else [ln.split(sep)[x_cols[0]] for ln in text.splitlines()])[:len(t)]
 
         sample = cells(body[:4000]) + cells(body[-4000:])[1:]  # the first and last lines (one may be cut)
-        step = even_step_printed(t, sample, cells, f"{where}, X_Value column", line_of)
+        try:
+            step = even_step_printed(t, sample, cells, f"{where}, X_Value column", line_of)
+        except UnevenClock as clock:  # LVM takes no resample option: said without naming one
+            raise DataError(str(clock)) from None
         if header_dt is not None:
             digit = printed_resolution([_value(seg, "Delta_X", y_cols[0], shift)])[0]
             if abs(step - header_dt) > digit + 1e-6 * step:

@@ -37,6 +37,7 @@ class Records:
     described : list of str, what was read (for Dataset.source).
     points : where the channels are, for ResponseData.meta (era.points: output_points, output_signs, input_points,
         input_signs; and proposed_band_hz, a band the test's setup proposes), or None.
+    conversions : list of str, what the reader did to the values (a resampled clock), for Dataset.source.
     named : False when the channel names were made up from the file name (an .npy file names nothing): files of
         one dataset then match by channel count, and the first file's names are used.
     """
@@ -56,6 +57,7 @@ class Records:
     described: list = field(default_factory=list)
     named: bool = True
     points: dict | None = None
+    conversions: list = field(default_factory=list)
 
 
 def guess_kind(rec: Records) -> str:
@@ -211,4 +213,5 @@ def merge(records: list[Records], labels: list[str]) -> Records:
     return Records(domain="time", values=[v for r in records for v in r.values], step=first.step,
                    start=first.start, outputs=first.outputs, output_units=first.output_units, force=first.force,
                    nodes=first.nodes, directions=first.directions,
-                   described=[d for r in records for d in r.described])
+                   described=[d for r in records for d in r.described],
+                   conversions=[c for r in records for c in r.conversions])

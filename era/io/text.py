@@ -14,18 +14,18 @@ import numpy as np
 
 from ..errors import DataError
 from .records import Records
-from .timebase import even_step_printed
+from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
 ORIENTATIONS = ("rows", "columns")
 
 
 def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: str | None, label: str,
-                    dt: float | None, orientation: str | None, notes: str) -> Records:
+                    dt: float | None, orientation: str | None, notes: str, resample: bool = False) -> Records:
     """Records ("time") from the data lines of a text file without a header.
 
     numbered : (line number, text) of every data line; split : line -> cells; body : the data lines joined, decimal
     commas already turned into points; delim : the delimiter (None: blanks); notes : what the caller found (for
-    ``described``).
+    ``described``); resample : True to put a time axis that scatters about a steady rate onto an even grid.
     """
     if orientation is not None and orientation not in ORIENTATIONS:
         raise DataError(f"`orientation` must be 'rows' (one channel per row) or 'columns' (one channel per column), "
@@ -55,19 +55,28 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
             cells = split(numbered[0][1])
             sample, first = cells[:200] + cells[-200:], lambda: cells  # noqa: E731
             where = f"{label}, line {numbered[0][0]} (time)"
-        step = even_step_printed(t, sample, first, where, lines)
-        start, y = float(t[0]), y[:, 1:]
+        conversions = []
+        try:
+            step = even_step_printed(t, sample, first, where, lines)
+            y = y[:, 1:]
+        except UnevenClock as clock:
+            if not resample:
+                raise
+            step = clock.step
+            y, done = resample_onto(t, y[:, 1:], clock.step)
+            conversions.append(f"{label}: {done}")
+        start = float(t[0])
         found = f"time in the first {chosen[:-1]}, Δt = {step:.9g} s"
     elif dt is None:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...). The file is a bare matrix "
                         f"({n_rows} lines × {n_cols} values, read as {y.shape[1]} channel(s) in {chosen}; say "
                         f"orientation='rows' or 'columns' if that is wrong).", option="dt")
     else:
-        step, start, found = float(dt), 0.0, f"Δt = {float(dt):.9g} s given"
+        step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.9g} s given", []
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))
     how = "as given" if orientation else "from the shape"
     return Records(domain="time", values=[np.ascontiguousarray(y)], step=step, start=start, outputs=names,
-                   output_units=(), force=np.zeros(len(names), bool),
+                   output_units=(), force=np.zeros(len(names), bool), conversions=conversions,
                    described=[f"{label}: headerless text, {y.shape[1]} channel(s) in {chosen} ({how}) × {len(y)} "
                               f"samples, {found}{notes}"])
 

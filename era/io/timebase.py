@@ -68,10 +68,12 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
     (samples are then counted from 0). Returns the least-squares step through all values (the rounding of the
     printed digits averages out).
 
-    Rounded to a digit r, the steps of an even column take at most two values one digit apart, so every step must
-    lie within r of the median step (and within half a step: a column printed more coarsely than half its step
-    cannot show a dropped sample, and is refused); then no sample may stray from the line through the ends by more
-    than its rounding (a sampling rate that changes slowly).
+    A step more than half a step off the median is a missing (or misplaced) sample: refused, naming the line.
+    Otherwise the column is even when no sample strays from the least-squares line through all of them by more
+    than its printed digit (times saved with 7 significant digits are even to within that digit; a column printed
+    more coarsely than half its step cannot show a dropped sample, and is refused). Stamps that scatter further,
+    with no sample missing, raise :class:`UnevenClock` (option "resample"): a jittered or wandering clock, which
+    the caller may resample onto an even grid at the mean rate (:func:`resample`), never silently.
     """
     t = np.asarray(t, dtype=float)
     n = len(t)
@@ -92,27 +94,80 @@ def even_step(t: np.ndarray, resolution, where: str, lines=None, unit: str = "s"
                         "a restart); samples must be evenly spaced and increasing. Split the file at that point or "
                         "remove the repeated samples.")
     typical = float(np.median(steps))
+    k = np.arange(n) - (n - 1) / 2
+    fitted = float(k @ (t - t.mean()) / (k @ k))  # least squares: the rounding averages out over all samples
+    skipped = np.flatnonzero(np.abs(steps - typical) > 0.5 * typical)
+    if skipped.size:  # a missing sample (a step of two) or a stamp out of place: never resampled over
+        k = int(skipped[0])
+        what = "time step" if unit == "s" else "line spacing"
+        missing = round(steps[k] / typical) - 1
+        why = (f"{missing} sample{'s are' if missing > 1 else ' is'} missing" if missing >= 1 and
+               abs(steps[k] / typical - round(steps[k] / typical)) < 0.25 else "a sample out of place")
+        raise DataError(f"{where}, {place(k)}: the {what} is {steps[k]:.6g} {unit} where the typical step is "
+                        f"{typical:.6g} {unit} (from {t[k]:.10g} to {t[k + 1]:.10g}): {why}; samples must be evenly "
+                        "spaced (no gaps, no repeats, one sampling rate). Load the part before that line, or fill "
+                        "the gap.")
     digit = np.maximum(np.maximum(res[:-1], res[1:]), float(np.median(res)))
     tol = np.minimum(digit, 0.5 * typical) * (1 + 1e-9) + _RELATIVE * typical
     off = np.abs(steps - typical) > tol
+    # evenness is judged against the line through all samples, within each stamp's printed digit (and its neighbours'
+    # median: a short value borrows theirs); a step estimate from the ends alone carries the ends' rounding
+    line = t.mean() + fitted * k
+    scatter = np.abs(t - line)
+    allowed = np.maximum(res, float(np.median(res))) * (1 + 1e-9) + 2 * _RELATIVE * abs(fitted)
+    coarse = np.median(res) > 0.5 * typical
+    if not np.any(scatter > allowed) and not (coarse and off.any()):
+        return fitted
+    if unit != "s" or coarse:
+        j = int(np.argmax(off)) if off.any() else max(int(np.argmax(scatter - allowed)) - 1, 0)
+        coarse = " (the times are printed too coarsely to tell)" if coarse else ""
+        raise DataError(f"{where}, {place(j)}: the line spacing is {steps[j]:.6g} {unit} where the typical step is "
+                        f"{typical:.6g} {unit} (from {t[j]:.10g} to {t[j + 1]:.10g}){coarse}; samples must be evenly "
+                        "spaced. Resample the record, or load the part before that line.")
+    # no sample missing or repeated: a clock that stamps with jitter, or whose rate wanders (a phone's sensors)
     if off.any():
-        k = int(np.argmax(off))
-        coarse = " (the times are printed too coarsely to tell)" if np.median(res) > 0.5 * typical else ""
-        what = "time step" if unit == "s" else "line spacing"
-        raise DataError(f"{where}, {place(k)}: the {what} is {steps[k]:.6g} {unit} where the typical step is "
-                        f"{typical:.6g} {unit} (from {t[k]:.10g} to {t[k + 1]:.10g}){coarse}; samples must be evenly "
-                        "spaced (no gaps, no repeats, one sampling rate). Resample the record, or load the part "
-                        "before that line.")
-    h = float(t[-1] - t[0]) / (n - 1)
-    k = np.arange(n) - (n - 1) / 2
-    fitted = float(k @ (t - t.mean()) / (k @ k))  # least squares: the rounding averages out over all samples
-    drift = np.abs(t - (t[0] + h * np.arange(n)))
-    allowed = (res / 2 + (res[0] + res[-1]) / 2) * (1 + 1e-9) + 2 * _RELATIVE * h
-    if np.any(drift > allowed):
-        k = max(int(np.argmax(drift - allowed)) - 1, 0)
-        raise DataError(f"{where}, {place(k)}: the samples drift {drift[k + 1]:.3g} {unit} off an even step of "
-                        f"{h:.6g} {unit}: the sampling rate changes within the record. Resample it first.")
-    return fitted
+        j = int(np.argmax(off))
+        head = (f"{where}, {place(j)}: the time step is {steps[j]:.6g} s where the typical step is {typical:.6g} s "
+                f"(from {t[j]:.10g} to {t[j + 1]:.10g})")
+    else:
+        j = max(int(np.argmax(scatter - allowed)) - 1, 0)
+        head = (f"{where}, {place(j)}: the samples drift {scatter[j + 1]:.3g} s off an even step of {fitted:.6g} s: "
+                "the sampling rate changes within the record")
+    raise UnevenClock(f"{head}. No sample is missing or repeated: the time stamps scatter up to "
+                      f"{float(scatter.max()) * 1e6:.3g} µs about a steady rate of {1 / fitted:.6g} Hz "
+                      f"(Δt = {fitted:.6g} s). Resample onto an even grid at that rate, or load an evenly sampled "
+                      "record.", option="resample", step=fitted)
+
+
+class UnevenClock(DataError):
+    """Time stamps that scatter about a steady rate, no sample missing or repeated: the record may be resampled
+    onto an even grid (:func:`resample`). step : the mean step (least squares, s)."""
+
+    def __init__(self, *args, option: str | None = None, step: float = 0.0):
+        super().__init__(*args, option=option)
+        self.step = step
+
+    def __reduce__(self):
+        return _rebuild_clock, (self.args, self.option, self.step)
+
+
+def _rebuild_clock(args, option, step):
+    return UnevenClock(*args, option=option, step=step)
+
+
+def resample(t: np.ndarray, y: np.ndarray, step: float) -> tuple[np.ndarray, str]:
+    """(y on the even grid t[0] + k·step over the span of t, what was done): y (n, c) sampled at t (n,) s,
+    linearly interpolated (the grid stays inside the stamps, so nothing is extrapolated)."""
+    t = np.asarray(t, dtype=float)
+    first = float(t[0])
+    n = int(np.floor((float(t[-1]) - first) / step * (1 + 1e-12))) + 1
+    grid = first + step * np.arange(n)
+    out = np.column_stack([np.interp(grid, t, y[:, c]) for c in range(y.shape[1])]) if y.shape[1] else \
+        np.zeros((n, 0))
+    worst = float(np.max(np.abs(t[: min(len(t), n)] - grid[: min(len(t), n)])))
+    return out, (f"resampled onto an even grid at the mean rate {1 / step:.6g} Hz (Δt = {step:.6g} s, least squares "
+                 f"over {len(t)} time stamps; linear interpolation, the stamps were up to {worst * 1e6:.3g} µs off "
+                 f"it): {len(t)} → {n} samples")
 
 
 def even_step_printed(t: np.ndarray, sample_cells: list[str], all_cells, where: str, lines=None,
