@@ -32,6 +32,7 @@ from .errors import NotFound
 from .jobs import Jobs
 from .routes import analyses, campaigns, datasets, examples, explain, health, imports, models, pages, reports
 from .routes import jobs as job_routes
+from .routes import help as help_routes  # the docs site at /help/
 from .store import Store
 from .viewer import ModeViewer
 
@@ -213,7 +214,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
                            "reference.")
 
     for module in (datasets, imports, models, examples, analyses, explain, reports, campaigns, job_routes, health,
-                   pages):
+                   pages, help_routes):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)
