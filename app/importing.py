@@ -6,6 +6,8 @@ Every function is plain: files in ((name, bytes)), dicts out (schemas.Import, sc
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 import era
@@ -15,15 +17,53 @@ from .loading import named_sources
 from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
-READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "frf_sign", "start_sample", "drop", "forces",
-                "references", "band_hz")
+READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "resample", "frf_sign", "start_sample", "drop",
+                "forces", "references", "band_hz")
 #: Options of the conversion to pulse responses only: the preview shows the records as read, without them.
 CONVERSION_OPTIONS = ("references", "band_hz")
 
 
+#: The library's words (parameters of era.load) -> the import step's (its controls' labels, units a person types).
+_PAGE_WORDS = (
+    (re.compile(r"give the sample rate \(dt=\.\.\.\)"), "give the sample rate (Hz)"),
+    (re.compile(r"say orientation='rows' or 'columns' if that is wrong"),
+     "choose rows or columns under “Channels are in” if that is wrong"),
+    (re.compile(r"Leave orientation out\."), "Leave “Channels are in” as detected."),
+    (re.compile(r"Say which with forces=\[channel, \.\.\.\]\."), "Mark it “force” among the channels' roles."),
+    (re.compile(r"Write them as UFF 58 with their frequency axis \(pyuff's write_sets, as its README shows\)"),
+     "Export them as UFF 58 (with their frequency axis) from the analyser's software"),
+    (re.compile(r"`start_sample`"), "“Start at sample”"),
+    (re.compile(r"`orientation`"), "“Channels are in”"),
+    (re.compile(r"`forces`"), "the force role"),
+    (re.compile(r"`drop`"), "leaving channels out"),
+    (re.compile(r"`kind`"), "“The records are”"),
+    (re.compile(r"`frf_sign`"), "“FRF sign convention”"),
+    (re.compile(r"`variable`"), "“Array”"),
+    (re.compile(r"`group`"), "“TDMS group”"),
+)
+
+
+def page_words(text: str) -> str:
+    """A refusal of era.load as the import step says it: its controls, not the library's parameters."""
+    for pattern, words in _PAGE_WORDS:
+        text = pattern.sub(words, text)
+    return text
+
+
+def in_page_words(exc: era.EraError) -> era.EraError:
+    """The same refusal (type and option kept) in the import step's words."""
+    try:
+        out = type(exc)(page_words(str(exc)), option=getattr(exc, "option", None))
+    except TypeError:  # an error type with other arguments: keep it as it is
+        return exc
+    for k, v in vars(exc).items():
+        setattr(out, k, v)
+    return out
+
+
 def given(options: dict) -> dict:
     """The options the person set (None left out; ``kind`` "auto" too)."""
-    out = {k: v for k, v in options.items() if v is not None and k in READ_OPTIONS + ("kind",)}
+    out = {k: v for k, v in options.items() if v is not None and v is not False and k in READ_OPTIONS + ("kind",)}
     if out.get("kind") == "auto":
         del out["kind"]
     return out
@@ -48,7 +88,7 @@ def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,
         "n_samples": pv.n_samples, "kind": pv.kind, "described": pv.described, "x": floats(pv.x),
         "x_label": x_label, "traces": floats(np.asarray(pv.traces)), "geometry_nodes": pv.geometry_nodes,
         "proposed_band_hz": None if pv.proposed_band_hz is None else list(pv.proposed_band_hz),
-    }, pv.problem, pv.problem_option
+    }, pv.problem and page_words(pv.problem), pv.problem_option
 
 
 def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, max_points: int,
@@ -62,6 +102,6 @@ def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, m
     except era.TooLargeError:
         raise
     except era.EraError as exc:
-        out["error"], out["option"] = str(exc), getattr(exc, "option", None)
+        out["error"], out["option"] = page_words(str(exc)), getattr(exc, "option", None)
     return out
 

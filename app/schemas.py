@@ -103,6 +103,9 @@ class ImportOptions(Schema):
     orientation: Literal["rows", "columns"] | None = Field(None, description="channels of a headerless table")
     variable: str | None = Field(None, description="the array to read in a MAT or HDF5 file")
     group: str | None = Field(None, description="the TDMS group to read")
+    resample: bool | None = Field(None, description="true: put CSV/text records whose time stamps scatter about a "
+                                                    "steady rate (no sample missing) onto an even grid at the mean "
+                                                    "rate; what was done is written into the dataset's source")
     frf_sign: Literal["auto", "+", "-"] | None = Field(None, description="the FRFs' sign convention")
     start_sample: int | None = Field(None, ge=0, le=MAX_INT, description="samples skipped at the start of every record "
                                                             "(pre-trigger)")

@@ -8,7 +8,7 @@ import era
 
 from .. import schemas
 from ..errors import NotFound
-from ..importing import given, import_json
+from ..importing import given, import_json, in_page_words
 from ..loading import channel_list, new_dataset
 from ..store import new_token
 from .datasets import read_parts
@@ -70,6 +70,11 @@ async def commit(request: Request, upload_id: str, options: schemas.ImportOption
     deleted. A refusal (422) names the option that fixes it in ``option``; the files stay staged."""
     files = _staged(request, upload_id)
     said = {k: v for k, v in given(options.model_dump()).items() if k != "kind"}
-    summary = await read_files(request, files, new_dataset, cache(request), files, options.kind, said)
+    try:
+        summary = await read_files(request, files, new_dataset, cache(request), files, options.kind, said)
+    except era.TooLargeError:
+        raise
+    except era.EraError as exc:  # said next to the control, in the page's words
+        raise in_page_words(exc) from None
     store(request).staging.remove(upload_id)
     return summary

@@ -142,7 +142,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     for v, b in zip(chosen, blocks):
         given = [str(x) for x in np.atleast_1d(v.attrs.get("channels", []))]
         names += given if len(given) == b.shape[1] else (
-            [v.name.lstrip("/")] if b.shape[1] == 1 else [f"{v.name.lstrip('/')} {i + 1}" for i in range(b.shape[1])])
+            [v.name.lstrip("/")] if b.shape[1] == 1 else [f"{v.name.lstrip('/')}:{i + 1}" for i in range(b.shape[1])])  # file:channel
         unit = [str(x) for x in np.atleast_1d(v.attrs.get("units", ""))]
         units += unit if len(unit) == b.shape[1] else [unit[0]] * b.shape[1]
     lead = _time_channel(y, vars_, label)
@@ -154,6 +154,12 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
         step, start, how = _sampling(vars_, chosen, len(y), label, dt)
     force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() or "hammer" in nm.lower()
                       for nm, u in zip(names, units)])
+    if lead is not None and not force.any():  # time, force, response rows (a hammer test's np.vstack)
+        pulse = _hammer_channel(y)
+        if pulse is not None:
+            force[pulse] = True
+            how += (f"; {names[pulse]!r} proposed as the force (a short pulse: 99 % of its energy within "
+                    f"{max(len(y) // 100, 1)} samples, the others ring on)")
     return Records(domain="time", values=[y], step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units) if any(units) else (), force=force,
                    described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as {y.shape[1]} channel(s) × "
@@ -168,6 +174,22 @@ def even_step(t, resolution, where):
         raise DataError(str(clock).replace("Resample onto an even grid at that rate, or load an evenly sampled "
                                            "record.", "Resample the record onto an even grid, or save it as CSV "
                                            "with its time column: the import step can resample that.")) from None
+
+
+def _hammer_channel(y: np.ndarray) -> int | None:
+    """The one channel of ``y`` (N, c) that is a short pulse (99 % of its energy within 1 % of the record around
+    its peak: a hammer's force) when the others are not; else None."""
+    if y.shape[1] < 2 or len(y) < 200:
+        return None
+    half = max(len(y) // 200, 1)
+    pulses = []
+    for c in range(y.shape[1]):
+        col = np.asarray(y[:, c], dtype=float)
+        total = float(col @ col)
+        k = int(np.argmax(np.abs(col)))
+        window = col[max(k - half, 0):k + half]
+        pulses.append(total > 0 and float(window @ window) >= 0.99 * total)
+    return pulses.index(True) if sum(pulses) == 1 else None
 
 
 def _time_channel(y: np.ndarray, vars_: list[Var], label: str) -> tuple[float, float] | None:

@@ -114,14 +114,15 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
     try:
         got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)
     except DataError as exc:
-        if exc.option != "dt":
+        if exc.option not in ("dt", "resample"):
             raise
-        problem, option = str(exc), "dt"
+        problem, option = str(exc), exc.option
         for src in source if isinstance(source, (list, tuple)) else [source]:
             if hasattr(src, "seek"):  # a file object was read once already
                 src.seek(0)
-        # show the samples; the step stays unknown
-        got = read(source, format, name=name, dt=1.0, max_bytes=max_bytes, **how)
+        # show the samples: without a step (against the sample number), or as they would be resampled
+        again = dict(dt=1.0) if option == "dt" else dict(dt=dt, resample=True)
+        got = read(source, format, name=name, max_bytes=max_bytes, **{**how, **again})
     if got.npz is not None:
         d = got.npz.data
         rec = Records(domain="pulse", values=[d.markov], step=d.dt, start=d.dt, outputs=tuple(d.outputs),
@@ -154,14 +155,15 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
     else:
         y = first
     idx = thin(y, max_points)
-    step = None if problem else rec.step
+    step = None if option == "dt" else rec.step
     x = (rec.start + idx * rec.step) if step is not None else idx.astype(float)
     return Preview(
         files=list(got.labels), format=got.format, domain=rec.domain, step=step,
         start=chosen.start if step is not None else float(start_sample or 0), channels=channels,
         references=list(rec.inputs), n_records=len(chosen.values), n_samples=[len(v) for v in chosen.values],
         kind=guess_kind(chosen),
-        described=list(chosen.described), x=np.asarray(x, float), traces=np.asarray(y[idx].T, float),
+        described=list(chosen.described) + ([] if problem else list(rec.conversions)), x=np.asarray(x, float),
+        traces=np.asarray(y[idx].T, float),
         problem=problem, problem_option=option,
         geometry_nodes=len(got.parts[0]) if got.parts is not None else 0,
         proposed_band_hz=(rec.points or {}).get("proposed_band_hz"))

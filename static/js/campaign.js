@@ -92,7 +92,7 @@
       ["Records", `${r.n_records}: ${r.records.length} analysed, ${r.failed.length} failed`],
       [r.time_axis === "date" ? "From … to" : "Order", r.time_axis === "date" ? span : "file names hold no date: records in the order given"],
       ["Tracked modes", String(r.modes.length)],
-      ["Each record", `${a.kind}${a.dt ? `, Δt = ${a.dt} s` : ""}, orders ${orders[0]}–${orders[orders.length - 1]}, suggested Hankel size`],
+      ["Each record", `${a.kind}${a.dt ? `, Δt = ${window.EraFormat.step(a.dt)}` : ""}, orders ${orders[0]}–${orders[orders.length - 1]}, suggested Hankel size`],
       ["Ran on", `${r.engine} in ${r.seconds.toFixed(1)} s`],
     ];
     for (const [k, v] of rows) $("campaign-meta").append(el("dt", k), el("dd", v));

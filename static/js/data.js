@@ -31,7 +31,7 @@ function renderSummary(ds) {
   const units = !u ? "not given" : u.every((x) => x === u[0]) ? `${u[0]} (every output)` : u.join(", ");
   const rows = [
     ["Name", ds.name], ["Outputs (p)", `${ds.n_outputs}: ${ds.outputs.join(", ")}`],
-    ["Inputs (m)", `${ds.n_inputs}: ${ds.inputs.join(", ")}`], ["Δt", `${ds.dt} s (Nyquist ${ds.nyquist_hz.toFixed(3)} Hz)`],
+    ["Inputs (m)", `${ds.n_inputs}: ${ds.inputs.join(", ")}`], ["Δt", `${window.EraFormat.step(ds.dt)}, Nyquist ${Number(ds.nyquist_hz.toPrecision(6))} Hz`],
     ["Length", `${ds.n_samples} samples, ${ds.duration_s.toFixed(3)} s`], ["Units", units],
     ["Geometry", ds.geometry ? `${ds.geometry.n_nodes} nodes, ${ds.geometry.n_edges} lines (${ds.geometry.units})` : "none"],
   ];

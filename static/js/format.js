@@ -7,6 +7,9 @@
     const ok = sd !== null && sd !== undefined && isFinite(sd);
     return ok ? `${num(v, digits)} ± ${num(1.96 * sd, digits)}` : num(v, digits);
   };
+  // a sampling step as a person reads it: 6 significant digits and its rate, "0.000605469 s (1651.61 Hz)"
+  const step = (dt) => (dt === null || dt === undefined || !(dt > 0)) ? "–"
+    : `${Number(Number(dt).toPrecision(6))} s (${Number((1 / dt).toPrecision(6))} Hz)`;
   const std = (m, key, k) => (m[key] ? m[key][k] : null);
   const columns = [
     { key: "index", label: "#", title: "mode number at this order", value: (m, k) => k, text: (m, k) => String(k + 1) },
@@ -37,7 +40,8 @@
     const ch = (list) => list.map((i) => (names && names[i] !== undefined ? names[i] : `#${i}`)).join(", ");
     const out = [];
     if (o.kind) out.push(`records read as ${o.kind}`);
-    if (o.dt) out.push(`sample rate ${Number((1 / o.dt).toPrecision(10))} Hz (Δt ${o.dt} s)`);
+    if (o.dt) out.push(`sample rate ${Number((1 / o.dt).toPrecision(6))} Hz (Δt ${Number(o.dt.toPrecision(6))} s)`);
+    if (o.resample) out.push("time stamps resampled onto an even grid at the mean rate");
     if (o.orientation) out.push(`channels in ${o.orientation}`);
     if (o.format) out.push(`format ${o.format}`);
     if (o.variable) out.push(`array ${o.variable}`);
@@ -50,5 +54,5 @@
     if (o.references && o.references.length) out.push(`NExT references: ${ch(o.references)}`);
     return out.length ? out.join("; ") : null;
   }
-  window.EraFormat = { num, pm, columns, importChoices };
+  window.EraFormat = { num, pm, step, columns, importChoices };
 })();

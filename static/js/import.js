@@ -8,7 +8,7 @@ import { el, plotConfig, plain, showError } from "./state.js";
 const $ = (id) => document.getElementById(id);
 
 // The option a refusal names -> the element that shows it (next to its control).
-const ERROR_BOX = { dt: "import-error-dt", orientation: "import-error-orientation", kind: "import-error-kind",
+const ERROR_BOX = { dt: "import-error-dt", resample: "import-error-resample", orientation: "import-error-orientation", kind: "import-error-kind",
                     start_sample: "import-error-start_sample", variable: "import-error-variable",
                     group: "import-error-group", frf_sign: "import-error-frf_sign", band_hz: "import-error-band_hz",
                     forces: "import-error-channels", references: "import-error-channels",
@@ -49,6 +49,7 @@ export function options() {
   const o = { kind: $("kind").value };
   const rate = parseFloat($("import-rate").value);
   if (!fileRate && rate > 0) o.dt = 1 / rate;
+  if (!$("field-resample").hidden && $("import-resample").checked) o.resample = true;  // never without the person
   if ($("import-orientation").value) o.orientation = $("import-orientation").value;
   const start = parseInt($("import-start").value, 10);
   if (start > 0) o.start_sample = start;
@@ -101,6 +102,8 @@ function renderRead(answer) {
   $("field-orientation").hidden = !["csv", "text", "npy", "mat", "hdf5"].includes(pv.format);
   $("field-variable").hidden = !["mat", "hdf5"].includes(pv.format) && answer.option !== "variable";
   $("field-group").hidden = pv.format !== "tdms";
+  // only for a clock that needs it (or once ticked): the refusal names it, the person decides
+  $("field-resample").hidden = answer.option !== "resample" && !("resample" in answer.options);
   $("field-frf-sign").hidden = pv.domain !== "frequency";
   $("field-band").hidden = pv.domain !== "frequency";
   if (pv.proposed_band_hz && !bandProposed && !$("import-band-low").value && !$("import-band-high").value) {
@@ -109,7 +112,8 @@ function renderRead(answer) {
   }
   $("import-start").disabled = pv.domain === "frequency";
   const step = pv.dt === null ? "no sampling interval yet"
-    : timeLike ? `Δt ${pv.dt} s (${Number(pv.sample_rate_hz.toPrecision(8))} Hz)` : `Δf ${pv.dt} Hz`;
+    : timeLike ? `Δt ${Number(pv.dt.toPrecision(6))} s (${Number(pv.sample_rate_hz.toPrecision(6))} Hz)`
+      : `Δf ${Number(pv.dt.toPrecision(6))} Hz`;
   const kept = pv.channels.filter((c) => !c.dropped).length;
   $("import-read").textContent = `${pv.format.toUpperCase()}, ${pv.domain} records: ${pv.channels.length} channel(s)` +
     `${kept < pv.channels.length ? ` (${kept} kept)` : ""}` +
@@ -177,6 +181,8 @@ export async function start(files, setDataStatus) {
   roles = [];
   $("import-rate").value = "";
   $("import-orientation").value = "";
+  $("import-resample").checked = false;
+  $("field-resample").hidden = true;
   $("import-start").value = "0";
   $("import-variable").value = "";
   $("import-group").value = "";
@@ -221,7 +227,7 @@ async function use() {
 export function init(datasetReady) {
   onDataset = datasetReady;
   for (const id of ["import-rate", "import-start", "import-variable", "import-group"]) $(id).addEventListener("input", reread);
-  for (const id of ["import-orientation", "kind", "import-frf-sign"]) $(id).addEventListener("change", reread);
+  for (const id of ["import-orientation", "kind", "import-frf-sign", "import-resample"]) $(id).addEventListener("change", reread);
   $("import-use").addEventListener("click", use);
   $("import-cancel").addEventListener("click", () => { current = null; $("import").hidden = true; clearErrors(); });
 }

@@ -41,10 +41,12 @@
     const fits = (r.kept_fit_percent || []).flat().filter((v) => v !== null);
     const mean = fits.length ? fits.reduce((s, v) => s + v, 0) / fits.length : null;
     const rows = [
-      ["Dataset", `${d.name}: ${d.n_outputs} outputs × ${d.n_inputs} inputs, ${d.n_samples} samples, Δt = ${d.dt} s`],
+      ["Dataset", `${d.name}: ${d.n_outputs} outputs × ${d.n_inputs} inputs, ${d.n_samples} samples, Δt = ${window.EraFormat.step(d.dt)}`],
       ["Dataset SHA-256", d.sha256],
       ...(d.source && d.source.format ? [["Read as", `${d.source.format.toUpperCase()}${d.source.kind ? `, ${d.source.kind}` : ""}` +
                                                      (d.source.records ? `: ${d.source.records.join("; ")}` : "")]] : []),
+      ...(d.source && d.source.conversions && d.source.conversions.length
+        ? [["Converted", d.source.conversions.join("; ")]] : []),
       ...(window.EraFormat.importChoices(d.source) ? [["Import choices", window.EraFormat.importChoices(d.source)]] : []),
       ["Hankel matrix", `rows r = ${a.rows}, columns s = ${a.cols}, H(0) ${a.hankel_shape[0]} × ${a.hankel_shape[1]}, ${a.svd_method} SVD`],
       ["Order", `n = ${r.order} (max ${a.max_order}, ${a.chosen_indices ? "automatic choice at" : "suggested"} ${a.suggested_order})`],

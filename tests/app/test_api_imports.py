@@ -102,3 +102,29 @@ def test_bad_requests_are_refused_in_words(tmp_path):
         short = c.post(f"/api/imports/{up['id']}/dataset", json={})  # ... and refused in a sentence when used
         assert short.status_code == 422 and "samples" in short.json()["error"]
         assert c.get("/api/health").json()["usage"]["rows"]["datasets"] == 0
+
+
+PHONE = Path(__file__).resolve().parents[1] / "data" / "cessipy_smartphone_slab.csv"
+
+
+def test_a_phone_csv_with_a_jittered_clock_is_shown_and_resampled_only_when_the_person_ticks_it(tmp_path):
+    """The CESSIPy phone record (every row ends in a comma, stamps jitter about 425 Hz): the refusal sits under
+    the resample control with the records shown; ticked, the dataset is made and its source says what was done."""
+    with client(tmp_path) as c:
+        up = valid(schemas.Import, c.post("/api/imports", files={"file": (PHONE.name, PHONE.read_bytes())}).json())
+        assert up["option"] == "resample" and "No sample is missing or repeated" in up["error"]
+        assert "425.077 Hz" in up["error"] and "dt=" not in up["error"]
+        pv = up["preview"]
+        assert [ch["name"] for ch in pv["channels"]] == ["X-Axis", "Y- Axis", "Z-Axis"]
+        assert pv["sample_rate_hz"] == pytest.approx(425.077, abs=1e-3) and len(pv["traces"]) == 3
+        refused = c.post(f"/api/imports/{up['id']}/dataset", json={"kind": "ambient"})
+        assert refused.status_code == 422 and refused.json()["option"] == "resample"
+        ticked = valid(schemas.Import, c.post(f"/api/imports/{up['id']}/preview", json={"resample": True}).json())
+        assert ticked["error"] is None and any("resampled onto an even grid" in d
+                                               for d in ticked["preview"]["described"])
+        made = c.post(f"/api/imports/{up['id']}/dataset", json={"kind": "ambient", "resample": True})
+        assert made.status_code == 200, made.text
+        src = made.json()["source"]
+        assert src["options"] == {"kind": "ambient", "resample": True}
+        assert src["conversions"][0].startswith(f"{PHONE.name}: resampled onto an even grid at the mean rate "
+                                                "425.077 Hz")

@@ -156,7 +156,8 @@ def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_
         page.wait_for_function("!document.getElementById('import-use').disabled")
         page.click("#import-use")  # nothing says which channel is the force: refused under the channel table
         page.wait_for_selector("#import-error-channels:not([hidden])")
-        assert "forces=" in page.text_content("#import-error-channels")
+        said = page.text_content("#import-error-channels")  # in the page's words, not era.load's parameters
+        assert "Mark it “force” among the channels' roles" in said and "forces=" not in said
         page.select_option("#import-channels select[data-channel='0']", "force")
         page.wait_for_function("!document.getElementById('import-use').disabled")
         page.click("#import-use")
@@ -165,6 +166,41 @@ def test_a_shaker_test_whose_force_channel_is_in_volts_is_named_by_its_role(tmp_
         assert "force channels: drive" in page.text_content("#summary")
         page.wait_for_selector("#modes-table tbody tr", timeout=120000)
         near(chosen_modes(page), list(f_modes), 0.01)
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+PHONE = Path(__file__).resolve().parents[1] / "data" / "cessipy_smartphone_slab.csv"
+
+
+def test_a_phone_csv_is_read_and_resampled_when_the_person_ticks_the_box(tmp_path, browser, shots):  # noqa: F811
+    """The CESSIPy phone record: every row ends in a comma (read as it is), its stamps jitter about 425 Hz. The
+    refusal sits under the resample box, in the page's words; ticked, Δt reads to 6 digits with its rate, and the
+    summary says what was done to the records."""
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser, 1100)
+        assert page.locator("#field-resample").is_hidden()
+        page.set_input_files("#file", str(PHONE))
+        page.wait_for_selector("#import-error-resample:not([hidden])")
+        said = page.text_content("#import-error-resample")
+        assert "No sample is missing or repeated" in said and "425.077 Hz" in said and "resample=" not in said
+        assert page.is_disabled("#import-use") and page.is_visible("#field-resample")
+        cells = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
+        assert cells[1:3] == ["X-Axis", "m/s2"]  # the file's own labels and units
+        page.screenshot(path=str(shots / "import-phone-refused.png"), full_page=True)
+        page.check("#import-resample")
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        read = page.text_content("#import-read")
+        assert "Δt 0.00235252 s (425.077 Hz)" in read and "resampled onto an even grid" in read
+        page.click("#import-use")
+        page.wait_for_selector("#summary:not([hidden])")
+        summary = page.text_content("#summary")
+        assert "time stamps resampled onto an even grid at the mean rate" in summary
+        assert "0.00235252 s (425.077 Hz)" in summary and "resampled onto an even grid at the mean rate 425.077 Hz" \
+            in summary
+        page.screenshot(path=str(shots / "import-phone-dataset.png"), full_page=True)
         assert not errors, errors
     finally:
         server.stop()

@@ -41,7 +41,7 @@ def test_npy_needs_dt_and_reads_either_orientation():
     with pytest.raises(era.DataError, match=r"^no sampling interval in acc.npy: give the sample rate \(dt=\.\.\.\)"):
         era.load(npy_bytes(y), name="acc.npy")
     ds = era.load(npy_bytes(y.T), name="acc.npy", dt=DT)  # 3 × N: channels in rows, from the shape
-    assert ds.source["format"] == "npy" and ds.data.outputs == ("acc 1", "acc 2", "acc 3")
+    assert ds.source["format"] == "npy" and ds.data.outputs == ("acc:1", "acc:2", "acc:3")
     modes_of(ds, f_modes)
     with pytest.raises(era.DataError, match="Record 1 has 3 samples"):
         era.load(npy_bytes(y.T), name="acc.npy", dt=DT, orientation="columns")
@@ -95,7 +95,7 @@ def test_mat_v73_through_h5py_with_a_struct(tmp_path):
     matlab_v73(tmp_path / "v73.mat", {}, struct={"acc": y, "fs": [[1 / DT]]})
     ds = era.load(tmp_path / "v73.mat")
     assert ds.source["format"] == "mat" and "MATLAB .mat (v7.3)" in ds.source["records"][0]
-    assert ds.data.outputs == ("data/acc 1", "data/acc 2", "data/acc 3")
+    assert ds.data.outputs == ("data/acc:1", "data/acc:2", "data/acc:3")
     modes_of(ds, f_modes)
 
 

@@ -134,7 +134,9 @@ def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset
     paths = [require_shared(LADISK / f"measurements_{k}.npy") for k in range(1, 6)]
     pv = preview(paths)
     assert pv.problem is None and 1 / pv.step == pytest.approx(25600, rel=1e-9) and pv.n_records == 5
-    assert len(pv.channels) == 2 and not any(c.force for c in pv.channels)  # nothing says which is the force
+    # the layout says it: of the two channels after the time row, the first is a short pulse (the hammer)
+    assert [c.force for c in pv.channels] == [True, False] and pv.kind == "io"
+    assert "'measurements_1:2' proposed as the force" in pv.described[0]
     ds = era.load(paths, kind="io", forces=[0], n_observer=40, n_markov=400)
     recs = [np.load(p) for p in paths]
     direct = era.markov_from_io([r[1][:, None] for r in recs], [r[2][:, None] for r in recs], pv.step,
