@@ -148,7 +148,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     lead = _time_channel(y, vars_, label)
     if lead is not None:  # a time axis stored as the first channel (np.vstack([t, force, acc]) and the like)
         step, start = lead
-        how = f"Δt = {step:.9g} s from the first channel, a time axis"
+        how = f"Δt = {step:.6g} s ({1 / step:.6g} Hz) from the first channel, a time axis"
         y, names, units = y[:, 1:], names[1:], units[1:]
     else:
         step, start, how = _sampling(vars_, chosen, len(y), label, dt)
@@ -228,8 +228,8 @@ def _sampling(vars_: list[Var], chosen: list[Var], n: int, label: str, dt) -> tu
             if abs(other[2] - step) > 1e-6 * step:
                 raise DataError(f"{label}: {kind} {name} gives a sampling interval of {step:.9g} s but {other[0]} "
                                 f"{other[1]} {other[2]:.9g} s; the file contradicts itself. Remove the wrong one.")
-        return step, start, f"Δt = {step:.9g} s from {kind} {name}"
+        return step, start, f"Δt = {step:.6g} s ({1 / step:.6g} Hz) from {kind} {name}"
     if dt is not None:
-        return float(dt), 0.0, f"Δt = {float(dt):.9g} s given"
+        return float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given"
     raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...), or store it in the file as "
                     "fs (Hz), dt (s) or a time vector t.", option="dt")

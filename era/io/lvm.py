@@ -161,7 +161,7 @@ def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
     force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() for nm, u in zip(names, units)])
     described = (f"{label}: LabVIEW LVM, {len(segments)} segment(s) as {len(values)} record(s) of "
                  f"{', '.join(str(len(v)) for v in values[:6])}{'…' if len(values) > 6 else ''} samples × "
-                 f"{len(names)} channel(s), Δt = {first['dt']:.9g} s ({first['dt_from']})"
+                 f"{len(names)} channel(s), Δt = {first['dt']:.6g} s ({1 / first['dt']:.6g} Hz, {first['dt_from']})"
                  + (f"; {first['dropped']} empty column(s) dropped" if first["dropped"] else ""))
     return Records(domain="time", values=values, step=first["dt"],
                    start=0.0 if absolute or first["t0"] is None else float(first["t0"]),

@@ -66,13 +66,13 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
             y, done = resample_onto(t, y[:, 1:], clock.step)
             conversions.append(f"{label}: {done}")
         start = float(t[0])
-        found = f"time in the first {chosen[:-1]}, Δt = {step:.9g} s"
+        found = f"time in the first {chosen[:-1]}, Δt = {step:.6g} s ({1 / step:.6g} Hz)"
     elif dt is None:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...). The file is a bare matrix "
                         f"({n_rows} lines × {n_cols} values, read as {y.shape[1]} channel(s) in {chosen}; say "
                         f"orientation='rows' or 'columns' if that is wrong).", option="dt")
     else:
-        step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.9g} s given", []
+        step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given", []
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))
     how = "as given" if orientation else "from the shape"
     return Records(domain="time", values=[np.ascontiguousarray(y)], step=step, start=start, outputs=names,

@@ -97,7 +97,7 @@ function renderRead(answer) {
   fileRate = pv.dt !== null && !("dt" in answer.options) && timeLike;
   const rate = $("import-rate");
   rate.disabled = fileRate || !timeLike;
-  if (fileRate) rate.value = String(Number(pv.sample_rate_hz.toPrecision(10)));
+  if (fileRate) rate.value = String(Number(pv.sample_rate_hz.toPrecision(6)));
   rate.title = fileRate ? "read from the file" : timeLike ? "the files carry no sampling interval: give it" : "FRFs";
   $("field-orientation").hidden = !["csv", "text", "npy", "mat", "hdf5"].includes(pv.format);
   $("field-variable").hidden = !["mat", "hdf5"].includes(pv.format) && answer.option !== "variable";

@@ -54,7 +54,7 @@ def test_drop_the_lvm_and_see_its_modes(tmp_path, browser, shots):  # noqa: F811
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
         cells = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
         assert cells[1:3] == ["Acceleration", "g"]  # the channel and its unit, as LabVIEW wrote them
-        assert float(page.input_value("#import-rate")) == pytest.approx(1 / 0.00060546875, rel=1e-6)  # the file's
+        assert page.input_value("#import-rate") == "1651.61"  # the file's 1 / 0.00060546875 s, to 6 digits
         assert page.is_disabled("#import-rate")  # read from the file: nothing to say
         assert "LVM, time records" in page.text_content("#import-read")
         page.wait_for_function("document.getElementById('import-plot').data?.length === 1")
@@ -201,6 +201,35 @@ def test_a_phone_csv_is_read_and_resampled_when_the_person_ticks_the_box(tmp_pat
         assert "0.00235252 s (425.077 Hz)" in summary and "resampled onto an even grid at the mean rate 425.077 Hz" \
             in summary
         page.screenshot(path=str(shots / "import-phone-dataset.png"), full_page=True)
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+def test_the_usc_cantilever_saved_as_csv_with_7_significant_digits_is_read_as_even(tmp_path, browser, shots):  # noqa: F811
+    """The USC record as a spreadsheet saves it (`time_s,tip_acc_g`, times in single precision, 7 significant
+    digits): even within the printed digits, Δt read to 6 digits with its rate, and its three modes found."""
+    import era
+
+    rec = era.io.read(require_shared(USC)).records
+    y = rec.values[0][:, 0]
+    t = (rec.step * np.arange(len(y))).astype(np.float32).astype(float)
+    path = tmp_path / "usc_cantilever.csv"
+    path.write_text("time_s,tip_acc_g\n" + "\n".join(f"{a:.7g},{b:.7g}" for a, b in zip(t, y)) + "\n")
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser, 1100)
+        page.set_input_files("#file", str(path))
+        page.wait_for_function("!document.getElementById('import-use').disabled")
+        assert "Δt 0.000605469 s (1651.61 Hz)" in page.text_content("#import-read")
+        assert page.locator("#field-resample").is_hidden()  # an even record: nothing to resample
+        page.wait_for_function("document.getElementById('import-plot').data?.length === 1")
+        page.screenshot(path=str(shots / "import-usc-csv.png"), full_page=True)
+        page.click("#import-use")
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        near(chosen_modes(page), [6.614, 41.36, 116.85], 0.005)
+        assert "0.000605469 s (1651.61 Hz)" in page.text_content("#summary")
+        page.screenshot(path=str(shots / "usc-csv-table.png"), full_page=True)
         assert not errors, errors
     finally:
         server.stop()

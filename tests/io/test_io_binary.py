@@ -57,7 +57,7 @@ def test_mat_v5_finds_fs_or_a_time_vector_and_names_the_ambiguity():
         era.load(raw, name="test.mat")
     ds = era.load(raw, name="test.mat", variable="acc")
     assert ds.source["format"] == "mat" and ds.data.dt == pytest.approx(DT)
-    assert "Δt = 0.01 s from fs 'fs'" in ds.source["records"][0]
+    assert "Δt = 0.01 s (100 Hz) from fs 'fs'" in ds.source["records"][0]
     modes_of(ds, f_modes)
     buf = io.BytesIO()
     scipy.io.savemat(buf, {"y": y.T, "t": np.arange(len(y)) * DT}, do_compression=True)
