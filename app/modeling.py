@@ -213,8 +213,8 @@ def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple
     not the dataset's channels. Blocking (one eigen-solution)."""
     fr = frame(model)
     check_channels(fr, outputs, geometry)
-    try:
-        f_hz, _ = fr.modes(N_MODES)
+    try:     # the elastic modes: a free frame's six rigid-body modes at 0 Hz left out, as explain leaves them
+        f_hz = fr.modes(N_MODES + fr.n_rigid_modes)[0][fr.n_rigid_modes:]
     except era.EraError as exc:                     # a mechanism: at the node the solver names
         raise era.DataError(str(exc), option=exc.option or control(str(exc), model)) from None
     return fr, f_hz
@@ -289,12 +289,14 @@ def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
     modes × model modes) at the sensors, and each test mode's partner (era.correlation.pair_modes: frequency and
     MAC together, as explain pairs them; null when none is acceptable). frequency_hz (k,), shapes (p, k) complex:
     the test's modes, e.g. those kept at one order. The model gives 6 modes more than the test, so a mode that
-    moved can still be found."""
+    moved can still be found. A free frame's rigid-body modes (0 Hz) are left out, as explain leaves them."""
     from era.correlation import pair_modes, real_shapes
 
     f_test = np.asarray(frequency_hz, float)
     test = real_shapes(np.asarray(shapes))
-    f_model, s_model = fr.modes(max(N_MODES, test.shape[1] + 6))
+    r = fr.n_rigid_modes
+    f_model, s_model = fr.modes(max(N_MODES, test.shape[1] + 6) + r)
+    f_model, s_model = f_model[r:], s_model[:, r:]
     p = pair_modes(f_test, test, f_model, s_model)
     partner = {int(i): k for k, i in enumerate(p.measured_index)}
     best = [None if i not in partner else {"model_mode": int(p.model_index[partner[i]]),

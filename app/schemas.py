@@ -422,6 +422,12 @@ class LocatedEvidence(Explained):
     probability: float | None = Field(description="posterior of this location, fraction")
 
 
+class RejectedTrial(Explained):
+    effect: str = Field(description="the candidate effect whose trial model could not be solved")
+    location: Place | None = Field(description="its place (a frame's node id or member, a grid joint), or null")
+    reason: str = Field(description="why, in words (a mechanism naming the free node and DOF, a singular model)")
+
+
 class RankedEffect(Explained):
     name: str
     log_evidence: float | None = Field(description="ln of the Laplace-approximated evidence")
@@ -437,6 +443,8 @@ class RankedEffect(Explained):
     locations: list[LocatedEvidence] = Field(description="evidence per location (located effects)")
     seconds: float | None = Field(description="time the candidate took, s")
     n_solves: int = Field(description="finite-element solutions it took")
+    rejected: list[RejectedTrial] = Field(default_factory=list, description="its trials that could not be solved "
+                                          "(no evidence there); on \"none\": candidates rejected everywhere")
 
 
 class ExplainedMode(Explained):
@@ -498,6 +506,9 @@ class Explanation(Explained):
     effects: list[NamedEffect] = Field(default_factory=list, description="every named effect, most important "
                                                                          "first (empty unless explained)")
     ranking: list[RankedEffect] = Field(description="every candidate, most probable first")
+    rejected_trials: list[RejectedTrial] = Field(default_factory=list, description="trial models that could not "
+                                                 "be solved (a change made the model a mechanism, singular or "
+                                                 "modeless): rejected, no evidence for those places")
     before: Gap = Field(description="test against the nominal model")
     after: Gap = Field(description="test against the updated model")
     updated_params: dict[str, Any] = Field(description="nasa_grid keywords of the updated model")

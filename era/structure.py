@@ -345,6 +345,17 @@ class Frame:
             n_user=n, names=tuple(self.nodes), end_springs=end_k, end_axes=end_axes)
 
     @property
+    def n_rigid_modes(self) -> int:
+        """6 when the frame is free (no support, spring or cable, and no gravity: a structure hung on soft cords
+        the model leaves out): its lowest six modes are the rigid-body motions at 0 Hz; else 0. explain and the
+        app's comparison leave them out: no measured mode is paired with a rigid-body motion."""
+        got = self.__dict__.get("_n_rigid_modes")
+        if got is None:
+            got = self.__dict__["_n_rigid_modes"] = 0 if (
+                self.gravity is not None or self.space_frame().supported) else 6
+        return got
+
+    @property
     def vertical(self) -> np.ndarray:
         """(3,) unit vector up: against gravity when given, else +Z."""
         return np.array([0.0, 0.0, 1.0]) if self.gravity is None else -np.array(self.gravity) / np.linalg.norm(

@@ -60,7 +60,8 @@ async def read(request: Request, ds: Dataset = Depends(dataset)):
 
     def work():
         fr = modeling.frame(stored["model"])
-        f_hz = stored.get("frequency_hz") or fr.modes(modeling.N_MODES)[0]   # kept when saved: no solve here
+        f_hz = stored.get("frequency_hz") or (     # kept when saved: no solve here; elastic modes, as Save's
+            fr.modes(modeling.N_MODES + fr.n_rigid_modes)[0][fr.n_rigid_modes:])
         return modeling.summary(stored, fr, f_hz)
 
     return await jobs(request).quick(work)

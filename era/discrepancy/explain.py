@@ -21,9 +21,9 @@ from ..realization import Identification
 from ..structure import Frame
 from .effects import describe, grid_effects, nuisance, short_place
 from .frame_model import FrameModel, frame_effects, refit_exact
-from .fitting import ErrorLevels, build_model, profile_interval
+from .fitting import TRIAL_FAILURES, ErrorLevels, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
-from .ranking import RankedEffect, rank_effects
+from .ranking import RankedEffect, _js, rank_effects
 from .search import Search, search_effects
 from .verdict import message_for, too_few_data, verdict_of
 
@@ -123,6 +123,19 @@ class Explanation:
     effects: tuple = ()
     rankings: tuple = ()
 
+    @property
+    def rejected_trials(self) -> tuple:
+        """(effect name, location or None, reason) of every trial model that could not be solved (a change that
+        made the model a mechanism, singular or modeless), over every step of the search: no evidence there."""
+        seen, out = set(), []
+        for ranking in self.rankings or (self.ranking,):
+            for r in ranking:
+                for name, loc, why in r.rejected:
+                    if (name, repr(loc)) not in seen:
+                        seen.add((name, repr(loc)))
+                        out.append((name, loc, why))
+        return tuple(out)
+
     def candidate(self, name: str) -> RankedEffect:
         """The ranking entry of one candidate, by name."""
         return next(r for r in self.ranking if r.name == name)
@@ -152,6 +165,8 @@ class Explanation:
             "effect": None if e is None else e.as_dict(),
             "effects": [x.as_dict() for x in self.effects],
             "ranking": [r.as_dict() for r in self.ranking],
+            "rejected_trials": [{"effect": n, "location": _js(loc), "reason": why}
+                                for n, loc, why in self.rejected_trials],
             "before": self.before.as_dict(), "after": self.after.as_dict(),
             "updated_params": {k: (list(v) if isinstance(v, tuple) else v)
                                for k, v in getattr(self.updated_model, "params", {}).items()},
@@ -180,8 +195,11 @@ def _select_modes(nominal, specs, measured: MeasuredModes, n_model: int) -> np.n
         if spec.located:
             continue
         params = (nu,) + tuple(spec.params)
-        model = build_model(nominal, spec, params, [p.prior_mean for p in params])
-        used |= set(_pair(model, measured, n_model).measured_index.tolist())
+        try:
+            model = build_model(nominal, spec, params, [p.prior_mean for p in params])
+            used |= set(_pair(model, measured, n_model).measured_index.tolist())
+        except TRIAL_FAILURES:     # a candidate that cannot be solved pairs nothing (rank_effects says why)
+            continue
     return np.array(sorted(used), dtype=int)
 
 
@@ -282,8 +300,11 @@ def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, clo
         k += len(spec.params)
         interval = {}
         for j in idx:
-            iv = profile_interval(model, fit, fm, w, n_model, index=j,     # frames: solved steps, as before
-                                  ritz_modes=0 if isinstance(model, FrameModel) else 30)
+            try:
+                iv = profile_interval(model, fit, fm, w, n_model, index=j,     # frames: solved steps, as before
+                                      ritz_modes=0 if isinstance(model, FrameModel) else 30)
+            except TRIAL_FAILURES:     # a step of the profile cannot be solved: no interval, the σ stands
+                iv = None
             if iv is not None:
                 interval[fit.params[j].name] = iv
         params = {**found.own(i), "stiffness_factor": fit.parameters["stiffness_factor"]}
@@ -423,6 +444,12 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     message = message_for(verdict, effects, ranking, found, g_b, g_a, miss, fm, chosen, comac_a, unpaired)
     if why:
         message = why + " " + message
+    rejected = [x for ranking in found.rankings for r in ranking for x in r.rejected]
+    if rejected:       # rejected trials: no evidence for those places, said so (the first reason as an example)
+        name, loc, reason = rejected[0]
+        at = "" if loc is None else f" at {short_place(loc)}"
+        message += (f" {len(rejected)} trial model(s) could not be solved and count as no evidence for their "
+                    f"place, e.g. {name}{at}: {reason}")
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
         updated_model=updated, nominal_model=model, measured=measured, fit_modes=fit_modes, unpaired_measured=unpaired,

@@ -27,8 +27,21 @@ import numpy as np
 from scipy.optimize import least_squares, linear_sum_assignment
 
 from ..correlation import pairing_cost
+from ..errors import EraError
 from .effects import EffectSpec, Param, as_location
 from .measured import MeasuredModes
+
+
+# What a trial model may fail with: a change that makes it a mechanism, singular or modeless (era.fem's DataError
+# naming the free DOF, LinAlgError from a factorisation or an eigensolver, ValueError from least squares on a
+# residual that is not finite). Such a trial is rejected, with its reason; it is never the end of an explanation.
+TRIAL_FAILURES = (EraError, np.linalg.LinAlgError, ValueError, FloatingPointError)
+
+
+def trial_failure(exc: BaseException) -> str:
+    """One line saying why a trial model was rejected."""
+    text = str(exc).strip() or type(exc).__name__
+    return text if isinstance(exc, EraError) else f"the model could not be solved ({type(exc).__name__}: {text})"
 
 
 @dataclass(frozen=True)

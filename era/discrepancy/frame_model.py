@@ -25,7 +25,7 @@ from ..fem import space
 from ..fem.reduced import ReducedFrame, reducible
 from ..structure import Frame, Section
 from .effects import EffectSpec, Param, member_stiffness
-from .fitting import fit_effect
+from .fitting import TRIAL_FAILURES, fit_effect
 
 DEFAULTS = dict(stiffness_factor=1.0, gravity=True, support_at=None, support_rotation_stiffness=None,
                 support_vertical_stiffness=None, joint_at=None, joint_stiffness=None, point_mass_at=None,
@@ -62,8 +62,8 @@ class FrameModel:
         reduced: variants solved in the nominal's reduced model where it applies (era.fem.reduced)."""
         if not frame.sensors:
             raise DataError("explain: the Frame has no sensors: list (node, direction) for each output channel.")
-        if frame.elements_per_member is None:
-            frame = dataclasses.replace(frame, elements_per_member=frame.element_counts(n_mesh))
+        if frame.elements_per_member is None:    # meshed for n_mesh elastic modes (a free frame's rigid ones on top)
+            frame = dataclasses.replace(frame, elements_per_member=frame.element_counts(n_mesh + frame.n_rigid_modes))
         on = bool(gravity and frame.gravity is not None)
         return cls(frame, {**DEFAULTS, "gravity": on}, {"gravity": on} if reduced else None)
 
@@ -152,6 +152,13 @@ class FrameModel:
         up = int(np.argmax(np.abs(self.frame.vertical)))
         return tuple(k for a, k in enumerate(("rx", "ry", "rz")) if a != up)
 
+    @property
+    def n_rigid(self) -> int:
+        """6 for a free structure (no support, spring or cable, no gravity: it hangs on soft cords the model leaves
+        out), whose six rigid-body modes come first at 0 Hz; 0 otherwise. :meth:`modes`, :meth:`node_modes` and
+        :meth:`ritz` leave them out: no measured mode is paired with a rigid-body motion."""
+        return self.frame.n_rigid_modes
+
     # the modes
     def _reduced(self, n_modes: int, screen: bool = False):
         """(f (n,), translations (n_user, 3, n)) from the reduced model, or None when it does not apply (no
@@ -205,6 +212,9 @@ class FrameModel:
                        (up,) if p["support_vertical_stiffness"] is not None else ())
         joint = str(p["joint_at"]) if p["joint_at"] is not None and p["joint_stiffness"] is not None else None
         mass_at = str(p["point_mass_at"]) if p["point_mass_at"] is not None and p["point_mass_kg"] > 0 else None
+        for node in (support and support[0], joint, mass_at):
+            if node is not None and node not in fr.nodes:
+                raise DataError(f"FrameModel: no node {node!r} in the frame.")
         member = None
         if tuple(p["member_at"] or ()) == ALL_MEMBERS:
             member = "all"
@@ -215,16 +225,20 @@ class FrameModel:
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (3·n_nodes, n), rows node-major (x, y, z of each
         node in Frame.node_ids order), 1/√kg."""
-        got = self._reduced(n_modes)
-        f, u = self.updated_frame.node_modes(n_modes) if got is None else got
-        return f, u.reshape(-1, u.shape[-1])
+        r = self.n_rigid
+        got = self._reduced(n_modes + r)
+        f, u = self.updated_frame.node_modes(n_modes + r) if got is None else got
+        return f[r:], u.reshape(-1, u.shape[-1])[:, r:]
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        got = self._reduced(n_modes)
+        """The lowest ``n_modes`` elastic modes: frequencies (n,) Hz and the sensors' shapes (n_sensors, n)."""
+        r = self.n_rigid
+        got = self._reduced(n_modes + r)
         if got is None:
-            return self.updated_frame.modes(n_modes)
+            f, s = self.updated_frame.modes(n_modes + r)
+            return f[r:], s[:, r:]
         f, u = got
-        return f, self.frame.at_sensors(u)
+        return f[r:], self.frame.at_sensors(u[..., r:])
 
     def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameModel | FrameRitz | None":
         """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
@@ -235,12 +249,12 @@ class FrameModel:
             red = self._shared.get("reduced")     # as many modes as its basis answers well
             got = self._reduced(red.n_basis - 10 if red is not None else max(1, n_modes - 10), screen=True)
             if got is not None:
-                f, u = got
+                f, u = got[0][self.n_rigid:], got[1][..., self.n_rigid:]
                 return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.frame.at_sensors(u))
         got = self.updated_frame.ritz_modes(reference.updated_frame, n_modes)
         if got is None:
             return None
-        f, u = got
+        f, u = got[0][self.n_rigid:], got[1][..., self.n_rigid:]
         return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.updated_frame.at_sensors(u))
 
     @property
@@ -322,17 +336,17 @@ class FrameModel:
         cache = self.__dict__.setdefault("_member_modal", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
         if got is None:
-            frame = self.updated_frame
-            mesh, result = frame.solution(n_modes)
-            n = min(int(n_modes), result.frequency_hz.size)
+            frame, r = self.updated_frame, self.n_rigid      # the elastic modes, as :meth:`modes` gives them
+            mesh, result = frame.solution(n_modes + r)
+            n = min(int(n_modes), result.frequency_hz.size - r)
             L, R = mesh.axes
             k = space.beam3d.to_global(space.beam3d.local_stiffness(L, mesh.EA, mesh.GJ, mesh.EIy, mesh.EIz), R)
-            u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, :n]     # (e, 12, n)
+            u = result.shapes.reshape(-1, result.shapes.shape[-1])[mesh.edofs()][:, :, r:r + n]     # (e, 12, n)
             per_element = np.einsum("eik,eij,ejn->ekn", u, k, u)
             cross = np.zeros((len(self.frame.members), n, n))
             np.add.at(cross, mesh.member, per_element)
-            f, u = frame.node_modes(n)
-            got = cache[n] = (f, u.reshape(-1, n), cross)
+            f, u = frame.node_modes(n + r)
+            got = cache[n] = (f[r:], u.reshape(-1, n + r)[:, r:], cross)
         f, u, cross = got
         return f[:n_modes], u[:, :n_modes], cross[:, :n_modes, :n_modes]
 
@@ -451,14 +465,20 @@ def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model:
     fit = found.fit
     if fit is None or not isinstance(fit.model, FrameModel) or fit.model._shared is None:
         return found
-    refit = lambda at: fit_effect(model.exact, fit.spec, nuisance, measured, w, n_model,   # noqa: E731
-                                  location=at, u0=fit.u)
+    def refit(at):
+        try:
+            return fit_effect(model.exact, fit.spec, nuisance, measured, w, n_model, location=at, u0=fit.u)
+        except TRIAL_FAILURES:     # the full model cannot be solved there: the reduced model's fit stands
+            return None
+
     exact = refit(fit.location)
+    if exact is None:
+        return found
     last = found.named[-1]
     if len(last.locations) < 2 or all(q < min_share for _, _, q in last.locations[1:]):
         return dataclasses.replace(found, fit=exact)
     places = [(exact.location, exact.log_evidence)] + [
-        (at, refit(at).log_evidence if q >= min_share else le) for at, le, q in last.locations[1:]]
+        (at, getattr(refit(at), "log_evidence", le) if q >= min_share else le) for at, le, q in last.locations[1:]]
     les = np.array([le for _, le in places])
     share = np.exp(les - les.max())
     share /= share.sum()

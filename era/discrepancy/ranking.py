@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import logsumexp
 
-from .effects import EffectSpec, Param
-from .fitting import Fit, ModeWeights, build_model, fit_effect, mode_residuals
+from .effects import EffectSpec, Param, as_location
+from .fitting import TRIAL_FAILURES, Fit, ModeWeights, build_model, fit_effect, mode_residuals, trial_failure
 from .measured import MeasuredModes
 
 
@@ -38,6 +38,10 @@ class RankedEffect:
         size (screen_locations), for a later step's pre-screening; else None.
     seconds : wall-clock time spent on this candidate (screening + fits); n_solves : model evaluations it took (a solve, or a
         Rayleigh-Ritz approximation in a solved model's modes).
+    rejected : the trials that could not be solved (the change made the model a mechanism, singular or modeless),
+        as (effect name, location or None, reason): no evidence for those places. A candidate rejected at every
+        place, or a place-less one whose fit failed, is left out of the ranking and listed on the reference
+        ("none").
     """
 
     name: str
@@ -56,6 +60,7 @@ class RankedEffect:
     n_solves: int = 0
     test: Adequacy | None = None
     screen: np.ndarray | None = None
+    rejected: tuple = ()
 
     def as_dict(self) -> dict:
         return {"name": self.name, "log_evidence": self.log_evidence, "probability": self.probability,
@@ -65,7 +70,8 @@ class RankedEffect:
                 "locations": [{"location": loc, "log_evidence": le, "probability": p} for loc, le, p in self.locations],
                 "seconds": self.seconds, "n_solves": self.n_solves,
                 "chi2_freq": None if self.test is None else self.test.chi2_freq,
-                "chi2_shape": None if self.test is None else self.test.chi2_shape}
+                "chi2_shape": None if self.test is None else self.test.chi2_shape,
+                "rejected": [{"effect": n, "location": _js(loc), "reason": why} for n, loc, why in self.rejected]}
 
 
 @dataclass(frozen=True)
@@ -139,7 +145,8 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
     prior : (n_loc, n_r) the changes Δ_ℓ of an earlier screening of the same effect and places against another
         reference (the search's first step); they pre-screen every place against this reference, and only the
         best ``keep`` are screened again (a solve or Ritz each); the others score +inf (not fitted).
-    Returns (χ² (n_loc,), a (n_loc,), Δ (n_loc, n_r): the changes, NaN rows where not screened here).
+    Returns (χ² (n_loc,), a (n_loc,), Δ (n_loc, n_r): the changes, NaN rows where not screened here, and the
+    places whose trial model could not be solved, ((location, reason), ...): they score +inf).
     """
     u_sf = base.u[0]
     trial_u = [p.u(spec.trial[p.name]) for p in spec.params[len(spec.start):]]
@@ -173,13 +180,21 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
         todo = np.argsort([score(d)[0] for d in prior], kind="stable")[:keep]
     # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
     ritz = bool(ritz_modes) and hasattr(base.model, "ritz")
+    rejected = []
     for i in todo:
         u = [*base.u, *trial_u]
-        trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
-        approx = getattr(trial, "screening_ritz", trial.ritz)(base.model, ritz_modes) if ritz else None
-        changes[i] = resid(trial if approx is None else approx) - r0[:n_r]
+        try:
+            trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
+            approx = getattr(trial, "screening_ritz", trial.ritz)(base.model, ritz_modes) if ritz else None
+            change = resid(trial if approx is None else approx) - r0[:n_r]
+            if not np.all(np.isfinite(change)):
+                raise FloatingPointError("its modes are not finite")
+        except TRIAL_FAILURES as exc:      # a mechanism, a singular or modeless model: no evidence here
+            rejected.append((as_location(locations[i]), trial_failure(exc)))
+            continue
+        changes[i] = change
         out[i], size[i] = score(changes[i])
-    return out, size, changes
+    return out, size, changes, tuple(rejected)
 
 
 def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
@@ -218,26 +233,47 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     if base is None:
         base = fit_effect(nominal, specs[0], nuisance, measured, w, n_model, ritz_modes=fit_ritz)
         base_evals = base.n_evals
-    rows = []  # (spec, log_evidence, best fit, locations, seconds, solves)
+    rows = []  # (spec, log_evidence, best fit, locations, seconds, solves, screen, rejected)
+    dropped = []  # (name, location, reason) of candidates rejected everywhere: listed on the reference's row
+
+    def fitted(spec, **kw):
+        try:
+            return fit_effect(nominal, spec, nuisance, measured, w, n_model, scan=fine_scan, ritz_modes=fit_ritz,
+                              **kw), None
+        except TRIAL_FAILURES as exc:     # a mechanism, a singular or modeless model: a rejected trial
+            return None, trial_failure(exc)
+
     for spec in specs:
         t = time.perf_counter()
         if spec.name == "none":
-            rows.append((spec, base.log_evidence, base, (), t - t0, base_evals, None))
+            rows.append((spec, base.log_evidence, base, (), t - t0, base_evals, None, ()))
         elif not spec.located:
-            f = fit_effect(nominal, spec, nuisance, measured, w, n_model, scan=fine_scan, ritz_modes=fit_ritz)
-            rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals, None))
+            f, why = fitted(spec)
+            if f is None:
+                dropped.append((spec.name, None, why))
+                continue
+            rows.append((spec, f.log_evidence, f, (), time.perf_counter() - t, f.n_evals, None, ()))
         else:
             places = locations if spec.locations is None else spec.locations
-            chi2, size, changes = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, places,
-                                                   with_prior=fine_scan, ritz_modes=ritz_modes,
-                                                   prior=(screens or {}).get(spec.name))
+            chi2, size, changes, bad = screen_locations(nominal, spec, nuisance, base, measured, w, n_model,
+                                                        places, with_prior=fine_scan, ritz_modes=ritz_modes,
+                                                        prior=(screens or {}).get(spec.name))
+            rejected = [(spec.name, loc, why) for loc, why in bad]
             top = np.argsort(chi2, kind="stable")[:refine]
             # places the linearised misfit puts far behind the best are not worth a full fit: their evidence
             # is below the best's by more than e^{-12}, well within the marginal's rounding
-            top = top[chi2[top] - chi2[top[0]] <= max(25.0, 0.5 * chi2[top[0]])]
-            fits = [fit_effect(nominal, spec, nuisance, measured, w, n_model, location=places[i],
-                               u0=_start(spec, base, size[i]), scan=fine_scan, ritz_modes=fit_ritz)
-                    for i in top]
+            top = top[np.isfinite(chi2[top])]
+            top = top[chi2[top] - chi2[top[0]] <= max(25.0, 0.5 * chi2[top[0]])] if top.size else top
+            fits = []
+            for i in top:
+                f, why = fitted(spec, location=places[i], u0=_start(spec, base, size[i]))
+                if f is None:
+                    rejected.append((spec.name, as_location(places[i]), why))
+                else:
+                    fits.append(f)
+            if not fits:
+                dropped += rejected or [(spec.name, None, "no place could be screened")]
+                continue
             fits.sort(key=lambda f: -f.log_evidence)
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))
@@ -246,11 +282,13 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
             screened = int(np.isfinite(chi2).sum())
             rows.append((spec, log_ev, fits[0], locs, time.perf_counter() - t,
-                         screened + 2 + sum(f.n_evals for f in fits), changes if screened == len(places) else None))
+                         screened + 2 + sum(f.n_evals for f in fits), changes if screened == len(places) else None,
+                         tuple(rejected)))
+    rows[0] = rows[0][:7] + (tuple(dropped),)
     log_post = np.array([r[1] + r[0].prior_log_odds for r in rows])
     prob = np.exp(log_post - logsumexp(log_post))
     out = []
-    for (spec, le, f, locs, sec, solves, screen), p in zip(rows, prob):
+    for (spec, le, f, locs, sec, solves, screen, rejected), p in zip(rows, prob):
         t = adequacy(f, w, **(test or {}))
         out.append(RankedEffect(
             name=spec.name, log_evidence=float(le), probability=float(p),
@@ -258,6 +296,13 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
             parameters={k: v for k, v in f.parameters.items()}, location=f.location, chi2=f.chi2,
             adequate=t.ok, test=t,
             max_abs_freq_error_pct=float(np.max(np.abs(f.freq_error_pct))), min_mac=float(np.min(f.mac)),
-            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen))
+            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen, rejected=rejected))
     out.sort(key=lambda r: -r.probability)
     return tuple(out)
+
+
+def _js(loc):
+    """A location as JSON: a node id, or lists of node ids or of floats."""
+    if loc is None or isinstance(loc, str):
+        return loc
+    return [_js(x) for x in loc] if isinstance(loc, (tuple, list)) else float(loc)

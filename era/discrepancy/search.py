@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .effects import EffectSpec, Param, combined
-from .fitting import Fit, ModeWeights, fit_effect
+from .fitting import TRIAL_FAILURES, Fit, ModeWeights, fit_effect
 from .measured import MeasuredModes
 from .ranking import RankedEffect, rank_effects
 
@@ -118,8 +118,11 @@ def search_effects(model, library: tuple, nuisance: Param, measured: MeasuredMod
             if i == len(named) - 1:     # without the last: the set before it, as fitted in its own step
                 without = named[-2].fit
             else:
-                without = fit_effect(model, combined(rest, EffectSpec("none")), nuisance, measured, w, n_model,
-                                     ritz_modes=0 if fine_scan else 30)
+                try:
+                    without = fit_effect(model, combined(rest, EffectSpec("none")), nuisance, measured, w,
+                                         n_model, ritz_modes=0 if fine_scan else 30)
+                except TRIAL_FAILURES:     # the set without it cannot be solved: it is needed
+                    continue
             gain = fit.log_evidence + _location_cost(named[i]) - without.log_evidence
             if gain < min_log_bayes:
                 not_needed.append(named[i].name)

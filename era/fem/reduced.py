@@ -42,8 +42,9 @@ _SIGN_SEED = (1.7, 0.3)       # the same sign convention as era.Frame.solution
 
 
 def reducible(frame) -> bool:
-    """True when :class:`ReducedFrame` can stand for this era.Frame (a fixed mesh, supported)."""
-    return frame.elements_per_member is not None and bool(frame.supports)
+    """True when :class:`ReducedFrame` can stand for this era.Frame (a fixed mesh; supported, or free without
+    gravity: its static vectors then come from the shifted, self-equilibrated solve of :meth:`ReducedFrame._static`)."""
+    return frame.elements_per_member is not None and (bool(frame.supports) or frame.gravity is None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,10 +114,21 @@ class ReducedFrame:
             if frame.gravity is not None:
                 K = (K + self.K_geo).tocsc()
         self.K = K
-        self.lu = space.factor(K[self.free][:, self.free])
         r = int(min(n_basis, self.free.sum()))
         _, modes = frame.solution(r)
         self.phi = modes.shapes.reshape(n, -1)[:, :r]
+        # a free structure (no support, spring or cable; no gravity): K is singular along its six rigid motions,
+        # which are the basis' first six modes (0 Hz). Static vectors are then those of the self-equilibrated
+        # load (its rigid-body part taken off) solved with K + σM, σ the lowest elastic eigenvalue, and kept
+        # free of rigid motion (inertia relief; Craig & Kurdila §14.6): they differ from K⁺f by components
+        # along the lowest modes, which the basis holds already
+        self.rigid = None
+        if not (mesh.supported or self.g is not None) and r > 6:
+            self.rigid = self.phi[self.free, :6]
+            sigma = max((2 * np.pi * float(modes.frequency_hz[6])) ** 2, 1e-6)
+            self.lu = space.factor((K + sigma * self.M)[self.free][:, self.free])
+        else:
+            self.lu = space.factor(K[self.free][:, self.free])
         # the modes' products with each operator, once: a configuration multiplies only its static vectors
         self._phi_products = {id(A): (A @ self.phi, self.phi.T @ (A @ self.phi))
                               for A in (self.K_el, self.M, self.M_spread, self.K_geo, self.K_geo_spread,
@@ -156,7 +168,14 @@ class ReducedFrame:
     def _static(self, rhs: np.ndarray) -> np.ndarray:
         """(n,) or (n, c) x with K_ff x_f = rhs_f, zero on the restrained DOFs."""
         x = np.zeros(rhs.shape)
-        x[self.free] = self.lu.solve(np.ascontiguousarray(rhs[self.free]))
+        f = rhs[self.free]
+        if self.rigid is not None:     # free: the load's rigid-body part off, the answer's too (M-orthonormal R)
+            mf = self.M[self.free][:, self.free]
+            f = f - mf @ (self.rigid @ (self.rigid.T @ f))
+            y = self.lu.solve(np.ascontiguousarray(f))
+            x[self.free] = y - self.rigid @ (self.rigid.T @ (mf @ y))
+            return x
+        x[self.free] = self.lu.solve(np.ascontiguousarray(f))
         return x
 
     def _hinges(self, node: str) -> list:

@@ -250,6 +250,15 @@ def _buckling_error(value: str) -> DataError:
                      "exceeds the buckling load; check the supports, sections and gravity.")
 
 
+def _stiffest(K, M) -> float:
+    """max K_ii / M_ii (rad²/s²) over the DOFs that carry mass: the top of the spectrum's scale. A joint spring's
+    node keeps no element of its own (each beam end moved to its hinge node), so its DOFs are massless; they do
+    not count (over them the ratio is infinite, which made every eigenvalue look like zero)."""
+    k, m = K.diagonal(), M.diagonal()
+    massive = m > 1e-12 * m.max()
+    return float(np.max(k[massive] / m[massive]))
+
+
 def _eigen(K, M, n_modes: int, rigid: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Lowest eigenpairs λ (rad²/s²), φ of K φ = λ M φ, both solved shift-inverted about σ = -1 so that small λ
     keep their relative accuracy next to stiff elements (plain dense eigh loses ~1e-4 on a fine mesh): sparse
@@ -261,7 +270,7 @@ def _eigen(K, M, n_modes: int, rigid: np.ndarray | None = None) -> tuple[np.ndar
     vector can miss members of a six-fold zero eigenvalue; the caller prepends them at λ = 0.
     """
     n = K.shape[0]
-    c = float(np.max(K.diagonal() / M.diagonal()))
+    c = _stiffest(K, M)
     U = None if rigid is None else M @ rigid
     if n > 200 and n_modes < n // 4:
         try:
@@ -371,7 +380,7 @@ def solve_modes(frame: SpaceFrame, n_modes: int, gravity: np.ndarray | None = No
         lam, phi = _eigen(kff, mff, n_elastic, rigid)
         order = np.argsort(lam)
         lam, phi = lam[order], phi[:, order]
-        tol = 1e-14 * float(np.max(kff.diagonal() / mff.diagonal()))   # rigid modes come out at ≲ 1e-16 × that
+        tol = 1e-14 * _stiffest(kff, mff)                  # rigid modes come out at ≲ 1e-16 × that
         zero = np.abs(lam) < tol
         if zero.any():
             raise _mechanism_error(frame, phi[:, zero], free)
