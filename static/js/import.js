@@ -83,6 +83,12 @@ function renderChannels(pv) {
   }));
 }
 
+// A record kind in the words of the "The records are" control ("io" -> "input and output time histories").
+function kindWords(kind) {
+  const option = [...$("kind").options].find((o) => o.value === kind);
+  return `“${option ? option.text : kind}”`;
+}
+
 function renderRead(answer) {
   const pv = answer.preview;
   $("import-files").textContent = `${answer.files.length} file(s): ${answer.files.join(", ")} · ` +
@@ -118,7 +124,7 @@ function renderRead(answer) {
   $("import-read").textContent = `${pv.format.toUpperCase()}, ${pv.domain} records: ${pv.channels.length} channel(s)` +
     `${kept < pv.channels.length ? ` (${kept} kept)` : ""}` +
     `${pv.references.length ? ` × ${pv.references.length} reference(s)` : ""}, ${pv.n_records} record(s) of ` +
-    `${[...new Set(pv.n_samples)].join("/")} samples, ${step}; read as “${pv.kind}” unless you say otherwise` +
+    `${[...new Set(pv.n_samples)].join("/")} samples, ${step}; read as ${kindWords(pv.kind)} unless you say otherwise` +
     `${pv.geometry_nodes ? `; geometry of ${pv.geometry_nodes} nodes` : ""}. ${pv.described.join(" · ")}`;
   renderChannels(pv);
   const traces = pv.traces.map((y, i) => ({

@@ -233,3 +233,26 @@ def test_the_usc_cantilever_saved_as_csv_with_7_significant_digits_is_read_as_ev
         assert not errors, errors
     finally:
         server.stop()
+
+
+LADISK = SHARED_DATASETS / "ladisk_pyfrf_impact"
+
+
+def test_the_ladisk_hammer_records_propose_their_force_channel(tmp_path, browser, shots):  # noqa: F811
+    """Five .npy files of rows [time, force, acceleration]: the step proposes the pulse channel as the force and the
+    records as input and output, without the person finding either."""
+    paths = [str(require_shared(LADISK / f"measurements_{k}.npy")) for k in range(1, 6)]
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser, 1100)
+        page.set_input_files("#file", paths)
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        roles = page.eval_on_selector_all("#import-channels select", "ss => ss.map(s => s.value)")
+        names = page.eval_on_selector_all("#import-channels tbody tr td:nth-child(2)", "tds => tds.map(t => t.textContent)")
+        assert roles == ["force", "response"] and names == ["measurements_1:2", "measurements_1:3"]
+        read = page.text_content("#import-read")
+        assert "read as “input and output time histories”" in read and "Δt 0.0000390625 s (25600 Hz)" in read
+        page.screenshot(path=str(shots / "import-ladisk.png"), full_page=True)
+        assert not errors, errors
+    finally:
+        server.stop()
