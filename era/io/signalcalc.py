@@ -112,7 +112,8 @@ def read_signalcalc(raws: list[bytes], labels: list[str], setup: tuple | None = 
                             f"({first['rsp_unit']})/({first['ref_unit']}); export every FRF in the same units.")
     pairs = [(fn["rsp"], fn["ref"]) for fn in funcs]
     if len(funcs) > 1 and len(set(pairs)) == 1:  # one hammer channel moved between points: files are references
-        outs, refs = [first["rsp"]], [fn["label"] for fn in funcs]
+        outs = [first["rsp"]]
+        refs = [f"{fn['label'].rsplit('.', 1)[0]}:{fn['ref']}" for fn in funcs]  # file:channel, one per hammer point
         values = np.stack([fn["h"] for fn in funcs], axis=1)[:, None, :]
         how = f"the same channels {first['ref']}:{first['rsp']} in every file: the files are the references"
     else:
@@ -149,7 +150,8 @@ def read_signalcalc(raws: list[bytes], labels: list[str], setup: tuple | None = 
                                                  if got["band_hz"] else "")]
     return Records(domain="frequency", values=[values], step=first["df"], start=first["f0"],
                    outputs=tuple(f"resp {o}" for o in outs), output_units=(unit,) * len(outs),
-                   inputs=tuple(f"ref {r}" for r in refs), input_units=(first["ref_unit"],) * len(refs),
+                   inputs=tuple(r if len(set(pairs)) == 1 and len(funcs) > 1 else f"ref {r}" for r in refs),
+                   input_units=(first["ref_unit"],) * len(refs),
                    frf_type=frf_type, nodes=nodes, directions=directions, points=points,
                    described=[f"{len(funcs)} SignalCalc FRF file(s), {len(first['h'])} lines every "
                               f"{first['df']:.9g} Hz from {first['f0']:g} Hz, {unit}"

@@ -21,7 +21,7 @@ def test_the_modelab_beam_in_nine_files_gives_the_published_modes():
     assert one.source["format"] == "signalcalc" and one.data.markov.shape[1:] == (1, 1)
     ds = era.load(paths, band_hz=(65.0, 1000.0), n_samples=3000)  # setup.csv: fMin 65 Hz, fMax 1000 Hz
     assert ds.source["kind"] == "frf" and ds.data.markov.shape == (3000, 1, 9) and ds.data.dt == pytest.approx(5e-4)
-    assert ds.data.inputs[0] == "ref Hxysv00001.txt" and ds.data.output_units == ("m/s²/N",)
+    assert ds.data.inputs[0] == "Hxysv00001:0-Z" and ds.data.output_units == ("m/s²/N",)
     assert "the files are the references" in ds.source["records"][0]
     assert "m/s²/N (accelerance)" in ds.source["records"][0]
     model = era.identify(ds.data, rows=300, cols=60).realize(order=20)
