@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import DataError
-from .records import MIN_SAMPLES, Records
+from .records import MIN_SAMPLES, Records, hammer_channel
 from .text import ORIENTATIONS
 from .timebase import UnevenClock, binary_resolution, even_step as _even_step_any
 
@@ -155,7 +155,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() or "hammer" in nm.lower()
                       for nm, u in zip(names, units)])
     if lead is not None and not force.any():  # time, force, response rows (a hammer test's np.vstack)
-        pulse = _hammer_channel(y)
+        pulse = hammer_channel(y)
         if pulse is not None:
             force[pulse] = True
             how += (f"; {names[pulse]!r} proposed as the force (a short pulse: 99 % of its energy within "
@@ -174,22 +174,6 @@ def even_step(t, resolution, where):
         raise DataError(str(clock).replace("Resample onto an even grid at that rate, or load an evenly sampled "
                                            "record.", "Resample the record onto an even grid, or save it as CSV "
                                            "with its time column: the import step can resample that.")) from None
-
-
-def _hammer_channel(y: np.ndarray) -> int | None:
-    """The one channel of ``y`` (N, c) that is a short pulse (99 % of its energy within 1 % of the record around
-    its peak: a hammer's force) when the others are not; else None."""
-    if y.shape[1] < 2 or len(y) < 200:
-        return None
-    half = max(len(y) // 200, 1)
-    pulses = []
-    for c in range(y.shape[1]):
-        col = np.asarray(y[:, c], dtype=float)
-        total = float(col @ col)
-        k = int(np.argmax(np.abs(col)))
-        window = col[max(k - half, 0):k + half]
-        pulses.append(total > 0 and float(window @ window) >= 0.99 * total)
-    return pulses.index(True) if sum(pulses) == 1 else None
 
 
 def _time_channel(y: np.ndarray, vars_: list[Var], label: str) -> tuple[float, float] | None:

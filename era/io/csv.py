@@ -179,7 +179,8 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     else:
         timing = f", time column {time_name!r}" + (f" in units of {scale:g} s" if scale != 1 else "") + \
             f", Δt = {step:.6g} s ({1 / step:.6g} Hz)" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
-    force = np.array([u.lower() in _FORCE_UNITS or "force" in n.lower() for n, u in zip(names, units)])
+    force = np.array([u.lower() in _FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
+                      for n, u in zip(names, units)])
     return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units), force=force, nodes=None, directions=None, conversions=conversions,
                    described=[f"{label}: {len(table)} lines × {len(names)} channels"

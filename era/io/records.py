@@ -60,6 +60,22 @@ class Records:
     conversions: list = field(default_factory=list)
 
 
+def hammer_channel(y: np.ndarray) -> int | None:
+    """The one channel of ``y`` (N, c) that is a short pulse (99 % of its energy within 1 % of the record around
+    its peak: a hammer's force) when the others are not; else None."""
+    if y.shape[1] < 2 or len(y) < 200:
+        return None
+    half = max(len(y) // 200, 1)
+    pulses = []
+    for c in range(y.shape[1]):
+        col = np.asarray(y[:, c], dtype=float)
+        total = float(col @ col)
+        k = int(np.argmax(np.abs(col)))
+        window = col[max(k - half, 0):k + half]
+        pulses.append(total > 0 and float(window @ window) >= 0.99 * total)
+    return pulses.index(True) if sum(pulses) == 1 else None
+
+
 def guess_kind(rec: Records) -> str:
     """The conversion a file's records call for when the caller does not say (see :func:`to_response`)."""
     if rec.domain == "frequency":

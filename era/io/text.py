@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
-from .records import Records
+from .records import Records, hammer_channel
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
 ORIENTATIONS = ("rows", "columns")
@@ -74,9 +74,15 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
     else:
         step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given", []
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))
+    force = np.zeros(len(names), bool)
+    pulse = hammer_channel(y) if time else None
+    if pulse is not None:  # time, force, response columns without names: the short pulse is the hammer
+        force[pulse] = True
+        found += (f"; {names[pulse]} proposed as the force (a short pulse: 99 % of its energy within "
+                  f"{max(len(y) // 100, 1)} samples, the others ring on)")
     how = "as given" if orientation else "from the shape"
     return Records(domain="time", values=[np.ascontiguousarray(y)], step=step, start=start, outputs=names,
-                   output_units=(), force=np.zeros(len(names), bool), conversions=conversions,
+                   output_units=(), force=force, conversions=conversions,
                    described=[f"{label}: headerless text, {y.shape[1]} channel(s) in {chosen} ({how}) × {len(y)} "
                               f"samples, {found}{notes}"])
 

@@ -105,3 +105,23 @@ def test_the_usc_cantilever_saved_with_7_significant_digits_is_even():
     del missing[40000]
     with pytest.raises(era.DataError, match=r"usc.csv, line 40001: .*1 sample is missing"):
         era.load("\n".join(missing).encode(), name="usc.csv")
+
+
+LADISK = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "ladisk_pyfrf_impact"
+
+
+@pytest.mark.skipif(not LADISK.exists(), reason="needs ../shared/datasets/ladisk_pyfrf_impact")
+def test_a_hammer_test_says_which_channel_is_the_force(tmp_path):
+    """Time, force, response: named (unit N or lbf, a name 'hammer'), or laid out as the ladisk files are (the
+    short pulse among ringing channels), the force is proposed and the records read as input and output."""
+    hit = np.load(LADISK / "measurements_1.npy")  # (3, 25600): time, force N, acc m/s²
+    np.savetxt(tmp_path / "hit.txt", hit.T, fmt="%.9g")  # headerless columns
+    for path in (LADISK / "measurements_1.npy", tmp_path / "hit.txt"):
+        rec = era.io.read(path).records
+        assert rec.force.tolist() == [True, False], path
+        assert "proposed as the force (a short pulse" in rec.described[0]
+        assert era.io.preview.preview(path).kind == "io"
+    for header, force in (("t,Hammer,acc", [True, False]), ("t,F (lbf),acc", [True, False]),
+                          ("t,a1,a2", [False, False])):
+        raw = (header + "\n" + "\n".join(",".join(f"{v:.9g}" for v in row) for row in hit.T[:2000]) + "\n").encode()
+        assert era.io.read(raw, name="named.csv").records.force.tolist() == force, header
