@@ -201,6 +201,15 @@ def test_a_phone_csv_is_read_and_resampled_when_the_person_ticks_the_box(tmp_pat
         assert "0.00235252 s (425.077 Hz)" in summary and "resampled onto an even grid at the mean rate 425.077 Hz" \
             in summary
         page.screenshot(path=str(shots / "import-phone-dataset.png"), full_page=True)
+        page.wait_for_selector("#modes-table tbody tr", timeout=120000)
+        page.click("#create-report")
+        page.wait_for_selector("#report-link-box:not([hidden])", timeout=120000)
+        report = browser.new_page()
+        report.goto(server.base + page.get_attribute("#report-link", "href"))
+        report.wait_for_selector("body[data-ready='1']", timeout=60000)
+        meta = report.text_content("#report-meta")  # frozen into the report: what was done, and that it was asked
+        assert "resampled onto an even grid at the mean rate 425.077 Hz" in meta
+        assert "time stamps resampled onto an even grid at the mean rate" in meta and "(425.077 Hz)" in meta
         assert not errors, errors
     finally:
         server.stop()
