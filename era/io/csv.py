@@ -25,6 +25,8 @@ _SUFFIX_UNIT = re.compile(r"^(.*?)[_ ](s|sec|ms|msec|us|µs|μs|ns)$", re.I)
 _TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
 _FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
 _UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
+#: A channel unit as a name's suffix, as spreadsheets write it: tip_acc_g, force_N, F_lbf, drive_mV.
+_UNIT_SUFFIX = re.compile(r"^(.+?)_(g|N|kN|lbf|V|mV|m/s2|m/s\^2|ms2|mps2)$")
 _NUMBER = re.compile(r"^[+-]?(\d+([.,]\d*)?|[.,]\d+)([eE][+-]?\d+)?$|^[+-]?(nan|inf|infinity)$", re.I)
 
 
@@ -111,6 +113,9 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
         m = _UNIT_IN_NAME.match(nm)
         if m and not units[i]:
             names[i], units[i] = m.group(1).strip(), m.group(2).strip()
+        m = _UNIT_SUFFIX.match(names[i])
+        if m and not units[i] and not _TIME_NAMES.match(m.group(1)):  # tip_acc_g, hammer_N: keep the name whole
+            units[i] = m.group(2)
     test_col = next((i for i, nm in enumerate(names) if nm.lower() in _TEST_NAMES), None)
     body = "\n".join(ln for _, ln in numbered)
     decimal_comma = delim != "," and "," in body and re.search(r"\d,\d", body) is not None

@@ -125,3 +125,12 @@ def test_a_hammer_test_says_which_channel_is_the_force(tmp_path):
                           ("t,a1,a2", [False, False])):
         raw = (header + "\n" + "\n".join(",".join(f"{v:.9g}" for v in row) for row in hit.T[:2000]) + "\n").encode()
         assert era.io.read(raw, name="named.csv").records.force.tolist() == force, header
+
+
+def test_units_written_as_a_name_suffix_are_read_and_a_force_in_n_is_proposed():
+    y, _ = hammer_decay(300, 2, DT)
+    t = np.arange(len(y)) * DT
+    raw = csv_bytes(t, y).replace(b"time_s,a1,a2,a3", b"time_s,tip_acc_g,force_N,acc_x")
+    rec = era.io.read(raw, name="suffix.csv").records
+    assert rec.outputs == ("tip_acc_g", "force_N", "acc_x") and rec.output_units == ("g", "N", "")
+    assert rec.force.tolist() == [False, True, False]
