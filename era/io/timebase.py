@@ -3,9 +3,11 @@
 A printed value is the true time rounded to the digits shown, so two printed values may differ from the true
 step by at most half a digit each. :func:`printed_resolution` finds each value's own last digit (a value whose
 trailing zeros were dropped, such as "0" or "0.1" among "0.09", "0.11", borrows its neighbours' digit: a "0" does
-not make the whole column coarse). :func:`even_step` then accepts a column only when every step and every sample's
-distance from the straight line through the ends stays within that rounding: a gap, a repeat, a restart or a drift
-of the rate is an error naming the line and the step, whatever the precision printed.
+not make the whole column coarse). :func:`even_step` then accepts a column only when every sample lies within its
+printed digit of the least-squares line through all of them (the step is estimated over the whole record, not from
+its ends): a gap or a repeat is an error naming the line, whatever the precision printed; stamps that scatter about
+a steady rate with no sample missing (a jittered or wandering clock) raise :class:`UnevenClock`, which a reader may
+answer with :func:`resample` when the caller asked for it, and never otherwise.
 """
 
 from __future__ import annotations
