@@ -145,7 +145,7 @@ class Cache:
         s = self.store.dataset_summary(dataset_id)
         if s is None:
             raise _no_dataset(dataset_id)
-        return s
+        return dict(s, has_model=self.store.has_model(dataset_id))
 
     # ---- analyses -----------------------------------------------------------------------------------
     def analysis_row(self, analysis_id: str) -> tuple[str, dict]:

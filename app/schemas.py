@@ -89,6 +89,8 @@ class Dataset(Schema):
     limits: DatasetLimits
     band_hz: list[float] | None = Field(None, description="[low, high] Hz, the band FRF records hold (the choice of "
                                                           "modes looks only there); null: 0 to Nyquist")
+    has_model: bool = Field(False, description="a structure model is stored (GET /api/datasets/{id}/model answers "
+                                               "it; without one that request is a 404, so the page does not send it)")
 
 
 class ImportOptions(Schema):
@@ -210,6 +212,8 @@ class Analysis(Schema):
     noise_floor_order: int | None = Field(None, description="singular values clearly above the noise floor, even "
                                                             "(eqs. 38-39); null in reports frozen before it existed, "
                                                             "whose suggested_order is this")
+    has_explanation: bool = Field(False, description="era.explain has run on it and its result is stored (GET "
+                                                     "/api/analyses/{id}/explain answers it; otherwise a 404)")
 
 
 class Modes(Schema):

@@ -42,7 +42,7 @@ async def create(request: Request, body: AnalysisRequest):
     def work():
         c = cache(request)
         a, ident = c.new_analysis(ds, params)
-        return payloads.analysis_json(a.id, a.dataset_id, a.params, ident, c.diagram(a))
+        return payloads.analysis_json(a.id, a.dataset_id, a.params, ident, c.diagram(a))  # nothing explained yet
 
     shape = f"{body.rows * ds.data.n_outputs} × {body.cols * ds.data.n_inputs}"
     return await jobs(request).heavy(work, progress=progress_key(request),
@@ -78,7 +78,8 @@ async def _model(request: Request, a: Analysis, order: int) -> era.ModalModel:
             response_model=schemas.Analysis)
 async def read(request: Request, a: Analysis = Depends(analysis)):
     ident = await identified(request, a)
-    return payloads.analysis_json(a.id, a.dataset_id, a.params, ident, await diagrammed(request, a))
+    answer = payloads.analysis_json(a.id, a.dataset_id, a.params, ident, await diagrammed(request, a))
+    return dict(answer, has_explanation=cache(request).store.has_explanation(a.id))
 
 
 @router.get("/{analysis_id}/modes", summary="Modes of one order: frequency, damping, γ, μ, contribution, shapes, fit",

@@ -130,6 +130,11 @@ class Store:
             raise ValueError(f"{dataset_id!r} is not a dataset id.")
         write_atomic(path, json.dumps(stored, separators=(",", ":")).encode())
 
+    def has_model(self, dataset_id: str) -> bool:
+        """Whether the dataset has a stored structure model (without reading it)."""
+        path = self._model_path(dataset_id)
+        return bool(path is not None and path.is_file())
+
     def model(self, dataset_id: str) -> dict | None:
         """The stored structure model of a dataset, or None."""
         path = self._model_path(dataset_id)
@@ -214,6 +219,10 @@ class Store:
             with self._engine.begin() as conn:  # replace an earlier one: delete and insert in one transaction
                 conn.execute(explanations.delete().where(explanations.c.analysis_id == analysis_id))
                 conn.execute(explanations.insert().values(analysis_id=analysis_id, created=time.time()))
+
+    def has_explanation(self, analysis_id: str) -> bool:
+        """Whether era.explain has run on the analysis and its result is stored (without reading it)."""
+        return self._stored_explanation(analysis_id) is not None
 
     def explanation(self, analysis_id: str) -> dict | None:
         """The stored explanation summary of an analysis, or None when era.explain has not run on it."""

@@ -83,6 +83,7 @@ async function run() {
   try {
     const r = await api(`/api/analyses/${state.analysis.id}/explain`, {
       method: "POST", body: request(), progress: (text) => { $("explain-status").textContent = text; } });
+    state.analysis.has_explanation = true;  // stored with the analysis now
     draw(r);
   } catch (err) {
     $("explain-status").textContent = "";
@@ -94,6 +95,7 @@ async function run() {
 
 // A stored result of this analysis (after a reload), if the panel ran on it before.
 async function restore(a) {
+  if (!a.has_explanation) return;  // not run on it yet: asking would be a 404
   try {
     const r = await api(`/api/analyses/${a.id}/explain`);
     if (state.analysis && state.analysis.id === a.id) draw(r);

@@ -196,6 +196,7 @@ async function openEditor() {
 // ---- saving, uploading, showing the stored model -----------------------------------------------------------------
 function show(summary) {
   saved = summary;
+  if (summary && state.dataset) state.dataset.has_model = true;  // so a later visit asks for it
   render();
   if (summary) {
     const blob = new Blob([JSON.stringify(summary.model, null, 1)], { type: "application/json" });
@@ -298,6 +299,7 @@ async function load(ds) {
   for (const id of ["model-error", "model-file-error", "model-compare-error"]) showError(id, null);
   $("model-from-geometry").disabled = !(ds.geometry && ds.geometry.n_edges > 0);
   $("model-from-geometry").title = $("model-from-geometry").disabled ? "This dataset has no trace lines: upload a model file." : "";
+  if (!ds.has_model) { show(null); return; }  // none stored: asking would be a 404
   try {
     const r = await api(`/api/datasets/${encodeURIComponent(ds.id)}/model`);
     if (state.dataset && state.dataset.id === ds.id) show(r);

@@ -29,8 +29,11 @@ def grid_run(tmp_path_factory):
         a = a.json()
         before = c.get(f"/api/analyses/{a['id']}/explain")
         assert before.status_code == 404 and "has not run" in before.json()["error"]
+        assert a["has_explanation"] is False  # so the page does not ask (that 404 above)
+        assert c.get(f"/api/analyses/{a['id']}").json()["has_explanation"] is False
         r = c.post(f"/api/analyses/{a['id']}/explain", json={"output": 2, "input": 1})
         assert r.status_code == 200, r.text
+        assert c.get(f"/api/analyses/{a['id']}").json()["has_explanation"] is True
         yield c, a, r.json()
 
 

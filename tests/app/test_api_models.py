@@ -53,6 +53,7 @@ def test_the_draft_reads_members_groups_and_sensors_from_the_geometry(portal_tes
     assert {tuple(m) for m in d.members if m[2] == "beam"} == {("2", "3", "beam"), ("3", "4", "beam")}
     assert d.sensors[:3] == [["6", "x"], ["2", "x"], ["3", "z"]] and len(d.sensors) == len(d.outputs) == 7
     assert c.get(f"/api/datasets/{ds['id']}/model").status_code == 404
+    assert c.get(f"/api/datasets/{ds['id']}").json()["has_model"] is False  # the page does not ask (that 404)
 
 
 def test_a_draft_needs_trace_lines_and_every_sensor_on_one():
@@ -129,6 +130,7 @@ def test_simulation_vs_test_names_the_hidden_mass_at_a_node_and_the_report_keeps
     url = f"/api/datasets/{ds['id']}/model"
     model = described(c.get(f"{url}/draft").json())
     assert c.put(url, json={"model": model}).status_code == 200
+    assert c.get(f"/api/datasets/{ds['id']}").json()["has_model"] is True
     a = c.post("/api/analyses", json=dict(dataset_id=ds["id"], rows=100, cols=100)).json()
     # before explaining: the model's modes beside the test's; the sway mode 12 % high (the hidden mass), the
     # others close, each test mode with a clear partner

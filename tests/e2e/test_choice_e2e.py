@@ -81,6 +81,8 @@ def test_the_usc_cantilever_opens_with_its_three_modes_ticked_each_once(tmp_path
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
         page, errors = open_page(server, browser, 1100)
+        missing = []  # requests the page sends for what it knows is not there (a model, an explanation)
+        page.on("response", lambda r: missing.append(r.url) if r.status == 404 and "/api/" in r.url else None)
         page.set_input_files("#file", str(lvm))
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
         page.click("#import-use")
@@ -116,6 +118,7 @@ def test_the_usc_cantilever_opens_with_its_three_modes_ticked_each_once(tmp_path
         assert kept == shown["ticked_hz"], (kept, shown["ticked_hz"])
         assert "the modes era chose automatically" in report.text_content("#report-meta")
         assert not errors, errors
+        assert not missing, missing
     finally:
         server.stop()
 
