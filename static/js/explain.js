@@ -75,9 +75,20 @@ function draw(summary) {
   showViewers(box, 0);
 }
 
+// What the comparison would use: this dataset's model, else the NASA grid's for the grid's nine sensors, else none.
+function comparedWith() {
+  const ds = state.dataset;
+  return model ? "model" : (ds && ds.n_outputs === 9 && ds.geometry ? "grid" : null);
+}
+
 async function run() {
   if (!state.analysis) return;
   showError("explain-error", null);
+  if (!comparedWith()) {  // nothing to compare with: say what to do here, without asking the server
+    showError("explain-error", "There is no model of this structure yet: describe it in the Model panel above "
+      + "(Describe it from the test geometry) or upload a model file, then run again.");
+    return;
+  }
   $("explain-run").disabled = true;
   $("explain-status").textContent = "Starting…";
   try {
@@ -105,14 +116,14 @@ async function restore(a) {
 export function init() {
   $("explain-run").addEventListener("click", run);
   const hint = () => {
-    const ds = state.dataset, grid = ds && ds.n_outputs === 9 && ds.geometry;
-    $("explain-gravity").disabled = !!model;
-    $("explain-hint").textContent = model ? `Compares with this dataset's model: ${model.text}.`
-      : grid ? "Compares with the NASA grid's model (this dataset has no model of its own)."
+    const what = comparedWith();
+    $("field-explain-gravity").hidden = what !== "grid";  // the grid's nominal model only: not on other data
+    $("explain-hint").textContent = what === "model" ? `Compares with this dataset's model: ${model.text}.`
+      : what === "grid" ? "Compares with the NASA grid's model (this dataset has no model of its own)."
       : "Describe the structure in the Model panel above (or upload a model file) first.";
   };
   on("dataset", () => { model = null; made = null; hint(); });
-  on("model", (m) => { model = m; hint(); if (shown && made) markStale(); });
+  on("model", (m) => { model = m; hint(); showError("explain-error", null); if (shown && made) markStale(); });
   on("analysis", (a) => {
     $("explain-run").disabled = false;
     if (shown !== a.id) { $("explain-result").hidden = true; $("explain-result").replaceChildren(); $("explain-status").textContent = ""; showError("explain-error", null); }

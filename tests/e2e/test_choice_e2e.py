@@ -117,6 +117,12 @@ def test_the_usc_cantilever_opens_with_its_three_modes_ticked_each_once(tmp_path
                       if r["kept"])
         assert kept == shown["ticked_hz"], (kept, shown["ticked_hz"])
         assert "the modes era chose automatically" in report.text_content("#report-meta")
+        # not the grid: no grid-only control, and Run says what to do instead of asking the server
+        assert page.locator("#field-explain-gravity").is_hidden()
+        page.click("#explain-run")
+        page.wait_for_selector("#explain-error:not([hidden])")
+        assert "no model of this structure yet" in page.text_content("#explain-error")
+        assert "grid" not in page.text_content("#explain-error")
         assert not errors, errors
         assert not missing, missing
     finally:

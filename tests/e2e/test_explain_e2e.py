@@ -20,6 +20,7 @@ def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, 
         page.click("#examples button[data-example='grid']")
         page.wait_for_selector("#modes-table tbody tr", timeout=60000)
         page.wait_for_function("!document.getElementById('explain-run').disabled")
+        assert page.locator("#field-explain-gravity").is_visible()  # the grid's nominal model: its gravity box
         page.click("#explain-run")
         page.wait_for_selector("#explain-verdict", timeout=120000)
 
