@@ -194,7 +194,7 @@ class Frame:
     it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
     mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %), a count for every
     member, or one count per member (e.g. ``element_counts()`` of a nominal model, to keep its mesh in variants).
-    joint_springs {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (design/effects.md): every
+    joint_springs {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (docs/effects.md): every
     beam end there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
     horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
     rigid; columns stay continuous. added_mass_per_length {section name: kg/m}: non-structural mass (it weighs

@@ -104,7 +104,7 @@ def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
 
 def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,
                      prior_log_odds: float = 0.0) -> EffectSpec:
-    """The member_stiffness candidate (design/effects.md): one member's element stiffness (E and G together)
+    """The member_stiffness candidate (docs/effects.md): one member's element stiffness (E and G together)
     scaled by a factor θ, fitted as ln θ with prior N(ln prior_factor, prior_std²), at any of ``locations``
     (model keywords member_at, member_factor; the grid and era.Frame models both take them). Its places are
     compared at T = 2 (EffectSpec.place_temperature): a blind crack (EI × 0.1-0.3, GJ × its root) in a grid

@@ -9,7 +9,7 @@ parameter set) when the frame allows it; ``.exact`` is the same parameter set so
 for the finalists (:func:`refit_exact`) and the report.
 
 Locations: a node id (str) for effects at a node or a support, a tuple (node i, node j) for a member.
-Parameters are SI (design/effects.md says what each effect changes).
+Parameters are SI (docs/effects.md says what each effect changes).
 """
 
 from __future__ import annotations
@@ -365,7 +365,7 @@ def _member_ei_over_l(frame: Frame, ends, weak: bool = True) -> float:
 
 
 def frame_effects(model) -> tuple:
-    """The candidate effects for a frame (design/effects.md), relative to the nominal FrameModel ``model``.
+    """The candidate effects for a frame (docs/effects.md), relative to the nominal FrameModel ``model``.
 
     Priors (log-normal) scale with the structure, so one library serves a bench-top strip and a building frame:
     a support's rotational spring centred at 10 EI/L of the members it holds (1σ: a factor e² ≈ 7.4), a pinned

@@ -3,6 +3,12 @@
 from __future__ import annotations
 
 import io
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
@@ -22,6 +28,41 @@ def client(data_dir: Path, raise_errors: bool = True, **overrides):
     settings = replace(Settings(data_dir=Path(data_dir), viewer=False), **overrides)
     with TestClient(create_app(settings), raise_server_exceptions=raise_errors) as c:
         yield c
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@contextmanager
+def live_server(data_dir: Path, log=subprocess.DEVNULL, **env):
+    """``uvicorn app.main:app`` in a process of its own on a free port of 127.0.0.1 (ERA_DATA_DIR = ``data_dir``, the
+    viewer off, SQLite; ``env`` adds variables), once it answers; yields (base URL, pid) and ends it after."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    base = f"http://127.0.0.1:{port}"
+    variables = {k: v for k, v in os.environ.items() if k != "ERA_DATABASE_URL"}
+    variables.update(ERA_DATA_DIR=str(data_dir), ERA_VIEWER="0", **env)
+    proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1", "--port",
+                             str(port), "--log-level", "warning"], cwd=REPO, env=variables, stdout=log,
+                            stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                with urllib.request.urlopen(base + "/api/examples", timeout=2):
+                    break
+            except OSError:
+                if proc.poll() is not None or time.monotonic() > deadline:
+                    raise RuntimeError("the app did not start") from None
+                time.sleep(0.1)
+        yield base, proc.pid
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
 
 
 def npz_bytes(data: era.ResponseData, geometry: era.Geometry | None = None) -> bytes:

@@ -5,9 +5,6 @@ server (a real uvicorn process on 127.0.0.1) grows by less than 300 MB and store
 from __future__ import annotations
 
 import io
-import os
-import subprocess
-import sys
 import threading
 import time
 import zipfile
@@ -18,7 +15,8 @@ import numpy as np
 import psutil
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+from apiclient import live_server
+
 INFLATED = 1 << 30  # 1 GiB of zeros
 CHUNK = 1 << 22
 
@@ -62,38 +60,11 @@ def bombs():
     return {"bomb.npz": npz_bomb(), "bomb.h5": hdf5_bomb()}
 
 
-def _free_port() -> int:
-    import socket
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     data_dir = tmp_path_factory.mktemp("bombs")
-    port = _free_port()
-    env = dict(os.environ, ERA_DATA_DIR=str(data_dir), ERA_VIEWER="0")
-    env.pop("ERA_DATABASE_URL", None)
-    proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1", "--port",
-                             str(port), "--log-level", "warning"], cwd=REPO, env=env, start_new_session=True)
-    base = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(300):
-            try:
-                if httpx.get(base + "/api/health", timeout=1).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                time.sleep(0.1)
-        else:
-            raise RuntimeError("the app did not start")
-        yield base, proc.pid, data_dir
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
+    with live_server(data_dir) as (base, pid):
+        yield base, pid, data_dir
 
 
 def tree_rss(pid: int) -> int:

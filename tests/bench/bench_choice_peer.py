@@ -21,7 +21,7 @@ Score: a reported mode is a true positive when it matches a not-yet-matched true
 (one-to-one, nearest pairs first); precision = TP / reported, recall = TP / true, per record and over all records
 together. Times are one wall-clock run per record and method (BLAS pinned to one thread by conftest.py): ours
 NExT + analyse, pyOMA2 SSI (its correlations included) + clustering. Asserted: both ran on every record, and ours
-reaches precision and recall ≥ 0.95 over all records. When pyOMA2 is not installed its half is skipped with the reason, ours still reported.
+reaches precision and recall ≥ 0.95 over all records. pyOMA2 comes with the bench extra.
 """
 
 import os
@@ -100,17 +100,13 @@ def why_missed(missed_hz, rejected):
 
 
 def _load_peer():
-    """pyOMA2's classes, or the reason they cannot be used."""
-    try:
-        from importlib.metadata import version
+    """pyOMA2's classes and version (the bench extra: python3 -m pip install -e '.[bench]')."""
+    from importlib.metadata import version
 
-        from pyoma2.algorithms import SSI
-        from pyoma2.algorithms.data.run_params import Clustering, Step1, Step2, Step3
-        from pyoma2.setup.single import SingleSetup
-    except ImportError as e:
-        return None, (f"pyOMA2 (PyPI pyOMA-2 >= 1.2: SSI(method='cov') with add_clustering) cannot be imported: {e}; "
-                      "install the bench extra: python3 -m pip install -e '.[bench]'")
-    return (SingleSetup, SSI, Clustering, (Step1, Step2, Step3), version("pyOMA-2")), None
+    from pyoma2.algorithms import SSI
+    from pyoma2.algorithms.data.run_params import Clustering, Step1, Step2, Step3
+    from pyoma2.setup.single import SingleSetup
+    return SingleSetup, SSI, Clustering, (Step1, Step2, Step3), version("pyOMA-2")
 
 
 def peer(y, classes):
@@ -131,21 +127,20 @@ def peer(y, classes):
 
 @pytest.fixture(scope="module")
 def runs():
-    """Every record through both methods: a list of rows, pyOMA2's version, and the reason its half is skipped."""
-    classes, skip = _load_peer()
+    """Every record through both methods: a list of rows and pyOMA2's version."""
+    classes = _load_peer()
     rows = []
     for name, (f, zeta, snr, seeds, shapes) in CASES.items():
         for seed in seeds:
             y, truth = ambient_response(f, zeta, N_OUTPUTS, N_SAMPLES, DT, snr_db=snr, seed=seed, shapes=shapes)
             row = {"case": name, "seed": seed, "true": truth.frequency_hz}
             row["ours"], row["ours_s"], row["ours_rejected"] = ours(y)
-            if classes is not None:
-                try:
-                    row["peer"], row["peer_s"] = peer(y, classes)
-                except Exception as e:  # noqa: BLE001 - shown in the table; the test then says the peer failed
-                    row["peer_error"] = f"{type(e).__name__}: {e}"
+            try:
+                row["peer"], row["peer_s"] = peer(y, classes)
+            except Exception as e:  # noqa: BLE001 - shown in the table; the test then says the peer failed
+                row["peer_error"] = f"{type(e).__name__}: {e}"
             rows.append(row)
-    return rows, (classes[-1] if classes else None), skip
+    return rows, classes[-1]
 
 
 def _cells(row, key):
@@ -161,7 +156,7 @@ def _hz(values):
 
 
 def _report(rows, peer_version):
-    label = f"pyOMA2 {peer_version}" if peer_version else "pyOMA2 (not run)"
+    label = f"pyOMA2 {peer_version}"
     lines = [f"\n{'':<29} | {'ours (NExT + era.analyse)':<27} | {label} (SSI cov + clustering)",
              f"{'case':<24}{'seed':>5} | {'precision':>11}{'recall':>8}{'time s':>8} | "
              f"{'precision':>11}{'recall':>8}{'time s':>8}"]
@@ -196,11 +191,9 @@ def _report(rows, peer_version):
 
 
 def test_both_methods_ran_on_every_record_and_the_table_is_printed(runs):
-    rows, peer_version, skip = runs
+    rows, peer_version = runs
     _report(rows, peer_version)
     assert all(len(row["ours"]) > 0 for row in rows)
-    if skip:
-        pytest.skip(skip)
     failed = [f"{row['case']} seed {row['seed']}: {row['peer_error']}" for row in rows if "peer_error" in row]
     assert not failed, f"pyOMA2 failed on {failed}"
 

@@ -1,6 +1,9 @@
 """era.merge_setups on a real multi-setup ambient test: pyOMA's steel frame, 15 setups (issue 26).
 
-Run: ERA_LDV_DIR=/path/to/pyOMA/tests/files python3 -m pytest tests/bench/bench_setups_ldv.py -s
+Run: python3 tests/bench/bench_setups_ldv.py /path/to/pyOMA/tests/files
+
+A script, not a pytest benchmark: the records are GPL-3.0 and cannot be in this repository, so nothing here could
+run them on its own. It exits non-zero when a figure below is not met.
 
 The data (not copied here: GPL-3.0, 44 MB): https://github.com/pyOMA-dev/pyOMA ``tests/files/measurement_<n>/``,
 n = 1..15, described in its ``doc/example_data.rst``: a 1 m five-floor steel frame (Bauhaus-Universität Weimar)
@@ -16,25 +19,23 @@ Asserted: each of those within 0.3 % by a merged mode with a shape at every poin
 agree (MAC ≥ 0.95 with the merged reference components in every setup).
 """
 
-import os
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 from scipy.signal import decimate
 
 import era
 from era.setups import merge
 
-LDV_DIR = Path(os.environ.get("ERA_LDV_DIR", Path(__file__).resolve().parents[3] / "shared/datasets/pyoma_ldv_frame"))
 POGER_HZ = np.array([1.229, 1.436, 2.100, 4.017, 4.769, 6.683, 7.616, 9.664])
 POGER_DAMPING = np.array([0.232, 0.147, 0.130, 0.162, 0.161, 0.190, 0.165, 0.174]) / 100
 DT = 9 / 256
 
 
-def setup(n: int) -> era.AnalysisResult:
-    folder = LDV_DIR / f"measurement_{n}"
+def setup(root: Path, n: int) -> era.AnalysisResult:
+    folder = root / f"measurement_{n}"
     y = np.load(folder / f"measurement_{n}.npy")[:, :5]
     y = decimate(decimate(y, 3, axis=0), 3, axis=0)
     rows = (folder / "channel_dofs.txt").read_text().splitlines()[1:6]
@@ -43,11 +44,9 @@ def setup(n: int) -> era.AnalysisResult:
     return era.analyse(data)
 
 
-@pytest.mark.skipif(not (LDV_DIR / "measurement_1").is_dir(),
-                    reason=f"pyOMA's steel-frame records not at {LDV_DIR} (set ERA_LDV_DIR to pyOMA's tests/files)")
-def test_pyoma_steel_frame_fifteen_setups():
+def main(root: Path) -> None:
     t0 = time.perf_counter()
-    runs = [setup(n) for n in range(1, 16)]
+    runs = [setup(root, n) for n in range(1, 16)]
     t1 = time.perf_counter()
     result = merge(runs, [[3, 4]] * 15)
     t2 = time.perf_counter()
@@ -68,3 +67,10 @@ def test_pyoma_steel_frame_fifteen_setups():
         assert np.nanmin(result.reference_mac[j]) >= 0.95
         print(f"pyOMA PoGER {f:.3f} Hz ζ {100 * zeta:.3f} %  ->  ours {model.frequency_hz[j]:.3f} Hz "
               f"ζ {100 * model.damping_ratio[j]:.3f} %, μ {model.mpc[j]:.3f}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or not (Path(sys.argv[1]) / "measurement_1").is_dir():
+        sys.exit("usage: python3 tests/bench/bench_setups_ldv.py PYOMA_TESTS_FILES (the folder holding "
+                 "measurement_1 … measurement_15 of pyOMA-dev/pyOMA's tests/files)")
+    main(Path(sys.argv[1]))

@@ -10,11 +10,12 @@ import pytest
 import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from chain_sim import hammer_decay  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
 PHONE = Path(__file__).resolve().parents[1] / "data" / "cessipy_smartphone_slab.csv"
-USC = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
-    "timeseries_data.lvm"
+USC = SHARED_DATASETS / "usc_cantilever_free_decay" / "timeseries_data.lvm"
 DT = 0.01
 
 
@@ -90,11 +91,10 @@ def test_a_resampled_record_has_the_modes_of_the_original():
     assert ds.source["conversions"][0].startswith("phone.csv: resampled onto an even grid")
 
 
-@pytest.mark.skipif(not USC.exists(), reason="needs ../shared/datasets/usc_cantilever_free_decay")
 def test_the_usc_cantilever_saved_with_7_significant_digits_is_even():
     """Times kept in single precision and printed to 7 significant digits stray ~5 µs from an even step: within
     their printed digit of the least-squares line, so the record is even (no resampling)."""
-    rec = era.io.read(USC).records
+    rec = era.io.read(require_shared(USC)).records
     y = rec.values[0][:, 0]
     t = (rec.step * np.arange(len(y))).astype(np.float32).astype(float)
     raw = ("time_s,tip_acc_g\n" + "\n".join(f"{a:.7g},{b:.7g}" for a, b in zip(t, y)) + "\n").encode()
@@ -107,14 +107,13 @@ def test_the_usc_cantilever_saved_with_7_significant_digits_is_even():
         era.load("\n".join(missing).encode(), name="usc.csv")
 
 
-LADISK = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "ladisk_pyfrf_impact"
+LADISK = SHARED_DATASETS / "ladisk_pyfrf_impact"
 
 
-@pytest.mark.skipif(not LADISK.exists(), reason="needs ../shared/datasets/ladisk_pyfrf_impact")
 def test_a_hammer_test_says_which_channel_is_the_force(tmp_path):
     """Time, force, response: named (unit N or lbf, a name 'hammer'), or laid out as the ladisk files are (the
     short pulse among ringing channels), the force is proposed and the records read as input and output."""
-    hit = np.load(LADISK / "measurements_1.npy")  # (3, 25600): time, force N, acc m/s²
+    hit = np.load(require_shared(LADISK / "measurements_1.npy"))  # (3, 25600): time, force N, acc m/s²
     np.savetxt(tmp_path / "hit.txt", hit.T, fmt="%.9g")  # headerless columns
     for path in (LADISK / "measurements_1.npy", tmp_path / "hit.txt"):
         rec = era.io.read(path).records
