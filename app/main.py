@@ -2,7 +2,7 @@
 
 create_app() wires settings, the store, the cache service (app/cache.py), the job pools, the viser viewer
 (unless ERA_VIEWER=0), the limits (upload size, per-client rates) and the error handlers that keep stack traces
-out of responses. The JSON of every answer is declared in app/schemas.py (see /docs).
+out of responses. The JSON of every answer is declared in app/schemas/ (see /docs).
 """
 
 from __future__ import annotations
@@ -247,7 +247,7 @@ def _errors_are_json(app: FastAPI) -> None:
 
 def _api_docs(app: FastAPI) -> None:
     """/docs (Swagger UI) served from the swagger-ui-bundle package (a dependency): the page works with no
-    internet. It shows the JSON contract of app/schemas.py."""
+    internet. It shows the JSON contract of app/schemas/."""
     app.mount("/vendor/swagger", StaticFiles(directory=swagger_ui_path), name="swagger")
 
     @app.get("/docs", include_in_schema=False)

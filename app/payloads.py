@@ -1,4 +1,4 @@
-"""The JSON the API answers, built from era/ results: plain dicts shaped as the models in app/schemas.py.
+"""The JSON the API answers, built from era/ results: plain dicts shaped as the models in app/schemas/.
 
 Plain dicts, not schema objects: the order slider's /step answer goes out as JSON directly (see
 routes/analyses.py), and the routes with a ``response_model`` have FastAPI validate the dict once. Every float

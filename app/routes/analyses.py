@@ -6,29 +6,16 @@ from __future__ import annotations
 import numpy as np
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from fastapi.responses import JSONResponse
-from pydantic import BaseModel, Field
 
 import era
 
 from .. import payloads, schemas, viewing
 from ..cache import Analysis
 from ..choosing import Diagram
+from ..schemas import AnalysisRequest, ViewerRequest
 from .deps import analysis, cache, find_dataset, jobs, progress_key
 
 router = APIRouter(prefix="/api/analyses", tags=["analyses"])
-
-
-class AnalysisRequest(BaseModel):
-    dataset_id: str = Field(min_length=1, max_length=100)
-    rows: int = Field(ge=1, le=schemas.MAX_INT, description="r, block rows of H(0) (eq. 16)")
-    cols: int = Field(ge=1, le=schemas.MAX_INT, description="s, block columns of H(0)")
-    row_shifts: list[schemas.Index] | None = Field(None, description="j_1..j_{r-1}, increasing; default 1..r-1")
-    col_shifts: list[schemas.Index] | None = Field(None, description="t_1..t_{s-1}, increasing; default 1..s-1")
-    max_order: int | None = Field(None, ge=1, le=schemas.MAX_INT, description="largest order kept from the SVD")
-
-
-class ViewerRequest(BaseModel):
-    order: int = Field(ge=1, le=schemas.MAX_INT)
 
 
 @router.post("", summary="Identify: build H(0), H(1), take one SVD, and choose the modes from its diagram",

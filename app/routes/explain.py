@@ -5,42 +5,18 @@ shapes in the viewer."""
 
 from __future__ import annotations
 
-from typing import Literal
-
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
-from pydantic import BaseModel, Field
 
 import era
 
 from .. import compute, explaining, modeling, schemas, viewing
 from ..cache import Analysis
 from ..errors import NotFound
+from ..schemas import ExplainRequest, ExplainViewerRequest
 from .analyses import diagrammed, identified
 from .deps import analysis, cache, jobs, progress_key, store
 
 router = APIRouter(prefix="/api/analyses", tags=["simulation vs test"])
-
-
-class ExplainRequest(BaseModel):
-    nominal: dict = Field(default_factory=dict,
-                          description="keywords of era.grid.nasa_grid for the nominal model, e.g. {\"gravity\": false}")
-    modes: Literal["stable", "kept"] = Field("stable", description="stable: the modes era chose from the analysis's "
-                                                                   "diagram (era.choose_modes, ticked by default) "
-                                                                   "at its order; kept: exactly the modes `kept` at "
-                                                                   "`order`")
-    order: int | None = Field(None, ge=1, le=schemas.MAX_INT,
-                              description="the order the modes were kept at (modes = kept)")
-    kept: list[schemas.Index] | None = Field(None, description="indices of the kept modes at `order` (modes = kept)")
-    orders: list[schemas.Index] | None = Field(None, min_length=1, max_length=200,
-                                     description="orders the modes are tracked over (their spread is the "
-                                                 "measurement error); default the analysis's diagram orders")
-    output: int = Field(0, ge=0, le=schemas.MAX_INT, description="output of the response overlay")
-    input: int = Field(0, ge=0, le=schemas.MAX_INT, description="input of the response overlay")
-
-
-class ExplainViewerRequest(BaseModel):
-    which: str = Field(pattern="^(measured|model)$",
-                       description="measured: the test shapes expanded to all joints (SEREP); model: the updated model's")
 
 
 def _stored(request: Request, analysis_id: str) -> dict:

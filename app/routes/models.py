@@ -6,28 +6,19 @@ leaves the stored one as it was."""
 from __future__ import annotations
 
 import time
-from typing import Literal
 
 import numpy as np
 from fastapi import APIRouter, Depends, File, HTTPException, Query, Request, UploadFile
-from pydantic import BaseModel, Field
 
 import era
 
 from .. import modeling, schemas
 from ..cache import Analysis, Dataset
 from ..errors import NotFound
+from ..schemas import ModelRequest, ModelView
 from .deps import analysis, cache, dataset, jobs, progress_key, store
 
 router = APIRouter(tags=["structure model"])
-
-
-class ModelRequest(BaseModel):
-    model: dict = Field(description="the model in era.Frame's file format (SI units): nodes, members, sections "
-                                    "(constants, or shape + sizes in m + material), supports, masses, sensors "
-                                    "(one per output, in order), gravity")
-    source: Literal["geometry", "file"] = Field("geometry", description="built in the panel, or from a file")
-    name: str | None = Field(None, max_length=200, description="the model file's name")
 
 
 async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
@@ -84,13 +75,6 @@ async def upload(request: Request, file: UploadFile = File(description="the mode
     blob = await file.read(modeling.MAX_MODEL_BYTES + 1)
     model = modeling.read_file(name, blob)
     return await _save(request, ds, {"model": model, "source": "file", "name": name, "saved": time.time()})
-
-
-class ModelView(BaseModel):
-    nodes: dict[str, list[float]] = Field(description="{node id: [x, y, z]} in m, as described so far")
-    members: list[list[str]] = Field(default_factory=list, description="[node i, node j] per member")
-    marks: dict[str, str] = Field(default_factory=dict, description="{node id: fixed | pinned | springs | mass} "
-                                                                    "(the node's colour)")
 
 
 @router.post("/api/datasets/{dataset_id}/model/viewer", summary="Show the model being described in the 3-D viewer, "

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 from fastapi.responses import FileResponse, HTMLResponse, Response
-from pydantic import BaseModel, Field
 
 import era
 
 from .. import explaining, reporting, schemas, viewing
 from ..choosing import Diagram
 from ..errors import NotFound
+from ..schemas import ReportRequest
 from ..store import new_token
 from .analyses import diagrammed, identified
 from .deps import cache, find_analysis, jobs, progress_key, store
@@ -18,16 +18,6 @@ from .deps import cache, find_analysis, jobs, progress_key, store
 router = APIRouter(prefix="/api/reports", tags=["reports"])
 #: Mode-shape recordings for the report's viser playback, at most this many (kept modes first).
 MAX_RECORDINGS = 12
-
-
-class ReportRequest(BaseModel):
-    analysis_id: str = Field(min_length=1, max_length=100)
-    order: int | None = Field(None, ge=1, le=schemas.MAX_INT,
-                              description="the model order; default the order era's choice is read at (the "
-                                          "analysis's suggested_order)")
-    modes: list[schemas.Index] | None = Field(None, description="indices of the kept modes at this order; default "
-                                                                "the modes era chose (chosen_indices), at the chosen "
-                                                                "order only")
 
 
 def _kept(body: ReportRequest, diagram: Diagram) -> tuple[int, list[int]]:

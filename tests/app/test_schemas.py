@@ -1,4 +1,4 @@
-"""The JSON contract (app/schemas.py): every answer validates against the model its route declares, carries
+"""The JSON contract (app/schemas/): every answer validates against the model its route declares, carries
 exactly its fields (nothing the builders add is silently dropped), and /openapi.json shows the models."""
 
 from __future__ import annotations
