@@ -6,7 +6,7 @@ Report links stay readable by whoever has them (the token in the link is the sec
 and downloads (its mode shapes are recordings the viewer's client plays at /viser/, with no live connection), the
 static files. A browser signs in once at /login (the token goes into an HttpOnly cookie); scripts send
 ``Authorization: Bearer <token>``. The live viewer (its pages /viser/{key}/ and websockets /viser/{key}) is behind
-the same rule (:class:`SocketGuard` for the websockets, which no HTTP middleware sees), with a cap on the
+the same rule (app.middleware.SocketGuard for the websockets, which no HTTP middleware sees), with a cap on the
 connections each user holds open.
 """
 
@@ -19,7 +19,6 @@ import secrets
 from fastapi import Request
 from fastapi.responses import HTMLResponse, JSONResponse, RedirectResponse, Response
 from starlette.requests import HTTPConnection
-from starlette.websockets import WebSocket
 
 COOKIE = "era_token"
 #: A browser's own random id, set at sign-in beside the token: who the limits count for on a token server.
@@ -101,32 +100,3 @@ def login_page(message: str, status: int = 200, next_path: str = "/") -> HTMLRes
         f"<input type=hidden name=next value='{html.escape(next_path, quote=True)}'>"
         "<label>Team access token <input type=password name=token autofocus required></label> "
         "<button>Sign in</button></form></body>", status_code=status)
-
-
-class SocketGuard:
-    """Pure ASGI middleware for websockets (the viewer's /viser/{key}), which HTTP middleware never sees: the access
-    rule as for the API, and at most ``per_user`` open at once per user (Access.user). A refusal closes the socket
-    before it is accepted (the server answers the handshake with 403)."""
-
-    def __init__(self, app, access: Access, per_user: int):
-        self.app, self.access, self.per_user = app, access, max(1, int(per_user))
-        self.open: dict[str, int] = {}
-
-    async def __call__(self, scope, receive, send):
-        if scope["type"] != "websocket":
-            return await self.app(scope, receive, send)
-        conn = HTTPConnection(scope)
-        if not self.access.allowed(conn):
-            return await WebSocket(scope, receive, send).close(1008, "Sign in first (the team token or the lab's "
-                                                                     "sign-in proxy).")
-        who = self.access.user(conn)
-        if self.open.get(who, 0) >= self.per_user:
-            return await WebSocket(scope, receive, send).close(
-                1013, f"At most {self.per_user} open viewers per user (ERA_VIEWER_CONNECTIONS): close one.")
-        self.open[who] = self.open.get(who, 0) + 1
-        try:
-            await self.app(scope, receive, send)
-        finally:
-            self.open[who] -= 1
-            if not self.open[who]:
-                del self.open[who]
