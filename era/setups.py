@@ -6,7 +6,8 @@ a complex factor per mode, different in every setup. The references are in every
 mode can be brought onto one scale by the factor that best maps its reference components onto the others'
 (post-identification rescaling, "PoSER": Döhler, Reynders, Magalhães, Mevel, De Roeck & Cunha, IMAC 2010; pyOMA2's
 MultiSetup_PoSER). Unlike pyOMA2, the modes need not be picked by hand in the same order in every setup: they are
-paired here by frequency and reference MAC, and a mode some setups missed is kept (see merge_setups).
+paired here by frequency and reference MAC (era.setup_pairing), and a mode some setups missed is kept (see
+merge_setups).
 """
 
 from __future__ import annotations
@@ -14,11 +15,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from . import indicators
 from .errors import DataError
 from .modal import ModalModel
+from .setup_pairing import RECOVERABLE  # noqa: F401  (the rule merge_setups' ``recover`` follows, named here)
+from .setup_pairing import DroppedMode, anchor_references, mean_frequency, pair_modes
+from .setup_pairing import recover as recover_clusters
 
 #: Two setups' modes are the same mode only if their frequencies differ by at most this fraction ...
 FREQUENCY_TOLERANCE = 0.03
@@ -29,22 +32,6 @@ MIN_REFERENCE_MAC = 0.9
 MIN_REFERENCE_LEVEL = 0.05
 #: A mode is kept when this many setups saw it (fewer when there are fewer setups).
 MIN_SETUPS = 2
-#: The reasons (era.choice.REASONS) for which a setup's cluster, left out by era.analyse for want of evidence alone,
-#: may be taken as a mode other setups confirm (see merge_setups, ``recover``).
-RECOVERABLE = ("orders", "noise")
-
-_FORBIDDEN = 1e6
-
-
-@dataclass(frozen=True)
-class DroppedMode:
-    """A setup's mode that is not in the merged model: setup (0-based), index (in that setup's model),
-    frequency_hz, and the reason in words."""
-
-    setup: int
-    index: int
-    frequency_hz: float
-    reason: str
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +45,7 @@ class SetupMerge:
     reference_mac : (modes, setups), MAC of each setup's reference components with the merged ones, NaN where not seen.
     reference_residual : (modes, setups), |r̄ - α r_k| / |r̄| after the scale α: how far the references disagree.
     point_setup : (n_points,) int, the setup each point was measured in, -1 for the references (every setup).
+    point_channel : (n_points,) int, the point's channel (output index) in that setup; a reference's in setup 1.
     dropped : every setup mode left out, with its reason.
     recovered : (modes, setups) bool, True where a setup's part of the shape is a cluster era.analyse had left out
         for want of evidence (``recover``), its index in ``recovered_from`` (the setup's ``choice.rejected``).
@@ -69,6 +57,7 @@ class SetupMerge:
     reference_mac: np.ndarray
     reference_residual: np.ndarray
     point_setup: np.ndarray
+    point_channel: np.ndarray
     dropped: tuple
     recovered: np.ndarray
     recovered_from: np.ndarray
@@ -152,7 +141,7 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     models, refs = _checked(analyses, references)
     n_setups = len(models)
     min_setups = max(1, min(int(min_setups), n_setups))
-    groups, dropped = _pair(models, refs, frequency_tolerance, min_reference_mac, min_reference_level)
+    groups, dropped = pair_modes(models, refs, frequency_tolerance, min_reference_mac, min_reference_level)
 
     kept = []
     for g in groups:
@@ -165,22 +154,23 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
                                        f"seen in {len(seen)} of {n_setups} setups (at least {min_setups} needed): no "
                                        "other setup confirms it through the references"))
     members = np.array(kept, dtype=int).reshape(-1, n_setups)
-    order = np.argsort([_mean_frequency(models, m) for m in members], kind="stable")
+    order = np.argsort([mean_frequency(models, m) for m in members], kind="stable")
     members = members[order]
 
     found = {}
     if recover:
-        found = _recover(analyses, models, refs, members, frequency_tolerance, min_reference_mac, min_reference_level)
+        found = recover_clusters(analyses, models, refs, members, frequency_tolerance, min_reference_mac,
+                                 min_reference_level)
     recovered = np.zeros(members.shape, bool)
     recovered_from = np.full(members.shape, -1)
     for (m, k), (i, _) in found.items():
         recovered[m, k], recovered_from[m, k] = True, i
 
-    labels, point_setup = _points(models, refs)
+    labels, point_setup, point_channel = _points(models, refs)
     shapes, scales, rmac, resid = _scaled_shapes(models, refs, members, len(labels), found)
     model = _merged_model(models, members, shapes, labels)
     return SetupMerge(model=model, members=members, scales=scales, reference_mac=rmac, reference_residual=resid,
-                      point_setup=point_setup, dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
+                      point_setup=point_setup, point_channel=point_channel, dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
                       recovered=recovered, recovered_from=recovered_from)
 
 
@@ -222,132 +212,10 @@ def _checked(analyses, references) -> tuple[list[ModalModel], list[np.ndarray]]:
     return models, refs
 
 
-# ---- pairing ----------------------------------------------------------------------------------------------------
-def _pair(models, refs, tol, min_mac, min_level):
-    """Groups: a list of (setups,) int arrays, one per distinct mode (its index in each setup, -1 where not seen),
-    built setup by setup by an optimal assignment (frequency and reference MAC); and the modes that cannot be
-    scaled (references near a node)."""
-    n_setups = len(models)
-    dropped = []
-    groups: list[np.ndarray] = []
-    for k, model in enumerate(models):
-        r = model.shapes[refs[k]]
-        level = np.max(np.abs(r), axis=0) / np.maximum(np.max(np.abs(model.shapes), axis=0), 1e-300)
-        usable = np.flatnonzero(level >= min_level)
-        for j in np.flatnonzero(level < min_level):
-            dropped.append(DroppedMode(k, int(j), float(model.frequency_hz[j]),
-                                       f"its reference components are at most {level[j]:.3f} of its largest: the "
-                                       "references sit near a node of this mode, so this setup's part of it cannot be "
-                                       "scaled to the others'; put a reference where it moves"))
-        usable, twins = _without_twins(model, usable, min_mac)
-        dropped += [DroppedMode(k, j, float(model.frequency_hz[j]),
-                                f"a second pole of the {model.frequency_hz[i]:.4g} Hz mode in this setup (its shape at "
-                                "every sensor, within its half-power bandwidth): a split twin; the stronger pole is "
-                                "kept") for j, i in twins]
-        if not groups:
-            groups = [_new_group(n_setups, k, j) for j in usable]
-            continue
-        f_new = model.frequency_hz[usable]
-        f_old = np.array([_mean_frequency(models, g) for g in groups])
-        r_old = np.stack([_anchor_references(models, refs, g) for g in groups], axis=1)
-        mac = indicators.mac(r_old, r[:, usable])  # (groups, usable)
-        df = np.abs(f_old[:, None] - f_new[None, :]) / np.maximum(f_old[:, None], 1e-300)
-        near = df <= tol
-        _check_references(k, refs[k], near, mac, min_mac, f_new)
-        ok = near & (mac >= min_mac)
-        cost = np.where(ok, (df / tol) ** 2 + (1 - mac) / max(1 - min_mac, 1e-12), _FORBIDDEN)
-        rows, cols = linear_sum_assignment(cost)
-        taken = set()
-        for i, c in zip(rows, cols):
-            if ok[i, c]:
-                groups[i][k] = usable[c]
-                taken.add(c)
-        groups += [_new_group(n_setups, k, usable[c]) for c in range(usable.size) if c not in taken]
-    return groups, dropped
-
-
-def _without_twins(model, usable, min_mac):
-    """The usable modes of one setup without split twins: of two modes within the stronger one's half-power
-    bandwidth (2 ζ f, era.choice's twin rule) whose shapes (every sensor) have MAC ≥ ``min_mac``, the one with the
-    larger contribution stays. Also [(twin, kept)]."""
-    f, zeta = model.frequency_hz, np.abs(model.damping_ratio)
-    order = sorted(usable.tolist(), key=lambda j: -model.contribution[j])
-    keep, twins = [], []
-    for j in order:
-        match = [i for i in keep if abs(f[i] - f[j]) <= 2 * zeta[i] * f[i]
-                 and indicators.mac(model.shapes[:, i], model.shapes[:, j])[0, 0] >= min_mac]
-        if match:
-            twins.append((int(j), int(match[0])))
-        else:
-            keep.append(j)
-    return np.array(sorted(keep), dtype=int), twins
-
-
-def _check_references(k, idx, near, mac, min_mac, f_new):
-    """A setup whose modes agree with the earlier setups' in frequency but mostly not in their reference components
-    named the wrong channels (or the right ones in another order) as references."""
-    rows, cols = linear_sum_assignment(np.where(near, 0.0, 1.0))  # as many frequency matches as possible
-    matched = [(i, c) for i, c in zip(rows, cols) if near[i, c]]
-    bad = [(i, c) for i, c in matched if mac[i, c] < min_mac]
-    if matched and 2 * len(bad) >= len(matched):
-        detail = ", ".join(f"{f_new[c]:.4g} Hz MAC {mac[i, c]:.2f}" for i, c in bad)
-        raise DataError(f"Setup {k + 1}'s reference channels {idx.tolist()} do not move like those of the setups "
-                        f"before it: {len(bad)} of its {len(matched)} modes that match theirs in frequency do not "
-                        f"match in the reference components ({detail}; at least {min_mac} expected). Check "
-                        f"references[{k}] (or the earlier setups' references): the same sensors, in the same order, "
-                        "in every setup.")
-
-
-def _new_group(n_setups, k, j) -> np.ndarray:
-    g = np.full(n_setups, -1, dtype=int)
-    g[k] = j
-    return g
-
-
-def _mean_frequency(models, g) -> float:
-    return float(np.mean([models[k].frequency_hz[j] for k, j in enumerate(g) if j >= 0]))
-
-
-def _anchor_references(models, refs, g) -> np.ndarray:
-    k = int(np.flatnonzero(g >= 0)[0])
-    return models[k].shapes[refs[k], g[k]]
-
-
-def _recover(analyses, models, refs, members, tol, min_mac, min_level) -> dict:
-    """{(mode, setup): (index in that setup's choice.rejected, shape (p,))} for the merged modes a setup did not
-    choose, from its clusters rejected for want of evidence that match the mode in frequency and references (one
-    cluster per mode, an optimal assignment per setup)."""
-    found = {}
-    for k, a in enumerate(analyses):
-        choice = getattr(a, "choice", None)
-        missing = np.flatnonzero(members[:, k] < 0)
-        if choice is None or missing.size == 0:
-            continue
-        pool = [(i, c) for i, c in enumerate(choice.rejected) if c.code in RECOVERABLE
-                and np.asarray(c.shape).shape == (models[k].shapes.shape[0],)]
-        if not pool:
-            continue
-        shapes = np.stack([np.asarray(c.shape, dtype=complex) for _, c in pool], axis=1)
-        r = shapes[refs[k]]
-        level = np.max(np.abs(r), axis=0) / np.maximum(np.max(np.abs(shapes), axis=0), 1e-300)
-        f_c = np.array([c.frequency_hz for _, c in pool])
-        f_m = np.array([_mean_frequency(models, members[m]) for m in missing])
-        r_m = np.stack([_anchor_references(models, refs, members[m]) for m in missing], axis=1)
-        mac = indicators.mac(r_m, r)
-        df = np.abs(f_m[:, None] - f_c[None, :]) / np.maximum(f_m[:, None], 1e-300)
-        ok = (df <= tol) & (mac >= min_mac) & (level >= min_level)[None, :]
-        if not ok.any():
-            continue
-        cost = np.where(ok, (df / tol) ** 2 + (1 - mac) / max(1 - min_mac, 1e-12), _FORBIDDEN)
-        for i, c in zip(*linear_sum_assignment(cost)):
-            if ok[i, c]:
-                found[(int(missing[i]), k)] = (pool[c][0], shapes[:, c])
-    return found
-
-
 # ---- shapes -----------------------------------------------------------------------------------------------------
-def _points(models, refs) -> tuple[tuple, np.ndarray]:
-    """The point labels (references first, then each setup's roving channels) and the setup of each point."""
+def _points(models, refs) -> tuple[tuple, np.ndarray, np.ndarray]:
+    """The point labels (references first, then each setup's roving channels), the setup of each point (-1: a
+    reference) and its channel in that setup (a reference's in setup 1)."""
     ref_labels = [_label(models[0], i) for i in refs[0]]
     roving = [[i for i in range(models[k].shapes.shape[0]) if i not in set(refs[k].tolist())]
               for k in range(len(models))]
@@ -357,7 +225,38 @@ def _points(models, refs) -> tuple[tuple, np.ndarray]:
         rov_labels = [[f"S{k + 1}:{x}" for x in labels] for k, labels in enumerate(rov_labels)]
         flat = ref_labels + [x for labels in rov_labels for x in labels]
     setup = np.concatenate([np.full(len(ref_labels), -1)] + [np.full(len(r), k) for k, r in enumerate(roving)])
-    return tuple(flat), setup.astype(int)
+    channel = np.concatenate([refs[0]] + [np.asarray(r, dtype=int) for r in roving])
+    return tuple(flat), setup.astype(int), channel.astype(int)
+
+
+def merged_geometry(geometries, result: SetupMerge):
+    """An era.Geometry whose channels are the merged model's points, or None.
+
+    geometries : one era.Geometry or None per setup (as loaded with its records; a setup's geometry places its
+        channels on its nodes). The nodes and lines drawn are those of the first setup that has a geometry; a
+        point is put on the node of the same id, along its channel's direction, in its own setup's geometry (a
+        reference: in setup 1's). A point no geometry places has node -1. None when no setup
+        has a geometry or none of the points is placed.
+    """
+    from .geometry import Geometry
+    geometries = list(geometries)
+    base = next((g for g in geometries if g is not None), None)
+    if base is None:
+        return None
+    row = {int(n): i for i, n in enumerate(base.node_ids)}
+    n_points = result.point_setup.size
+    nodes, dirs = np.full(n_points, -1), np.zeros((n_points, 3))
+    for q in range(n_points):
+        k, ch = int(result.point_setup[q]), int(result.point_channel[q])
+        g = geometries[k if k >= 0 else 0]  # a reference: where setup 1 has it (result.point_channel is its)
+        if g is None or ch >= g.channel_nodes.size or g.channel_nodes[ch] < 0:
+            continue
+        nodes[q] = row.get(int(g.node_ids[g.channel_nodes[ch]]), -1)
+        dirs[q] = g.channel_directions[ch] if nodes[q] >= 0 else 0.0
+    if not (nodes >= 0).any():
+        return None
+    return Geometry(base.node_ids, base.coordinates, base.edges, nodes.astype(int), dirs, units=base.units,
+                    edge_lines=base.edge_lines, line_ids=base.line_ids, line_names=base.line_names)
 
 
 def _label(model, i) -> str:
@@ -376,7 +275,7 @@ def _scaled_shapes(models, refs, members, n_points, found):
     rmac = np.full((n_modes, n_setups), np.nan)
     resid = np.full((n_modes, n_setups), np.nan)
     for m, g in enumerate(members):
-        r_a = _anchor_references(models, refs, g)
+        r_a = anchor_references(models, refs, g)
         ref_sum = np.zeros(n_ref, complex)
         seen = 0
         row = n_ref

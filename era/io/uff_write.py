@@ -90,21 +90,38 @@ def read_uncertainty_lines(id3: str, id4: str) -> dict:
             "shape_scatter": float(f4.group(1)) if f4 else None, "source": source.group(0) if source else ""}
 
 
+def complete_modes(shapes: np.ndarray) -> np.ndarray:
+    """(modes,) bool: the columns of ``shapes`` (points, modes) known at every point (no NaN or inf). A mode of a
+    multi-setup merge that a setup missed is NaN at that setup's points (era.merge_setups)."""
+    return np.all(np.isfinite(np.asarray(shapes)), axis=0)
+
+
 def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str = "ERA",
-                   shape_scatter=None) -> None:
+                   shape_scatter=None) -> tuple[int, ...]:
     """Write a ModalModel's modes as UFF 55 complex modes (analysis type 3, eigenvalue s in rad/s), with the nodes
     (UFF 15) and trace lines (UFF 82) of ``geometry``.
 
     path : str, os.PathLike, or a binary file object (written from its current position).
     model : era.ModalModel; shapes (p, modes) as identified (largest component 1), or its point_shapes at every
-        measured or struck point (issue 26, :func:`written_shapes`) when it has points beyond its outputs. Its frequency_std_hz and
-        damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,) (expected 1 - MAC,
-        Identification.shape_scatter) with the model's uncertainty_source to ID line 4 (:func:`uncertainty_lines`;
-        :func:`read_uncertainty_lines` reads them back).
+        measured or struck point (issue 26, :func:`written_shapes`) when it has points beyond its outputs. Its
+        frequency_std_hz and damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,)
+        (expected 1 - MAC, Identification.shape_scatter) with the model's uncertainty_source to ID line 4
+        (:func:`uncertainty_lines`; :func:`read_uncertainty_lines` reads them back).
+
+    Returns the indices (0-based, in the model) of the modes left out: only modes known at every point are written
+    (:func:`complete_modes`; a UFF 55 set has a value at each of its nodes, and pyuff reads no NaN). Each written set
+    keeps its mode's number in the model (``mode_n`` and ID line 1 "ERA mode 4"), so a gap says which is missing.
+    Raises era.DataError when no mode is complete.
     """
     shapes, geometry = written_shapes(model, geometry)
     if shapes.ndim != 2 or shapes.shape[1] == 0:
         raise DataError("The model has no modes to write; realize a model (and select modes) first.")
+    whole = complete_modes(shapes)
+    if not whole.any():
+        raise DataError(f"None of the {shapes.shape[1]} modes is known at every point (each was missed by a setup of "
+                        "the test), so no UFF 55 set can be written; export them as CSV, where an unknown value is "
+                        "an empty cell.")
+    shapes = np.where(np.isfinite(shapes), shapes, 0)  # only the whole columns are written
     ids, xyz, disp = node_shapes(shapes, geometry)
     sets = [pyuff.prepare_15(node_nums=[int(i) for i in ids], def_cs=[0] * len(ids), disp_cs=[0] * len(ids),
                              color=[1] * len(ids), x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
@@ -122,6 +139,8 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
     f_std, d_std = getattr(model, "frequency_std_hz", None), getattr(model, "damping_std", None)
     source = getattr(model, "uncertainty_source", "") or ""
     for k, s in enumerate(np.asarray(model.eigenvalues, dtype=complex)):
+        if not whole[k]:
+            continue
         id3, id4 = uncertainty_lines(_finite(f_std, k), _finite(d_std, k), _finite(shape_scatter, k), source)
         sets.append(pyuff.prepare_55(
             id1=f"{name} mode {k + 1}", id2=f"{abs(s) / 2 / np.pi:.6g} Hz, zeta {-s.real / abs(s):.4g}",
@@ -136,3 +155,4 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
                 shutil.copyfileobj(fh, path)
     else:
         pyuff.UFF(os.fspath(path)).write_sets(sets, mode="overwrite")
+    return tuple(int(k) for k in np.flatnonzero(~whole))

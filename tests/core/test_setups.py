@@ -256,3 +256,52 @@ def test_combine_weights_by_inverse_variance_and_widens_for_scatter():
     assert combine([1.0, 1.0], [0.1, 0.1]) == pytest.approx((1.0, 0.1 / np.sqrt(2)))
     mean, sd = combine([1.0, 2.0], [0.1, np.nan])
     assert mean == 1.5 and np.isnan(sd)
+
+
+def test_a_uff55_export_of_merged_point_shapes_reads_back_at_the_right_nodes(tmp_path):
+    """Setup 2 misses mode 3, so mode 3 is NaN at its points: the UFF 55 export writes modes 1, 2 and 4 (their
+    numbers kept), says mode 3 (index 2) was left out, and pyuff reads each point's value at node k + 1."""
+    import pyuff
+
+    runs = list(analyses())
+    runs[1] = analyse_setup(setup_records(1, modes=(0, 1, 3)), 1)
+    model = merge(runs, [[0, 1]] * 4).model
+    path = tmp_path / "merged.uff"
+    assert era.save_modes_uff(path, model) == (2,)
+    sets = pyuff.UFF(str(path)).read_sets()
+    nodes = [s for s in sets if s["type"] == 15][0]
+    np.testing.assert_array_equal(nodes["node_nums"], np.arange(1, 13))
+    modes = [s for s in sets if s["type"] == 55]
+    assert [int(s["mode_n"]) for s in modes] == [1, 2, 4]
+    for s, k in zip(modes, (0, 1, 3)):
+        np.testing.assert_array_equal(s["node_nums"], np.arange(1, 13))
+        np.testing.assert_allclose(s["r3"], model.point_shapes[:, k], atol=1e-5)
+    back = era.read_modes_uff(path)
+    np.testing.assert_allclose(back.frequency_hz, model.natural_frequency_hz[[0, 1, 3]], rtol=1e-5)
+    assert np.all(np.diag(era.mac(back.shapes[:, 2, :], points_truth(model)[:, [0, 1, 3]])) >= 0.99)
+
+
+def test_no_complete_mode_is_refused_in_words(tmp_path):
+    runs = list(analyses())
+    model = merge(runs, [[0, 1]] * 4).model
+    gappy = replace(model, shapes=np.where(np.arange(12)[:, None] == 11, np.nan, model.shapes),
+                    point_shapes=np.where(np.arange(12)[:, None] == 11, np.nan, model.shapes))
+    with pytest.raises(era.DataError, match="None of the 4 modes is known at every point"):
+        era.save_modes_uff(tmp_path / "none.uff", gappy)
+
+
+def test_merged_points_are_placed_on_each_setups_geometry():
+    """Each setup's file places its own channels on the beam's nodes (node i + 1 is point Pi+1, moving in z): the
+    merged geometry puts every point, references included, on its node."""
+    nodes = np.arange(1, 13)
+    xyz = np.column_stack([X, np.zeros(12), np.zeros(12)])
+    edges = np.column_stack([np.arange(11), np.arange(1, 12)])
+    geos = [era.Geometry(nodes, xyz, edges, np.array(REFERENCES + ROVING[k]),
+                         np.tile([0.0, 0, 1], (2 + len(ROVING[k]), 1))) for k in range(4)]
+    geos[2] = None  # a setup without geometry: its points are not placed
+    result = merge(analyses(), [[0, 1]] * 4)
+    g = era.setups.merged_geometry(geos, result)
+    order = REFERENCES + [i for rov in ROVING for i in rov]
+    expect = np.where(result.point_setup == 2, -1, order)
+    np.testing.assert_array_equal(g.channel_nodes, expect)
+    assert era.setups.merged_geometry([None] * 4, result) is None
