@@ -134,7 +134,7 @@ def frame(model: dict) -> era.Frame:
         raise era.DataError(f"The model is not in era.Frame's file format: {exc}.") from None
 
 
-#: era.Frame's refusals (era/structure.py, era/fem/space.py) -> the panel's control that fixes them.
+#: era.Frame's refusals (era/structure/, era/fem/space.py) -> the panel's control that fixes them.
 _CONTROLS = ((re.compile(r"^Frame: member (\d+) \("), "member:{}"),
              (re.compile(r"\b(?:support|mass|joint spring) at node (.+?)(?::| must| which|, which)"), "node:{}"),
              (re.compile(r"^Frame: node (.+?) (?:must have|is on no member)"), "node:{}"),

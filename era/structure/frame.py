@@ -1,15 +1,16 @@
-"""The user's description of a frame-like structure: :class:`Section`, :class:`Frame` (SI units).
+"""The user's description of a frame-like structure and its validation: :class:`Frame` (SI units).
 
-A Frame is nodes, straight members with a section each, supports, known lumped masses, the sensors in the data's
-channel order and, optionally, gravity. ``Frame.modes(n)`` meshes the members (era.fem.space.converged_mesh) and
-returns the lowest modes at the sensors, mass-normalised, like ``nasa_grid().modes``.
+A Frame is nodes, straight members with a section each (era/structure/sections.py), supports, known lumped masses,
+the sensors in the data's channel order and, optionally, gravity. ``Frame.modes(n)`` meshes the members and returns
+the lowest modes at the sensors, mass-normalised, like ``nasa_grid().modes``: the FE solution is
+era/fem/solution.py's (era.fem.space.converged_mesh), which the Frame caches.
 
 Local axes of a member: x from its first node to its second; z along the member's orientation vector (the optional
 4th item of a member; default global +Z, or +X for a vertical member) made normal to x; y = z × x. So by default a
 horizontal member's local z is vertical and its local y horizontal. ``Section.iy`` is about local y (bending that
 moves the member along z), ``Section.iz`` about local z; a rectangle's ``depth`` runs along local z.
 
-The file format (JSON or TOML) is era/io/frame_file.py's.
+The file format (JSON or TOML) is era/structure/file.py's.
 
 A section is given by its constants (``ip``, the polar moment, defaults to iy + iz) or by ``shape`` (rectangle,
 circle, tube, square_tube) with that helper's keywords. A support is "fixed" (all six DOFs), "pinned" (three
@@ -23,114 +24,20 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from collections.abc import Mapping
 from types import MappingProxyType
 
 import numpy as np
-import scipy.linalg
 
-from .errors import DataError
-from .fem import space
+from ..errors import DataError
+from ..fem import solution, space
+from ..fem.solution import SUPPORT_KEYS
+from .file import frame_from_dict, frame_to_dict, load_frame, save_frame
+from .sections import Section
 
-MATERIALS = {   # nominal handbook values: E (Pa), Poisson's ratio, density (kg/m³)
-    "steel": (200e9, 0.29, 7850.0), "stainless_steel": (193e9, 0.29, 8000.0),
-    "aluminium": (68.9e9, 0.33, 2700.0), "aluminum": (68.9e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0),
-}
-SUPPORT_KEYS = ("kx", "ky", "kz", "rx", "ry", "rz")
 DIRECTIONS = {s + a: (-1.0 if s else 1.0) * np.eye(3)[i] for i, a in enumerate("xyz") for s in ("", "-")}
 UNITS_M = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "ft": 0.3048, "in": 0.0254, "inch": 0.0254, "feet": 0.3048}
-_SIGN_SEED = (1.7, 0.3)
-
-
-def _material(material, e, g, density) -> dict:
-    if material not in MATERIALS:
-        raise DataError(f"Section: unknown material {material!r}; known: {sorted(MATERIALS)} (or give e, g, density).")
-    e0, nu, rho0 = MATERIALS[material]
-    e = e0 if e is None else e
-    return dict(e=e, g=e / (2 * (1 + nu)) if g is None else g, density=rho0 if density is None else density)
-
-
-@dataclass(frozen=True)
-class Section:
-    """Section and material constants of a member, SI units.
-
-    area A (m²); iy, iz second moments about the local y and z axes (m⁴); j St-Venant torsion constant (m⁴);
-    e, g Young's and shear moduli (Pa); density ρ (kg/m³); ip polar moment for the torsional inertia ρ I_p and the
-    Wagner term (m⁴, default iy + iz).
-    """
-
-    area: float
-    iy: float
-    iz: float
-    j: float
-    e: float
-    g: float
-    density: float
-    ip: float | None = None
-
-    def __post_init__(self):
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if f.name == "ip" and v is None:
-                v = float(self.iy) + float(self.iz)
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise DataError(f"Section: {f.name} must be a number, got {v!r}.") from None
-            if not (math.isfinite(v) and v > 0):
-                raise DataError(f"Section: {f.name} must be positive and finite, got {v!r}.")
-            object.__setattr__(self, f.name, v)
-
-    @property
-    def mass_per_length(self) -> float:
-        """ρ A, kg/m."""
-        return self.density * self.area
-
-    @classmethod
-    def rectangle(cls, width: float, depth: float, material: str = "steel", *, e=None, g=None, density=None):
-        """Solid width (along local y) × depth (along local z), m. J of a solid rectangle from Roark's Formulas for
-        Stress and Strain (torsion table): J = a b³ (1/3 - 0.21 (b/a)(1 - b⁴/(12 a⁴))), a ≥ b the sides, within
-        0.5 %."""
-        a, b = max(width, depth), min(width, depth)
-        j = a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4)))
-        return cls(area=width * depth, iy=width * depth**3 / 12, iz=depth * width**3 / 12, j=j,
-                   **_material(material, e, g, density))
-
-    @classmethod
-    def circle(cls, diameter: float, material: str = "steel", *, e=None, g=None, density=None):
-        """Solid round bar of this diameter (m): I = π d⁴/64, J = I_p = 2I."""
-        i = math.pi * diameter**4 / 64
-        return cls(area=math.pi * diameter**2 / 4, iy=i, iz=i, j=2 * i, **_material(material, e, g, density))
-
-    @classmethod
-    def tube(cls, diameter: float, wall: float, material: str = "steel", *, e=None, g=None, density=None):
-        """Round tube, outer diameter and wall thickness (m): I = π (D⁴ - d⁴)/64, J = I_p = 2I."""
-        d = diameter - 2 * wall
-        i = math.pi * (diameter**4 - d**4) / 64
-        return cls(area=math.pi * (diameter**2 - d**2) / 4, iy=i, iz=i, j=2 * i, **_material(material, e, g, density))
-
-    @classmethod
-    def square_tube(cls, width: float, wall: float, material: str = "steel", *, e=None, g=None, density=None):
-        """Square hollow section, outer width and wall (m): I = (b⁴ - (b-2t)⁴)/12; J = t (b-t)³ (Bredt, thin
-        wall)."""
-        b, t = width, wall
-        i = (b**4 - (b - 2 * t) ** 4) / 12
-        return cls(area=b**2 - (b - 2 * t) ** 2, iy=i, iz=i, j=t * (b - t) ** 3, **_material(material, e, g, density))
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "Section":
-        """From the constants, or from {"shape": "rectangle" | "circle" | "tube" | "square_tube", ...keywords}."""
-        d = dict(d)
-        shape = d.pop("shape", None)
-        try:
-            if shape is None:
-                return cls(**d)
-            if shape not in ("rectangle", "circle", "tube", "square_tube"):
-                raise DataError(f"Section: unknown shape {shape!r}; known: rectangle, circle, tube, square_tube.")
-            return getattr(cls, shape)(**d)
-        except TypeError as exc:
-            raise DataError(f"Section: {exc}") from None
 
 
 def _support(node: str, spec, gravity) -> dict:
@@ -311,38 +218,8 @@ class Frame:
         return np.array([DIRECTIONS[d] if isinstance(d, str) else d for _, d in self.sensors], float).reshape(-1, 3)
 
     def space_frame(self) -> space.SpaceFrame:
-        """The numerics' arrays, one element per member (era.fem.space.SpaceFrame)."""
-        index = {n: k for k, n in enumerate(self.nodes)}
-        xyz = np.array(list(self.nodes.values()))
-        ends = np.array([[index[m[0]], index[m[1]]] for m in self.members])
-        orient = np.array([m[3] if m[3] is not None else (np.nan,) * 3 for m in self.members])
-        default = np.isnan(orient[:, 0])
-        orient[default] = space.beam3d.default_orientation(xyz[ends[default, 1]] - xyz[ends[default, 0]])
-        secs = [self.sections[m[2]] for m in self.members]
-        prop = lambda f: np.array([f(s) for s in secs])   # noqa: E731
-        n = len(self.nodes)
-        restrained, springs, cable, mass = np.zeros((n, 6), bool), np.zeros((n, 6)), np.zeros(n), np.zeros(n)
-        for node, spec in self.supports.items():
-            k = index[node]
-            for a, key in enumerate(SUPPORT_KEYS):
-                v = spec.get(key, 0.0)
-                restrained[k, a] |= math.isinf(v)
-                springs[k, a] = 0.0 if math.isinf(v) else v
-            if "cable" in spec:
-                cable[k] = spec["cable"]
-                restrained[k, int(np.flatnonzero(self.gravity)[0])] = True
-        for node, kg in self.masses.items():
-            mass[index[node]] = kg
-        end_k, end_axes = self._end_springs(xyz, ends)
-        return space.SpaceFrame(
-            coords=xyz, elements=ends, orientation=orient, member=np.arange(len(self.members)),
-            EA=prop(lambda s: s.e * s.area), GJ=prop(lambda s: s.g * s.j), EIy=prop(lambda s: s.e * s.iy),
-            EIz=prop(lambda s: s.e * s.iz),
-            m=prop(lambda s: s.mass_per_length) + np.array([self.added_mass_per_length.get(m[2], 0.0)
-                                                             for m in self.members]),
-            rho_ip=prop(lambda s: s.density * s.ip),
-            r2=prop(lambda s: s.ip / s.area), node_mass=mass, restrained=restrained, springs=springs, cable_m=cable,
-            n_user=n, names=tuple(self.nodes), end_springs=end_k, end_axes=end_axes)
+        """The numerics' arrays, one element per member (era.fem.solution.space_frame)."""
+        return solution.space_frame(self)
 
     @property
     def n_rigid_modes(self) -> int:
@@ -374,22 +251,9 @@ class Frame:
                     ends.setdefault(n, []).append((int(k), side))
         return list(ends.get(node, []))
 
-    def _end_springs(self, xyz, ends):
-        """(e, 2) end springs (inf = rigid) and (e, 2, 3) their axes, from joint_springs; None when all rigid."""
-        if not self.joint_springs:
-            return None, None
-        k = np.full(ends.shape, np.inf)
-        axes = np.zeros(ends.shape + (3,))
-        for node, stiffness in self.joint_springs.items():
-            for member, side in self.beam_ends(node):
-                d = xyz[ends[member, 1]] - xyz[ends[member, 0]]
-                normal = np.cross(self.vertical, d)
-                k[member, side] = stiffness
-                axes[member, side] = normal / np.linalg.norm(normal)
-        return k, axes
-
     def solution(self, n_modes: int = 10) -> tuple[space.SpaceFrame, space.SpaceModes]:
-        """The mesh and its lowest modes (cached; at least n_modes), signs fixed by a generic reference vector.
+        """The mesh and its lowest modes (cached; at least n_modes), signs fixed by a generic reference vector
+        (era.fem.solution.solve).
 
         The automatic mesh is chosen for the lowest max(10, n_modes) modes, so modes(3) is a prefix of modes(10);
         a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve)."""
@@ -401,61 +265,23 @@ class Frame:
         else:
             target = min((k for k in cache if k >= n_modes), default=int(n_modes))
         if target not in cache:
-            frame = self.space_frame()
-            g = None if self.gravity is None else np.array(self.gravity)
-            if self.elements_per_member is None:
-                mesh, result = space.converged_mesh(frame, target, g)
-            else:
-                mesh = space.subdivide(frame, np.broadcast_to(self.elements_per_member, len(self.members)))
-                result = space.solve_modes(mesh, target, g)
-            u = result.shapes[:frame.n_user, :3]
-            ref = 1.0 + np.sin(_SIGN_SEED[0] * np.arange(u.shape[0] * 3) + _SIGN_SEED[1])
-            sign = np.where(ref @ u.reshape(-1, target) < 0, -1.0, 1.0)
-            cache[target] = (mesh, space.SpaceModes(result.frequency_hz, result.shapes * sign, result.axial_force))
+            cache[target] = solution.solve(self, target)
         return cache[target]
 
     def ritz_modes(self, reference: "Frame", n_basis: int = 30) -> tuple[np.ndarray, np.ndarray] | None:
-        """This frame's modes in the span of ``reference``'s lowest ``n_basis`` modes (Rayleigh-Ritz: one small
-        dense eigenproblem instead of a sparse solve), for screening many places of a local change. Frequencies
-        (r,) Hz and translations (n_nodes, 3, r) as :meth:`node_modes`; frequencies are bounds from above, within
-        0.5 % for a local mass or stiffness change. None unless both frames are meshed the same (a fixed
-        ``elements_per_member``, the same joint springs: a spring adds nodes) and this frame holds every DOF the
-        reference holds (a flexible support needs shapes that bend at the base: solve it)."""
-        counts = self.elements_per_member
-        if (counts is None or counts != reference.elements_per_member
-                or set(self.joint_springs) != set(reference.joint_springs)):
-            return None
-        ref_mesh, ref = reference.solution(n_basis)
-        mesh = space.subdivide(self.space_frame(), np.broadcast_to(counts, len(self.members)))
-        if mesh.n_nodes != ref_mesh.n_nodes:
-            return None
-        K, M, _ = space.system(mesh, None if self.gravity is None else np.array(self.gravity))
-        free = ~mesh.restrained.ravel()
-        if np.any(free & ref_mesh.restrained.ravel()):  # a support made flexible: the reference's shapes, all
-            return None                                   # still at its base, cannot bend there; solve instead
-        basis = ref.shapes.reshape(6 * mesh.n_nodes, -1)[:, :n_basis].copy()
-        basis[~free] = 0.0  # what this frame holds does not move
-        b = basis[free]
-        k = b.T @ (K[free][:, free] @ b)
-        m = b.T @ (M[free][:, free] @ b)
-        lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
-        shapes = (basis @ v).reshape(mesh.n_nodes, 6, -1)
-        return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi), shapes[:len(self.nodes), :3]
+        """This frame's modes in the span of ``reference``'s lowest ``n_basis`` modes (Rayleigh-Ritz, for screening
+        many places of a local change): frequencies (r,) Hz and translations (n_nodes, 3, r) as :meth:`node_modes`,
+        or None when the two are not meshed alike (era.fem.solution.ritz_modes)."""
+        return solution.ritz_modes(self, reference, n_basis)
 
     def element_counts(self, n_modes: int = 10) -> tuple:
         """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order."""
-        mesh, _ = self.solution(n_modes)
-        return tuple(int(c) for c in np.bincount(mesh.member, minlength=len(self.members)))
+        return solution.element_counts(self, n_modes)
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
         ``node_ids`` order, columns x, y, z), 1/√kg."""
-        _, result = self.solution(n_modes)
-        u = result.shapes[:len(self.nodes), :3, :n_modes].copy()
-        # the eigensolver's round-off (~1e-16 of the mode) where the motion is zero (a planar frame's out-of-plane
-        # modes at its nodes' in-plane DOFs) made exact: a unit-normalised sensor shape of it would be random
-        u[np.abs(u) < 1e-10 * np.abs(u).max(axis=(0, 1))] = 0.0
-        return result.frequency_hz[:n_modes].copy(), u
+        return solution.node_modes(self, n_modes)
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor
@@ -486,25 +312,21 @@ class Frame:
         return self.__class__.from_dict, (self.to_dict(),)
 
     def to_dict(self) -> dict:
-        """The file format of era/io/frame_file.py (JSON-ready: no inf, no numpy types)."""
-        from .io.frame_file import frame_to_dict
+        """The file format of era/structure/file.py (JSON-ready: no inf, no numpy types)."""
         return frame_to_dict(self)
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":
         """A Frame from the file format (as read from JSON or TOML); unknown keys are refused."""
-        from .io.frame_file import frame_from_dict
         return frame_from_dict(d, cls)
 
     def save(self, path) -> None:
-        """Write the model as JSON (era/io/frame_file.py)."""
-        from .io.frame_file import save_frame
+        """Write the model as JSON (era/structure/file.py)."""
         save_frame(self, path)
 
     @classmethod
     def load(cls, path) -> "Frame":
         """Read a model from JSON, or from TOML when the name ends in .toml."""
-        from .io.frame_file import load_frame
         return load_frame(path, cls)
 
     @classmethod

@@ -1,4 +1,4 @@
-"""Frame model files: an era.Frame (era/structure.py) as JSON (written) and JSON or TOML (read).
+"""Frame model files: an era.Frame (era/structure/frame.py) as JSON (written) and JSON or TOML (read).
 
 The format (``Frame.to_dict``/``save``: JSON; ``Frame.load`` also reads TOML, by the ``.toml`` suffix)::
 
@@ -15,7 +15,8 @@ The format (``Frame.to_dict``/``save``: JSON; ``Frame.load`` also reads TOML, by
      "gravity": [0, 0, -9.81],                          # or null / absent
      "elements_per_member": null}                       # null: automatic (converged to 0.1 %), n, or [n, ...]
 
-See era/structure.py for sections given by shape, supports and cables.
+See era/structure/frame.py for sections given by shape, supports and cables. The functions take the Frame class
+(``cls``) they build: this module does not import era/structure/frame.py, which imports it.
 """
 
 from __future__ import annotations
@@ -27,11 +28,11 @@ from dataclasses import asdict, fields
 from pathlib import Path
 
 from ..errors import DataError
-from ..structure import SUPPORT_KEYS, Frame
+from ..fem.solution import SUPPORT_KEYS
 
 
-def frame_to_dict(frame: Frame) -> dict:
-    """The file format of the module docstring (JSON-ready: no inf, no numpy types)."""
+def frame_to_dict(frame) -> dict:
+    """The file format of the module docstring, of an era.Frame ``frame`` (JSON-ready: no inf, no numpy types)."""
     def support(spec):
         if spec == dict.fromkeys(SUPPORT_KEYS, math.inf):
             return "fixed"
@@ -52,9 +53,8 @@ def frame_to_dict(frame: Frame) -> dict:
             {"added_mass_per_length": dict(frame.added_mass_per_length)} if frame.added_mass_per_length else {})
 
 
-def frame_from_dict(d: dict, cls=None) -> Frame:
-    """A Frame (or ``cls``) from the file format (as read from JSON or TOML); unknown keys are refused."""
-    cls = cls or Frame
+def frame_from_dict(d: dict, cls: type):
+    """A ``cls`` (era.Frame) from the file format (as read from JSON or TOML); unknown keys are refused."""
     if not isinstance(d, dict):
         raise DataError(f"Frame: a model must be a table of nodes, sections, members, ..., got {type(d).__name__}.")
     if d.get("format", "era.frame") != "era.frame" or d.get("version", 1) != 1:
@@ -73,13 +73,13 @@ def frame_from_dict(d: dict, cls=None) -> Frame:
     return cls(**{k: v for k, v in d.items() if k in known})
 
 
-def save_frame(frame: Frame, path) -> None:
-    """Write ``frame`` as JSON."""
+def save_frame(frame, path) -> None:
+    """Write an era.Frame ``frame`` as JSON."""
     Path(path).write_text(json.dumps(frame_to_dict(frame), indent=1) + "\n", encoding="utf-8")
 
 
-def load_frame(path, cls=None) -> Frame:
-    """Read a model from JSON, or from TOML when the name ends in .toml."""
+def load_frame(path, cls: type):
+    """A ``cls`` (era.Frame) read from JSON, or from TOML when the name ends in .toml."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
