@@ -13,7 +13,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from .records import Records
+from .records import Records, hammer_channel
 from .text import read_headerless
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
@@ -186,6 +186,11 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
             f", Δt = {step:.6g} s ({1 / step:.6g} Hz)" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
     force = np.array([u.lower() in _FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
                       for n, u in zip(names, units)])
+    pulse = None if force.any() else _pulse_channel(values, units)
+    if pulse is not None:  # generic names (t,ch1,ch2; time,a,b): the values show the hammer
+        force[pulse] = True
+        timing += (f"; {names[pulse]!r} proposed as the force (a short pulse: 99 % of its energy within "
+                   f"{max(len(values[0]) // 100, 1)} samples, the others ring on)")
     return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units), force=force, nodes=None, directions=None, conversions=conversions,
                    described=[f"{label}: {len(table)} lines × {len(names)} channels"
@@ -193,6 +198,18 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
                                  else "") + timing + (", decimal comma" if decimal_comma else "")
                               + (f", delimiter {delim!r}" if delim else ", blank-separated")
                               + (", a delimiter ending every line" if trailing else "")])
+
+
+#: Units a force transducer's channel may be written in besides force units: none, or its raw voltage.
+_RAW_UNITS = {"", "v", "mv"}
+
+
+def _pulse_channel(values: list[np.ndarray], units: list[str]) -> int | None:
+    """The channel that is a hammer's short pulse in every record (era.io.records.hammer_channel) when its unit
+    does not say it is something else (a response in g or m/s²); else None. values: records, each (N, c)."""
+    found = {hammer_channel(v) for v in values}
+    pulse = found.pop() if len(found) == 1 else None
+    return pulse if pulse is not None and units[pulse].strip().lower() in _RAW_UNITS else None
 
 
 def _time_column(names: list[str], units: list[str], label: str) -> tuple[int | None, float]:
