@@ -27,7 +27,7 @@ DATASETS_KEPT = 16
 
 
 @dataclass(frozen=True)
-class Dataset:
+class CachedDataset:
     """A stored dataset as loaded: its id, the pulse responses, the geometry (or None) and its name."""
 
     id: str
@@ -49,7 +49,7 @@ class Analysis:
     name: str
 
 
-def dataset_bytes(ds: Dataset) -> int:
+def dataset_bytes(ds: CachedDataset) -> int:
     """The bytes a loaded dataset holds in memory (its pulse responses and records)."""
     records = ds.data.records
     return ds.data.markov.nbytes + (records.nbytes if records is not None else 0)
@@ -120,7 +120,7 @@ class Cache:
         self._inflight_lock = threading.Lock()
 
     # ---- datasets -----------------------------------------------------------------------------------
-    def dataset(self, dataset_id: str) -> Dataset:
+    def dataset(self, dataset_id: str) -> CachedDataset:
         """The dataset with this id (NotFound otherwise), read from the store on a cache miss."""
         hit = self._datasets.get(dataset_id)
         if hit is not None:
@@ -128,16 +128,16 @@ class Cache:
         loaded = self.store.load_dataset(dataset_id)
         if loaded is None:
             raise _no_dataset(dataset_id)
-        return self._datasets.put(dataset_id, Dataset(dataset_id, *loaded))
+        return self._datasets.put(dataset_id, CachedDataset(dataset_id, *loaded))
 
-    def cached_dataset(self, dataset_id: str) -> Dataset | None:
+    def cached_dataset(self, dataset_id: str) -> CachedDataset | None:
         """The dataset if it is in memory, else None (never reads a file: safe on the event loop)."""
         return self._datasets.get(dataset_id)
 
     def add_dataset(self, data: era.ResponseData, geometry: era.Geometry | None, name: str, summary: dict) -> dict:
         """Store a dataset with its summary (payloads.dataset_summary); returns the stored summary (with id)."""
         dataset_id = self.store.add_dataset(data, geometry, name, summary)
-        self._datasets.put(dataset_id, Dataset(dataset_id, data, geometry, name))
+        self._datasets.put(dataset_id, CachedDataset(dataset_id, data, geometry, name))
         return self.summary(dataset_id)
 
     def summary(self, dataset_id: str) -> dict:
@@ -161,7 +161,7 @@ class Cache:
         ds = self.dataset(dataset_id)
         return Analysis(analysis_id, dataset_id, params, ds.data, ds.geometry, ds.name)
 
-    def new_analysis(self, dataset: Dataset, params: dict) -> tuple[Analysis, era.Identification]:
+    def new_analysis(self, dataset: CachedDataset, params: dict) -> tuple[Analysis, era.Identification]:
         """Identify a dataset (one SVD, within the server's limits) with its diagram and chosen modes, then store
         the analysis and cache its results."""
         ident, diagram = self._compute(choosing.analyse, dataset.data, params, self.settings)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 
 from .. import payloads, schemas
-from ..cache import Dataset
+from ..cache import CachedDataset
 from ..loading import band, channel_list, check_files, new_dataset
 from .deps import cache, dataset, jobs, read_files
 
@@ -60,12 +60,13 @@ async def summary(request: Request, dataset_id: str):
 
 @router.get("/{dataset_id}/records", summary="The records of every output for one input, for plotting",
             response_model=schemas.Records)
-async def records(request: Request, ds: Dataset = Depends(dataset), input: int = Query(0, ge=0, le=schemas.MAX_INT)):
+async def records(request: Request, ds: CachedDataset = Depends(dataset),
+                  input: int = Query(0, ge=0, le=schemas.MAX_INT)):
     points = cache(request).settings.max_plot_points
     return await jobs(request).quick(payloads.records_json, ds.data, input, points)
 
 
 @router.get("/{dataset_id}/spectrum", summary="Complex mode indicator function of the data",
             response_model=schemas.Spectrum)
-async def spectrum(request: Request, ds: Dataset = Depends(dataset)):
+async def spectrum(request: Request, ds: CachedDataset = Depends(dataset)):
     return await jobs(request).quick(payloads.spectrum_json, ds.data, cache(request).settings.max_plot_points)

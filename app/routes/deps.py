@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from fastapi import Request
 
-from ..cache import Analysis, Cache, Dataset
+from ..cache import Analysis, Cache, CachedDataset
 from ..jobs import Jobs
 from ..store import Store
 
@@ -27,7 +27,7 @@ def progress_key(request: Request) -> str | None:
     return request.headers.get("x-progress-key")
 
 
-async def find_dataset(request: Request, dataset_id: str) -> Dataset:
+async def find_dataset(request: Request, dataset_id: str) -> CachedDataset:
     """The dataset with this id (NotFound → 404); a dataset not in memory is read on the quick pool."""
     c = cache(request)
     return c.cached_dataset(dataset_id) or await jobs(request).quick(c.dataset, dataset_id)
@@ -48,7 +48,7 @@ async def analysis(request: Request, analysis_id: str) -> Analysis:
     return await find_analysis(request, analysis_id)
 
 
-async def dataset(request: Request, dataset_id: str) -> Dataset:
+async def dataset(request: Request, dataset_id: str) -> CachedDataset:
     """Dependency: the dataset named by the path's {dataset_id}."""
     return await find_dataset(request, dataset_id)
 

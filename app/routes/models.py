@@ -13,7 +13,7 @@ from fastapi import APIRouter, Depends, File, HTTPException, Query, Request, Upl
 import era
 
 from .. import modeling, schemas
-from ..cache import Analysis, Dataset
+from ..cache import Analysis, CachedDataset
 from ..errors import NotFound
 from ..schemas import ModelRequest, ModelView
 from .deps import analysis, cache, dataset, jobs, progress_key, store
@@ -21,7 +21,7 @@ from .deps import analysis, cache, dataset, jobs, progress_key, store
 router = APIRouter(tags=["structure model"])
 
 
-async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
+async def _save(request: Request, ds: CachedDataset, stored: dict) -> dict:
     files = store(request)
 
     def work():
@@ -37,13 +37,13 @@ async def _save(request: Request, ds: Dataset, stored: dict) -> dict:
 @router.get("/api/datasets/{dataset_id}/model/draft", summary="What the model step starts from: the geometry's "
             "nodes, trace lines as members (grouped by direction) and the channels as sensors",
             response_model=schemas.ModelDraft)
-async def draft(ds: Dataset = Depends(dataset)):
+async def draft(ds: CachedDataset = Depends(dataset)):
     return modeling.draft(ds.geometry, ds.data.outputs)
 
 
 @router.get("/api/datasets/{dataset_id}/model", summary="The dataset's stored structure model",
             response_model=schemas.StructureModel)
-async def read(request: Request, ds: Dataset = Depends(dataset)):
+async def read(request: Request, ds: CachedDataset = Depends(dataset)):
     stored = store(request).model(ds.id)
     if stored is None:
         raise NotFound("This dataset has no structure model yet: describe it in the Model panel or upload a model "
@@ -60,7 +60,7 @@ async def read(request: Request, ds: Dataset = Depends(dataset)):
 
 @router.put("/api/datasets/{dataset_id}/model",
             summary="Save the dataset's structure model (era.Frame file format)", response_model=schemas.StructureModel)
-async def save(request: Request, body: ModelRequest, ds: Dataset = Depends(dataset)):
+async def save(request: Request, body: ModelRequest, ds: CachedDataset = Depends(dataset)):
     """Refused with a sentence (422) when a member goes to a missing node, a section has no material, the model
     is a mechanism, or its sensors are not the dataset's outputs; the stored model is then unchanged."""
     return await _save(request, ds, {"model": body.model, "source": body.source, "name": body.name,
@@ -70,7 +70,7 @@ async def save(request: Request, body: ModelRequest, ds: Dataset = Depends(datas
 @router.post("/api/datasets/{dataset_id}/model/file",
              summary="Upload a model file (era.Frame JSON, or TOML named .toml)", response_model=schemas.StructureModel)
 async def upload(request: Request, file: UploadFile = File(description="the model file"),
-                 ds: Dataset = Depends(dataset)):
+                 ds: CachedDataset = Depends(dataset)):
     name = (file.filename or "model.json").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200]
     blob = await file.read(modeling.MAX_MODEL_BYTES + 1)
     model = modeling.read_file(name, blob)
@@ -79,7 +79,7 @@ async def upload(request: Request, file: UploadFile = File(description="the mode
 
 @router.post("/api/datasets/{dataset_id}/model/viewer", summary="Show the model being described in the 3-D viewer, "
              "where clicking a node picks it (GET /viser/{key}/picks)", response_model=schemas.ModelViewLink)
-async def view(request: Request, body: ModelView, ds: Dataset = Depends(dataset)):
+async def view(request: Request, body: ModelView, ds: CachedDataset = Depends(dataset)):
     viewer = request.app.state.viewer
     if viewer is None:
         raise HTTPException(503, "The 3-D viewer is not available on this server: pick nodes in the drawing.")

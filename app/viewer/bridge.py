@@ -75,7 +75,7 @@ class NodeMarks(BaseModel):
     marks: dict[str, str] = Field(description="{node id: fixed | pinned | springs | mass | \"\"} (the colour)")
 
 
-class ModeChoice(BaseModel):
+class ViewerMode(BaseModel):
     """What a key's viewers show."""
 
     index: int = Field(ge=0, description="Mode to show (column of the published shapes, from 0)")
@@ -126,7 +126,7 @@ def make_router(viewer: "ModeViewer") -> APIRouter:
         return RedirectResponse(viewer.iframe_url(key), status_code=307)
 
     @router.post("/viser/{key}/mode")
-    def select_mode(key: str, choice: ModeChoice) -> dict:
+    def select_mode(key: str, choice: ViewerMode) -> dict:
         """Select the mode, amplitude and speed that every viewer of this key shows."""
         try:
             if not KEY_PATTERN.fullmatch(key) or not viewer.ensure(key):

@@ -32,7 +32,8 @@ def quiet():
         yield
 
 
-def add_mode_nodes(target: viser.SceneApi, geometry: Geometry, first: scene.Frame, undeformed: scene.Frame):
+def add_mode_nodes(target: viser.SceneApi, geometry: Geometry, first: scene.SceneFrame,
+                   undeformed: scene.SceneFrame):
     """Add the undeformed trace lines, the moving lines and the sensor points to a scene; return the handles
     (lines or None when the geometry has no trace lines, points) that each frame updates."""
     size = scene.structure_size(geometry)
@@ -47,7 +48,7 @@ def add_mode_nodes(target: viser.SceneApi, geometry: Geometry, first: scene.Fram
     return lines, points
 
 
-def update_mode_nodes(lines, points, f: scene.Frame) -> None:
+def update_mode_nodes(lines, points, f: scene.SceneFrame) -> None:
     """Move the handles from `add_mode_nodes` to frame `f` (call inside `atomic()` so a frame lands at once)."""
     if lines is not None:
         lines.points = f.segments

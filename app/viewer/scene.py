@@ -41,7 +41,7 @@ UNDEFORMED_RGB = (185, 185, 185)
 
 
 @dataclass(frozen=True)
-class Frame:
+class SceneFrame:
     """One animation frame.
 
     Attributes
@@ -162,7 +162,7 @@ def colours(level: np.ndarray) -> np.ndarray:
     return np.rint(np.stack(rgb, axis=-1)).astype(np.uint8)
 
 
-def frame(geometry: Geometry, node_vectors: np.ndarray, phase: float, amplitude: float) -> Frame:
+def frame(geometry: Geometry, node_vectors: np.ndarray, phase: float, amplitude: float) -> SceneFrame:
     """Node positions, trace lines and colours at one instant of the motion.
 
     Parameters
@@ -181,7 +181,7 @@ def frame(geometry: Geometry, node_vectors: np.ndarray, phase: float, amplitude:
     node_rgb = colours(level)
     edges = geometry.edges
     sensors = np.unique(geometry.channel_nodes[geometry.channel_nodes >= 0])
-    return Frame(
+    return SceneFrame(
         positions=positions,
         level=level,
         segments=positions[edges].astype(np.float32).reshape(-1, 2, 3),

@@ -1,7 +1,7 @@
 """Resuming a campaign: each finished record's modes stored in a folder, under a key of its content and settings.
 
-A record's key is the SHA-256 of the campaign's settings (:meth:`Settings.fingerprint`) and of the file's bytes, so
-a changed file or setting is analysed again, and a renamed or moved file is not. Entries are small JSON files
+A record's key is the SHA-256 of the campaign's settings (:meth:`CampaignSettings.fingerprint`) and of the file's
+bytes, so a changed file or setting is analysed again, and a renamed or moved file is not. Entries are small JSON files
 (no pickles: a cache folder must not be able to run code) written atomically (a temporary file, then
 ``os.replace``), so a campaign killed mid-write leaves no half entry. Only records that were analysed are
 stored; failures are tried again on the next run.

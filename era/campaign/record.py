@@ -24,7 +24,7 @@ from ..suggest import hankel_size
 
 
 @dataclass(frozen=True)
-class Settings:
+class CampaignSettings:
     """How every record of a campaign is analysed (the same for all, so the modes compare).
 
     kind : era.load's conversion ("auto", "ambient", "decay", "pulse", "frf", "io").
@@ -132,7 +132,7 @@ def record_name(source, index: int) -> str:
     return f"record {index}"
 
 
-def modes_of(data, settings: Settings) -> tuple[AnalysisResult, int, int]:
+def modes_of(data, settings: CampaignSettings) -> tuple[AnalysisResult, int, int]:
     """(era.AnalysisResult, rows, cols) of one record's ResponseData: era.analyse with the campaign's Hankel size
     (era.suggest.hankel_size of the record where ``settings`` gives none) and orders."""
     n, p, m = data.markov.shape
@@ -159,7 +159,7 @@ def record_modes(result: AnalysisResult, *, index: int, name: str, outputs, kind
         rejected=tuple((float(c.frequency_hz), str(c.code), str(c.reason)) for c in choice.rejected))
 
 
-def analyse_record(source, index: int, settings: Settings):
+def analyse_record(source, index: int, settings: CampaignSettings):
     """The campaign's task: one record in, :class:`RecordModes` or :class:`RecordFailure` out (never raises).
 
     source : a path or the bytes of a file era.load reads; index : its position among the campaign's sources.

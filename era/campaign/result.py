@@ -31,7 +31,7 @@ class CampaignResult:
         ("reference" or "new"), the record that defined it and how many records found it.
     failed : tuple of era.campaign.RecordFailure (record, name, reason), in record order.
     records : tuple of era.campaign.RecordModes, each analysed record's own modes (before tracking).
-    settings : era.campaign.Settings, how every record was analysed.
+    settings : era.campaign.CampaignSettings, how every record was analysed.
     """
 
     table: object

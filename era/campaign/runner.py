@@ -35,7 +35,7 @@ import numpy as np
 
 from ..errors import EraError
 from . import cache
-from .record import RecordFailure, RecordModes, Settings, analyse_record, record_name
+from .record import CampaignSettings, RecordFailure, RecordModes, analyse_record, record_name
 from .result import CampaignResult, build_table, pandas
 from .tracking import track_modes
 
@@ -66,7 +66,7 @@ def _as_time(value):
                        f"{value!r}.") from None
 
 
-def _settings(kind, dt, rows, cols, orders, load_options) -> Settings:
+def _settings(kind, dt, rows, cols, orders, load_options) -> CampaignSettings:
     try:
         orders = tuple(sorted({int(n) for n in orders}))
     except (TypeError, ValueError):
@@ -77,9 +77,9 @@ def _settings(kind, dt, rows, cols, orders, load_options) -> Settings:
     for name, v in (("rows", rows), ("cols", cols)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1):
             raise EraError(f"`{name}` must be a positive integer or None (the suggested Hankel size), got {v!r}.")
-    return Settings(kind=str(kind), dt=None if dt is None else float(dt), rows=None if rows is None else int(rows),
-                    cols=None if cols is None else int(cols), orders=orders,
-                    load_options=tuple(sorted((load_options or {}).items())))
+    return CampaignSettings(kind=str(kind), dt=None if dt is None else float(dt),
+                            rows=None if rows is None else int(rows), cols=None if cols is None else int(cols),
+                            orders=orders, load_options=tuple(sorted((load_options or {}).items())))
 
 
 def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: int | None = None,

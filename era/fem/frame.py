@@ -19,7 +19,7 @@ from . import elements
 
 
 @dataclass(frozen=True, eq=False)
-class Frame:
+class PlaneFrame:
     """A structure of straight bars in the x-y plane.
 
     Attributes
@@ -69,14 +69,14 @@ class Frame:
         e = np.asarray(self.bars).shape[0]
         for name in ("EI_out", "GJ", "EA", "EI_in", "mass_per_length", "rho_ip", "r2"):
             if np.shape(getattr(self, name)) != (e,):
-                raise EraError(f"Frame: `{name}` must have one value per bar ({e}), got shape {np.shape(getattr(self, name))}.")
+                raise EraError(f"PlaneFrame: `{name}` must have one value per bar ({e}), got shape {np.shape(getattr(self, name))}.")
         if np.shape(self.node_mass) != (n,) or np.shape(self.node_springs) != (n, 3):
-            raise EraError(f"Frame: node_mass must be ({n},) and node_springs ({n}, 3).")
+            raise EraError(f"PlaneFrame: node_mass must be ({n},) and node_springs ({n}, 3).")
         links = self.links.reshape(-1, 2)
         if np.shape(self.link_stiffness) != (links.shape[0], 3):
-            raise EraError("Frame: link_stiffness must be (number of links, 3).")
+            raise EraError("PlaneFrame: link_stiffness must be (number of links, 3).")
         if np.any(self.EI_out <= 0) or np.any(self.GJ <= 0) or np.any(self.mass_per_length <= 0):
-            raise EraError("Frame: bending and torsion rigidities and the mass per length must be positive.")
+            raise EraError("PlaneFrame: bending and torsion rigidities and the mass per length must be positive.")
         object.__setattr__(self, "links", links)
 
     @property
@@ -88,7 +88,7 @@ class Frame:
         d = self.nodes_m[self.bars[:, 1]] - self.nodes_m[self.bars[:, 0]]
         L = np.hypot(d[:, 0], d[:, 1])
         if np.any(L <= 0):
-            raise EraError("Frame: a bar has zero length (its two nodes coincide).")
+            raise EraError("PlaneFrame: a bar has zero length (its two nodes coincide).")
         return L, d[:, 0] / L, d[:, 1] / L
 
     def total_mass(self) -> float:
@@ -137,7 +137,7 @@ class Assembled:
     dofs: np.ndarray
 
 
-def assemble_out_of_plane(frame: Frame, axial_force: np.ndarray | None = None) -> Assembled:
+def assemble_out_of_plane(frame: PlaneFrame, axial_force: np.ndarray | None = None) -> Assembled:
     """Stiffness (elastic + geometric from ``axial_force`` (e,) N, tension > 0) and consistent mass."""
     L, c, s = frame.bar_geometry()
     stiff = np.asarray(frame.link_stiffness, float)

@@ -8,7 +8,7 @@ from ..errors import EraError
 
 
 @dataclass(frozen=True)
-class Section:
+class BeamSection:
     """Material and section constants of a straight bar (SI units).
 
     Attributes
@@ -45,7 +45,7 @@ class Section:
         return self.rho * self.area
 
 
-def flat_bar(width_m: float, thickness_m: float, E: float, nu: float, rho: float) -> Section:
+def flat_bar(width_m: float, thickness_m: float, E: float, nu: float, rho: float) -> BeamSection:
     """A flat strip of ``width_m`` in the plane and ``thickness_m`` out of it.
 
     The torsion constant is the thin-rectangle series J = w t³/3 (1 - 0.63 t/w + 0.052 (t/w)⁵)
@@ -57,5 +57,5 @@ def flat_bar(width_m: float, thickness_m: float, E: float, nu: float, rho: float
     j = w * t**3 / 3 * (1 - 0.63 * t / w + 0.052 * (t / w) ** 5)
     i_out = width_m * thickness_m**3 / 12
     i_in = thickness_m * width_m**3 / 12
-    return Section(E=E, G=E / (2 * (1 + nu)), rho=rho, area=width_m * thickness_m,
+    return BeamSection(E=E, G=E / (2 * (1 + nu)), rho=rho, area=width_m * thickness_m,
                    i_out=i_out, i_in=i_in, j_torsion=j, i_polar=i_out + i_in)

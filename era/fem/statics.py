@@ -10,7 +10,7 @@ import scipy.sparse.linalg
 
 from ..errors import EraError
 from . import elements
-from .frame import Frame, dof_map
+from .frame import PlaneFrame, dof_map
 
 G_STANDARD = 9.80665  # m/s²
 
@@ -29,7 +29,7 @@ class SelfWeight:
     displacement: np.ndarray
 
 
-def self_weight(frame: Frame, supports: list[tuple[int, bool, bool]], g: float = G_STANDARD) -> SelfWeight:
+def self_weight(frame: PlaneFrame, supports: list[tuple[int, bool, bool]], g: float = G_STANDARD) -> SelfWeight:
     """Linear in-plane static solve of ``frame`` hanging in the x-y plane with gravity along -y.
 
     Parameters

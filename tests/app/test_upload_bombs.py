@@ -133,11 +133,11 @@ def test_bombs_are_refused_on_both_routes_with_little_memory_and_nothing_large_s
 
 def test_the_dataset_cache_is_bounded_by_bytes_and_a_dataset_by_four_uploads():
     import era
-    from app.cache import LRU, Dataset, dataset_bytes
+    from app.cache import LRU, CachedDataset, dataset_bytes
     from app.loading import check_stored
 
-    def ds(mb: int) -> Dataset:
-        return Dataset("x", era.ResponseData(markov=np.ones((mb * 2**17, 1, 1)), dt=0.1), None, "x")
+    def ds(mb: int) -> CachedDataset:
+        return CachedDataset("x", era.ResponseData(markov=np.ones((mb * 2**17, 1, 1)), dt=0.1), None, "x")
 
     cache = LRU(16, max_bytes=100 * 2**20, weigh=dataset_bytes)
     for k in range(5):

@@ -15,7 +15,7 @@ def straight_frame(n_el, length, angle_deg=0.0, section=BAR, EI=None):
     c, s = np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))
     r = np.linspace(0, length, n_el + 1)
     ones = np.ones(n_el)
-    return fem.Frame(nodes_m=np.column_stack([r * c, r * s]), bars=np.column_stack([np.arange(n_el), np.arange(1, n_el + 1)]),
+    return fem.PlaneFrame(nodes_m=np.column_stack([r * c, r * s]), bars=np.column_stack([np.arange(n_el), np.arange(1, n_el + 1)]),
                      EI_out=(section.E * section.i_out if EI is None else EI) * ones, GJ=section.G * section.j_torsion * ones,
                      EA=section.E * section.area * ones, EI_in=section.E * section.i_in * ones,
                      mass_per_length=section.mass_per_length * ones, rho_ip=section.rho * section.i_polar * ones,
@@ -125,7 +125,7 @@ def test_links_tie_w_and_spring_the_rotations():
     nodes = np.vstack([whole.nodes_m[:5], whole.nodes_m[4:]])    # node 5 duplicates node 4
     bars = np.array([[i, i + 1] for i in range(4)] + [[i, i + 1] for i in range(5, 9)])
     def linked(k):
-        fr = fem.Frame(nodes_m=nodes, bars=bars, EI_out=whole.EI_out, GJ=whole.GJ, EA=whole.EA, EI_in=whole.EI_in,
+        fr = fem.PlaneFrame(nodes_m=nodes, bars=bars, EI_out=whole.EI_out, GJ=whole.GJ, EA=whole.EA, EI_in=whole.EI_in,
                        mass_per_length=whole.mass_per_length, rho_ip=whole.rho_ip, r2=whole.r2,
                        links=[[4, 5]], link_stiffness=[[np.inf, k, k]], node_mass=np.zeros(10),
                        node_springs=np.zeros((10, 3)))
