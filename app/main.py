@@ -27,6 +27,7 @@ from .jobs import Jobs
 from .routes import analyses, campaigns, datasets, examples, explain, health, imports, models, pages, reports
 from .routes import jobs as job_routes
 from .routes import help as help_routes  # the docs site at /help/
+from .routes import setups as setups_routes  # multi-setup tests (issue 26)
 from .store import Store
 from .viewer import ModeViewer
 
@@ -76,7 +77,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
 
     errors.install(app, settings.max_upload_bytes)
     for module in (datasets, imports, models, examples, analyses, explain, reports, campaigns, job_routes, health,
-                   pages, help_routes):
+                   pages, help_routes, setups_routes):
         app.include_router(module.router)
     if viewer is not None:
         app.include_router(viewer.router)

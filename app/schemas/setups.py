@@ -1,0 +1,91 @@
+"""Multi-setup tests (/api/setups, app/setups.py): several files, one per setup, merged through their reference
+sensors (era.merge_setups). Shapes: k merged modes, q points (the references once, then every setup's roving
+channels)."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, Field
+
+from .common import Floats, Index, Matrix, Schema
+from .reports import ReportGeometry
+
+
+class SetupChannels(Schema):
+    file: str = Field(description="the file the setup was read from")
+    outputs: list[str] = Field(description="its channels, in the order the references index them")
+    n_samples: int
+    dt: float = Field(description="sampling interval of its pulse responses (or correlation functions), s")
+    has_geometry: bool = Field(description="whether its file placed its channels on a geometry")
+    ambient: bool = Field(description="ambient records (NExT): the merge correlates them with the picked references")
+
+
+class MergedMode(Schema):
+    frequency_hz: float = Field(description="damped frequency, combined over the setups that saw it, Hz")
+    damping_ratio: float = Field(description="fraction of critical")
+    frequency_std_hz: float | None = Field(description="its standard deviation, Hz, or null")
+    damping_std: float | None = Field(description="its standard deviation, or null")
+    mpc: float | None = Field(description="modal phase collinearity of the merged shape (its known points)")
+    seen_in: int = Field(description="setups whose analysis chose the mode")
+    seen: str = Field(description='the same in words: "seen in 3 of 4 setups"')
+    complete: bool = Field(description="its shape is known at every point (so it is in the UFF 55 export)")
+    missing_setups: list[int] = Field(description="setups (1-based) at whose points the shape is unknown")
+    note: str = Field(description="what the page says about it: where its shape is unknown, what was recovered")
+
+
+class DroppedSetupMode(Schema):
+    setup: int = Field(description="the setup (1-based)")
+    file: str
+    frequency_hz: float
+    reason: str = Field(description="why it is not a merged mode, in words")
+
+
+class SetupsMerged(Schema):
+    references: list[list[int]] = Field(description="per setup, the indices of its reference channels")
+    reference_names: list[str] = Field(description="the references' names in setup 1")
+    setups: list[str] = Field(description="the setups' files, in order")
+    points: list[str] = Field(description="(q,) the merged points: the references, then each setup's roving "
+                                          "channels (S<k>: prefixed when names repeat)")
+    point_setup: list[int] = Field(description="(q,) the setup (1-based) each point was measured in; 0 for a "
+                                               "reference (every setup)")
+    modes: list[MergedMode]
+    eigenvalue_re: Floats = Field(description="(k,) Re s, rad/s")
+    eigenvalue_im: Floats = Field(description="(k,) Im s, rad/s")
+    shapes_re: Matrix = Field(description="(k, q) real part of each merged shape, largest component 1; null where "
+                                          "unknown (a setup that did not see the mode)")
+    shapes_im: Matrix = Field(description="(k, q) imaginary part")
+    dropped: list[DroppedSetupMode] = Field(description="every setup mode left out of the merge, with its reason")
+    geometry: ReportGeometry | None = Field(description="the setups' geometry with the merged points as its "
+                                                        "channels, or null")
+    uncertainty_source: str
+    merged: float = Field(description="when the merge was made, Unix s")
+
+
+class SetupsUnmatched(Schema):
+    name: str = Field(description="a channel name of setup 1")
+    missing_in: list[int] = Field(description="the setups (1-based) without a channel of that name")
+
+
+class SetupsTest(Schema):
+    id: str
+    name: str
+    created: float = Field(description="Unix s")
+    kind: str = Field(description="what the records are: auto, ambient (NExT), decay, pulse, frf or io")
+    dt: float | None = Field(description="the sampling interval given for files without a time column, s, or null")
+    setups: list[SetupChannels]
+    proposed: list[list[int]] = Field(description="the proposed references: per setup, the indices of the "
+                                                  "channels whose names are in every setup (setup 1's order)")
+    proposed_names: list[str] = Field(description="their names")
+    unmatched: list[SetupsUnmatched] = Field(description="setup 1's channel names that some setups lack (a "
+                                                         "reference renamed or missing there)")
+    merged: SetupsMerged | None = Field(description="the last merge, or null")
+
+
+class SetupsRequest(BaseModel):
+    references: list[list[Index]] = Field(max_length=64, description="per setup (in order), the indices of its "
+                                        "reference channels: the same sensors, in the same order, in every setup")
+
+    model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
+
+
+__all__ = ["SetupChannels", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
+           "SetupsUnmatched"]

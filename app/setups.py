@@ -1,0 +1,322 @@
+"""Multi-setup tests in the app (issue 26): several files, each the records of one setup of a test, read as a
+single upload is (era.load); the reference channels picked (the same physical sensors, in the same order, in every
+setup); each setup through era.analyse, the setups through era.merge_setups; the merged modes kept as one JSON
+document.
+
+A test is files only (no table), in the store's ``setups/{id}/``: the uploaded files as they came
+(``setup1.bin`` ...), ``test.json`` (schemas.SetupsTest without ``merged``: the setups' channels and the proposed
+references), written once after the files, and ``merged.json`` (schemas.SetupsMerged), written again at every
+merge. The merged document holds everything the page draws, so the test's link (/s/{id}) reopens the result.
+Ambient records are converted (NExT) at the merge, with the picked references as the correlation references.
+
+A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
+frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see
+it; a mode of one setup only is left out with its reason. The page says "seen in 3 of 4 setups"; UFF 55 keeps the
+modes known at every point and the CSV leaves unknown values empty.
+
+Every function is plain and blocking (the routes run them on the job pools).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import re
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+import era
+import era.setups
+
+from .errors import NotFound
+from .importing import page_words
+from .loading import check_stored, load_upload
+from .payloads import floats
+from .reporting import geometry_from_json, geometry_json
+from .store import new_token, write_atomic
+
+#: A multi-setup test has at least this many setups (one file is an ordinary dataset) ...
+MIN_SETUPS = 2
+#: ... and at most this many.
+MAX_SETUPS = 32
+#: What a test id looks like (store.new_token's alphabet): nothing else becomes a folder name.
+_ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
+#: References a merge needs at least: with one, every pair of modes has reference MAC 1, so a wrong pick passes.
+MIN_REFERENCES = 2
+#: The options a setups upload takes (the controls of the page's form), as era.load names them.
+OPTIONS = ("kind", "dt")
+
+
+class Refusal(era.DataError):
+    """A refusal said next to the page's control ``option`` ("file", "kind", "dt", "references")."""
+
+    def __init__(self, message: str, option: str):
+        super().__init__(message, option=option)
+
+
+# ---- a new test: one file per setup ------------------------------------------------------------------------------
+def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", dt: float | None = None,
+           name: str | None = None) -> dict:
+    """Read every file as one setup (era.load, the rules of a single upload), keep the files, and write the test.
+    Returns schemas.SetupsTest. Refuses (Refusal, its control named) one file, too many, or a file that cannot be
+    read, before keeping anything."""
+    if len(files) < MIN_SETUPS:
+        raise Refusal(f"One file is one setup: a multi-setup test needs {MIN_SETUPS} files or more, one per setup "
+                      "(each with the reference sensors and that setup's roving ones). For one file, use the main "
+                      "page's import step.", "file")
+    if len(files) > MAX_SETUPS:
+        raise Refusal(f"{len(files)} files: at most {MAX_SETUPS} setups make one test.", "file")
+    setups = []
+    for k, (file_name, blob) in enumerate(files):
+        data, geometry, source = _read(settings, k, file_name, blob, kind, dt)
+        conversions = " ".join(str(c) for c in source.get("conversions") or ())
+        setups.append({"file": file_name, "outputs": list(data.outputs), "n_samples": int(data.n_samples),
+                       "dt": float(data.dt), "has_geometry": geometry is not None, "ambient": "NExT" in conversions})
+    outputs = [s["outputs"] for s in setups]
+    names, proposed = propose(outputs)
+    test = {"id": new_token(), "name": name or f"{files[0][0]} + {len(files) - 1} more", "created": time.time(),
+            "kind": kind, "dt": dt, "setups": setups, "proposed": proposed, "proposed_names": names,
+            "unmatched": unmatched(outputs)}
+    folder = _folder(store, test["id"])
+    for k, (_, blob) in enumerate(files):
+        write_atomic(folder / f"setup{k + 1}.bin", blob)
+    write_atomic(folder / "test.json", json.dumps(test).encode())  # last: the commit point
+    return dict(test, merged=None)
+
+
+def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | None, references=None):
+    """(data, geometry, source) of setup k's file through era.load (app.loading.load_upload); the refusal in the
+    page's words, prefixed with the setup, next to the control that fixes it."""
+    try:
+        data, geometry, source = load_upload([(file_name, blob)], kind, settings.max_upload_bytes, dt=dt,
+                                             references=references)
+        check_stored(data, settings.max_upload_bytes)
+    except era.TooLargeError:
+        raise
+    except era.EraError as exc:
+        option = getattr(exc, "option", None)
+        raise Refusal(f"Setup {k + 1} ({file_name}): {page_words(str(exc))}",
+                      option if option in OPTIONS else "file") from None
+    return data, geometry, source
+
+
+def propose(outputs: list[list[str]]) -> tuple[list[str], list[list[int]]]:
+    """The proposed references: the channel names in every setup, in the first setup's order; (names, their
+    index in each setup). Empty when no name is in every setup (the person picks them)."""
+    common = [name for name in outputs[0] if all(name in out for out in outputs[1:])]
+    return common, [[out.index(name) for name in common] for out in outputs]
+
+
+def unmatched(outputs: list[list[str]]) -> list[dict]:
+    """The first setup's channel names that some other setups have and some do not (a reference renamed or
+    missing in a setup): [{"name", "missing_in": [setups, 1-based]}]."""
+    out = []
+    for name in outputs[0]:
+        missing = [k + 1 for k, names in enumerate(outputs) if name not in names]
+        if missing and len(missing) < len(outputs) - 1:
+            out.append({"name": name, "missing_in": missing})
+    return out
+
+
+def _folder(store, test_id: str):
+    """The test's folder in the store's data folder (``setups/{id}``); NotFound for a string that is no id."""
+    if not _ID.fullmatch(test_id):
+        raise NotFound(f"No multi-setup test {test_id!r}: check that the whole link was copied.")
+    return store.root / "setups" / test_id
+
+
+def load(store, test_id: str) -> dict:
+    """schemas.SetupsTest: the test and its last merge (or null). NotFound for an unknown id."""
+    folder = _folder(store, test_id)
+    if not (folder / "test.json").is_file():
+        raise NotFound(f"No multi-setup test {test_id!r}: check that the whole link was copied.")
+    test = json.loads((folder / "test.json").read_bytes())
+    merged = folder / "merged.json"
+    return dict(test, merged=json.loads(merged.read_bytes()) if merged.is_file() else None)
+
+
+# ---- the merge --------------------------------------------------------------------------------------------------
+def checked_references(test: dict, references) -> list[list[int]]:
+    """The references as the picker sent them, checked in the page's words (Refusal next to the picker)."""
+    setups = test["setups"]
+    if len(references) != len(setups):
+        raise Refusal(f"References are given for {len(references)} setups, but the test has {len(setups)}: pick "
+                      "them for every setup.", "references")
+    if len(references[0]) < MIN_REFERENCES:
+        picked = "No reference channel is" if not references[0] else "One reference channel is"
+        raise Refusal(f"{picked} picked: the setups are joined through sensors that stay in place in every setup, "
+                      f"and it takes {MIN_REFERENCES} or more to tell a wrong pick (with one, every mode's "
+                      "references agree). Pick at least two in every setup.", "references")
+    out = []
+    for k, (refs, s) in enumerate(zip(references, setups)):
+        refs = [int(i) for i in refs]
+        label = f"Setup {k + 1} ({s['file']})"
+        if len(refs) != len(references[0]):
+            raise Refusal(f"{label} has {len(refs)} reference channels picked where setup 1 has "
+                          f"{len(references[0])}: the references are the same sensors in every setup.", "references")
+        if any(i < 0 or i >= len(s["outputs"]) for i in refs):
+            raise Refusal(f"{label} has {len(s['outputs'])} channels; a picked reference is not one of them.",
+                          "references")
+        if len(set(refs)) != len(refs):
+            names = [s["outputs"][i] for i in refs]
+            raise Refusal(f"{label}: channel {next(n for n in names if names.count(n) > 1)} is picked as two "
+                          "references; each reference is another sensor.", "references")
+        out.append(refs)
+    return out
+
+
+#: era.merge_setups' words -> the page's (the picker, not the ``references`` argument).
+_PAGE_WORDS = ((re.compile(r"Check references\[(\d+)\] \(or the earlier setups' references\)"),
+                lambda m: f"Check setup {int(m.group(1)) + 1}'s references in the picker (or the earlier setups')"),
+               (re.compile(r"\(era\.analyse chose none\)"), "(its analysis found none)"))
+
+
+def _in_page_words(text: str) -> str:
+    for pattern, words in _PAGE_WORDS:
+        text = pattern.sub(words, text)
+    return text
+
+
+def analyse_setups(store, settings, test: dict, refs: list[list[int]]) -> list:
+    """[(era.analyse result, geometry or None)] of every setup, read again from its kept file: ambient records
+    through NExT with that setup's references as the correlation references (the sensors that see every setup's
+    modes alike: fewer spurious poles than with every channel as a reference), other records as uploaded."""
+    folder = _folder(store, test["id"])
+    results = []
+    for k, s in enumerate(test["setups"]):
+        blob = (folder / f"setup{k + 1}.bin").read_bytes()
+        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"),
+                                  refs[k] if s.get("ambient") else None)
+        try:
+            results.append((era.analyse(data), geometry))
+        except era.EraError as exc:
+            raise Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file") from None
+    return results
+
+
+def merge(store, settings, test: dict, references) -> dict:
+    """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
+    write and return schemas.SetupsMerged. Refusal (next to the picker) when era.merge_setups refuses."""
+    refs = checked_references(test, references)
+    runs = analyse_setups(store, settings, test, refs)
+    try:
+        result = era.setups.merge([a for a, _ in runs], refs)
+    except era.DataError as exc:
+        raise Refusal(_in_page_words(str(exc)), "references") from None
+    geometry = era.setups.merged_geometry([g for _, g in runs], result)
+    merged = merged_json(test, refs, result, geometry)
+    write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
+    return merged
+
+
+def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
+    """schemas.SetupsMerged of an era.setups.merge result."""
+    model = result.model
+    setups = test["setups"]
+    n_setups = len(setups)
+    chosen = result.members >= 0
+    known = chosen | result.recovered
+    modes = []
+    for j in range(model.n_modes):
+        missing = [k for k in range(n_setups) if not known[j, k]]
+        unknown_at = [model.points[q] for q in np.flatnonzero(~np.isfinite(model.point_shapes[:, j]))]
+        n_seen = int(chosen[j].sum())
+        note = [f"shape unknown at the points of setup{'s' if len(missing) > 1 else ''} "
+                f"{', '.join(str(k + 1) for k in missing)} ({', '.join(unknown_at)})"] if missing else []
+        note += [f"setup {k + 1}'s part from a weak cluster its analysis had left out, confirmed by the others"
+                 for k in np.flatnonzero(result.recovered[j])]
+        modes.append({"frequency_hz": float(model.frequency_hz[j]), "damping_ratio": float(model.damping_ratio[j]),
+                      "frequency_std_hz": _num(model.frequency_std_hz[j]), "damping_std": _num(model.damping_std[j]),
+                      "mpc": _num(model.mpc[j]), "seen_in": n_seen, "seen": f"seen in {n_seen} of {n_setups} setups",
+                      "complete": bool(not missing), "missing_setups": [k + 1 for k in missing],
+                      "note": "; ".join(note)})
+    s = np.asarray(model.eigenvalues, dtype=complex)
+    return {
+        "references": refs, "reference_names": [setups[0]["outputs"][i] for i in refs[0]],
+        "setups": [s["file"] for s in setups], "points": list(model.points),
+        "point_setup": [int(k) + 1 for k in result.point_setup],  # 0: a reference (every setup)
+        "modes": modes, "eigenvalue_re": floats(s.real), "eigenvalue_im": floats(s.imag),
+        "shapes_re": floats(model.point_shapes.real.T), "shapes_im": floats(model.point_shapes.imag.T),
+        "dropped": [{"setup": d.setup + 1, "file": setups[d.setup]["file"], "frequency_hz": d.frequency_hz,
+                     "reason": d.reason} for d in result.dropped],
+        "geometry": geometry_json(geometry), "uncertainty_source": model.uncertainty_source, "merged": time.time(),
+    }
+
+
+def _num(x) -> float | None:
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+# ---- exports ----------------------------------------------------------------------------------------------------
+def _shapes(merged: dict) -> np.ndarray:
+    """(points, modes) complex, NaN where unknown."""
+    def arr(key):
+        return np.array([[np.nan if v is None else v for v in row] for row in merged[key]], dtype=float)
+    return (arr("shapes_re") + 1j * arr("shapes_im")).T.reshape(len(merged["points"]), len(merged["modes"]))
+
+
+def left_out(merged: dict) -> str:
+    """What a UFF 55 export leaves out, in words ("" when every mode is written)."""
+    gone = [f"mode {j + 1} ({m['frequency_hz']:.4g} Hz, not measured in setup "
+            f"{', '.join(str(k) for k in m['missing_setups'])})" for j, m in enumerate(merged["modes"])
+            if not m["complete"]]
+    return ("Left out (not known at every point): " + "; ".join(gone) + ".") if gone else ""
+
+
+def modes_uff(merged: dict) -> bytes:
+    """The merged modes known at every point as UFF 55 (era.save_modes_uff), on the merged geometry when there is
+    one (else point k is node k + 1): a set keeps its mode's number, so the numbers of :func:`left_out` are gaps."""
+    shapes = _shapes(merged)
+    points = tuple(merged["points"])
+    f_std = np.array([np.nan if m["frequency_std_hz"] is None else m["frequency_std_hz"] for m in merged["modes"]])
+    d_std = np.array([np.nan if m["damping_std"] is None else m["damping_std"] for m in merged["modes"]])
+    s = np.array(merged["eigenvalue_re"], dtype=float) + 1j * np.array(merged["eigenvalue_im"], dtype=float)
+    model = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=f_std, damping_std=d_std, outputs=points,
+                            points=points, point_shapes=shapes, uncertainty_source=merged.get("uncertainty_source", ""))
+    buf = io.BytesIO()
+    era.save_modes_uff(buf, model, geometry_from_json(merged.get("geometry")), name="ERA merged")
+    return buf.getvalue()
+
+
+def modes_csv(merged: dict) -> str:
+    """One row per merged mode: frequency, damping and their σ, MPC, in how many setups it was seen, whether its
+    shape is known at every point and where it is not, then each point's real and imaginary part (an empty cell
+    where the shape is unknown: never 0, which would claim a node)."""
+    shapes = _shapes(merged)
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    cols = [f"{_cell(q)} {part}" for q in merged["points"] for part in ("re", "im")]
+    w.writerow(["mode", "frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "mpc", "seen_in_setups",
+                "n_setups", "complete", "unknown_at", *cols])
+    for j, m in enumerate(merged["modes"]):
+        values = []
+        for v in shapes[:, j]:
+            values += ["", ""] if not np.isfinite(v) else [repr(float(v.real)), repr(float(v.imag))]
+        unknown = " ".join(q for q, v in zip(merged["points"], shapes[:, j]) if not np.isfinite(v))
+        w.writerow([j + 1, m["frequency_hz"], _blank(m["frequency_std_hz"]), m["damping_ratio"],
+                    _blank(m["damping_std"]), _blank(m["mpc"]), m["seen_in"], len(merged["setups"]),
+                    int(m["complete"]), unknown, *values])
+    return buf.getvalue()
+
+
+def _blank(x):
+    return "" if x is None else x
+
+
+def _cell(text: str) -> str:
+    """A label safe for spreadsheets: a leading = + - @ would be read as a formula."""
+    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
+
+
+def viewer_scene(merged: dict) -> tuple:
+    """(geometry or None, frequency_hz (k,), shapes (q, k) complex, labels) for the 3-D viewer: an unknown value
+    is drawn at rest (the viewer needs numbers; the labels say which modes are incomplete)."""
+    shapes = _shapes(merged)
+    f = [m["frequency_hz"] for m in merged["modes"]]
+    labels = [f"{m['frequency_hz']:.3f} Hz, {m['seen']}" + ("" if m["complete"] else " (still where unknown)")
+              for m in merged["modes"]]
+    return geometry_from_json(merged.get("geometry")), np.array(f), np.where(np.isfinite(shapes), shapes, 0), labels

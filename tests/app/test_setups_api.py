@@ -1,0 +1,187 @@
+"""Multi-setup tests through the API (issue 26): a beam's four modes recorded in four ambient setups that share two
+reference sensors, uploaded as four CSV files (one per setup), the references proposed by name, each setup analysed
+and the four merged: the merged shape matches the truth at all twelve points; wrong references, a missing one and a
+single file are refused in the page's words next to the control that fixes them."""
+
+from __future__ import annotations
+
+import csv
+import io
+from functools import lru_cache
+
+import numpy as np
+import pyuff
+
+import era
+from era.examples.synthetic import ambient_response
+
+from apiclient import client
+
+FREQUENCY_HZ = np.array([2.0, 5.5, 9.0, 14.0])
+DAMPING = np.array([0.015, 0.01, 0.012, 0.01])
+X = np.arange(1, 13) / 13  # a simply supported beam at twelve points: sin(j π x), none on a node of modes 1-4
+TRUE_SHAPES = np.sin(np.pi * np.outer(X, np.arange(1, 5)))
+REFERENCES = [1, 4]  # P2 and P5 stay put
+ROVING = [[0, 2, 3], [5, 6, 7], [8, 9], [10, 11]]
+LEVELS = [1.0, 2.5, 0.7, 1.8]
+DT = 0.025
+
+
+@lru_cache(maxsize=None)
+def setup_file(k: int, modes: tuple = (0, 1, 2, 3), references_last: bool = False) -> tuple[str, bytes]:
+    """Setup k's ambient record as a CSV file: a time column, then its channels P<i> (the references first, or
+    last with ``references_last``)."""
+    rows, modes = REFERENCES + ROVING[k], list(modes)
+    y, _ = ambient_response(FREQUENCY_HZ[modes], DAMPING[modes], len(rows), 12_000, DT, snr_db=20, seed=10 + k,
+                            shapes=TRUE_SHAPES[rows][:, modes])
+    y = LEVELS[k] * y
+    if references_last:
+        rows, y = rows[2:] + rows[:2], np.column_stack([y[:, 2:], y[:, :2]])
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["time"] + [f"P{i + 1}" for i in rows])
+    for i, row in enumerate(y):
+        w.writerow([f"{i * DT:.4f}"] + [f"{v:.6g}" for v in row])
+    return f"setup{k + 1}.csv", buf.getvalue().encode()
+
+
+def upload(c, files, **form):
+    return c.post("/api/setups", files=[("file", (n, b, "text/csv")) for n, b in files],
+                  data={"kind": "ambient", **form})
+
+
+def truth_at(points) -> np.ndarray:
+    return TRUE_SHAPES[[int(q[1:]) - 1 for q in points]]
+
+
+def shapes_of(merged) -> np.ndarray:
+    re = np.array([[np.nan if v is None else v for v in row] for row in merged["shapes_re"]])
+    im = np.array([[np.nan if v is None else v for v in row] for row in merged["shapes_im"]])
+    return (re + 1j * im).T
+
+
+def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
+    with client(tmp_path) as c:
+        r = upload(c, [setup_file(k) for k in range(4)], name="beam")
+        assert r.status_code == 200, r.text
+        test = r.json()
+        assert test["name"] == "beam" and len(test["setups"]) == 4 and test["merged"] is None
+        assert test["proposed_names"] == ["P2", "P5"] and test["proposed"] == [[0, 1]] * 4
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]})
+        assert r.status_code == 200, r.text
+        merged = r.json()["merged"]
+        assert merged["points"] == ["P2", "P5", "P1", "P3", "P4", "P6", "P7", "P8", "P9", "P10", "P11", "P12"]
+        assert merged["point_setup"] == [0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 4, 4]
+        assert merged["reference_names"] == ["P2", "P5"]
+        freqs = [m["frequency_hz"] for m in merged["modes"]]
+        np.testing.assert_allclose(freqs, FREQUENCY_HZ, rtol=0.01)
+        assert all(m["complete"] and m["seen"] == "seen in 4 of 4 setups" for m in merged["modes"])
+        shapes = shapes_of(merged)
+        macs = np.diag(era.mac(shapes, truth_at(merged["points"])))
+        print("merged MAC with the truth:", macs.round(5))
+        assert np.all(macs >= 0.99)
+        # the spurious poles of single setups are named with their reason
+        assert all("seen in 1 of 4 setups" in d["reason"] or "twin" in d["reason"] for d in merged["dropped"])
+
+        # the link reopens it: the same merge, read back
+        again = c.get(f"/api/setups/{test['id']}").json()
+        assert again["merged"]["points"] == merged["points"] and again["merged"]["shapes_re"] == merged["shapes_re"]
+        page = c.get(f"/s/{test['id']}")
+        assert page.status_code == 200 and "setups.js" in page.text
+        assert c.get("/s/unknown-test").status_code == 404
+
+        # CSV: one row per mode, each point's value
+        rows = list(csv.reader(io.StringIO(c.get(f"/api/setups/{test['id']}/modes.csv").text)))
+        assert rows[0][:10] == ["mode", "frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "mpc",
+                                "seen_in_setups", "n_setups", "complete", "unknown_at"]
+        assert len(rows) == 5 and rows[1][6:9] == ["4", "4", "1"]
+        # UFF 55: every mode, point k at node k + 1 (no geometry)
+        r = c.get(f"/api/setups/{test['id']}/modes.uff")
+        assert r.status_code == 200 and "x-era-left-out" not in r.headers
+        path = tmp_path / "merged.uff"
+        path.write_bytes(r.content)
+        sets = [s for s in pyuff.UFF(str(path)).read_sets() if s["type"] == 55]
+        assert len(sets) == 4
+        for j, s in enumerate(sets):
+            np.testing.assert_array_equal(s["node_nums"], np.arange(1, 13))
+            np.testing.assert_allclose(s["r3"], shapes[:, j], atol=1e-5)
+
+
+def test_a_mode_one_setup_missed_is_kept_seen_in_3_of_4_and_left_out_of_uff(tmp_path):
+    files = [setup_file(0), setup_file(1, modes=(0, 1, 3)), setup_file(2), setup_file(3)]
+    with client(tmp_path) as c:
+        test = upload(c, files).json()
+        merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
+        third = merged["modes"][2]
+        assert abs(third["frequency_hz"] - 9.0) < 0.1
+        assert third["seen"] == "seen in 3 of 4 setups" and not third["complete"] and third["missing_setups"] == [2]
+        assert "setup 2 (P6, P7, P8)" in third["note"]
+        assert all(merged["shapes_re"][2][q] is None for q in (5, 6, 7))
+        r = c.get(f"/api/setups/{test['id']}/modes.uff")
+        assert r.headers["x-era-left-out"].startswith("Left out (not known at every point): mode 3 (")
+        assert "Hz, not measured in setup 2)" in r.headers["x-era-left-out"]
+        path = tmp_path / "merged.uff"
+        path.write_bytes(r.content)
+        assert [int(s["mode_n"]) for s in pyuff.UFF(str(path)).read_sets() if s["type"] == 55] == [1, 2, 4]
+        rows = list(csv.reader(io.StringIO(c.get(f"/api/setups/{test['id']}/modes.csv").text)))
+        assert rows[3][8:10] == ["0", "P6 P7 P8"] and rows[3][10 + 2 * 5] == ""
+
+
+def test_wrong_references_are_refused_next_to_the_picker(tmp_path):
+    with client(tmp_path) as c:
+        test = upload(c, [setup_file(k) for k in range(4)]).json()
+        url = f"/api/setups/{test['id']}/merge"
+        # setup 3's second reference is a roving sensor (P9 instead of P5)
+        r = c.post(url, json={"references": [[0, 1], [0, 1], [0, 2], [0, 1]]})
+        assert r.status_code == 422 and r.json()["option"] == "references"
+        assert "Setup 3's reference channels [0, 2] do not move like those of the setups before it" in r.json()["error"]
+        assert "Check setup 3's references in the picker" in r.json()["error"] and "references[" not in r.json()["error"]
+        for refs, words in [([[0, 1], [0], [0, 1], [0, 1]], "Setup 2 (setup2.csv) has 1 reference channels picked "
+                                                              "where setup 1 has 2"),
+                            ([[0, 1], [0, 1], [0, 9], [0, 1]], "Setup 3 (setup3.csv) has 4 channels; a picked "
+                                                               "reference is not one of them"),
+                            ([[0, 1]] * 3, "References are given for 3 setups, but the test has 4"),
+                            ([[]] * 4, "No reference channel is picked"),
+                            ([[0, 0]] * 4, "channel P2 is picked as two references")]:
+            r = c.post(url, json={"references": refs})
+            assert r.status_code == 422 and words in r.json()["error"], (refs, r.text)
+            assert r.json()["option"] == "references"
+        assert c.get(f"/api/setups/{test['id']}").json()["merged"] is None
+        assert c.get(f"/api/setups/{test['id']}/modes.csv").status_code == 404
+
+
+def test_a_reference_missing_in_one_setup_is_named_and_one_reference_is_refused(tmp_path):
+    """Setup 2's file calls its second reference Q5: only P2 is in every setup, so only P2 is proposed and P5 is
+    named as missing in setup 2; a merge through one reference is refused (it could not tell a wrong pick); with
+    Q5 picked by hand as setup 2's second reference, the merge goes through."""
+    name, blob = setup_file(1)
+    renamed = blob.replace(b"P5,", b"Q5,", 1)
+    with client(tmp_path) as c:
+        test = upload(c, [setup_file(0), (name, renamed), setup_file(2)]).json()
+        assert test["proposed_names"] == ["P2"] and test["proposed"] == [[0], [0], [0]]
+        assert test["unmatched"] == [{"name": "P5", "missing_in": [2]}]
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]})
+        assert r.status_code == 422 and r.json()["option"] == "references"
+        assert r.json()["error"].startswith("One reference channel is picked") and "at least two" in r.json()["error"]
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": [[0, 1]] * 3})
+        assert r.status_code == 200, r.text
+        assert r.json()["merged"]["reference_names"] == ["P2", "P5"]
+
+
+def test_references_in_another_column_order_are_proposed_by_name(tmp_path):
+    with client(tmp_path) as c:
+        test = upload(c, [setup_file(0), setup_file(1, references_last=True)]).json()
+        assert test["proposed"] == [[0, 1], [3, 4]]
+
+
+def test_one_file_and_unreadable_files_are_refused_next_to_the_file_control(tmp_path):
+    with client(tmp_path) as c:
+        r = upload(c, [setup_file(0)])
+        assert r.status_code == 422 and r.json()["option"] == "file"
+        assert "a multi-setup test needs 2 files or more" in r.json()["error"]
+        r = upload(c, [setup_file(0), ("notes.csv", b"this is not, a record\nat, all\n")])
+        assert r.status_code == 422 and r.json()["error"].startswith("Setup 2 (notes.csv): ")
+        assert r.json()["option"] in ("file", "dt", "kind")
+        r = c.post("/api/setups", files=[("file", setup_file(0)), ("file", setup_file(1))], data={"kind": "modal"})
+        assert r.status_code == 422 and r.json()["option"] == "kind"
+        assert c.get("/api/setups/no-such-test").status_code == 404
