@@ -23,14 +23,14 @@ _TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0,
                "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "usec": 1e-6, "ns": 1e-9, "min": 60.0}
 _SUFFIX_UNIT = re.compile(r"^(.*?)[_ ](s|sec|ms|msec|us|µs|μs|ns)$", re.I)
 _TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
-_FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
-_UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
+FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
+UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
 #: A channel unit as a name's suffix, as spreadsheets write it: tip_acc_g, force_N, F_lbf, drive_mV.
 _UNIT_SUFFIX = re.compile(r"^(.+?)_(g|N|kN|lbf|V|mV|m/s2|m/s\^2|ms2|mps2)$")
 _NUMBER = re.compile(r"^[+-]?(\d+([.,]\d*)?|[.,]\d+)([eE][+-]?\d+)?$|^[+-]?(nan|inf|infinity)$", re.I)
 
 
-def _decode(raw: bytes, label: str) -> str:
+def decode(raw: bytes, label: str) -> str:
     if b"\x00" in raw[:65536]:
         raise DataError(f"{label}: binary content (NUL bytes) where delimited text was expected; is this a CSV file?")
     for enc in ("utf-8-sig", "cp1252", "latin-1"):
@@ -71,7 +71,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     header (era.io.text; default: from its shape). resample : True to put records whose time stamps scatter about
     a steady rate onto an even grid at the mean rate (era.io.timebase.resample; said in ``conversions``).
     """
-    text = _decode(raw, label)
+    text = decode(raw, label)
     lines = text.splitlines()
     numbered = [(k + 1, ln) for k, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
     if not numbered:
@@ -110,7 +110,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
         raise DataError(f"{label}: the header names {len(names)} columns but line {first_line} holds {n_cols} values.")
     units = header[1] if len(header) > 1 and len(header[1]) == n_cols else [""] * n_cols
     for i, nm in enumerate(names):
-        m = _UNIT_IN_NAME.match(nm)
+        m = UNIT_IN_NAME.match(nm)
         if m and not units[i]:
             names[i], units[i] = m.group(1).strip(), m.group(2).strip()
         m = _UNIT_SUFFIX.match(names[i])
@@ -184,7 +184,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     else:
         timing = f", time column {time_name!r}" + (f" in units of {scale:g} s" if scale != 1 else "") + \
             f", Δt = {step:.6g} s ({1 / step:.6g} Hz)" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
-    force = np.array([u.lower() in _FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
+    force = np.array([u.lower() in FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
                       for n, u in zip(names, units)])
     pulse = None if force.any() else _pulse_channel(values, units)
     if pulse is not None:  # generic names (t,ch1,ch2; time,a,b): the values show the hammer

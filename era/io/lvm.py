@@ -24,7 +24,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from .csv import _FORCE_UNITS, _UNIT_IN_NAME, _decode
+from .csv import FORCE_UNITS, UNIT_IN_NAME, decode
 from .records import Records, check_finite
 from .timebase import UnevenClock, even_step_printed, printed_resolution
 
@@ -128,7 +128,7 @@ def _number(text: str, decimal: str, where: str, tag: str) -> float | None:
 
 def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
     """Records ("time" domain, one (N_r, c) array per record) from the bytes of an .lvm file; module docstring."""
-    text = _decode(raw, label)
+    text = decode(raw, label)
     if not text.lstrip("\ufeff").startswith(MAGIC):
         raise DataError(f"{label}: does not start with '{MAGIC}'; not an LVM file.")
     fh, start = _file_header(text, label)
@@ -158,7 +158,7 @@ def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
         else:
             values.append(part["y"])
     names, units = first["names"], first["units"]
-    force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() for nm, u in zip(names, units)])
+    force = np.array([u.lower() in FORCE_UNITS or "force" in nm.lower() for nm, u in zip(names, units)])
     described = (f"{label}: LabVIEW LVM, {len(segments)} segment(s) as {len(values)} record(s) of "
                  f"{', '.join(str(len(v)) for v in values[:6])}{'…' if len(values) > 6 else ''} samples × "
                  f"{len(names)} channel(s), Δt = {first['dt']:.6g} s ({1 / first['dt']:.6g} Hz, {first['dt_from']})"
@@ -242,7 +242,7 @@ def _read_segment(text: str, seg: _Segment, sep: str, decimal: str, label: str, 
     chan_names = []
     for j in y_cols:
         nm, unit = names[j] or f"channel {j}", _value(seg, "Y_Unit_Label", j, shift)
-        m = _UNIT_IN_NAME.match(nm)
+        m = UNIT_IN_NAME.match(nm)
         if m:
             nm, unit = m.group(1).strip(), unit or m.group(2).strip()
         chan_names.append(nm)

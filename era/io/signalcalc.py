@@ -22,7 +22,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from .csv import _decode
+from .csv import decode
 from .records import Records, check_finite
 from .timebase import even_step_printed
 
@@ -37,7 +37,7 @@ def is_signalcalc(raw: bytes) -> bool:
 
 
 def _read_one(raw: bytes, label: str) -> dict:
-    text = _decode(raw, label)
+    text = decode(raw, label)
     header, pos = [], 0
     while pos < len(text) and len(header) < 200:
         end = text.find("\n", pos)
@@ -183,7 +183,7 @@ def read_setup(raw: bytes, label: str) -> dict:
     Returns {"hammer_xyz": (m, 3), "hammer_dir": (m, 3), "accel_xyz": (p, 3), "accel_dir": (p, 3),
     "band_hz": (fMin, fMax) or None}. Rows it does not know (iHammer, fLMode, ...) are left alone.
     """
-    text = _decode(raw, label)
+    text = decode(raw, label)
     rows = {}
     for k, line in enumerate(text.splitlines(), start=1):
         cells = [c.strip() for c in line.split(",")]
