@@ -99,7 +99,7 @@ def footbridge(panels: int = 5, panel_m: float = 2.0, depth_m: float = 1.5, widt
 
 FAMILIES = {"grid": nasa_grid_frame, "footbridge": footbridge, "portal": portal}
 N_SUB = {"grid": 3, "footbridge": 4, "portal": 6}
-N_MODES = {"grid": 6, "footbridge": 6, "portal": 6}
+N_MODES = {"grid": 6, "footbridge": 5, "portal": 6}   # the footbridge: its sixth is in a cluster of local modes
 
 
 # ---------------------------------------------------------------- the OpenSees model
