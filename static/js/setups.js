@@ -155,7 +155,8 @@ function shape() {
   const where = m.points.map(plain);
   const setupOf = m.point_setup.map((k) => (k === 0 ? "reference" : `setup ${k}`));
   Plotly.react("setups-shape-plot", [
-    { x: where, y: m.shapes_re[j], name: "real", type: "bar", marker: { color: "#1f5fbf" }, text: setupOf, hovertemplate: "%{x} (%{text}): %{y:.3f}" },
+    { x: where, y: m.shapes_re[j], name: "real", type: "bar", marker: { color: "#1f5fbf" }, text: setupOf, textposition: "none",
+      hovertemplate: "%{x} (%{text}): %{y:.3f}<extra></extra>" },
     { x: where, y: m.shapes_im[j], name: "imaginary", type: "bar", marker: { color: "#e4572e" } },
   ], { margin: { l: 45, r: 10, t: 10, b: 60 }, barmode: "group", yaxis: { title: { text: "shape (largest = 1)" } },
        legend: { orientation: "h", y: 1.15 } }, plotConfig);
@@ -166,11 +167,13 @@ function shape() {
 function drawing(m, j) {
   const re = m.shapes_re[j];
   const g = m.geometry;
-  if (!g) {
+  if (!g) {  // the points in a row, in the order of their names (P1, P2, …, P10: numbers as numbers)
+    const order = m.points.map((_, q) => q).sort((a, b) => m.points[a].localeCompare(m.points[b], undefined, { numeric: true }));
+    const x = order.map((q) => plain(m.points[q]));
     Plotly.react("setups-drawing", [
-      { x: m.points.map(plain), y: m.points.map(() => 0), mode: "markers", name: "at rest", marker: { color: "#aaa" } },
-      { x: m.points.map(plain), y: re, mode: "lines+markers", name: "mode shape (real part)", connectgaps: false,
-        marker: { color: "#1f5fbf" } },
+      { x, y: x.map(() => 0), mode: "markers", name: "at rest", marker: { color: "#aaa" } },
+      { x, y: order.map((q) => re[q]), mode: "lines+markers", name: "mode shape (real part), points by name",
+        connectgaps: false, marker: { color: "#1f5fbf" } },
     ], { margin: { l: 45, r: 10, t: 10, b: 60 }, yaxis: { title: { text: "shape" } }, legend: { orientation: "h", y: 1.15 } },
     plotConfig);
     return;

@@ -7,51 +7,22 @@ from __future__ import annotations
 
 import csv
 import io
-from functools import lru_cache
+import sys
+from pathlib import Path
 
 import numpy as np
 import pyuff
 
 import era
-from era.examples.synthetic import ambient_response
 
 from apiclient import client
 
-FREQUENCY_HZ = np.array([2.0, 5.5, 9.0, 14.0])
-DAMPING = np.array([0.015, 0.01, 0.012, 0.01])
-X = np.arange(1, 13) / 13  # a simply supported beam at twelve points: sin(j π x), none on a node of modes 1-4
-TRUE_SHAPES = np.sin(np.pi * np.outer(X, np.arange(1, 5)))
-REFERENCES = [1, 4]  # P2 and P5 stay put
-ROVING = [[0, 2, 3], [5, 6, 7], [8, 9], [10, 11]]
-LEVELS = [1.0, 2.5, 0.7, 1.8]
-DT = 0.025
-
-
-@lru_cache(maxsize=None)
-def setup_file(k: int, modes: tuple = (0, 1, 2, 3), references_last: bool = False) -> tuple[str, bytes]:
-    """Setup k's ambient record as a CSV file: a time column, then its channels P<i> (the references first, or
-    last with ``references_last``)."""
-    rows, modes = REFERENCES + ROVING[k], list(modes)
-    y, _ = ambient_response(FREQUENCY_HZ[modes], DAMPING[modes], len(rows), 12_000, DT, snr_db=20, seed=10 + k,
-                            shapes=TRUE_SHAPES[rows][:, modes])
-    y = LEVELS[k] * y
-    if references_last:
-        rows, y = rows[2:] + rows[:2], np.column_stack([y[:, 2:], y[:, :2]])
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(["time"] + [f"P{i + 1}" for i in rows])
-    for i, row in enumerate(y):
-        w.writerow([f"{i * DT:.4f}"] + [f"{v:.6g}" for v in row])
-    return f"setup{k + 1}.csv", buf.getvalue().encode()
-
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from simulated_setups import FREQUENCY_HZ, setup_file, truth_at  # noqa: E402
 
 def upload(c, files, **form):
     return c.post("/api/setups", files=[("file", (n, b, "text/csv")) for n, b in files],
                   data={"kind": "ambient", **form})
-
-
-def truth_at(points) -> np.ndarray:
-    return TRUE_SHAPES[[int(q[1:]) - 1 for q in points]]
 
 
 def shapes_of(merged) -> np.ndarray:
