@@ -43,3 +43,28 @@ def setup_file(k: int, modes: tuple = (0, 1, 2, 3), references_last: bool = Fals
 def truth_at(points) -> np.ndarray:
     """(points, 4) the true shapes at points named "P<i>"."""
     return TRUE_SHAPES[[int(q[1:]) - 1 for q in points]]
+
+
+def beam_geometry(k: int):
+    """The beam's twelve points as nodes 1-12 along x (m), joined in a line; setup k's channels on its points'
+    nodes, moving along z."""
+    import era
+
+    rows = REFERENCES + ROVING[k]
+    xyz = np.column_stack([1.3 * X, np.zeros(12), np.zeros(12)])
+    edges = np.column_stack([np.arange(11), np.arange(1, 12)])
+    return era.Geometry(np.arange(1, 13), xyz, edges, np.array(rows), np.tile([0.0, 0.0, 1.0], (len(rows), 1)))
+
+
+@lru_cache(maxsize=None)
+def setup_npz(k: int) -> tuple[str, bytes]:
+    """Setup k as era's NPZ: its correlation functions (NExT with the two references, as the app would make them)
+    and its geometry, as a file another program (or era.save_npz) would write."""
+    import era
+    from era.io.npz import npz_bytes
+
+    rows = REFERENCES + ROVING[k]
+    y, _ = ambient_response(FREQUENCY_HZ, DAMPING, len(rows), 12_000, DT, snr_db=20, seed=10 + k,
+                            shapes=TRUE_SHAPES[rows])
+    data = era.markov_from_ambient(LEVELS[k] * y, DT, references=[0, 1], names=[f"P{i + 1}" for i in rows])
+    return f"setup{k + 1}.npz", npz_bytes(data, beam_geometry(k))

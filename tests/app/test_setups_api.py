@@ -18,7 +18,7 @@ import era
 from apiclient import client
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from simulated_setups import FREQUENCY_HZ, setup_file, truth_at  # noqa: E402
+from simulated_setups import FREQUENCY_HZ, setup_file, setup_npz, truth_at  # noqa: E402
 
 def upload(c, files, **form):
     return c.post("/api/setups", files=[("file", (n, b, "text/csv")) for n, b in files],
@@ -76,6 +76,31 @@ def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
         for j, s in enumerate(sets):
             np.testing.assert_array_equal(s["node_nums"], np.arange(1, 13))
             np.testing.assert_allclose(s["r3"], shapes[:, j], atol=1e-5)
+
+
+def test_setups_with_a_geometry_merge_onto_it(tmp_path):
+    """Each setup's NPZ places its channels on the beam's nodes: the merged points are on their nodes (the
+    references P2, P5 on nodes 2 and 5), and the UFF 55 export writes each point's value at its node."""
+    with client(tmp_path) as c:
+        test = upload(c, [setup_npz(k) for k in range(4)], kind="auto").json()
+        assert all(s["has_geometry"] and not s["ambient"] for s in test["setups"])
+        merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
+        g = merged["geometry"]
+        assert g["node_ids"] == list(range(1, 13))
+        node_of = [g["node_ids"][n] for n in g["channel_nodes"]]
+        assert node_of == [int(q[1:]) for q in merged["points"]]
+        shapes = shapes_of(merged)
+        assert np.all(np.diag(era.mac(shapes, truth_at(merged["points"]))) >= 0.99)
+        path = tmp_path / "merged.uff"
+        path.write_bytes(c.get(f"/api/setups/{test['id']}/modes.uff").content)
+        modes = era.read_modes_uff(path)
+        np.testing.assert_array_equal(modes.node_ids, np.arange(1, 13))
+        at_nodes = np.empty((12, 4), complex)
+        at_nodes[np.array(node_of) - 1] = shapes
+        np.testing.assert_allclose(modes.shapes[:, 2, :], at_nodes, atol=1e-5)
+        # the server runs without the viewer here: said, not a 500
+        r = c.post(f"/api/setups/{test['id']}/viewer")
+        assert r.status_code == 503 and "not available" in r.json()["error"]
 
 
 def test_a_mode_one_setup_missed_is_kept_seen_in_3_of_4_and_left_out_of_uff(tmp_path):
