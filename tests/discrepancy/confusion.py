@@ -50,10 +50,12 @@ def score(explanation, case) -> str:
     - "confident wrong": some named effect has no true effect of its kind left to match (a wrong kind, an extra
       effect that is not there, anything named when the truth is none or outside), or its places do not hold
       the true place.
-    - "set contains truth": every named effect matches, and for at least one of them the true place is in its
-      set of places but not the first (a verdict "one of these places" that holds the truth).
-    - "named right": every named effect's kind and best place are a true effect's (no wrong extra; a subset of
-      the hidden effects counts: the rest were not named, nothing wrong was).
+    - "set contains truth": every named effect matches, and at least one of them leaves several places open
+      (a verdict "one of these places", or a best place with others still in contention) among which is the
+      true one, first or not.
+    - "named right": every named effect is a single confident name: one place (or none, for spread mass), the
+      true effect's kind and place (no wrong extra; a subset of the hidden effects counts: the rest were not
+      named, nothing wrong was).
     """
     named = tuple(getattr(explanation, "effects", ()) or ()) if explanation is not None else ()
     if not named:
@@ -68,7 +70,7 @@ def score(explanation, case) -> str:
         if match is None:
             return "confident wrong"
         left.remove(match)
-        in_set |= match[1] != places[0]
+        in_set |= len(places) > 1
     return "set contains truth" if in_set else "named right"
 
 

@@ -64,6 +64,8 @@ def test_the_scorer_reads_single_places_sets_of_places_and_refusals():
         "confident wrong"      # the same true effect cannot be named twice
     places = SimpleNamespace(name="point_mass", location="B", other_locations=(), places=[("B", 0.6), ("E", 0.4)])
     assert score(named(places), case) == "set contains truth"
+    first = SimpleNamespace(name="point_mass", location="E", other_locations=(("B", 0.2),))
+    assert score(named(first), case) == "set contains truth"      # right first, but not a single name
     assert score(None, case) == score(named(), case) == "honest"
     outside = SimpleNamespace(truth={"effects": [("outside", "E", "tuned_mass")]})
     assert score(named(mass), outside) == "confident wrong" and score(named(), outside) == "honest"
