@@ -34,7 +34,7 @@ import era
 from era.io.npz import npz_bytes, read_arrays, read_npz
 
 from . import database
-from .files import write_atomic
+from .files import LOCKED_TMP, abandoned, holding, write_atomic
 from .staging import Staging
 from .tables import analyses, campaigns, datasets, explanations, reports, viewer_keys
 
@@ -46,6 +46,10 @@ TOKEN_BYTES = 18
 EXPLANATION_RESPONSES = ("measured", "nominal", "updated")
 #: What a random id looks like (new_token's alphabet): nothing else becomes a file name.
 _ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
+#: The lock file in a report folder while its report is written (files.holding): held until the report is indexed.
+WRITING = ".writing.lock"
+#: The folders of the data folder that atomic writes put temporary files in.
+_FOLDERS = ("datasets", "reports", "explanations", "imports", "models", "campaigns")
 
 
 def new_token() -> str:
@@ -158,10 +162,11 @@ class Store:
     def add_report(self, token: str, analysis_id: str, payload: dict, files: dict[str, bytes]) -> None:
         """Write the frozen report (JSON and side files such as .viser recordings), then index it."""
         folder = self.report_dir(token)
-        for name, blob in files.items():
-            write_atomic(folder / name, blob)
-        write_atomic(folder / "report.json", json.dumps(payload, separators=(",", ":")).encode())
-        self._insert(reports, token=token, analysis_id=analysis_id, created=time.time())
+        with holding(folder / WRITING):  # a sweeper leaves the folder alone while this process lives
+            for name, blob in files.items():
+                write_atomic(folder / name, blob)
+            write_atomic(folder / "report.json", json.dumps(payload, separators=(",", ":")).encode())
+            self._insert(reports, token=token, analysis_id=analysis_id, created=time.time())
 
     def _has_report(self, token: str) -> bool:
         return self._one(sa.select(reports.c.token).where(reports.c.token == token)) is not None
@@ -314,21 +319,35 @@ class Store:
         return {"analyses": len(gone), "datasets": len(dropped)}
 
     def sweep_orphans(self, before: float) -> int:
-        """Remove what a killed process (kill -9 in the middle of a write) left, last changed before ``before``
-        (Unix s): report folders with no indexed report (the index row is written last), and the temporary
-        files of atomic writes (``.name.*.tmp``, app/store/files.py). Younger ones may be another process's
-        write in progress and are left. Returns how many were removed."""
+        """Remove what a killed process (kill -9 in the middle of a write) left: report folders with no indexed
+        report (the index row is written last) and the temporary files of atomic writes (app/store/files.py).
+        A write in progress holds an flock (on the temporary file, on the report folder's WRITING file): what is
+        locked is another live process's and stays; what was locked by a process now dead goes at once. What
+        carries no lock (written by an older version, or in the instant before its lock) goes only when last
+        changed before ``before`` (Unix s). Safe with several processes sweeping and writing at once. Returns how
+        many folders and files were removed."""
         removed = 0
         folder = self.root / "reports"
-        if folder.is_dir():
-            for path in folder.iterdir():
-                if path.is_dir() and not self._has_report(path.name) and _last_change(path) < before:
-                    shutil.rmtree(path, ignore_errors=True)
-                    removed += 1
-        for name in ("datasets", "reports", "explanations", "imports", "models"):
-            for tmp in (self.root / name).rglob(".*.tmp") if (self.root / name).is_dir() else ():
+        for path in folder.iterdir() if folder.is_dir() else ():
+            try:
+                if not path.is_dir() or self._has_report(path.name):
+                    continue
+                dead = abandoned(path / WRITING)
+                if dead is False or (dead is None and _last_change(path) >= before):
+                    continue
+            except FileNotFoundError:  # removed meanwhile by another sweeper
+                continue
+            if not self._has_report(path.name):  # indexed meanwhile: its writer finished and let the lock go
+                shutil.rmtree(path, ignore_errors=True)
+                removed += 1
+        for name in _FOLDERS:  # os.walk, not rglob: a folder removed meanwhile is skipped, not an error
+            found = (Path(top) / f for top, _, names in os.walk(self.root / name) for f in names)
+            for tmp in (p for p in found if p.name.startswith(".") and p.name.endswith(".tmp")):
                 try:
-                    if tmp.is_file() and tmp.stat().st_mtime < before:
+                    if not tmp.is_file():
+                        continue
+                    gone = abandoned(tmp) if tmp.name.endswith(LOCKED_TMP) else tmp.stat().st_mtime < before
+                    if gone:
                         tmp.unlink()
                         removed += 1
                 except FileNotFoundError:  # renamed into place or removed meanwhile

@@ -1,34 +1,91 @@
-"""Files of the data folder written atomically: a reader sees the old file or the new one, never half of one."""
+"""Files of the data folder written atomically: a reader sees the old file or the new one, never half of one.
+
+Every write in progress is marked by an ``fcntl.flock`` its writer holds: on the temporary file itself
+(``.name.XXXXXXXX.lock.tmp``) and, for a report folder, on a lock file inside it (``holding``). The kernel drops a
+lock when its process ends, ``kill -9`` included, so a sweeper that can take the lock at once (``abandoned``) knows
+the writer is dead and may remove what it left, while another live process's work in progress stays locked. A file
+is locked before it gets its locked name (a temporary name first, then a rename), so a sweeper never finds a locked
+name that is not yet locked.
+"""
 
 from __future__ import annotations
 
+import fcntl
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
+
+#: How the temporary file of a write in progress ends: its writer holds an flock on it until it is renamed.
+LOCKED_TMP = ".lock.tmp"
 
 
 def write_atomic(path: Path, data: bytes) -> None:
     """Write ``data`` to ``path`` so that the file is either absent/old or complete, and durable on return.
 
-    The bytes go to a temporary name in the same folder, are fsynced, and renamed over the final name; then the
-    folder is fsynced, so the rename survives a power cut too.
+    The bytes go to a temporary name in the same folder, locked (LOCKED_TMP), are fsynced, and renamed over the
+    final name; then the folder is fsynced, so the rename survives a power cut too.
     """
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    f = os.fdopen(fd, "wb")
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        locked = tmp[: -len(".tmp")] + LOCKED_TMP
+        os.rename(tmp, locked)
+        tmp = locked
+        f.write(data)
+        f.flush()
+        os.fsync(fd)
+        os.replace(tmp, path)  # still locked: a sweeper that opened the old name finds it gone when it gets the lock
     except BaseException:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
         raise
+    finally:
+        f.close()
     dir_fd = os.open(path.parent, os.O_RDONLY)
     try:
         os.fsync(dir_fd)
     finally:
         os.close(dir_fd)
+
+
+@contextmanager
+def holding(lock: Path):
+    """Hold an flock on the file ``lock`` (made, with its folder) while the block runs; the file is removed after.
+
+    The lock is taken on a temporary name that is then renamed to ``lock``: whoever finds ``lock`` finds it held
+    (or its holder dead)."""
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=lock.parent, prefix=f"{lock.name}.", suffix=".tmp")
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        os.rename(tmp, lock)
+        yield
+    finally:
+        for name in (tmp, lock):  # the temporary name only when the rename did not happen
+            try:
+                os.unlink(name)
+                break
+            except FileNotFoundError:
+                pass
+        os.close(fd)
+
+
+def abandoned(lock: Path) -> bool | None:
+    """Whether the process that locked ``lock`` is gone: True when the lock can be taken at once (it is released
+    again before returning), False when a live process holds it, None when there is no such file."""
+    try:
+        fd = os.open(lock, os.O_RDONLY)
+    except (FileNotFoundError, NotADirectoryError):
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    finally:
+        os.close(fd)
+    return True

@@ -42,7 +42,7 @@ def live_server(data_dir: Path, log=subprocess.DEVNULL, **env):
         port = s.getsockname()[1]
     base = f"http://127.0.0.1:{port}"
     variables = {k: v for k, v in os.environ.items() if k != "ERA_DATABASE_URL"}
-    variables.update(ERA_DATA_DIR=str(data_dir), ERA_VIEWER="0", **env)
+    variables.update({"ERA_DATA_DIR": str(data_dir), "ERA_VIEWER": "0", **env})  # env may turn the viewer on
     proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1", "--port",
                              str(port), "--log-level", "warning"], cwd=REPO, env=variables, stdout=log,
                             stderr=subprocess.STDOUT, start_new_session=True)
