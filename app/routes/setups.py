@@ -59,7 +59,7 @@ async def _merged(request: Request, test_id: str) -> dict:
 
 
 @router.get("/api/setups/{test_id}/modes.csv", summary="The merged modes as CSV (unknown values empty)",
-            responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
+            response_class=Response, responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
 async def modes_csv(request: Request, test_id: str):
     test = await _merged(request, test_id)
     return Response(setups.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",
@@ -67,7 +67,7 @@ async def modes_csv(request: Request, test_id: str):
 
 
 @router.get("/api/setups/{test_id}/modes.uff", summary="The merged modes known at every point as UFF 55",
-            responses={200: {"content": {"application/octet-stream": {}},
+            response_class=Response, responses={200: {"content": {"application/octet-stream": {}},
                              "description": "UFF 15 nodes, 82 lines, one 55 set per complete mode; the header "
                                             "X-ERA-Left-Out says which modes are not in it"}})
 async def modes_uff(request: Request, test_id: str):
@@ -83,10 +83,10 @@ async def modes_uff(request: Request, test_id: str):
 @router.post("/api/setups/{test_id}/viewer", response_model=ViewerLink,
              summary="Publish the merged shapes to the viser viewer (on the geometry, else the points in a row)")
 async def viewer(request: Request, test_id: str):
+    test = await _merged(request, test_id)  # an unknown test is a 404 first, on every server
     v = request.app.state.viewer
     if v is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
-    test = await _merged(request, test_id)
     scene = setups.viewer_scene(test["merged"])
     key = await jobs(request).quick(v.publish, *scene)
     return {"key": key, "url": v.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": len(scene[1])}
