@@ -16,7 +16,7 @@ import era
 from test_app_e2e import Server, browser, shots, table_rows  # noqa: F401  (fixtures)
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from simulated_setups import FREQUENCY_HZ, setup_file, truth_at  # noqa: E402
+from simulated_setups import FREQUENCY_HZ, setup_file, setup_npz, truth_at  # noqa: E402
 
 pytestmark = pytest.mark.e2e
 
@@ -108,6 +108,41 @@ def test_four_setups_uploaded_picked_merged_and_reopened(tmp_path, browser, shot
         assert x == POINTS and era.mac(shape, truth_at(x)[:, 0])[0, 0] >= 0.99
         picks = again.eval_on_selector_all("#setups-ref-table select", "s => s.map(x => x.selectedOptions[0].text)")
         assert picks == ["P2"] * 4 + ["P5"] * 4
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+def test_setups_with_a_geometry_draw_the_merged_shape_on_it(tmp_path, browser):  # noqa: F811
+    """Each setup's NPZ places its channels on the beam's nodes: the drawing is the beam in 3-D with all twelve
+    nodes moved by the merged shape, and the viewer shows it."""
+    files = []
+    for k in range(4):
+        name, blob = setup_npz(k)
+        (tmp_path / name).write_bytes(blob)
+        files.append(str(tmp_path / name))
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1100})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.base + "/setups")
+        page.select_option("#setups-kind", "auto")
+        page.set_input_files("#setups-files", files)
+        page.click("#setups-upload")
+        page.wait_for_selector("#setups-refs:not([hidden]) #setups-ref-table tbody tr", timeout=60000)
+        page.click("#setups-merge")
+        page.wait_for_selector("#setups-result:not([hidden]) #setups-modes tbody tr", timeout=120000)
+        page.click("#setups-modes tbody tr[data-mode='1'] td[data-key=frequency_hz]")
+        page.wait_for_function("document.getElementById('setups-shape-title').textContent.startsWith('mode 2:')")
+        drawn = page.evaluate("""() => { const d = document.getElementById('setups-drawing').data;
+                                         return { types: d.map(t => t.type), x: d[2].x, z: d[2].z }; }""")
+        assert drawn["types"] == ["scatter3d"] * 3
+        x, z = np.array(drawn["x"]), np.array(drawn["z"])
+        assert x.size == 12 and np.all(np.diff(x) > 0)  # nodes 1-12 along the beam
+        # the second bending shape: the two halves move against each other, as sin(2 π x)
+        assert era.mac(z, truth_at([f"P{i}" for i in range(1, 13)])[:, 1])[0, 0] >= 0.99
+        page.wait_for_selector("#setups-viewer iframe", state="attached", timeout=60000)
         assert not errors, errors
     finally:
         server.stop()
