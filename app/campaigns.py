@@ -167,7 +167,7 @@ def standalone_html(status: dict) -> str:
     ``standalone``) inlined: the campaign's report as one file that opens with no server."""
     import plotly
 
-    from .reporting import _script_json
+    from .reporting import script_json
 
     def text(path: Path) -> str:
         return path.read_text(encoding="utf-8")
@@ -182,7 +182,7 @@ def standalone_html(status: dict) -> str:
             script(text(Path(plotly.__file__).parent / "package_data" / "plotly.min.js")),
         '<link rel="stylesheet" href="/static/css/app.css">': "<style>" + text(static / "css" / "app.css") + "</style>",
         '<script src="/static/js/campaign.js"></script>':
-            f"<script>window.CAMPAIGN_DATA = {_script_json(dict(status, standalone=True))};</script>"
+            f"<script>window.CAMPAIGN_DATA = {script_json(dict(status, standalone=True))};</script>"
             + script(text(static / "js" / "campaign.js")),
     }
     for old, new in replacements.items():

@@ -119,13 +119,13 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
     finite = contrib[np.isfinite(contrib)]
     top = finite.max() if finite.size else 0.0
     rel = contrib / top if top > 0 else np.zeros_like(contrib)
+    f_std, d_std = model.standard_deviations()
     return {
         "order": model.order, "n_modes": model.n_modes, "outputs": list(data.outputs), "inputs": list(data.inputs),
         "frequency_hz": floats(model.frequency_hz), "natural_frequency_hz": floats(model.natural_frequency_hz),
         "eigenvalue_re": floats(model.eigenvalues.real), "eigenvalue_im": floats(model.eigenvalues.imag),
         "damping_ratio": floats(model.damping_ratio), "emac": floats(model.emac), "mpc": floats(model.mpc),
-        "frequency_std_hz": floats(model._std(model.frequency_std_hz)),
-        "damping_std": floats(model._std(model.damping_std)),
+        "frequency_std_hz": floats(f_std), "damping_std": floats(d_std),
         "uncertainty_source": model.uncertainty_source or None,
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),

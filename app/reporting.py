@@ -154,7 +154,7 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
     formats = (config.STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
     explain_view = (config.STATIC_DIR / "js" / "explain_view.js").read_text(encoding="utf-8")
     extra = {"offline_recordings": viser_recordings or {}, "viser_marker": _EMBED_MARKER if viser_page else None}
-    data = _script_json(dict(report, token=token, standalone=True, **extra))
+    data = script_json(dict(report, token=token, standalone=True, **extra))
 
     def inline(tag: str, body: str) -> str:
         if tag == "script":
@@ -168,7 +168,7 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
         '<script src="/static/js/explain_view.js"></script>': inline("script", explain_view),
         '<script src="/static/js/report.js"></script>':
             f"<script>window.REPORT_DATA = {data};</script>"
-            + (f"<script>window.VISER_PAGE = {_script_json(viser_page)};</script>" if viser_page else "")
+            + (f"<script>window.VISER_PAGE = {script_json(viser_page)};</script>" if viser_page else "")
             + inline("script", script),
     }
     for old, new in replacements.items():
@@ -178,7 +178,7 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
     return page
 
 
-def _script_json(value) -> str:
+def script_json(value) -> str:
     """JSON to put inside a <script> element: "</" and "<!--" escaped so the element cannot end early."""
     return json.dumps(value, separators=(",", ":")).replace("</", "<\\/").replace("<!--", "<\\!--")
 

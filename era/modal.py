@@ -329,6 +329,11 @@ class ModalModel:
         z, sd = self.damping_ratio, self._std(self.damping_std)
         return z - level_z * sd, z + level_z * sd
 
+    def standard_deviations(self) -> tuple[np.ndarray, np.ndarray]:
+        """(frequency_std_hz (modes,) Hz, damping_std (modes,)): NaN where the data determined none (or all NaN
+        when no uncertainty was computed)."""
+        return self._std(self.frequency_std_hz), self._std(self.damping_std)
+
     def _std(self, value) -> np.ndarray:
         return np.full(self.n_modes, np.nan) if value is None else np.asarray(value, dtype=float)
 

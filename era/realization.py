@@ -15,7 +15,7 @@ from .errors import EraError, HankelError, OrderError
 from .points import with_points
 from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
                     modal_sum, mode_order, repeated_clusters)
-from .uncertainty import (MIN_RECORDS, PoleCovariance, _block_sums, correlation_length, modal_std,
+from .uncertainty import (MIN_RECORDS, PoleCovariance, block_sums, correlation_length, modal_std,
                           pole_functionals, record_covariance, residual_covariance, source_label)
 
 
@@ -172,7 +172,7 @@ class Identification:
         the clusters (stabilization computes them for its stable poles only)."""
         n = self._check_order(order)
         d = self.data
-        A, B, C, raw, dec, clusters, f_std, d_std = self._decomposed(n, uncertainty, records)
+        A, B, C, raw, dec, clusters, f_std, d_std = self.decomposed(n, uncertainty, records)
         W = (np.sqrt(self.singular_values[:n]), self.Q[:, :n])
         model = build_model(A, B, C, W, d.dt, self.row_shifts, self.col_shifts, d.outputs, d.inputs, "ERA",
                             dec=dec, frequency_std_hz=f_std if uncertainty else None,
@@ -181,7 +181,7 @@ class Identification:
         model = with_points(model, d.meta)  # the struck points' shapes too, where the inputs' points are known
         return model, raw, mode_order(dec.z, d.dt), clusters
 
-    def _decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
+    def decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
         """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
         eigensolver gives them, ``dec`` with the repeated modes aligned (era.modal.align_repeated), the
         clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
@@ -284,7 +284,7 @@ class Identification:
             phi = dec.shapes[:, j]
             unit = phi / np.linalg.norm(phi)
             dphi -= unit[None, :, None] * np.einsum("p,spk->sk", unit.conj(), dphi)[:, None, :]  # ⟂ φ
-            total = sum(np.sum(np.abs(_block_sums(x, block)) ** 2) for x in dphi)  # over blocks (or records)
+            total = sum(np.sum(np.abs(block_sums(x, block)) ** 2) for x in dphi)  # over blocks (or records)
             out[i] = float(weight * total / np.linalg.norm(phi) ** 2)
         return np.minimum(out, 1.0)  # 1 - MAC is at most 1 (first order no longer holds well before that)
 

@@ -150,7 +150,7 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
             ident.projected(orders[-1])  # one projection of H(1) for every order
 
     def decomposed(n):
-        _, _, _, raw, dec, clusters, _, _ = ident._decomposed(n, False, histories=False)
+        _, _, _, raw, dec, clusters, _, _ = ident.decomposed(n, False, histories=False)
         return raw, dec, clusters
 
     parts = in_parallel(decomposed, list(orders), workers)

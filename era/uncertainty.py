@@ -138,7 +138,7 @@ def pole_functionals(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shi
     return out
 
 
-def _block_sums(per_sample: np.ndarray, block_length: int) -> np.ndarray:
+def block_sums(per_sample: np.ndarray, block_length: int) -> np.ndarray:
     """Sums of (modes, T) over consecutive blocks of ``block_length`` samples: (modes, blocks)."""
     t = per_sample.shape[1]
     n_blocks = t // block_length
@@ -186,7 +186,7 @@ def residual_covariance(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_
         block_length = correlation_length(residual, max(1, t // min_blocks))
     block_length = int(max(1, block_length))
     per_sample = pole_functionals(left, right, z, row_shifts, col_shifts, residual[None])[:, 0]
-    cov = _outer_real(_block_sums(per_sample, block_length))
+    cov = _outer_real(block_sums(per_sample, block_length))
     n_obs = residual.size
     if n_obs > 2 * n_parameters:
         cov = cov * (n_obs / (n_obs - n_parameters))

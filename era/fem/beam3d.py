@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .elements import _hermite
+from .elements import hermite
 
 _AXIAL, _TWIST = (0, 6), (3, 9)
 _BEND_XY = (1, 5, 7, 11)            # (v1, θz1, v2, θz2): θz = +dv/dx
@@ -51,7 +51,7 @@ def local_stiffness(L, EA, GJ, EIy, EIz) -> np.ndarray:
     L (m), EA (N), GJ, EIy (about local y), EIz (about local z) in N·m².
     """
     L, EA, GJ, EIy, EIz = (np.asarray(a, float) for a in (L, EA, GJ, EIy, EIz))
-    h = _hermite(L, 12, 6, -12, 6, 4, 2) / L[:, None, None] ** 3
+    h = hermite(L, 12, 6, -12, 6, 4, 2) / L[:, None, None] ** 3
     return _local(L, _pair(EA / L, 1, -1), _pair(GJ / L, 1, -1), EIy[:, None, None] * h, EIz[:, None, None] * h)
 
 
@@ -59,7 +59,7 @@ def local_mass(L, m, rho_ip) -> np.ndarray:
     """Consistent mass in local axes: m L/6 [2 1; 1 2] axial, ρI_p L/6 [2 1; 1 2] twist, m L/420 · [156, 22L, 54,
     -13L; ...] in each bending plane. m = mass per length (kg/m), rho_ip = ρ I_p (kg·m)."""
     L, m, rho_ip = (np.asarray(a, float) for a in (L, m, rho_ip))
-    h = (m * L / 420)[:, None, None] * _hermite(L, 156, 22, 54, -13, 4, -3)
+    h = (m * L / 420)[:, None, None] * hermite(L, 156, 22, 54, -13, 4, -3)
     return _local(L, _pair(m * L / 6, 2, 1), _pair(rho_ip * L / 6, 2, 1), h, h)
 
 
@@ -67,7 +67,7 @@ def local_geometric(L, N, r2) -> np.ndarray:
     """Geometric stiffness of a constant axial force N (N, tension > 0): N/(30L) · [36, 3L, -36, 3L; 3L, 4L², -3L,
     -L²; ...] in each bending plane, N r²/L [1 -1; -1 1] in twist (r² = I_p/A, m²); nothing axial."""
     L, N, r2 = (np.asarray(a, float) for a in (L, N, r2))
-    h = (N / (30 * L))[:, None, None] * _hermite(L, 36, 3, -36, 3, 4, -1)
+    h = (N / (30 * L))[:, None, None] * hermite(L, 36, 3, -36, 3, 4, -1)
     return _local(L, np.zeros((L.size, 2, 2)), _pair(N * r2 / L, 1, -1), h, h)
 
 

@@ -20,7 +20,7 @@ _BEND = (0, 1, 3, 4)   # local (w1, β1, w2, β2) inside (w1, β1, φ1, w2, β2,
 _TWIST = (2, 5)        # local (φ1, φ2)
 
 
-def _hermite(L: np.ndarray, a, b, c, d, e, f) -> np.ndarray:
+def hermite(L: np.ndarray, a, b, c, d, e, f) -> np.ndarray:
     """The symmetric 4×4 pattern [[a, bL, c, dL], [bL, eL², -dL, fL²], [c, -dL, a, -bL], [dL, fL², -bL, eL²]]."""
     z = np.ones_like(L)
     rows = [[a * z, b * L, c * z, d * L],
@@ -64,7 +64,7 @@ def _to_global(k_local: np.ndarray, t: np.ndarray) -> np.ndarray:
 def grillage_stiffness(L, c, s, EI, GJ) -> np.ndarray:
     """Elastic stiffness: EI/L³ Hermite bending + GJ/L torsion; EI in N·m², GJ in N·m², L in m."""
     L, EI, GJ = (np.asarray(v, float) for v in (L, EI, GJ))
-    bend = (EI / L**3)[:, None, None] * _hermite(L, 12, 6, -12, 6, 4, 2)
+    bend = (EI / L**3)[:, None, None] * hermite(L, 12, 6, -12, 6, 4, 2)
     return _to_global(_place(bend, _two_node(L, GJ), L.size), grillage_rotation(c, s))
 
 
@@ -75,7 +75,7 @@ def grillage_mass(L, c, s, m_per_length, rho_ip) -> np.ndarray:
     Rotary inertia of bending is neglected (Euler-Bernoulli).
     """
     L, m, rip = (np.asarray(v, float) for v in (L, m_per_length, rho_ip))
-    bend = (m * L / 420)[:, None, None] * _hermite(L, 156, 22, 54, -13, 4, -3)
+    bend = (m * L / 420)[:, None, None] * hermite(L, 156, 22, 54, -13, 4, -3)
     a = rip * L / 6
     twist = np.moveaxis(np.array([[2 * a, a], [a, 2 * a]]), -1, 0)
     return _to_global(_place(bend, twist, L.size), grillage_rotation(c, s))
@@ -88,7 +88,7 @@ def grillage_geometric(L, c, s, N, r2) -> np.ndarray:
     Twist (Wagner): N r²/L · [[1, -1], [-1, 1]] with r² = I_p / A of a doubly symmetric section.
     """
     L, N, r2 = (np.asarray(v, float) for v in (L, N, r2))
-    bend = (N / (30 * L))[:, None, None] * _hermite(L, 36, 3, -36, 3, 4, -1)
+    bend = (N / (30 * L))[:, None, None] * hermite(L, 36, 3, -36, 3, 4, -1)
     return _to_global(_place(bend, _two_node(L, N * r2), L.size), grillage_rotation(c, s))
 
 
@@ -111,7 +111,7 @@ def frame_stiffness(L, c, s, EA, EI) -> np.ndarray:
     ax = (0, 3)
     k[:, np.ix_(ax, ax)[0], np.ix_(ax, ax)[1]] = _two_node(L, EA)
     bd = (1, 2, 4, 5)
-    k[:, np.ix_(bd, bd)[0], np.ix_(bd, bd)[1]] = (EI / L**3)[:, None, None] * _hermite(L, 12, 6, -12, 6, 4, 2)
+    k[:, np.ix_(bd, bd)[0], np.ix_(bd, bd)[1]] = (EI / L**3)[:, None, None] * hermite(L, 12, 6, -12, 6, 4, 2)
     return _to_global(k, frame_rotation(c, s))
 
 

@@ -16,6 +16,7 @@ import scipy.sparse.linalg
 
 from ..errors import EraError
 from . import elements
+from .sparse import scatter
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,17 +112,6 @@ def dof_map(n_nodes: int, links: np.ndarray, tied: np.ndarray) -> tuple[np.ndarr
     rank = np.empty(n_dof, int)
     rank[np.argsort(first)] = np.arange(n_dof)
     return rank[label].reshape(n_nodes, 3), int(n_dof)
-
-
-def scatter(element_mats: np.ndarray, element_dofs: np.ndarray, n_dof: int,
-            extra: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> scipy.sparse.csc_matrix:
-    """Sparse assembly of (e, 6, 6) element matrices at DOFs (e, 6), plus optional (rows, cols, values) triplets."""
-    rows = np.repeat(element_dofs, 6, axis=1).ravel()
-    cols = np.tile(element_dofs, (1, 6)).ravel()
-    vals = element_mats.reshape(-1)
-    if extra is not None:
-        rows, cols, vals = (np.concatenate([a, np.asarray(b).ravel()]) for a, b in zip((rows, cols, vals), extra))
-    return scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(n_dof, n_dof))
 
 
 @dataclass(frozen=True, eq=False)

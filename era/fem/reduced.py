@@ -23,9 +23,9 @@ stiffness (and hanging cables' pendulum springs) is linear in the weight: the no
 mass or per kg/m spread, each from one static solve (era.fem.space.self_weight's); the redistribution of the
 axial forces by a changed member or spring is left out (a second-order change). Nominal joint springs (a frame
 drawn with semi-rigid connections, Frame.joint_springs) are in the nominal's mesh already as hinges (each beam end
-its own node, era.fem.space._release): their stiffness is a fixed part of K, projected once; a joint effect at such
-a node re-springs its hinges (the relative rotations are DOFs already: one static vector per hinge, the unit
-couple's, for the spring's change) instead of adding relative rotations.
+its own node, era.fem.space.subdivide's release of the joint): their stiffness is a fixed part of K, projected
+once; a joint effect at such a node re-springs its hinges (the relative rotations are DOFs already: one static vector
+per hinge, the unit couple's, for the spring's change) instead of adding relative rotations.
 """
 
 from __future__ import annotations
@@ -37,8 +37,9 @@ import scipy.linalg
 import scipy.sparse
 
 from . import beam3d, space
+from .solution import SIGN_SEED
+from .sparse import scatter
 
-_SIGN_SEED = (1.7, 0.3)       # the same sign convention as era.Frame.solution
 
 
 def reducible(frame) -> bool:
@@ -89,13 +90,13 @@ class ReducedFrame:
         self.m_unit = beam3d.to_global(beam3d.local_mass(L, np.ones_like(L), np.zeros_like(L)), R)
         n = 6 * mesh.n_nodes
         self.edofs = mesh.edofs()
-        self.K_el = space._scatter(self.k_el, self.edofs, n)
+        self.K_el = scatter(self.k_el, self.edofs, n)
         self.M = space.mass(mesh)
-        self.M_spread = space._scatter(self.m_unit, self.edofs, n)
+        self.M_spread = scatter(self.m_unit, self.edofs, n)
         self.springs = mesh.springs.ravel().copy()
         self.free = ~mesh.restrained.ravel()
         # the nominal's joint springs: its hinges' springs and ties, a fixed part of K (not scaled with E)
-        self.K_hinge = space._hinge_stiffness(mesh, n) if mesh.hinges else None
+        self.K_hinge = space.hinge_stiffness(mesh, n) if mesh.hinges else None
         K = (self.K_el + scipy.sparse.diags(self.springs)).tocsc()
         if self.K_hinge is not None:
             K = (K + self.K_hinge).tocsc()
@@ -153,8 +154,8 @@ class ReducedFrame:
         """The geometric stiffness of these axial forces plus the cables' pendulum springs T/L of these
         reactions (era.fem.space.cable_springs, without its checks: a load's share may unload a cable)."""
         L, R = self.mesh.axes
-        kg = space._scatter(beam3d.to_global(beam3d.local_geometric(L, axial, self.mesh.r2), R), self.edofs,
-                            self.K_el.shape[0])
+        kg = scatter(beam3d.to_global(beam3d.local_geometric(L, axial, self.mesh.r2), R), self.edofs,
+                     self.K_el.shape[0])
         down = self.g / np.linalg.norm(self.g)
         cable = np.zeros((self.mesh.n_nodes, 6))
         hang = self.mesh.cable_m > 0
@@ -342,6 +343,6 @@ class ReducedFrame:
         # round-off of the dense solve (~1e-16) where the full solve has exact zeros (a planar frame's
         # out-of-plane modes at in-plane nodes): a unit-normalised sensor shape of it would be random
         u[np.abs(u) < 1e-10 * np.abs(u).max(axis=0)] = 0.0
-        ref = 1.0 + np.sin(_SIGN_SEED[0] * np.arange(u.shape[0]) + _SIGN_SEED[1])
+        ref = 1.0 + np.sin(SIGN_SEED[0] * np.arange(u.shape[0]) + SIGN_SEED[1])
         u = u * np.where(ref @ u < 0, -1.0, 1.0)
         return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi), u.reshape(self.n_user, 3, n)

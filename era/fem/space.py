@@ -17,6 +17,7 @@ import scipy.sparse.linalg
 
 from ..errors import DataError
 from . import beam3d
+from .sparse import diagonal, scatter
 
 DOF_NAMES = ("translation along x", "translation along y", "translation along z",
              "rotation about x", "rotation about y", "rotation about z")
@@ -135,7 +136,7 @@ def _release(mesh: SpaceFrame, ends: list) -> SpaceFrame:
                       n_user=mesh.n_user, names=mesh.names, hinges=tuple(hinges))
 
 
-def _hinge_stiffness(frame: SpaceFrame, n: int) -> scipy.sparse.csc_matrix:
+def hinge_stiffness(frame: SpaceFrame, n: int) -> scipy.sparse.csc_matrix:
     """(n, n) stiffness of the hinges: k (v_b - v_a)² per tied or sprung direction v of each hinge."""
     rows, cols, vals = [], [], []
     for a, b, axis, k, (p_t, p_r) in frame.hinges:
@@ -152,22 +153,14 @@ def _hinge_stiffness(frame: SpaceFrame, n: int) -> scipy.sparse.csc_matrix:
     return scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
 
 
-def _scatter(mats: np.ndarray, edofs: np.ndarray, n: int, diag: np.ndarray | None = None) -> scipy.sparse.csc_matrix:
-    rows, cols = np.repeat(edofs, 12, axis=1).ravel(), np.tile(edofs, (1, 12)).ravel()
-    vals = mats.reshape(-1)
-    if diag is not None:
-        rows, cols, vals = np.r_[rows, np.arange(n)], np.r_[cols, np.arange(n)], np.r_[vals, diag]
-    return scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(n, n))
-
-
 def stiffness(frame: SpaceFrame, axial_force: np.ndarray | None = None) -> scipy.sparse.csc_matrix:
     """K (6n, 6n): elastic + springs to ground, plus the geometric stiffness of ``axial_force`` (e,) N if given."""
     L, R = frame.axes
     k = beam3d.local_stiffness(L, frame.EA, frame.GJ, frame.EIy, frame.EIz)
     if axial_force is not None:
         k = k + beam3d.local_geometric(L, axial_force, frame.r2)
-    K = _scatter(beam3d.to_global(k, R), frame.edofs(), 6 * frame.n_nodes, frame.springs.ravel())
-    return K + _hinge_stiffness(frame, 6 * frame.n_nodes) if frame.hinges else K
+    K = scatter(beam3d.to_global(k, R), frame.edofs(), 6 * frame.n_nodes, diagonal(frame.springs.ravel()))
+    return K + hinge_stiffness(frame, 6 * frame.n_nodes) if frame.hinges else K
 
 
 def mass(frame: SpaceFrame) -> scipy.sparse.csc_matrix:
@@ -176,7 +169,7 @@ def mass(frame: SpaceFrame) -> scipy.sparse.csc_matrix:
     lumped = np.zeros((frame.n_nodes, 6))
     lumped[:, :3] = frame.node_mass[:, None]
     me = beam3d.to_global(beam3d.local_mass(L, frame.m, frame.rho_ip), R)
-    return _scatter(me, frame.edofs(), 6 * frame.n_nodes, lumped.ravel())
+    return scatter(me, frame.edofs(), 6 * frame.n_nodes, diagonal(lumped.ravel()))
 
 
 def factor(A) -> scipy.sparse.linalg.SuperLU:
@@ -217,7 +210,7 @@ def self_weight(frame: SpaceFrame, gravity: np.ndarray) -> Statics:
     free = ~frame.restrained.ravel()
     kff = K[free][:, free]
     # sized by the elastic diagonal: a joint spring's ties (a 1e4 × penalty) would make it a real spring
-    elastic = K - _hinge_stiffness(frame, n) if frame.hinges else K
+    elastic = K - hinge_stiffness(frame, n) if frame.hinges else K
     reg = 1e-11 * np.abs(elastic[free][:, free].diagonal())
     u = np.zeros(n)
     u[free] = factor(kff + scipy.sparse.diags(reg)).solve(f[free])

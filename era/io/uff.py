@@ -13,7 +13,7 @@ import numpy as np
 import pyuff
 
 from ..errors import DataError
-from ..markov._common import uneven_step
+from ..markov.common import uneven_step
 from .records import Records, check_finite, merge
 from .uff_geometry import (build_geometry, geometry_parts, in_global_directions, merge_parts,  # noqa: F401
                            modes_in_global, unit_factors)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt
+from .common import check_dt
 
 
 def start_after_peak(y: np.ndarray) -> int:

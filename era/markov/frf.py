@@ -12,7 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import uneven_step
+from .common import uneven_step
 
 #: Power of iω that turns displacement into each quantity: receptance (x/F), mobility (v/F), accelerance (a/F).
 FRF_TYPES = {"receptance": 0, "mobility": 1, "accelerance": 2}

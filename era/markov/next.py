@@ -12,7 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, kept_records, positive_int, records
+from .common import check_dt, kept_records, positive_int, records
 
 #: Smallest FFT length of the block-wise correlation sum; blocks stay small (cache-friendly, bounded memory).
 _MIN_FFT = 1 << 15

@@ -18,7 +18,7 @@ import scipy.linalg
 
 from ..data import ResponseData
 from ..errors import DataError
-from ._common import check_dt, kept_records, positive_int, records
+from .common import check_dt, kept_records, positive_int, records
 
 #: Rows of the regression factored at once; the QR of each chunk is stacked under the running R factor,
 #: so memory stays at chunk × columns whatever the record length.

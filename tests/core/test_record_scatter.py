@@ -120,8 +120,8 @@ def test_repeated_hits_by_okid_keep_each_hits_markov_parameters():
 
 
 def test_many_records_are_kept_as_group_means_whose_scatter_gives_the_same_sigma():
-    """40 records kept as 20 batch means (era.markov._common.kept_records): σ within the estimate's own scatter."""
-    from era.markov._common import MAX_KEPT_RECORDS, MAX_KEPT_VALUES, kept_records
+    """40 records kept as 20 batch means (era.markov.common.kept_records): σ within the estimate's own scatter."""
+    from era.markov.common import MAX_KEPT_RECORDS, MAX_KEPT_VALUES, kept_records
 
     clean, _ = modal_response(F_HZ, ZETA, 3, 2, 300, 0.05, seed=1)
     y = clean.markov

@@ -5,7 +5,7 @@ import pytest
 import scipy.optimize
 
 from era.fem import beam3d, space
-from era.fem.elements import _hermite
+from era.fem.elements import hermite
 
 RNG = np.random.default_rng(3)
 
@@ -97,7 +97,7 @@ def _bloch_error(kh, stiffness, mass):
 
 def test_mesh_rule_limits_are_0p05_percent_waves_of_the_element():
     one = np.ones(1)
-    k_beam, m_beam = _hermite(one, 12, 6, -12, 6, 4, 2)[0], _hermite(one, 156, 22, 54, -13, 4, -3)[0] / 420
+    k_beam, m_beam = hermite(one, 12, 6, -12, 6, 4, 2)[0], hermite(one, 156, 22, 54, -13, 4, -3)[0] / 420
     bend = _bloch_error(space.KH_BENDING, k_beam, m_beam)
     bar = _bloch_error(space.KH_LINEAR, np.array([[1.0, -1], [-1, 1]]), np.array([[2.0, 1], [1, 2]]) / 6)
     assert bend == pytest.approx(5e-4, rel=0.01) and bar == pytest.approx(5e-4, rel=0.01)
