@@ -28,8 +28,11 @@ LEGEND = ("Colour: still (blue) to largest excursion (red). Dots: sensors; grey:
 
 def disable_sharing(server: viser.ViserServer) -> None:
     """No share button, and a share-URL request from a client (which would open a public tunnel to
-    share.viser.studio) does nothing."""
+    share.viser.studio) does nothing. The control panel starts minimized to its title bar: floating open over a
+    viewer some 600 px wide it covered half the structure, and the page has the mode, amplitude and speed already
+    (its + opens it: interpolation and the colour legend)."""
     server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="small")
+    server.gui.main_panel.minimize()
     for message in (_messages.ShareUrlRequest, _messages.ShareUrlDisconnect):
         server._websock_server.unregister_handler(message)
     server.request_share_url = lambda *args, **kwargs: None

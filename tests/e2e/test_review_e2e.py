@@ -1,0 +1,69 @@
+"""What a person sees on the USC cantilever (issue 28's screenshot review), in a real browser:
+
+- the 3-D viewer shows the whole structure: viser's control panel starts minimized, so nothing but the canvas is
+  under the viewer's centre or the points around it (the software-WebGL notice that only a GPU-less headless
+  browser gets is left out of the count);
+- the model step's file input shows its button and "No file chosen" whole (it was clipped to "Choose File N").
+
+Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded). Screenshots go to
+$APP_SHOTS when set.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
+
+pytestmark = pytest.mark.e2e
+
+USC = SHARED_DATASETS / "usc_cantilever_free_decay" / "timeseries_data.lvm"
+
+#: In the viewer's page: what is under nine points of its canvas (15, 50 and 85 % of its width and height).
+UNDER_THE_CANVAS = """() => {
+  const canvas = [...document.querySelectorAll('canvas')].sort((a, b) => b.width * b.height - a.width * a.height)[0];
+  const r = canvas.getBoundingClientRect(), hits = [];
+  for (const fx of [0.15, 0.5, 0.85]) for (const fy of [0.15, 0.5, 0.85]) {
+    const e = document.elementFromPoint(r.left + fx * r.width, r.top + fy * r.height);
+    const notice = e.closest('[class*="Notification"]') !== null;
+    hits.push({ at: [fx, fy], canvas: e === canvas, notice, what: `${e.tagName}.${String(e.className).slice(0, 60)}` });
+  }
+  const labels = [...document.querySelectorAll('*')].filter(e => e.children.length === 0 &&
+                   ['Mode', 'Amplitude', 'Speed'].includes(e.textContent.trim()) && e.getClientRects().length > 0);
+  return { size: [r.width, r.height], hits, open_controls: labels.length };
+}"""
+
+
+def test_the_viewer_shows_the_whole_structure_and_the_model_file_input_is_whole(tmp_path, browser, shots):  # noqa: F811
+    lvm = require_shared(USC)
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page, errors = open_page(server, browser, 1100)
+        page.set_input_files("#file", str(lvm))
+        page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        page.click("#import-use")
+        page.wait_for_selector("#modes-table tbody tr:not(.rejected)", timeout=240000)
+        file_input = page.evaluate("() => { const e = document.getElementById('model-file'); "
+                                   "return { scroll: e.scrollWidth, client: e.clientWidth }; }")
+        assert 0 < file_input["scroll"] <= file_input["client"], file_input  # was 189 > 108: "Choose File N"
+        page.locator("#panel-model").screenshot(path=str(shots / "review-model-file.png"))
+        page.click("#modes-table tbody tr:not(.rejected) >> nth=0")
+        page.wait_for_selector("#viewer-box iframe", timeout=60000)
+        page.frame_locator("#viewer-box iframe").locator("text=Connected").wait_for(timeout=60000)
+        page.wait_for_timeout(1500)  # the scene and the panel's placement arrive after the connection
+        frame = next(f for f in page.frames if "/viser/" in f.url)
+        seen = frame.evaluate(UNDER_THE_CANVAS)
+        page.locator("#panel-shapes").screenshot(path=str(shots / "review-viewer.png"))
+        assert seen["size"][0] > 400 and seen["size"][1] > 300, seen
+        covered = [h for h in seen["hits"] if not h["canvas"] and not h["notice"]]
+        assert covered == [], seen  # the panel floating open covered the right half (x 54-100 %, y 25-74 %)
+        assert seen["open_controls"] == 0, seen  # minimized: its + opens the controls
+        assert errors == []
+    finally:
+        server.stop()
