@@ -132,6 +132,10 @@ def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
     page.goto(base + "/test/page")                           # the app's page with the viewer in an <iframe>
     viewer = page.frame_locator("#viewer")
     viewer.get_by_text("Connected").wait_for(timeout=30_000)
+    expand = viewer.locator("[aria-label='Expand panel']")
+    expand.wait_for()
+    assert not viewer.get_by_text("Amplitude").is_visible()  # the panel starts minimized, the structure uncovered
+    expand.click()                                            # its + opens it
     viewer.get_by_text("Amplitude").wait_for()
     assert viewer.get_by_text("Share").count() == 0
     assert get_json(base + "/test/key")["sessions"] == 1
