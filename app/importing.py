@@ -18,9 +18,9 @@ from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
 READ_OPTIONS = ("dt", "format", "orientation", "variable", "group", "resample", "frf_sign", "start_sample", "drop",
-                "forces", "references", "band_hz")
+                "forces", "references", "band_hz", "points")
 #: Options of the conversion to pulse responses only: the preview shows the records as read, without them.
-CONVERSION_OPTIONS = ("references", "band_hz")
+CONVERSION_OPTIONS = ("references", "band_hz", "points")
 
 
 #: The library's words (parameters of era.load) -> the import step's (its controls' labels, units a person types).
@@ -36,6 +36,8 @@ _PAGE_WORDS = (
     (re.compile(r"`orientation`"), "“Channels are in”"),
     (re.compile(r"`forces`"), "the force role"),
     (re.compile(r"`drop`"), "leaving channels out"),
+    (re.compile(r"`points` is \{channel: point label\}, e\.g\. \{0: '4X'\}\."), "Type each channel's point, e.g. 4X."),
+    (re.compile(r"`points`"), "the channels' points"),
     (re.compile(r"`kind`"), "“The records are”"),
     (re.compile(r"`frf_sign`"), "“FRF sign convention”"),
     (re.compile(r"`variable`"), "“Array”"),

@@ -30,6 +30,9 @@ class ImportOptions(Schema):
     forces: list[Index] | None = Field(None, description="channels that measure the excitation (input-output records); "
                                                        "null: as the files' units and names say")
     references: list[Index] | None = Field(None, description="reference channels of ambient records (NExT); null: all")
+    points: dict[str, str] | None = Field(None, max_length=4096, description="where time channels are: {channel "
+                                          "position as read: point label such as 4X}; a force channel's point is "
+                                          "where the structure was struck or driven; null: none known")
     band_hz: list[float] | None = Field(None, min_length=2, max_length=2,
                                         description="[low, high] Hz, the band FRFs are valid in (e.g. the analyser's "
                                                     "fMin, fMax): lines outside it are cut and no mode is chosen "

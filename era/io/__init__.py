@@ -123,7 +123,7 @@ def sniff(raw: bytes, name: str) -> str:
 
 
 def load(source, format: str | None = None, *, name: str | None = None, kind: str = "auto",
-         dt: float | None = None, start_sample: int | None = None, drop=None, forces=None,
+         dt: float | None = None, start_sample: int | None = None, drop=None, forces=None, points=None,
          max_bytes: int | None = None, **options) -> Dataset:
     """Read test data and turn it into Markov parameters for :func:`era.identify`.
 
@@ -142,6 +142,9 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     start_sample, drop, forces : the person's choices (era.io.choices.choose): samples skipped at the start of
         every record (pre-trigger), channels left out, the channels that measure the excitation (names or 0-based
         positions)
+    points : where time channels are, {channel (name or 0-based position as read): point label ("4X")}: a force
+        channel's point is where the structure was struck (``ResponseData.meta["input_points"]``), a response's
+        where it was measured (``output_points``); era.points then gives the shape at every such point
     orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
@@ -161,15 +164,15 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
     got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)
     if got.npz is not None:
-        if start_sample or drop or forces is not None:
-            raise DataError(f"{got.labels[0]}: an NPZ file holds era's pulse responses; start_sample, drop and forces "
-                            "apply to records as measured. Leave them out.")
+        if start_sample or drop or forces is not None or points:
+            raise DataError(f"{got.labels[0]}: an NPZ file holds era's pulse responses; start_sample, drop, forces "
+                            "and points apply to records as measured. Leave them out.")
         return got.npz
     rec = got.records
     if rec is not None:
         if options.get("references") is not None:  # NExT references are named as read, like drop and forces
             options["references"] = renumber(rec, drop, options["references"], "references")
-        rec = _guarded(got, lambda: choose(rec, start_sample=start_sample, drop=drop, forces=forces))
+        rec = _guarded(got, lambda: choose(rec, start_sample=start_sample, drop=drop, forces=forces, points=points))
     out = _guarded(got, lambda: _convert(rec, got.parts, got.modes, got.labels, got.format, kind, options))
     if got.records is not None:
         out.source["channels_read"] = list(got.records.outputs)  # what drop/forces/references positions name

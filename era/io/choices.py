@@ -44,7 +44,7 @@ def channel_indices(rec: Records, channels, option: str) -> list[int]:
     return sorted({channel_index(rec, c, option) for c in channels})
 
 
-def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=None) -> Records:
+def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=None, points=None) -> Records:
     """Records with the person's choices applied.
 
     start_sample : samples to skip at the start of every record (a pre-trigger, the samples before the hit);
@@ -52,6 +52,10 @@ def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=N
     drop : channels (names or 0-based positions) left out: time channels, or outputs of FRFs/impulse responses.
     forces : the channels (names or positions) that measure the excitation (hammer, shaker force), replacing what
         the file's units and names suggested; time histories only. An empty list says that no channel is a force.
+    points : where the channels are (era.points): {channel (name or 0-based position): point label ("4X": node 4
+        along X)}, time histories only. A force channel's point is where the structure was struck or driven
+        (``input_points``), a response channel's where it was measured (``output_points``); see
+        era.io.records.to_response. Channels not named have no known point.
     Returns a new Records; ``described`` says what was done. DataError (with ``option`` set) for a choice that does
     not fit the records.
     """
@@ -79,6 +83,18 @@ def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=N
         force = np.zeros(len(rec.outputs), bool)
         force[channel_indices(rec, forces, "forces")] = True
         notes.append("force channels: " + (", ".join(np.array(rec.outputs)[force]) if force.any() else "none"))
+    labels = None
+    if points:
+        if rec.domain != "time":
+            raise DataError("`points` places the channels of time histories; FRFs and impulse responses take their "
+                            "points from the file (UFF 58 nodes, a SignalCalc setup.csv).", option="points")
+        if not isinstance(points, dict):
+            raise DataError("`points` is {channel: point label}, e.g. {0: '4X'}.", option="points")
+        labels = [""] * len(rec.outputs)
+        for channel, label in points.items():
+            labels[channel_index(rec, int(channel) if str(channel).isdigit() else channel, "points")] = \
+                str(label).strip()
+        notes.append("points: " + ", ".join(f"{rec.outputs[i]} at {x}" for i, x in enumerate(labels) if x))
     gone = channel_indices(rec, drop, "drop")
     keep = np.setdiff1d(np.arange(len(rec.outputs)), gone)
     if gone:
@@ -95,6 +111,8 @@ def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=N
                    force=force[keep] if force is not None else None,
                    nodes=rec.nodes[keep] if rec.nodes is not None else None,
                    directions=rec.directions[keep] if rec.directions is not None else None,
+                   points=rec.points if labels is None else
+                   dict(rec.points or {}, channel_points=tuple(labels[i] for i in keep)),
                    described=list(rec.described) + notes)
 
 

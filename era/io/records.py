@@ -36,7 +36,9 @@ class Records:
     frf_type : "accelerance", "mobility", "receptance" or None.
     described : list of str, what was read (for Dataset.source).
     points : where the channels are, for ResponseData.meta (era.points: output_points, output_signs, input_points,
-        input_signs; and proposed_band_hz, a band the test's setup proposes), or None.
+        input_signs; and proposed_band_hz, a band the test's setup proposes), or None; for time histories also
+        channel_points (c,), a point label per channel ("" unknown), the person's (era.io.choices.choose), split by
+        :func:`to_response` into the inputs' and outputs' points.
     conversions : list of str, what the reader did to the values (a resampled clock), for Dataset.source.
     named : False when the channel names were made up from the file name (an .npy file names nothing): files of
         one dataset then match by channel count, and the first file's names are used.
@@ -91,6 +93,15 @@ def guess_kind(rec: Records) -> str:
     return "decay" if tail < 0.1 * head else "ambient"
 
 
+def _time_points(labels: np.ndarray, kind: str, force: np.ndarray | None) -> dict:
+    """ResponseData.meta's points of time records converted as ``kind``: with OKID ("io") the force channels'
+    labels are the inputs' points (where the structure was struck or driven) and the others the outputs'; the
+    outputs' only otherwise (NExT's references and a decay's records are no places the structure was driven)."""
+    if kind == "io" and force is not None:
+        return {"output_points": tuple(labels[~force]), "input_points": tuple(labels[force])}
+    return {"output_points": tuple(labels)}
+
+
 def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseData, str]:
     """Markov parameters from records. Returns (ResponseData, kind used).
 
@@ -102,6 +113,7 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
     ``options`` go to that function.
     """
     kind = guess_kind(rec) if kind == "auto" else kind
+    force = None
     if kind not in KINDS:
         raise DataError(f"`kind` must be 'auto' or one of {KINDS}, got {kind!r}.", option="kind")
     wrong = {"frf": "frequency", "pulse": "pulse"}
@@ -152,6 +164,8 @@ def to_response(rec: Records, kind: str = "auto", **options) -> tuple[ResponseDa
         data.meta["conversions"].insert(0, note)
     if rec.points and kind in ("frf", "pulse"):  # the channels stay as read: their points hold
         data.meta.update(rec.points)
+    elif rec.points and rec.points.get("channel_points") and any(rec.points["channel_points"]):
+        data.meta.update(_time_points(np.array(rec.points["channel_points"], dtype=object), kind, force))
     if data.n_samples < MIN_SAMPLES:
         raise DataError(f"Only {data.n_samples} pulse-response samples; ERA needs at least {MIN_SAMPLES} (and "
                         "usually hundreds). Record longer or at a higher sampling rate.")

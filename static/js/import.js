@@ -12,12 +12,13 @@ const ERROR_BOX = { dt: "import-error-dt", resample: "import-error-resample", or
                     start_sample: "import-error-start_sample", variable: "import-error-variable",
                     group: "import-error-group", frf_sign: "import-error-frf_sign", band_hz: "import-error-band_hz",
                     forces: "import-error-channels", references: "import-error-channels",
-                    drop: "import-error-channels" };
+                    drop: "import-error-channels", points: "import-error-channels" };
 const ROLES = { response: "response", force: "force (excitation, input)", reference: "NExT reference response",
                 drop: "left out" };
 
 let current = null;        // the last answer of /api/imports (id, files, preview, error, option)
 let roles = [];            // role of each channel as read: response | force | reference | drop
+let points = [];           // the point each time channel is at, as typed ("4X": node 4 along X), "" unknown
 let fileForces = "";       // the channels the files themselves mark as forces (units N, names), as "0,3"
 let fileRate = false;      // the files carry their own sampling interval
 let onDataset = null;      // callback(dataset summary)
@@ -63,6 +64,8 @@ export function options() {
   const pv = current && current.preview;
   if (pv && pv.domain === "time" && pick("force").join() !== fileForces) o.forces = pick("force");  // changed marks
   if (pick("reference").length) o.references = pick("reference");
+  const placed = points.flatMap((p, i) => (p && roles[i] !== "drop" ? [[String(i), p]] : []));
+  if (pv && pv.domain === "time" && placed.length) o.points = Object.fromEntries(placed);  // the shape at these points
   return o;
 }
 
@@ -76,10 +79,14 @@ function renderChannels(pv) {
     const select = el("select", { "data-channel": c.index, "aria-label": `role of ${c.name}`,
                                   onchange: (e) => { roles[c.index] = e.target.value; reread(); } },
                       ...allowed.map((r) => el("option", { value: r, text: ROLES[r], selected: r === roles[c.index] })));
+    // time channels: the point the person types (a force's: where it was struck); FRFs' come from the file
+    const point = pv.domain !== "time" ? el("td", { text: "–" }) : el("td", {}, el("input", {
+      class: "point", size: 6, "data-channel": c.index, value: points[c.index] || "", placeholder: "e.g. 4X",
+      "aria-label": `point of ${c.name}`, onchange: (e) => { points[c.index] = e.target.value.trim(); } }));
     return el("tr", { class: roles[c.index] === "drop" ? "dropped" : null, "data-channel": c.index },
               el("td", { text: String(c.index) }), el("td", { text: c.name }), el("td", { text: c.unit || "–" }),
               el("td", { text: c.node === null ? "–" : String(c.node) }),
-              el("td", { text: c.direction || "–" }), el("td", {}, select));
+              el("td", { text: c.direction || "–" }), el("td", {}, select), point);
   }));
 }
 
@@ -149,10 +156,10 @@ function show(answer) {
     fileForces = pv.channels.filter((c) => c.force).map((c) => c.index).join();
   }
   clearErrors();
+  $("import").hidden = false;  // shown before the plot is drawn: a hidden box gives Plotly no width (it took 700 px)
   renderRead(answer);
   if (answer.error) showProblem(answer.error, answer.option);
   $("import-use").disabled = !!answer.error || !pv;
-  $("import").hidden = false;
 }
 
 function setStatus(text) { $("import-status").textContent = text; }
@@ -185,6 +192,7 @@ export async function start(files, setDataStatus) {
   bar.value = 0;
   showError("data-error", null);
   roles = [];
+  points = [];
   $("import-rate").value = "";
   $("import-orientation").value = "";
   $("import-resample").checked = false;

@@ -151,3 +151,27 @@ def test_complex_numbers_in_text_are_named_as_frfs_without_a_frequency_axis():
                           "meas_point_1.txt")
     with pytest.raises(era.DataError, match="complex numbers .*FRFs without a frequency axis.*UFF 58"):
         era.load(path)
+
+
+def test_points_place_the_force_and_response_channels_of_time_records():
+    """A shaker on mass 3 of the chain, the responses at masses 1-3: the person says where each channel is; the
+    force's point is where the structure was driven (input_points), the responses' where it was measured
+    (output_points), and the model's shape is at those points (a driving point at 3X)."""
+    ad, bd, cd, dd, f_modes, _ = chain(DT)
+    rng = np.random.default_rng(3)
+    u = rng.standard_normal((3000, 3)) * np.array([0.0, 0.0, 1.0])
+    y = simulate(ad, bd, cd, dd, u)
+    raw = csv(np.column_stack([u[:, 2], y]), ["ch0", "ch1", "ch2", "ch3"], ["N", "V", "V", "V"])
+    ds = era.load(raw, name="shaker.csv", kind="io", forces=[0], points={"0": "3X", 1: "1X", "ch2": "2X", 3: "3X"})
+    assert ds.data.meta["input_points"] == ("3X",) and ds.data.meta["output_points"] == ("1X", "2X", "3X")
+    assert "points: ch0 at 3X, ch1 at 1X, ch2 at 2X, ch3 at 3X" in ds.source["records"]
+    model = era.identify(ds.data, rows=40, cols=40).realize(order=6)
+    assert model.points == ("1X", "2X", "3X")
+    # the driving point ties the input side to the outputs': the point shapes are the outputs' shapes
+    assert np.all(np.diag(era.mac(model.point_shapes, model.shapes)) > 0.999)
+    # a dropped channel takes its point with it; ambient records place their outputs only
+    amb = era.load(raw, name="amb.csv", kind="ambient", drop=[0], points={1: "1X", 3: "3X"})
+    assert amb.data.meta["output_points"] == ("1X", "", "3X") and "input_points" not in amb.data.meta
+    with pytest.raises(era.DataError, match="no channel 'ch9'") as err:
+        era.load(raw, name="x.csv", kind="io", forces=[0], points={"ch9": "1X"})
+    assert err.value.option == "points"
