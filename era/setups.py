@@ -170,7 +170,8 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     shapes, scales, rmac, resid = _scaled_shapes(models, refs, members, len(labels), found)
     model = _merged_model(models, members, shapes, labels)
     return SetupMerge(model=model, members=members, scales=scales, reference_mac=rmac, reference_residual=resid,
-                      point_setup=point_setup, point_channel=point_channel, dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
+                      point_setup=point_setup, point_channel=point_channel,
+                      dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
                       recovered=recovered, recovered_from=recovered_from)
 
 

@@ -59,7 +59,8 @@ async def _merged(request: Request, test_id: str) -> dict:
 
 
 @router.get("/api/setups/{test_id}/modes.csv", summary="The merged modes as CSV (unknown values empty)",
-            response_class=Response, responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
+            response_class=Response,
+            responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
 async def modes_csv(request: Request, test_id: str):
     test = await _merged(request, test_id)
     return Response(setups.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",

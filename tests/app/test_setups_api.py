@@ -131,7 +131,8 @@ def test_wrong_references_are_refused_next_to_the_picker(tmp_path):
         r = c.post(url, json={"references": [[0, 1], [0, 1], [0, 2], [0, 1]]})
         assert r.status_code == 422 and r.json()["option"] == "references"
         assert "Setup 3's reference channels [0, 2] do not move like those of the setups before it" in r.json()["error"]
-        assert "Check setup 3's references in the picker" in r.json()["error"] and "references[" not in r.json()["error"]
+        assert "Check setup 3's references in the picker" in r.json()["error"]
+        assert "references[" not in r.json()["error"]
         for refs, words in [([[0, 1], [0], [0, 1], [0, 1]], "Setup 2 (setup2.csv) has 1 reference channels picked "
                                                               "where setup 1 has 2"),
                             ([[0, 1], [0, 1], [0, 9], [0, 1]], "Setup 3 (setup3.csv) has 4 channels; a picked "

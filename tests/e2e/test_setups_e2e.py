@@ -81,7 +81,8 @@ def test_four_setups_uploaded_picked_merged_and_reopened(tmp_path, browser, shot
         macs = []
         for j in range(4):
             page.click(f"#setups-modes tbody tr[data-mode='{j}'] td[data-key=frequency_hz]")
-            page.wait_for_function(f"document.getElementById('setups-shape-title').textContent.startsWith('mode {j + 1}:')")
+            page.wait_for_function("document.getElementById('setups-shape-title').textContent"
+                                   f".startsWith('mode {j + 1}:')")
             x, shape = shown_shape(page)
             assert x == POINTS and np.all(np.isfinite(shape))
             macs.append(era.mac(shape, truth_at(x)[:, j])[0, 0])
