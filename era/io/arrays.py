@@ -40,7 +40,8 @@ class Var:
     """A named array in a file, not read yet. name: as the user chooses it (MAT name, HDF5 path); shape; kind: the
     numpy dtype kind ('f', 'i', 'u', 'c', 'b', or '?' for what is not a plain array); read: () -> ndarray, checked
     against the bytes the file holds; attrs: units ("units", str or one per channel), channel names ("channels"),
-    and sampling (dt/fs names above) stored with it."""
+    the channels' points ("points", one label per channel, era.points) and sampling (dt/fs names above) stored
+    with it."""
 
     name: str
     shape: tuple
@@ -138,18 +139,20 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
         k, c = np.argwhere(bad)[0]
         raise DataError(f"{label}: {int(bad.sum())} NaN or infinite value(s), the first at sample {k}, channel "
                         f"{c + 1}. Remove or interpolate them, then load again.")
-    names, units = [], []
+    names, units, points = [], [], []
     for v, b in zip(chosen, blocks):
         given = [str(x) for x in np.atleast_1d(v.attrs.get("channels", []))]
         names += given if len(given) == b.shape[1] else (
             [v.name.lstrip("/")] if b.shape[1] == 1 else [f"{v.name.lstrip('/')}:{i + 1}" for i in range(b.shape[1])])  # file:channel
         unit = [str(x) for x in np.atleast_1d(v.attrs.get("units", ""))]
         units += unit if len(unit) == b.shape[1] else [unit[0]] * b.shape[1]
+        where = [str(x).strip() for x in np.atleast_1d(v.attrs.get("points", []))]  # era.points labels (HDF5)
+        points += where if len(where) == b.shape[1] else [""] * b.shape[1]
     lead = _time_channel(y, vars_, label)
     if lead is not None:  # a time axis stored as the first channel (np.vstack([t, force, acc]) and the like)
         step, start = lead
         how = f"Δt = {step:.6g} s ({1 / step:.6g} Hz) from the first channel, a time axis"
-        y, names, units = y[:, 1:], names[1:], units[1:]
+        y, names, units, points = y[:, 1:], names[1:], units[1:], points[1:]
     else:
         step, start, how = _sampling(vars_, chosen, len(y), label, dt)
     force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() or "hammer" in nm.lower()
@@ -162,6 +165,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
                     f"{max(len(y) // 100, 1)} samples, the others ring on)")
     return Records(domain="time", values=[y], step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units) if any(units) else (), force=force,
+                   points={"channel_points": tuple(points)} if any(points) else None,
                    described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as {y.shape[1]} channel(s) × "
                               f"{len(y)} samples, {how}"])
 

@@ -83,14 +83,15 @@ def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=N
         force = np.zeros(len(rec.outputs), bool)
         force[channel_indices(rec, forces, "forces")] = True
         notes.append("force channels: " + (", ".join(np.array(rec.outputs)[force]) if force.any() else "none"))
-    labels = None
+    labels = (rec.points or {}).get("channel_points")  # the file's (an HDF5 ``points`` attribute), if any
+    labels = None if labels is None else list(labels)
     if points:
         if rec.domain != "time":
             raise DataError("`points` places the channels of time histories; FRFs and impulse responses take their "
                             "points from the file (UFF 58 nodes, a SignalCalc setup.csv).", option="points")
         if not isinstance(points, dict):
             raise DataError("`points` is {channel: point label}, e.g. {0: '4X'}.", option="points")
-        labels = [""] * len(rec.outputs)
+        labels = [""] * len(rec.outputs)  # the person's replace the file's, as ``forces`` do
         for channel, label in points.items():
             labels[channel_index(rec, int(channel) if str(channel).isdigit() else channel, "points")] = \
                 str(label).strip()

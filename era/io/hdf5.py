@@ -8,7 +8,10 @@ The layout read (every name case-insensitive; era/io/arrays.py does the choosing
 - **sampling**: a time vector dataset ``t``/``time`` (s), or a scalar dataset or attribute ``dt`` (s) or
   ``fs``/``sample_rate`` (Hz), on the data dataset, its group or the file's root;
 - **labels**: attribute ``channels`` (one string per channel) and ``units`` (one string, or one per channel) on
-  the data dataset.
+  the data dataset;
+- **points**: attribute ``points`` (one string per channel, "" unknown) on the data dataset: where each channel is
+  ("4X": node 4 along X; era.points). A force channel's point is where the structure was struck or driven, a
+  response's where it was measured; the import step's point column replaces them.
 
 For example ``h5py.File("test.h5", "w")`` with ``f["acc"] = y`` (N × 3), ``f["acc"].attrs["units"] = "m/s^2"``,
 ``f.attrs["fs"] = 2048.0``. MATLAB v7.3 files are the same with MATLAB's transposition undone (an N × 3 MATLAB array
@@ -36,7 +39,7 @@ MAGIC = b"\x89HDF\r\n\x1a\n"
 _MATLAB_NUMERIC = {b"double", b"single", b"int8", b"uint8", b"int16", b"uint16", b"int32", b"uint32", b"int64",
                    b"uint64"}
 _LABELS = {"channels": "channels", "channel_names": "channels", "names": "channels", "units": "units",
-           "unit": "units", "unit_string": "units"}
+           "unit": "units", "unit_string": "units", "points": "points"}
 
 
 def _text(value):
