@@ -3,7 +3,8 @@
 - the 3-D viewer shows the whole structure: viser's control panel starts minimized, so nothing but the canvas is
   under the viewer's centre or the points around it (the software-WebGL notice that only a GPU-less headless
   browser gets is left out of the count);
-- the model step's file input shows its button and "No file chosen" whole (it was clipped to "Choose File N").
+- the model step's file input shows its button and "No file chosen" whole (it was clipped to "Choose File N");
+- the import step's plot of the records fits its card (drawn while the step was still hidden, it was 700 px wide).
 
 Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded). Screenshots go to
 $APP_SHOTS when set.
@@ -47,6 +48,12 @@ def test_the_viewer_shows_the_whole_structure_and_the_model_file_input_is_whole(
         page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", str(lvm))
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
+        page.wait_for_selector("#import-plot .main-svg")
+        plot = page.evaluate("() => { const box = document.getElementById('import-plot'); "
+                             "return { drawn: box.querySelector('.main-svg').getBoundingClientRect().width, "
+                             "box: box.clientWidth }; }")
+        assert 0 < plot["drawn"] <= plot["box"], plot  # drawn while hidden it took Plotly's 700 px, past the card
+        page.locator("#panel-data").screenshot(path=str(shots / "review-import.png"))
         page.click("#import-use")
         page.wait_for_selector("#modes-table tbody tr:not(.rejected)", timeout=240000)
         file_input = page.evaluate("() => { const e = document.getElementById('model-file'); "
