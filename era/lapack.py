@@ -25,7 +25,7 @@ Fallback to ``np.linalg.eig`` (numpy's dgeev, which releases the GIL too) and th
 inverse, the same result to round-off: above order MAX_ORDER, when scipy does not export a routine, when a
 routine reports an error (info ≠ 0: dlahqr did not converge), when two eigenvalues are closer than
 REPEATED_RELATIVE·|z| (a repeated eigenvalue, Case II of the paper: ψ^{-1} is then a dual basis of the shared
-eigenspace, not the scaled left eigenvectors, and era.modal.align_repeated rotates dgeev's basis of it), and
+eigenspace, not the scaled left eigenvectors, and era.decomposition.align_repeated rotates dgeev's basis of it), and
 when yᴴx vanishes (near-defective).
 
 Measured on bench_sweep's 900 × 2392 case (the 60 matrices of orders 2..120, one BLAS thread, CPU time, load

@@ -8,15 +8,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import hankel, svd
+from . import hankel, mode_uncertainty, svd
 from .blas import blas_threads, single_threaded_blas
 from .data import ResponseData
 from .errors import EraError, HankelError, OrderError
 from .points import with_points
-from .modal import (ModalDecomposition, ModalModel, align_repeated, build_model, cluster_candidates, decompose,
-                    modal_sum, mode_order, repeated_clusters)
-from .uncertainty import (MIN_RECORDS, PoleCovariance, block_sums, correlation_length, modal_std,
-                          pole_functionals, record_covariance, residual_covariance, source_label)
+from .decomposition import (ModalDecomposition, align_repeated, cluster_candidates, decompose, mode_order,
+                            repeated_clusters)
+from .modal import ModalModel, build_model
+from .uncertainty import PoleCovariance, modal_std, source_label
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,7 +157,7 @@ class Identification:
             Compute each mode's frequency_std_hz and damping_std (era.uncertainty; 1.5-4× the time of the
             model without them, most at high orders with many outputs·inputs). False leaves them NaN; poles
             with a close neighbour still get theirs computed internally to decide which modes are repeated
-            (era.modal.repeated_clusters).
+            (era.decomposition.repeated_clusters).
         records : (n_b, N, p, m) array, optional
             The independent records whose mean is ``data.markov``: the covariance comes from their scatter
             (era.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
@@ -183,7 +183,7 @@ class Identification:
 
     def decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
         """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
-        eigensolver gives them, ``dec`` with the repeated modes aligned (era.modal.align_repeated), the
+        eigensolver gives them, ``dec`` with the repeated modes aligned (era.decomposition.align_repeated), the
         clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
         ``histories`` the modal histories are not formed (era.sweep forms those of many orders together)."""
         d = self.data
@@ -209,99 +209,27 @@ class Identification:
 
     def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
         """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
-        ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest."""
-        idx = set(int(i) for i in modes)
-        for c in clusters:
-            if idx & set(int(i) for i in c):
-                idx |= set(int(i) for i in c)
-        idx = np.array(sorted(idx), dtype=int)
-        f_std = np.full(raw.z.size, np.nan)
-        d_std = np.full(raw.z.size, np.nan)
-        if idx.size:
-            cov = self.pole_covariance(order, raw, idx).z_cov
-            f_std[idx], d_std[idx] = modal_std(raw.z[idx], cov, self.data.dt)
-            for c in clusters:
-                if np.isfinite(f_std[c]).all():
-                    f_std[c], d_std[c] = np.max(f_std[c]), np.max(d_std[c])
-        return f_std[np.asarray(modes, dtype=int)], d_std[np.asarray(modes, dtype=int)]
+        ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest
+        (era.mode_uncertainty.mode_std)."""
+        return mode_uncertainty.mode_std(self, order, raw, modes, clusters)
 
     def shape_scatter(self, order: int, modes=None) -> np.ndarray:
-        """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)`` (the scatter the data
-        leave in the shape), to first order from the residual blocks of era.uncertainty.
-
-        The shape is the first block of H(0) b_j (b_j as in era.uncertainty), so a perturbation moves it by
-        Δφ_j = (ΔH(0) b_j)[:p] + Σ_{k≠j} φ_k a_k (ΔH(1) - z_j ΔH(0)) b_j / (z_j - z_k) (the pencil's eigenvector
-        perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
-        signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
-        its expectation is the sum over the independent blocks (or, with records as in :meth:`records_used`,
-        the records' scatter divided by n_b (n_b - 1), as era.uncertainty.record_covariance). Cost: n pole
-        functionals per mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default
-        all).
-
-        A member of a repeated cluster (era.modal.repeated_clusters) leaves the cluster's other members out of the
-        sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.
+        """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)``: the scatter the data leave
+        in the shape, to first order (era.mode_uncertainty.shape_scatter for how). Cost: n pole functionals per
+        mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
 
         Returns
         -------
         (len(modes),) fractions in [0, 1]; the MAC between the estimate and the truth is about 1 minus this.
         """
         n = self._check_order(order)
-        model, raw, perm, clusters = self._model(n, False)
-        dec = align_repeated(raw, clusters)
-        chosen = perm if modes is None else perm[np.asarray(modes, dtype=int)]
-        d = self.data
-        p, m = d.n_outputs, d.n_inputs
-        root = np.sqrt(self.singular_values[:n])
-        # every eigenvalue of the order-n model: the kept ones and the conjugates of the pairs
-        pair = dec.is_pair
-        z_all = np.concatenate([dec.z, dec.z[pair].conj()])
-        a_all = (np.concatenate([dec.left, dec.left[pair].conj()]) / root[None, :]) @ self.P[:, :n].T
-        phi_all = np.concatenate([dec.shapes, dec.shapes[:, pair].conj()], axis=1)
-        b_modes = ((self.Q[:, :n] / root[None, :]) @ dec.right).T  # (modes, s m)
-        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
-        records = self.records_used()
-        if records is None:  # residual blocks of the one record
-            errors = (d.markov[:t] - modal_sum(raw.z, raw.shapes, raw.amplitudes, raw.is_pair, t))[None]
-            block, weight = correlation_length(errors[0], max(1, t // 20)), 1.0
-        else:  # the records' scatter: each record's deviation from the mean is one draw
-            errors = records[:, :t] - records[:, :t].mean(axis=0)
-            block, weight = t, 1.0 / (errors.shape[0] - 1) / errors.shape[0]
-        s_cols = len(self.col_shifts)
-        out = np.empty(len(chosen))
-        cluster_of = {int(j): set(int(k) for k in c) for c in clusters for j in c}
-        for i, j in enumerate(chosen):
-            # k ≠ j, and not another member of j's repeated cluster: a change within the shared eigenspace is a
-            # change of its basis (align_repeated chooses that), not a scatter of the shape
-            same = np.zeros(z_all.size, dtype=bool)
-            same[list(cluster_of.get(int(j), {int(j)}))] = True
-            others = np.flatnonzero((np.abs(z_all - dec.z[j]) > 0) & ~same)
-            c = pole_functionals(a_all[others], np.repeat(b_modes[j][None], others.size, axis=0),
-                                 np.full(others.size, dec.z[j]), self.row_shifts, self.col_shifts,
-                                 errors)  # (others, sets, T)
-            dphi = np.einsum("po,osk->spk", phi_all[:, others] / (dec.z[j] - z_all[others]), c)  # (sets, p, T)
-            bj = b_modes[j].reshape(s_cols, m)
-            dphi[:, :, self.col_shifts] += np.einsum("stpm,tm->spt", errors[:, self.col_shifts], bj)
-            phi = dec.shapes[:, j]
-            unit = phi / np.linalg.norm(phi)
-            dphi -= unit[None, :, None] * np.einsum("p,spk->sk", unit.conj(), dphi)[:, None, :]  # ⟂ φ
-            total = sum(np.sum(np.abs(block_sums(x, block)) ** 2) for x in dphi)  # over blocks (or records)
-            out[i] = float(weight * total / np.linalg.norm(phi) ** 2)
-        return np.minimum(out, 1.0)  # 1 - MAC is at most 1 (first order no longer holds well before that)
+        _, raw, perm, clusters = self._model(n, False)
+        return mode_uncertainty.shape_scatter(self, n, raw, perm, clusters, modes)
 
     def records_used(self, records=None) -> np.ndarray | None:
         """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
         ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
-        if records is not None:
-            records = np.asarray(records, dtype=float)
-            n_samples, p, m = self.data.markov.shape
-            if records.ndim != 4 or records.shape[0] < 2 or records.shape[2:] != (p, m) or \
-                    records.shape[1] < int(self.row_shifts[-1] + self.col_shifts[-1] + 2):
-                raise EraError(f"`records` has shape {records.shape}; it must be (n_b ≥ 2, N, {p}, {m}) with N at "
-                               "least the samples H(0) and H(1) use: one pulse response per independent record.")
-            return records
-        if self.data.n_records >= MIN_RECORDS:
-            return self.data.records
-        return None
+        return mode_uncertainty.records_used(self, records)
 
     def uncertainty_source(self, records=None) -> str:
         """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses."""
@@ -311,22 +239,9 @@ class Identification:
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
         """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
-        (from :func:`era.modal.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
+        (from :func:`era.decomposition.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
         (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough)."""
-        n = self._check_order(order)
-        records = self.records_used(records)
-        d = self.data
-        p, m = d.n_outputs, d.n_inputs
-        idx = np.arange(dec.z.size) if modes is None else np.asarray(modes, dtype=int)
-        root = np.sqrt(self.singular_values[:n])
-        left = (dec.left[idx] / root[None, :]) @ self.P[:, :n].T  # a_j, (k, r p)
-        right = ((self.Q[:, :n] / root[None, :]) @ dec.right[:, idx]).T  # b_j^T, (k, s m)
-        z = dec.z[idx]
-        if records is not None:
-            return record_covariance(left, right, z, self.row_shifts, self.col_shifts, records)
-        t = int(self.row_shifts[-1] + self.col_shifts[-1] + 2)
-        residual = d.markov[:t] - modal_sum(dec.z, dec.shapes, dec.amplitudes, dec.is_pair, t)
-        return residual_covariance(left, right, z, self.row_shifts, self.col_shifts, residual, n * (p + m))
+        return mode_uncertainty.pole_covariance(self, self._check_order(order), dec, modes, records)
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:
         """The realization of the given order and its modes.

@@ -26,7 +26,7 @@ import numpy as np
 
 from . import indicators
 from .blas import single_threaded_blas
-from .modal import ModalDecomposition, continuous_eigenvalues, mode_order
+from .decomposition import ModalDecomposition, continuous_eigenvalues, mode_order
 
 #: modes per batched product (bounds its memory: K m × 2 CHUNK_MODES numbers, 3 MB for K = 120, m = 8):
 #: large enough to run at BLAS-3 speed, small enough that two threads get runs of about equal work. On

@@ -13,7 +13,7 @@ import era
 from era import lapack
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
-from era.modal import decompose, mode_order
+from era.decomposition import decompose, mode_order
 
 
 def _kept_eigvals(a):

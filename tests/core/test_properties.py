@@ -5,7 +5,8 @@ import pytest
 
 import era
 from era import indicators
-from era.modal import build_model, decompose
+from era.decomposition import decompose
+from era.modal import build_model
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
 
