@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -21,10 +22,11 @@ from ..realization import Identification
 from ..structure import Frame
 from .effects import describe, grid_effects, nuisance, short_place
 from .frame_model import FrameModel, frame_effects, refit_exact
-from .fitting import TRIAL_FAILURES, ErrorLevels, build_model, profile_interval
+from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, _js, rank_effects
 from .search import Search, search_effects
+from .protocol import ExplainModel, Modes, as_explain_model
 from .verdict import message_for, too_few_data, verdict_of
 
 VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
@@ -101,8 +103,8 @@ class Explanation:
     ranking: tuple
     before: Gap
     after: Gap
-    updated_model: object
-    nominal_model: object
+    updated_model: ExplainModel
+    nominal_model: ExplainModel
     measured: MeasuredModes
     fit_modes: np.ndarray
     unpaired_measured: tuple
@@ -146,7 +148,7 @@ class Explanation:
         fm = self.measured.take(self.fit_modes)
         rows = []
         for i in range(fm.n_modes):
-            row = {"mode": i + 1, "measured_hz": float(fm.frequency_hz[i]), "damping_ratio": float(fm.damping_ratio[i]),
+            row: dict[str, Any] = {"mode": i + 1, "measured_hz": float(fm.frequency_hz[i]), "damping_ratio": float(fm.damping_ratio[i]),
                    "nearly_repeated": bool(self.close_modes[i])}
             for key, pairing in (("nominal", self.pairing_before), ("updated", self.pairing_after)):
                 hit = np.flatnonzero(pairing.measured_index == i)
@@ -169,7 +171,7 @@ class Explanation:
                                 for n, loc, why in self.rejected_trials],
             "before": self.before.as_dict(), "after": self.after.as_dict(),
             "updated_params": {k: (list(v) if isinstance(v, tuple) else v)
-                               for k, v in getattr(self.updated_model, "params", {}).items()},
+                               for k, v in self.updated_model.params.items()},
             "modes": self.mode_table(),
             "unpaired_measured_hz": [float(self.measured.frequency_hz[i]) for i in self.unpaired_measured],
             "mac_before": self.mac_before.tolist(), "mac_after": self.mac_after.tolist(),
@@ -182,12 +184,12 @@ class Explanation:
         }
 
 
-def _pair(model, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
+def _pair(model: Modes, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
     f, shapes = model.modes(n_model)
     return pair_modes(measured.frequency_hz, measured.shapes, f, shapes, **kw)
 
 
-def _select_modes(nominal, specs, measured: MeasuredModes, n_model: int) -> np.ndarray:
+def _select_modes(nominal: ExplainModel, specs, measured: MeasuredModes, n_model: int) -> np.ndarray:
     """Measured modes that pair (MAC ≥ 0.5, |Δf| ≤ 50 %) with the nominal or any candidate at its prior mean."""
     nu = nuisance(nominal)
     used = set()
@@ -221,24 +223,15 @@ def _expand(fm: MeasuredModes, pairing: ModePairing, f_model, s_model, w_nodes) 
     return out
 
 
-def _node_rows(model, measured: MeasuredModes):
+def _node_rows(model: ExplainModel, measured: MeasuredModes):
     """Rows of model.node_modes at the sensors and at the measured inputs, or None when the modal constants
     cannot be compared (no known inputs, or an input that is not a model node)."""
-    if measured.modal_constants is None or not hasattr(model, "node_modes"):
+    if measured.modal_constants is None:
         return None
-    if hasattr(model, "modal_rows"):
-        return model.modal_rows(measured.input_locations)
-    xy = np.asarray(model.joints_ft, float)
-
-    def row(at):
-        d = np.linalg.norm(xy - np.asarray(at, float)[:2], axis=1)
-        return int(np.argmin(d)) if d.min() < 1e-6 else None
-
-    rows = [row(s) for s in model.sensors], [row(a) for a in measured.input_locations]
-    return None if None in rows[0] or None in rows[1] else rows
+    return model.modal_rows(measured.input_locations)
 
 
-def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
+def _close_modes(model: ExplainModel, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
     """(k,) True for measured modes with a neighbour within ``close`` (relative), among the measured modes or
     among the nominal model's modes next to their partner: nearly repeated modes."""
     f = measured.frequency_hz
@@ -254,7 +247,7 @@ def _close_modes(model, measured: MeasuredModes, n_model: int, close: float) -> 
     return out
 
 
-def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_model: int):
+def _with_member_scatter(w: ModeWeights, errors: ErrorLevels, model: ExplainModel, fm: MeasuredModes, n_model: int):
     """The weights with the members' stiffness scatter added (ErrorLevels.member_scatter, or the model's
     ``default_member_scatter``), through each measured mode's nominal partner: to its frequency by the partner's
     strain-energy shares, to its shape components by the shape's sensitivity to each member
@@ -262,39 +255,41 @@ def _with_member_scatter(w, errors: ErrorLevels, model, fm: MeasuredModes, n_mod
     and to its modal constants' size (``member_scale_sensitivity``, correlated across modes) when they are fitted."""
     scatter = errors.member_scatter
     if scatter is None:
-        scatter = getattr(model, "default_member_scatter", 0.0)
-    if not scatter or not hasattr(model, "member_energy_fractions"):
+        scatter = model.default_member_scatter
+    share = model.member_energy_fractions(n_model) if scatter else None     # (n_members, n_model)
+    if share is None:
         return w
-    share = model.member_energy_fractions(n_model)                    # (n_members, n_model)
     rel = 0.5 * scatter * np.sqrt(np.sum(share**2, axis=0))          # (n_model,) relative 1σ of each frequency
     pairing = _pair(model, fm, n_model, max_freq_error=1.0)
     per_mode = np.full(fm.n_modes, rel.max())
     per_mode[pairing.measured_index] = rel[pairing.model_index]
     w = dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
-    if not hasattr(model, "member_shape_sensitivity"):
-        return w
     d = model.member_shape_sensitivity(n_model)                       # (n_members, p, n_model)
+    if d is None:
+        return w
     comp = np.minimum(scatter * np.sqrt(np.mean(np.sum(d**2, axis=0), axis=0)), errors.close_shape_sigma)
     per_shape = np.full(fm.n_modes, comp.max())
     per_shape[pairing.measured_index] = comp[pairing.model_index]
     w = dataclasses.replace(w, sigma_s=np.hypot(w.sigma_s, per_shape))
-    if w.scale_whitener is None or not hasattr(model, "member_scale_sensitivity"):
+    whitener = w.scale_whitener
+    g = None if whitener is None else model.member_scale_sensitivity(w.node_rows, n_model)
+    if whitener is None or g is None:                                   # g: (n_members, n_model)
         return w
     # the modal constants' sizes move with the shapes at the sensors and inputs, together across modes (each
     # member's scatter is one draw for all of them): scatter² GᵀG joins their covariance, as the gains' does
-    g = model.member_scale_sensitivity(w.node_rows, n_model)          # (n_members, n_model)
     per = np.zeros((g.shape[0], fm.n_modes))
     per[:, pairing.measured_index] = g[:, pairing.model_index]
-    unwhite = np.linalg.inv(w.scale_whitener)
+    unwhite = np.linalg.inv(whitener)
     cov = unwhite @ unwhite.T + scatter**2 * per.T @ per
     return dataclasses.replace(w, scale_whitener=np.linalg.inv(np.linalg.cholesky(cov)))
 
 
-def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, close: float) -> tuple:
+def _named_effects(model: ExplainModel, found: Search, fm: MeasuredModes, w: ModeWeights, n_model: int, close: float) -> tuple:
     """A NamedEffect per named effect, most important first: its own parameters (and the stiffness factor)
     from the fit of the whole set, their 95 % intervals, its place, and the gap after the step that named it."""
     out, k = [], 1
     fit = found.fit
+    assert fit is not None, "only a search that named something has effects to describe"
     for i, (r, spec) in enumerate(zip(found.named, found.specs)):
         idx = range(k, k + len(spec.params))
         k += len(spec.params)
@@ -311,7 +306,7 @@ def _named_effects(model, found: Search, fm: MeasuredModes, w, n_model: int, clo
         unc = {n: fit.uncertainty[n] for n in params}
         p_loc = r.locations[0][2] if r.locations else None
         others = tuple((loc, q) for loc, _, q in r.locations[1:] if q >= 0.05)
-        step = fit.model if i == len(found.named) - 1 else getattr(r.fit.model, "exact", r.fit.model)
+        step = fit.model if i == len(found.named) - 1 else r.fit.model.exact
         f_s, s_s = step.modes(n_model)
         pairing = _pair(step, fm, n_model, max_freq_error=1.0)
         g = gap(pairing, subspace_mac(pairing, fm.shapes, s_s, f_s, close))
@@ -367,8 +362,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     """
     t0 = time.perf_counter()
     timing = {}
-    if isinstance(model, Frame):
-        model = FrameModel.of(model)
+    nominal: ExplainModel = FrameModel.of(model) if isinstance(model, Frame) else as_explain_model(model)
+    model = nominal
     if kept is not None and not isinstance(data, Identification):
         raise DataError("explain: `kept` (order, mode indices) names modes of an identification; pass the "
                         "era.Identification they were kept from as `data`.")
@@ -404,7 +399,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     close = _close_modes(model, fm, n_model, errors.close)
     weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
-    joints = np.asarray(getattr(model, "joints_ft", np.zeros((0, 2))), float)
+    joints = np.asarray(model.joints_ft, float)
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
                            fine_scan=frames, test=adequacy_test)
     found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,
@@ -420,8 +415,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
             verdict = "ambiguous"
     t2 = time.perf_counter()           # the report: the named parameters' intervals, pairings, expansion
     none = next(r for r in ranking if r.name == "none")
-    chosen = found.fit if verdict == "explained" else none.fit
-    updated = getattr(chosen.model, "exact", chosen.model)     # a frame's full model, not its reduced one
+    chosen = found.fit if verdict == "explained" and found.fit is not None else none.fit
+    updated = chosen.model.exact     # a frame's full model, not its reduced one
     effects = _named_effects(model, found, fm, weights, n_model, errors.close) if verdict == "explained" else ()
     effect = effects[0] if effects else None
     before = _pair(model, fm, n_model, max_freq_error=1.0)
@@ -457,5 +452,5 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         comac_before=comac_b, comac_after=comac_a, close_modes=close, residual_modes=tuple(int(i) for i in miss),
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
         node_xy_ft=joints, expanded_measured=expanded, expanded_model=model_nodes,
-        timing_s=timing, node_labels=tuple(getattr(model, "node_labels", ())), effects=effects,
+        timing_s=timing, node_labels=tuple(model.node_labels), effects=effects,
         rankings=found.rankings)

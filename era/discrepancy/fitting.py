@@ -30,6 +30,7 @@ from ..correlation import pairing_cost
 from ..errors import EraError
 from .effects import EffectSpec, Param, as_location
 from .measured import MeasuredModes
+from .protocol import ExplainModel, Modes
 
 
 # What a trial model may fail with: a change that makes it a mechanism, singular or modeless (era.fem's DataError
@@ -93,8 +94,9 @@ class ErrorLevels:
         if close_mask is not None:
             ss = np.where(close_mask, np.maximum(ss, self.close_shape_sigma), ss)
         whiten = None
-        if node_rows is not None and measured.modal_constants is not None:
-            sc = np.sqrt(measured.modal_constant_std**2 + self.scale_floor**2 + (self.emac_scale * weak) ** 2)
+        q_std = measured.modal_constant_std
+        if node_rows is not None and measured.modal_constants is not None and q_std is not None:
+            sc = np.sqrt(q_std**2 + self.scale_floor**2 + (self.emac_scale * weak) ** 2)
             if close_mask is not None:
                 sc = np.where(close_mask, np.maximum(sc, self.close_shape_sigma), sc)
             # a sensor's gain error enters mode j's scale with that sensor's share of |Q_j|²: errors shared
@@ -148,11 +150,11 @@ class Fit:
     freq_error_pct: np.ndarray
     mac: np.ndarray
     model_index: np.ndarray
-    model: object
+    model: ExplainModel
     n_evals: int
 
 
-def build_model(nominal, spec: EffectSpec, params: tuple, u, location=None):
+def build_model(nominal: ExplainModel, spec: EffectSpec, params: tuple, u, location=None) -> ExplainModel:
     """The nominal model with the effect switched on at parameters u (transformed, nuisance first)."""
     changes = dict(spec.fixed)
     changes.update({p.name: p.value(x) for p, x in zip(params, u)})
@@ -161,7 +163,7 @@ def build_model(nominal, spec: EffectSpec, params: tuple, u, location=None):
     return nominal.with_params(**changes)
 
 
-def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int):
+def mode_residuals(model: Modes, measured: MeasuredModes, w: ModeWeights, n_model: int):
     """Normalised residuals of a model against the measured modes.
 
     Each measured mode is paired (frequency and MAC together, one assignment, no refusal) with a model mode.
@@ -173,11 +175,13 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
     ⟨Q_j, P_j⟩/⟨P_j, P_j⟩ counted a shape misfit twice, and collapsed for a partner whose shape is far off, such
     as a nominal's crossed modes, which made the linearised screening of places miss the right one).
     """
-    if w.scale_whitener is not None:
-        f, nodes = model.node_modes(n_model)
-        shapes = nodes[w.node_rows[0]]
-    else:
+    whiten, at, Q = w.scale_whitener, w.node_rows, measured.modal_constants
+    if whiten is None or at is None or Q is None:      # ErrorLevels.weights sets them together
+        whiten = at = Q = None
         f, shapes = model.modes(n_model)
+    else:
+        f, nodes = model.node_modes(n_model)
+        shapes = nodes[at[0]]
     f = np.clip(np.nan_to_num(np.asarray(f, dtype=float)), 0.0, None)
     cost, m = pairing_cost(measured.frequency_hz, measured.shapes, f, shapes)
     rows, cols = linear_sum_assignment(cost)
@@ -190,12 +194,11 @@ def mode_residuals(model, measured: MeasuredModes, w: ModeWeights, n_model: int)
     r_f = (fa - measured.frequency_hz) / w.sigma_f
     r_s = ((psi - measured.shapes) / w.sigma_s[None, :]).T.reshape(-1)
     parts = [r_f, r_s]
-    if w.scale_whitener is not None:
-        P = np.einsum("pk,mk->pmk", nodes[w.node_rows[0]][:, idx], nodes[w.node_rows[1]][:, idx])
-        Q = measured.modal_constants
+    if whiten is not None and at is not None and Q is not None:
+        P = np.einsum("pk,mk->pmk", nodes[at[0]][:, idx], nodes[at[1]][:, idx])
         pp = np.maximum(np.einsum("pmk,pmk->k", P, P), 1e-300)
         s = np.maximum(np.sqrt(np.einsum("pmk,pmk->k", Q, Q) / pp), 1e-300)
-        parts.append(w.scale_whitener @ np.log(s))
+        parts.append(whiten @ np.log(s))
     return np.concatenate(parts), (fa, m[np.arange(measured.n_modes), idx], idx)
 
 
@@ -203,7 +206,7 @@ def _prior_residuals(params, u):
     return np.array([(x - p.prior_mean) / p.prior_std for p, x in zip(params, u)])
 
 
-def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
+def fit_effect(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                n_model: int, location=None, u0=None, max_nfev: int = 60, scan: bool = False,
                ritz_modes: int = 0) -> Fit:
     """Most probable parameters of one candidate (least squares on data + prior residuals) and its evidence.
@@ -227,7 +230,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
     lo = np.array([p.prior_mean - 5 * p.prior_std for p in params])
     hi = np.array([p.prior_mean + 5 * p.prior_std for p in params])
     n_evals = 0
-    ritz = ritz_modes > 0 and hasattr(nominal, "ritz")
+    ritz = ritz_modes > 0 and nominal.has_ritz
     ref = [None]          # the solved model the trials are approximated about (ritz), else None
 
     def solved(u):
@@ -267,6 +270,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
                 c = float(np.sum(total(trial) ** 2))
                 if best is None or c < best[0]:
                     best = (c, trial)
+            assert best is not None
             u0 = best[1]
     u0 = np.clip(np.asarray(u0, dtype=float), lo + 1e-9, hi - 1e-9)
     for _ in range(3 if ritz else 1):
@@ -309,7 +313,7 @@ def fit_effect(nominal, spec: EffectSpec, nuisance: Param, measured: MeasuredMod
                mac=mac_pair, model_index=idx, model=model, n_evals=n_evals + 1)
 
 
-def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights, n_model: int,
+def profile_interval(nominal: ExplainModel, fit: Fit, measured: MeasuredModes, w: ModeWeights, n_model: int,
                      n_points: int = 15, span: float = 3.0, index: int | None = None,
                      ritz_modes: int = 0) -> tuple | None:
     """The 95 % posterior interval (low, high) of one effect parameter: fit.params[index] (default: the only
@@ -339,7 +343,7 @@ def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights,
     others = [i for i in range(len(params)) if i != index]
     spec, loc = fit.spec, fit.location
 
-    ritz = ritz_modes > 0 and hasattr(fit.model, "ritz")
+    ritz = ritz_modes > 0 and fit.model.has_ritz
 
     def resid(u):
         m = build_model(nominal, spec, params, u, loc)
@@ -356,7 +360,7 @@ def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights,
     sd = fit.uncertainty[prm.name] / (fit.parameters[prm.name] if prm.log else 1.0)
     # a coarse grid over the prior, and a fine one over ±4 Laplace σ where a well-pinned posterior lives
     grid_u = np.union1d(np.linspace(lo, hi, n_points), np.clip(fit.u[index] + sd * np.linspace(-4, 4, 11), lo, hi))
-    chi_data, log_post = [], []
+    chi_list, post_list = [], []
     for x in grid_u:
         u = fit.u.copy()
         u[index] = x
@@ -368,10 +372,10 @@ def profile_interval(nominal, fit: Fit, measured: MeasuredModes, w: ModeWeights,
         step = -np.linalg.solve(h, g)
         r = r + J @ step
         c = float(r @ r)
-        chi_data.append(c)
-        log_post.append(-0.5 * c - 0.5 * float(np.sum(((uo + step - mu_o) / sd_o) ** 2))
+        chi_list.append(c)
+        post_list.append(-0.5 * c - 0.5 * float(np.sum(((uo + step - mu_o) / sd_o) ** 2))
                         - 0.5 * ((x - prm.prior_mean) / prm.prior_std) ** 2)
-    chi_data, log_post = np.array(chi_data), np.array(log_post)
+    chi_data, log_post = np.array(chi_list), np.array(post_list)
     p = np.exp(log_post - log_post.max())
     # cumulative posterior by the trapezoid rule in u, the quantiles by linear interpolation
     cdf = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(grid_u))])

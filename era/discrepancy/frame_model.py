@@ -1,8 +1,7 @@
 """An era.Frame as a model explain() can change: parameters, candidate places, and the frame effect library.
 
-explain() needs a model with .modes(n), .node_modes(n), .params, .with_params(**changes), .sensors and, for located
-effects, the candidate places of each (EffectSpec.locations). :class:`FrameModel` gives these to an era.Frame
-without changing it: each parameter set is a new Frame (a section scaled, a spring, a mass, ...) that keeps the
+explain() needs a model that implements era.discrepancy.protocol.ExplainModel. :class:`FrameModel` gives it to an
+era.Frame without changing it: each parameter set is a new Frame (a section scaled, a spring, a mass, ...) that keeps the
 nominal's mesh (``Frame.element_counts``). Its modes come from the nominal's reduced model (era.fem.reduced: the
 nominal's 30 modes plus static vectors for the places the parameters name, one small dense eigenproblem per
 parameter set) when the frame allows it; ``.exact`` is the same parameter set solved in full, which explain uses
@@ -26,6 +25,7 @@ from ..fem.reduced import ReducedFrame, reducible
 from ..structure import Frame, Section
 from .effects import EffectSpec, Param, member_stiffness
 from .fitting import TRIAL_FAILURES, fit_effect
+from .protocol import RitzModes
 
 DEFAULTS = dict(stiffness_factor=1.0, gravity=True, support_at=None, support_rotation_stiffness=None,
                 support_vertical_stiffness=None, joint_at=None, joint_stiffness=None, point_mass_at=None,
@@ -125,7 +125,7 @@ class FrameModel:
             per_m = float(p["distributed_mass_kg"]) / self.total_length_m
             for name in {m[2] for m in members}:
                 added[name] = added.get(name, 0.0) + per_m
-        return dataclasses.replace(fr, sections=sections, members=members,
+        return dataclasses.replace(fr, sections=sections, members=tuple(members),
                                    supports={n: {k: ("fixed" if math.isinf(v) else v) for k, v in s.items()}
                                              for n, s in supports.items()},
                                    masses=masses, joint_springs=joints, added_mass_per_length=added,
@@ -212,10 +212,10 @@ class FrameModel:
                        (up,) if p["support_vertical_stiffness"] is not None else ())
         joint = str(p["joint_at"]) if p["joint_at"] is not None and p["joint_stiffness"] is not None else None
         mass_at = str(p["point_mass_at"]) if p["point_mass_at"] is not None and p["point_mass_kg"] > 0 else None
-        for node in (support and support[0], joint, mass_at):
-            if node is not None and node not in fr.nodes:
-                raise DataError(f"FrameModel: no node {node!r} in the frame.")
-        member = None
+        for at in (support and support[0], joint, mass_at):
+            if at is not None and at not in fr.nodes:
+                raise DataError(f"FrameModel: no node {at!r} in the frame.")
+        member: int | str | None = None
         if tuple(p["member_at"] or ()) == ALL_MEMBERS:
             member = "all"
         elif p["member_at"] is not None and p["member_factor"] != 1.0:
@@ -240,7 +240,7 @@ class FrameModel:
         f, u = got
         return f[r:], self.frame.at_sensors(u[..., r:])
 
-    def ritz(self, reference: "FrameModel", n_modes: int) -> "FrameModel | FrameRitz | None":
+    def ritz(self, reference: "FrameModel", n_modes: int) -> "RitzModes | None":
         """This model's modes in the span of ``reference``'s lowest ``n_modes`` modes (Frame.ritz_modes), for
         screening places (ranking.screen_locations); None when the two are not meshed alike. On the reduced path
         (the reference's own reduced model), the reduced model's modes with a changed member in the nominal's
@@ -250,12 +250,23 @@ class FrameModel:
             got = self._reduced(red.n_basis - 10 if red is not None else max(1, n_modes - 10), screen=True)
             if got is not None:
                 f, u = got[0][self.n_rigid:], got[1][..., self.n_rigid:]
-                return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.frame.at_sensors(u))
+                return RitzModes(f, u.reshape(-1, u.shape[-1]), self.frame.at_sensors(u))
         got = self.updated_frame.ritz_modes(reference.updated_frame, n_modes)
         if got is None:
             return None
         f, u = got[0][self.n_rigid:], got[1][..., self.n_rigid:]
-        return FrameRitz(f, u.reshape(-1, u.shape[-1]), self.updated_frame.at_sensors(u))
+        return RitzModes(f, u.reshape(-1, u.shape[-1]), self.updated_frame.at_sensors(u))
+
+    def screening_ritz(self, reference: "FrameModel", n_modes: int) -> "RitzModes | None":
+        """The approximation used to screen places: :meth:`ritz` itself."""
+        return self.ritz(reference, n_modes)
+
+    has_ritz = True     # .ritz approximates a variant's modes (the reduced model, or Frame.ritz_modes)
+
+    @property
+    def joints_ft(self) -> np.ndarray:
+        """(0, 2): a frame's located effects list their own places (node ids, members), not grid joints."""
+        return np.zeros((0, 2))
 
     @property
     def node_labels(self) -> tuple:
@@ -440,22 +451,6 @@ def _collinear(frame: Frame, node: str) -> bool:
     return all(np.linalg.norm(np.cross(dirs[0], d)) < 1e-6 for d in dirs[1:])
 
 
-@dataclass(frozen=True, eq=False)
-class FrameRitz:
-    """Approximate modes (FrameModel.ritz): frequencies (r,) Hz, node translations (3·n_nodes, r) and the sensors'
-    shapes (n_sensors, r), mass-normalised; .node_modes(n) and .modes(n) as a FrameModel's."""
-
-    frequency_hz: np.ndarray
-    node_w: np.ndarray
-    sensor_w: np.ndarray
-
-    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        return self.frequency_hz[:n_modes].copy(), self.node_w[:, :n_modes].copy()
-
-    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        return self.frequency_hz[:n_modes].copy(), self.sensor_w[:, :n_modes].copy()
-
-
 def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model: int, min_share: float = 0.05):
     """The search's named set (era.discrepancy.search.Search) re-fitted in the full model, from the reduced
     model's optimum (a few Gauss-Newton steps, each 1 + n_parameters full solves): the reported parameters,
@@ -471,6 +466,9 @@ def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model:
         except TRIAL_FAILURES:     # the full model cannot be solved there: the reduced model's fit stands
             return None
 
+    def _evidence(f, le):
+        return le if f is None else f.log_evidence
+
     exact = refit(fit.location)
     if exact is None:
         return found
@@ -478,7 +476,7 @@ def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model:
     if len(last.locations) < 2 or all(q < min_share for _, _, q in last.locations[1:]):
         return dataclasses.replace(found, fit=exact)
     places = [(exact.location, exact.log_evidence)] + [
-        (at, getattr(refit(at), "log_evidence", le) if q >= min_share else le) for at, le, q in last.locations[1:]]
+        (at, _evidence(refit(at) if q >= min_share else None, le)) for at, le, q in last.locations[1:]]
     les = np.array([le for _, le in places])
     share = np.exp(les - les.max())
     share /= share.sum()

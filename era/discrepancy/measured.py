@@ -56,11 +56,11 @@ class MeasuredModes:
 
     def take(self, idx) -> "MeasuredModes":
         idx = np.asarray(idx, dtype=int)
-        known = self.modal_constants is not None
+        q, q_std = self.modal_constants, self.modal_constant_std
         return MeasuredModes(self.frequency_hz[idx], self.frequency_std_hz[idx], self.damping_ratio[idx],
                              self.mpc[idx], self.emac[idx], self.shapes[:, idx], self.n_orders[idx],
-                             self.shape_std[idx], self.modal_constants[:, :, idx] if known else None,
-                             self.modal_constant_std[idx] if known else None, self.input_locations)
+                             self.shape_std[idx], None if q is None else q[:, :, idx],
+                             None if q_std is None else q_std[idx], self.input_locations)
 
 
 def modes_from_arrays(frequency_hz, shapes, frequency_std_hz=None) -> MeasuredModes:
@@ -97,7 +97,7 @@ def input_point(where, k: int = 0) -> tuple:
         items = tuple(items)
     except TypeError:
         items = (where,)
-    out = []
+    out: list[str | float] = []
     for v in items:
         if isinstance(v, bytes):
             v = v.decode()
@@ -128,12 +128,12 @@ def modal_constants(ident, stab, chosen, to_metres: float, weights=None):
         models = {o: ident.model(o, uncertainty=False) for o in orders}  # the spread across orders is the error
     out, spread = [], []
     for md in chosen:
-        each = []
+        per_order = []
         for pole in md.pole_indices:
             mdl, k = models[int(stab.order[pole])], int(stab.mode_index[pole])
             wd = 2 * np.pi * mdl.frequency_hz[k]
-            each.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres * unweight)
-        each = np.array(each)
+            per_order.append((2j * wd * np.outer(mdl.shapes[:, k], mdl.amplitudes[k, :])).real * to_metres * unweight)
+        each = np.array(per_order)
         mean = each.mean(axis=0)
         rel = np.einsum("opm,pm->o", each, mean) / max(np.sum(mean**2), 1e-300)
         out.append(mean)

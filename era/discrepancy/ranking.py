@@ -19,6 +19,7 @@ from scipy.special import logsumexp
 from .effects import EffectSpec, Param, as_location
 from .fitting import TRIAL_FAILURES, Fit, ModeWeights, build_model, fit_effect, mode_residuals, trial_failure
 from .measured import MeasuredModes
+from .protocol import ExplainModel
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,7 +130,7 @@ def adequacy(fit: Fit, w: ModeWeights, alpha: float = 0.01, max_sigma: float = 4
     return Adequacy(c_f, c_s, p_f, p_s, worst, bool(ok), tuple(int(i) for i in off), bool(clean))
 
 
-def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
+def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, base: Fit, measured: MeasuredModes,
                      w: ModeWeights, n_model: int, locations, with_prior: bool = False,
                      ritz_modes: int = 0, prior: np.ndarray | None = None, keep: int = 12) -> tuple:
     """Linearised misfit χ² of the effect at every candidate location (n_loc,), from one solve per location,
@@ -175,17 +176,17 @@ def screen_locations(nominal, spec: EffectSpec, nuisance: Param, base: Fit, meas
             coef = np.array([0.0, -(j_sf @ r0) / max(j_sf @ j_sf, 1e-300)])
         return float(np.sum((r0 + A @ coef) ** 2)), coef[0]
 
-    todo = range(len(locations))
+    todo: range | np.ndarray = range(len(locations))
     if prior is not None and prior.shape == changes.shape and np.isfinite(prior).all() and len(locations) > keep:
         todo = np.argsort([score(d)[0] for d in prior], kind="stable")[:keep]
     # models that offer it (GridModel.ritz) screen in the span of the reference's modes: no solve per place
-    ritz = bool(ritz_modes) and hasattr(base.model, "ritz")
+    ritz = bool(ritz_modes) and base.model.has_ritz
     rejected = []
     for i in todo:
         u = [*base.u, *trial_u]
         try:
             trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
-            approx = getattr(trial, "screening_ritz", trial.ritz)(base.model, ritz_modes) if ritz else None
+            approx = trial.screening_ritz(base.model, ritz_modes) if ritz else None
             change = resid(trial if approx is None else approx) - r0[:n_r]
             if not np.all(np.isfinite(change)):
                 raise FloatingPointError("its modes are not finite")
@@ -205,7 +206,7 @@ def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
     return np.array([*base.u, np.clip(u, p.prior_mean - 3 * p.prior_std, p.prior_mean + 3 * p.prior_std)])
 
 
-def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
+def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, test: dict | None = None,
                  fine_scan: bool = False, ritz_modes: int = 30, base: Fit | None = None,
                  screens: dict | None = None) -> tuple:
@@ -233,8 +234,8 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     if base is None:
         base = fit_effect(nominal, specs[0], nuisance, measured, w, n_model, ritz_modes=fit_ritz)
         base_evals = base.n_evals
-    rows = []  # (spec, log_evidence, best fit, locations, seconds, solves, screen, rejected)
-    dropped = []  # (name, location, reason) of candidates rejected everywhere: listed on the reference's row
+    rows: list[tuple] = []  # (spec, log_evidence, best fit, locations, seconds, solves, screen, rejected)
+    dropped: list[tuple] = []  # (name, location, reason) of candidates rejected everywhere: listed on the reference's row
 
     def fitted(spec, **kw):
         try:
@@ -288,15 +289,15 @@ def rank_effects(nominal, specs: tuple, nuisance: Param, measured: MeasuredModes
     log_post = np.array([r[1] + r[0].prior_log_odds for r in rows])
     prob = np.exp(log_post - logsumexp(log_post))
     out = []
-    for (spec, le, f, locs, sec, solves, screen, rejected), p in zip(rows, prob):
-        t = adequacy(f, w, **(test or {}))
+    for (spec, le, f, locs, sec, solves, screen, no_place), p in zip(rows, prob):
+        test_f = adequacy(f, w, **(test or {}))
         out.append(RankedEffect(
             name=spec.name, log_evidence=float(le), probability=float(p),
             log_bayes_factor=float(le - rows[0][1]),
             parameters={k: v for k, v in f.parameters.items()}, location=f.location, chi2=f.chi2,
-            adequate=t.ok, test=t,
+            adequate=test_f.ok, test=test_f,
             max_abs_freq_error_pct=float(np.max(np.abs(f.freq_error_pct))), min_mac=float(np.min(f.mac)),
-            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen, rejected=rejected))
+            fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen, rejected=no_place))
     out.sort(key=lambda r: -r.probability)
     return tuple(out)
 

@@ -48,6 +48,8 @@ class Search:
 
     def own(self, i: int) -> dict:
         """{parameter name: value} of the i-th named effect, from the fit of the whole set."""
+        if self.fit is None:
+            return {}
         return {p.name: self.fit.parameters[p.name] for p in self.specs[i].params}
 
 

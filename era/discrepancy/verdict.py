@@ -16,7 +16,7 @@ def too_few_data(fm: MeasuredModes, found: Search) -> str | None:
     p, k = fm.shapes.shape
     n_data = k * p                      # k frequencies and k unit-norm shapes of p − 1 free components each
     n_places = sum(1 for r in found.named if len(r.locations) > 1 or r.location is not None)
-    n_unknown = len(found.fit.params) + n_places
+    n_unknown = (0 if found.fit is None else len(found.fit.params)) + n_places
     if n_data > n_unknown:
         return None
     names = " + ".join(r.name for r in found.named)

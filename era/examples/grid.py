@@ -20,6 +20,7 @@ import scipy.linalg
 
 from .. import fem
 from ..errors import EraError
+from ..discrepancy.protocol import RitzModes, joint_rows
 from ..geometry import Geometry
 from .grid_solves import SolveCache, assemble, attachments, changed_nodes, param_key, self_weight
 
@@ -358,7 +359,8 @@ class GridModel:
         lam, v = scipy.linalg.eigh(0.5 * (k + k.T), 0.5 * (m + m.T), check_finite=False)
         f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
         self.cache.n_ritz += 1
-        return RitzModes(f, (basis @ v)[w_joint], np.array([joint_index(s) for s in SENSORS_FT]))
+        w = (basis @ v)[w_joint]
+        return RitzModes(f, w, w[[joint_index(s) for s in SENSORS_FT]])
 
     def screening_ritz(self, reference: "GridModel", n_modes: int) -> "RitzModes | None":
         """:meth:`ritz` in the reference's modes alone, without attachment modes: the approximation the place
@@ -366,28 +368,37 @@ class GridModel:
         misfit ranks places differently (a blind loose joint at (10, 2), seed 3, fell out of the places fitted)."""
         return self.ritz(reference, n_modes, attach=False)
 
+    # the rest of the model protocol explain relies on (era.discrepancy.protocol.ExplainModel)
+    has_ritz = True                 # .ritz approximates a variant's modes in a solved model's
+    node_labels = ()                # node_modes' rows are the 88 joints, index iy·11 + ix
+    default_member_scatter = 0.0    # the 157 bars' scatter averages out (in ErrorLevels.freq_floor)
+
+    @property
+    def exact(self) -> "GridModel":
+        """The model itself: every parameter set is solved in full."""
+        return self
+
+    def modal_rows(self, input_locations) -> tuple | None:
+        """Rows of node_modes (joints) at the nine sensors and at the input points ((x_ft, y_ft) each), or None
+        when an input is not at a joint."""
+        return joint_rows(JOINTS_FT, SENSORS_FT, input_locations)
+
+    def member_energy_fractions(self, n_modes: int = 10) -> None:
+        """None: the grid's members are not described one by one for the scatter (see default_member_scatter)."""
+        return None
+
+    def member_shape_sensitivity(self, n_modes: int = 10) -> None:
+        return None
+
+    def member_scale_sensitivity(self, node_rows, n_modes: int = 10) -> None:
+        return None
+
     def geometry(self) -> Geometry:
         """The 88 joints in metres (z = 0), the 157 segments as edges, the nine channels along +z."""
         xyz = np.column_stack([JOINTS_FT * FT, np.zeros(NX * NY)])
         return Geometry(node_ids=np.arange(1, NX * NY + 1), coordinates=xyz, edges=SEGMENT_JOINTS,
                         channel_nodes=np.array([joint_index(s) for s in SENSORS_FT]),
                         channel_directions=np.tile([0.0, 0.0, 1.0], (len(SENSORS_FT), 1)), units="m")
-
-
-@dataclass(frozen=True, eq=False)
-class RitzModes:
-    """Approximate modes (GridModel.ritz): frequencies (r,) Hz and mass-normalised w at the joints (88, r);
-    .modes(n) and .node_modes(n) as a GridModel's."""
-
-    frequency_hz: np.ndarray
-    joint_w: np.ndarray
-    sensor_rows: np.ndarray
-
-    def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        return self.frequency_hz[:n_modes].copy(), self.joint_w[:, :n_modes].copy()
-
-    def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        return self.frequency_hz[:n_modes].copy(), self.joint_w[self.sensor_rows, :n_modes].copy()
 
 
 def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_length_m=0.51,
