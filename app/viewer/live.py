@@ -60,6 +60,10 @@ class Session:
         undeformed = scene.frame(geometry, entry.vectors(state), 0.0, 0.0)
         with client.atomic():
             self.lines, self.points = add_mode_nodes(client.scene, geometry, first, undeformed)
+        note = scene.stand_in_note(geometry)
+        if note is not None:  # a lone dot or a row of them says nothing by itself
+            below = look_at - (0.0, 0.0, 0.3 * scene.structure_size(geometry))
+            client.scene.add_label("/stand-in", note, position=tuple(below), anchor="top-center")
         gui = client.gui
         self.mode = gui.add_dropdown("Mode", entry.labels, initial_value=entry.labels[state.index])
         self.amplitude = gui.add_slider("Amplitude", 0.0, MAX_AMPLITUDE, 0.01, state.amplitude,

@@ -78,6 +78,15 @@ def default_geometry(n_channels: int) -> Geometry:
     )
 
 
+def stand_in_note(geometry: Geometry) -> str | None:
+    """What the viewer says under a `default_geometry` stand-in (the data came without geometry), else None."""
+    if geometry.units != "channel":
+        return None
+    if geometry.n_nodes == 1:
+        return "No geometry in the file: the one sensor drawn as a point moving up and down"
+    return f"No geometry in the file: the {geometry.n_nodes} sensors in a row, in channel order, each moving up and down"
+
+
 def geometry_for(geometry: Geometry | None, n_channels: int) -> Geometry:
     """The geometry to draw for p = `n_channels` channels: `geometry` with +z for channels whose direction is unknown
     (zeros), or `default_geometry(p)` when there is none or it places none of the channels on a node."""
