@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import era
-from era.discrepancy.frame_model import FrameModel, frame_effects
+from era.discrepancy.effects_frame import frame_effects
+from era.discrepancy.frame_model import FrameModel
 from era.examples.frame_simulation import simulate_frame_test
 from era.examples.frames import cantilever, portal, truss, two_storey
 from era.structure import Frame, Section

@@ -7,11 +7,13 @@ misses the test, a further effect is sought on top of them (search.py, at most t
 unless the named set fits within the measurement error (a χ² test, ranking.adequacy).
 """
 
-from .effects import EffectSpec, Param, grid_effects
+from .effects import EffectSpec, Param
+from .effects_frame import frame_effects
+from .effects_grid import grid_effects
 from .explain import VERDICTS, Explanation, NamedEffect, explain
 from .fitting import ErrorLevels, Fit
 from .fe_modes import ModeComparison, compare_fe_modes
-from .frame_model import FrameModel, frame_effects
+from .frame_model import FrameModel
 from .measured import MeasuredModes, identify_modes, measured_modes, modes_from_arrays
 from .overlay import model_response, overlay
 from .ranking import RankedEffect

@@ -20,8 +20,10 @@ from ..data import ResponseData
 from ..errors import DataError
 from ..realization import Identification
 from ..structure import Frame
-from .effects import describe, grid_effects, nuisance, short_place
-from .frame_model import FrameModel, frame_effects, refit_exact
+from .effects import describe, nuisance, short_place
+from .effects_frame import frame_effects
+from .effects_grid import grid_effects
+from .frame_model import FrameModel, refit_exact
 from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .ranking import RankedEffect, _js, rank_effects
@@ -342,7 +344,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         .with_params(**changes), .sensors and the candidate places of located effects (EffectSpec.locations, or
         .joints_ft).
     effects : candidate EffectSpecs, "none" first (default: :func:`frame_effects` for a Frame,
-        :func:`era.discrepancy.effects.grid_effects` otherwise).
+        :func:`era.discrepancy.effects_grid.grid_effects` otherwise).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
     orders : the stabilization diagram's orders: era.choose_modes chooses the modes from it, and the modes are
         tracked over it (their spread); default era.analyse's (every even order from 2 to 160).

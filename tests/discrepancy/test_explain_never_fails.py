@@ -14,7 +14,8 @@ import pytest
 import era
 from era.discrepancy.effects import EffectSpec, Param
 from era.discrepancy.explain import VERDICTS
-from era.discrepancy.frame_model import FrameModel, frame_effects
+from era.discrepancy.effects_frame import frame_effects
+from era.discrepancy.frame_model import FrameModel
 from era.examples.frame_simulation import simulate_frame_test
 from era.examples.frames import cantilever
 from era.examples.grid import nasa_grid

@@ -12,7 +12,7 @@ import pytest
 import era
 from era.discrepancy import explain, grid_effects, modes_from_arrays
 from era.discrepancy.effects import EffectSpec, combined, place
-from era.discrepancy.frame_model import frame_effects
+from era.discrepancy.effects_frame import frame_effects
 from era.discrepancy.ranking import adequacy
 from era.examples.grid import MEMBERS_FT, nasa_grid, segment_index
 from era.examples.frames import nasa_grid_frame
