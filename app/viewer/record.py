@@ -95,6 +95,10 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
         top = geometry.coordinates[:, 2].max() + amplitude * scene.structure_size(geometry)
         server.scene.add_label("/title", f"Mode {mode_index + 1} · {f[mode_index]:.4g} Hz",
                                position=(look_at[0], look_at[1], top), anchor="bottom-center")
+        note = scene.stand_in_note(geometry)
+        if note is not None:  # as in the live viewer (live.py): a lone dot or a row of them is explained
+            below = look_at - (0.0, 0.0, 0.3 * scene.structure_size(geometry))
+            server.scene.add_label("/stand-in", note, position=tuple(below), anchor="top-center")
         serializer = server.get_scene_serializer()
         dt = period_s / frames
         for k in range(1, frames):

@@ -258,6 +258,11 @@ def test_record_is_one_cycle_in_the_viser_format():
     assert {"LineSegmentsMessage", "PointCloudMessage", "LabelMessage"} <= kinds
     # every frame after the first updates the moving lines
     assert len({t for t, m in rec["messages"] if t > 0}) == 11
+    labels = [m for _, m in rec["messages"] if m["type"] == "LabelMessage"]
+    assert len(labels) == 1  # the title; a real geometry needs no note
+    alone = decode_viser(viewer.record(None, [6.6], np.ones((1, 1)), 0, frames=2))  # one sensor, no geometry
+    said = [str(m) for _, m in alone["messages"] if m["type"] == "LabelMessage"]
+    assert len(said) == 2 and any("No geometry in the file: the one sensor" in t for t in said)
 
 
 def test_standalone_html_inlines_the_recording_into_the_client():
