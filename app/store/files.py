@@ -5,7 +5,8 @@ Every write in progress is marked by an ``fcntl.flock`` its writer holds: on the
 lock when its process ends, ``kill -9`` included, so a sweeper that can take the lock at once (``abandoned``) knows
 the writer is dead and may remove what it left, while another live process's work in progress stays locked. A file
 is locked before it gets its locked name (a temporary name first, then a rename), so a sweeper never finds a locked
-name that is not yet locked.
+name that is not yet locked. On a file system without flock the writes go on unlocked, under the names the age rule
+of app/housekeeping.py covers.
 """
 
 from __future__ import annotations
@@ -30,10 +31,10 @@ def write_atomic(path: Path, data: bytes) -> None:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     f = os.fdopen(fd, "wb")
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        locked = tmp[: -len(".tmp")] + LOCKED_TMP
-        os.rename(tmp, locked)
-        tmp = locked
+        if _lock(fd):  # else (a file system without flock) the temporary name is left to the age rule
+            locked = tmp[: -len(".tmp")] + LOCKED_TMP
+            os.rename(tmp, locked)
+            tmp = locked
         f.write(data)
         f.flush()
         os.fsync(fd)
@@ -62,8 +63,8 @@ def holding(lock: Path):
     lock.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=lock.parent, prefix=f"{lock.name}.", suffix=".tmp")
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        os.rename(tmp, lock)
+        if _lock(fd):  # else no lock file: the folder is left to the age rule
+            os.rename(tmp, lock)
         yield
     finally:
         for name in (tmp, lock):  # the temporary name only when the rename did not happen
@@ -75,6 +76,15 @@ def holding(lock: Path):
         os.close(fd)
 
 
+def _lock(fd: int) -> bool:
+    """Take an exclusive flock on a file nobody else has opened yet; False where the file system has no flock."""
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)  # a sweeper may hold it for an instant (abandoned), never longer
+    except OSError:  # ENOLCK, EOPNOTSUPP: an old network file system
+        return False
+    return True
+
+
 def abandoned(lock: Path) -> bool | None:
     """Whether the process that locked ``lock`` is gone: True when the lock can be taken at once (it is released
     again before returning), False when a live process holds it, None when there is no such file."""
@@ -84,7 +94,7 @@ def abandoned(lock: Path) -> bool | None:
         return None
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
+    except OSError:  # held (BlockingIOError), or a file system without flock: leave it
         return False
     finally:
         os.close(fd)

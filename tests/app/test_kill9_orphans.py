@@ -129,3 +129,24 @@ def test_kill_9_during_report_creation_leaves_no_orphan_after_the_next_start(tmp
             time.sleep(0.05)
         assert _orphans(data) == [], f"{caught} left by the kill are still there after the next start"
         assert httpx.get(base + "/api/health", timeout=10).status_code == 200
+
+
+def test_a_file_system_without_flock_still_takes_every_write(tmp_path, monkeypatch):
+    """flock refused (ENOLCK, as an old NFS answers): writes go on unlocked, their leftovers under the age rule."""
+    import errno
+
+    import app.store.files as files
+
+    def no_locks(fd, how):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(files.fcntl, "flock", no_locks)
+    store = Store(tmp_path)
+    store.add_report("plain", "an-analysis", {"order": 4}, {"mode_0.viser": b"recorded"})
+    assert store.report("plain") == {"order": 4} and not list(tmp_path.rglob(".*.tmp"))
+    half = tmp_path / "reports" / "half"                 # what a kill left there: no lock to ask, so its age
+    half.mkdir()
+    (half / ".report.json.x1y2.tmp").write_bytes(b"{")
+    assert housekeeping.sweep(store, 30)["orphans"] == 0
+    assert housekeeping.sweep(store, 30, now=time.time() + 2 * housekeeping.ORPHAN_AFTER_S)["orphans"] == 1
+    assert not half.exists()
