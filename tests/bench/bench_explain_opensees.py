@@ -15,8 +15,8 @@ Beside it, the same cases with the truth made by the team's own generator, era.e
 tests/bench/bench_explain_frame.py uses: era/fem itself with 2 % member scatter and twice the mesh), with the same
 effects (FrameModel parameters; a crack as the member factor of equal bending compliance) and the same noise; the
 effects outside the library have no such counterpart and are left out of that column. The grid example's own
-model (nasa_grid(), not an era.Frame) has its own matrix: tests/bench/bench_explain_matrix.py (its GROUPS are
-reused here for the list of what that generator hides: `... 0 grid-model` prints its classes per group).
+model (nasa_grid(), not an era.Frame) has its own matrix, tests/bench/bench_explain_matrix.py, with its own classes;
+`python3 tests/bench/bench_explain_opensees.py 0,1 grid-model` runs it from here (by import).
 """
 
 from __future__ import annotations
