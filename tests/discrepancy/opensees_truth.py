@@ -380,7 +380,8 @@ def _effects(frame: Frame, label: str, rng, nominal_hz: np.ndarray) -> list:
     """The hidden effects of one case (dicts for :func:`solve`), places drawn with ``rng``."""
     lib = _library(frame)
     pick = lambda seq: seq[int(rng.integers(len(seq)))]      # noqa: E731
-    point = lambda: {"kind": "point_mass", "at": pick(lib["point_mass"][0]), "kg": float(lib["point_mass"][1])}  # noqa: E731
+    point = lambda: {"kind": "point_mass", "at": pick(lib["point_mass"][0]),  # noqa: E731
+                     "kg": float(lib["point_mass"][1])}
     member = lambda kind, factor: {"kind": kind, "at": pick(lib["member"][0]), "factor": factor}  # noqa: E731
     if label.startswith(("support", "joint", "tuned", "ground")):
         places, *size = lib[label.split("_")[0]]
