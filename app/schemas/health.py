@@ -8,7 +8,8 @@ from .common import Schema
 
 class StoreUsage(Schema):
     rows: dict[str, int] = Field(description="rows per table: datasets, analyses, reports, explanations")
-    bytes: dict[str, int] = Field(description="bytes per folder of the data folder: datasets, reports, explanations")
+    bytes: dict[str, int] = Field(description="bytes per folder of the data folder (app.store.FOLDERS: datasets, "
+                                                "reports, explanations, imports, models, campaigns, setups)")
     free_bytes: int = Field(description="free space on the data folder's disk, bytes")
 
 

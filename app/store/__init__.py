@@ -49,7 +49,9 @@ _ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
 #: The lock file in a report folder while its report is written (files.holding): held until the report is indexed.
 WRITING = ".writing.lock"
 #: The folders of the data folder that atomic writes put temporary files in.
-_FOLDERS = ("datasets", "reports", "explanations", "imports", "models", "campaigns")
+#: Every folder of the data folder the store's writers use (write_atomic): swept of leftover temporary files and
+#: counted in usage(). ``setups``: the multi-setup tests (app/setups.py).
+FOLDERS = ("datasets", "reports", "explanations", "imports", "models", "campaigns", "setups")
 
 
 def new_token() -> str:
@@ -340,7 +342,7 @@ class Store:
             if not self._has_report(path.name):  # indexed meanwhile: its writer finished and let the lock go
                 shutil.rmtree(path, ignore_errors=True)
                 removed += 1
-        for name in _FOLDERS:  # os.walk, not rglob: a folder removed meanwhile is skipped, not an error
+        for name in FOLDERS:  # os.walk, not rglob: a folder removed meanwhile is skipped, not an error
             found = (Path(top) / f for top, _, names in os.walk(self.root / name) for f in names)
             for tmp in (p for p in found if p.name.startswith(".") and p.name.endswith(".tmp")):
                 try:
@@ -359,8 +361,7 @@ class Store:
         with self._engine.connect() as conn:
             rows = {t.name: conn.execute(sa.select(sa.func.count()).select_from(t)).scalar_one()
                     for t in (datasets, analyses, reports, explanations)}
-        folders = {name: _folder_bytes(self.root / name)
-                   for name in ("datasets", "reports", "explanations", "imports", "models")}
+        folders = {name: _folder_bytes(self.root / name) for name in FOLDERS}
         return {"rows": rows, "bytes": folders, "free_bytes": shutil.disk_usage(self.root).free}
 
 

@@ -163,3 +163,17 @@ def test_explanation_files_written_before_the_index_are_found_and_old_databases_
     rows = sqlite3.connect(tmp_path / "era.sqlite3").execute("SELECT analysis_id FROM explanations").fetchall()
     assert rows == [("new_one",)]
     store.close()
+
+
+def test_the_multi_setup_folder_is_swept_of_leftover_temporary_files_and_counted_in_the_usage(tmp_path):
+    """app/setups.py writes under setups/{id}/ with write_atomic: a write killed midway leaves its temporary file
+    there, which the sweep must remove like any other folder's; the disk usage counts the folder."""
+    store = Store(tmp_path)
+    test = tmp_path / "setups" / "t1"
+    write_atomic(test / "test.json", b'{"id": "t1"}')
+    leftover = test / ".setup1.bin.abc123.tmp"  # an unlocked temporary file, last changed long ago
+    leftover.write_bytes(b"half a file")
+    assert store.usage()["bytes"]["setups"] == len(b'{"id": "t1"}') + len(b"half a file")
+    assert store.sweep_orphans(before=leftover.stat().st_mtime + 1) == 1
+    assert not leftover.exists() and (test / "test.json").read_bytes() == b'{"id": "t1"}'
+    assert store.usage()["bytes"]["setups"] == len(b'{"id": "t1"}')
