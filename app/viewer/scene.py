@@ -200,12 +200,63 @@ def frame(geometry: Geometry, node_vectors: np.ndarray, phase: float, amplitude:
     )
 
 
-def camera_pose(geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
-    """(position, look_at) of a three-quarter view from above that frames the whole structure (z is up)."""
-    xyz = geometry.coordinates
+#: The three-quarter direction from above the camera looks from (towards the structure's centre; z is up).
+VIEW_DIRECTION = np.array([0.45, -0.95, 0.75]) / np.linalg.norm([0.45, -0.95, 0.75])
+#: viser's vertical field of view (three.js' default, 75°), rad, and the width/height of the page's viewer box
+#: (the card's 594 × 460 px canvas; the report's is alike).
+VIEWER_FOV = float(np.radians(75.0))
+VIEWER_ASPECT = 1.3
+#: The share of the view's width or height the structure at rest fills, whichever is reached first (its motion,
+#: 15 % of its size by default, stays in the view's remaining fifth).
+FRAME_FILL = 0.8
+
+
+def project(position: np.ndarray, look_at: np.ndarray, xyz: np.ndarray, fov: float = VIEWER_FOV,
+            aspect: float = VIEWER_ASPECT) -> tuple[np.ndarray, np.ndarray]:
+    """Where points ``xyz`` (n, 3) appear in a perspective view from ``position`` towards ``look_at`` (z up): x and
+    y (n,) each, -1 to 1 from the left/bottom edge of the view to the right/top (outside beyond ±1)."""
+    forward = np.asarray(look_at, float) - np.asarray(position, float)
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, (0.0, 0.0, 1.0))
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    rel = np.asarray(xyz, float).reshape(-1, 3) - position
+    depth = rel @ forward
+    tan_v = np.tan(fov / 2)
+    return rel @ right / depth / (tan_v * aspect), rel @ up / depth / tan_v
+
+
+def camera_pose(geometry: Geometry, fov: float = VIEWER_FOV, aspect: float = VIEWER_ASPECT,
+                fill: float = FRAME_FILL) -> tuple[np.ndarray, np.ndarray]:
+    """(position, look_at) of a three-quarter view from above (VIEW_DIRECTION) that frames the structure: its
+    nodes span ``fill`` of the view's width or height (whichever is reached first; :func:`project` with the
+    vertical field of view ``fov``, rad, and width/height ``aspect``), centred in it. A structure with no extent
+    (one point) is seen from 1.3 structure sizes. Units: the geometry's."""
+    xyz = np.asarray(geometry.coordinates, dtype=float).reshape(-1, 3)
     centre = (xyz.min(axis=0) + xyz.max(axis=0)) / 2 if geometry.n_nodes else np.zeros(3)
     size = structure_size(geometry)
-    return centre + size * np.array([0.45, -0.95, 0.75]), centre
+    if not geometry.n_nodes or np.ptp(xyz, axis=0).max() == 0:
+        return centre + 1.3 * size * VIEW_DIRECTION, centre
+    right = np.cross(-VIEW_DIRECTION, (0.0, 0.0, 1.0))
+    right /= np.linalg.norm(right)
+    up = np.cross(right, -VIEW_DIRECTION)
+    tan_v = np.tan(fov / 2)
+
+    def framed(distance):  # look_at centring the projected nodes at this distance, and their half span
+        look_at = centre
+        for _ in range(4):
+            x, y = project(look_at + distance * VIEW_DIRECTION, look_at, xyz, fov, aspect)
+            look_at = look_at + distance * tan_v * ((x.max() + x.min()) / 2 * aspect * right
+                                                    + (y.max() + y.min()) / 2 * up)
+        x, y = project(look_at + distance * VIEW_DIRECTION, look_at, xyz, fov, aspect)
+        return look_at, max(np.ptp(x), np.ptp(y)) / 2
+
+    near, far = 0.2 * size, 20.0 * size  # the span shrinks as the camera backs away: bisect for ``fill``
+    for _ in range(30):
+        mid = (near + far) / 2
+        near, far = (mid, far) if framed(mid)[1] > fill else (near, mid)
+    look_at = framed(far)[0]
+    return look_at + far * VIEW_DIRECTION, look_at
 
 
 def mode_labels(frequency_hz: np.ndarray, labels=None) -> list[str]:

@@ -186,10 +186,32 @@ def test_labels_default_to_frequency_and_are_made_unique():
         scene.mode_labels(np.array([1.0]), ["a", "b"])
 
 
-def test_camera_frames_the_structure_from_above():
-    position, look_at = scene.camera_pose(grid())
-    np.testing.assert_allclose(look_at, [5.0, 3.5, 0.0])
-    assert position[2] > 5 and np.linalg.norm(position - look_at) > 10
+@pytest.mark.parametrize("aspect", [1.3, 0.6])
+def test_camera_frames_the_structure_from_above_filling_four_fifths_of_the_view(aspect):
+    """The grid filled about half the canvas' width (the camera 1.3 sizes away from its centre): now its nodes
+    span 80 % of the view's width or height, whichever is reached first, centred; a tower (tall, narrow) too."""
+    tower = Geometry(node_ids=np.arange(1, 9), coordinates=np.array(
+        [(x, y, z) for z in (0.0, 12.0) for x in (0.0, 2.0) for y in (0.0, 1.5)]), edges=np.array([[0, 4], [3, 7]]),
+        channel_nodes=np.array([4]), channel_directions=np.array([[1.0, 0.0, 0.0]]), units="m")
+    for geometry in (grid(), tower):
+        position, look_at = scene.camera_pose(geometry, aspect=aspect)
+        x, y = scene.project(position, look_at, geometry.coordinates, aspect=aspect)
+        half = max(np.ptp(x), np.ptp(y)) / 2
+        assert half == pytest.approx(scene.FRAME_FILL, abs=0.01), (x, y)
+        assert abs(x.max() + x.min()) < 0.02 and abs(y.max() + y.min()) < 0.02  # centred
+        assert np.abs(x).max() < 0.82 and np.abs(y).max() < 0.82  # nothing cut
+        assert position[2] > geometry.coordinates[:, 2].max()  # from above
+    old_x, _ = scene.project(np.array([5.0, 3.5, 0.0]) + 10 * np.array([0.45, -0.95, 0.75]), np.array([5.0, 3.5, 0.0]),
+                             grid().coordinates)
+    assert np.ptp(old_x) / 2 < 0.5  # the former pose: half the width
+
+
+def test_a_single_point_is_seen_from_a_little_over_its_unit_size():
+    point = Geometry(node_ids=np.array([1]), coordinates=np.zeros((1, 3)), edges=np.zeros((0, 2), int),
+                     channel_nodes=np.array([0]), channel_directions=np.array([[0.0, 0.0, 1.0]]), units="m")
+    position, look_at = scene.camera_pose(point)
+    np.testing.assert_allclose(look_at, 0.0)
+    assert np.linalg.norm(position - look_at) == pytest.approx(1.3)
 
 
 # ---- keys and view state ---------------------------------------------------------------------------------------
