@@ -24,7 +24,6 @@ with a 1 % gain error per sensor and 1 % noise per component of the unit-norm sh
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -148,7 +147,7 @@ class _Builder:
             self.node[name] = self.new_node(xyz)
         self.materials = {}
 
-    def tag(self, kind: int) -> int:
+    def tag(self, kind: int) -> int:     # kind 0: nodes, 1: elements, 2: transformations
         self.next_tag[kind] += 1
         return self.next_tag[kind] - 1
 
@@ -180,19 +179,15 @@ class _Builder:
 
 def _penalties(frame: Frame) -> tuple[float, float]:
     """Stiff-spring values (N/m, N·m/rad) for rigid supports and links: 1e4 × the stiffest member's EA/L, EI/L."""
-    ea, ei = [], []
-    for i, j, sec, _ in frame.members:
-        s, length = frame.sections[sec], np.linalg.norm(np.subtract(frame.nodes[j], frame.nodes[i]))
-        ea.append(s.e * s.area / length)
-        ei.append(s.e * max(s.iy, s.iz) / length)
-    return 1e4 * max(ea), 1e4 * max(ei)
+    s_l = [(frame.sections[sec], np.linalg.norm(np.subtract(frame.nodes[j], frame.nodes[i])))
+           for i, j, sec, _ in frame.members]
+    return 1e4 * max(s.e * s.area / L for s, L in s_l), 1e4 * max(s.e * max(s.iy, s.iz) / L for s, L in s_l)
 
 
 def _orientation(axis: np.ndarray, given) -> list:
-    if given is not None:
-        return list(given)
-    unit = axis / np.linalg.norm(axis)
-    return [1.0, 0.0, 0.0] if abs(unit[2]) > 1 - 1e-9 else [0.0, 0.0, 1.0]
+    """The local x-z plane's vector: the member's own, else era.Frame's default (+Z, or +X for a vertical)."""
+    return list(given) if given is not None else (
+        [1.0, 0.0, 0.0] if abs(axis[2]) > (1 - 1e-9) * np.linalg.norm(axis) else [0.0, 0.0, 1.0])
 
 
 def _members(b: _Builder, form: ModelForm, effects: list, gravity: bool) -> None:
