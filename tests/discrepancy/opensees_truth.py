@@ -440,11 +440,13 @@ def _nominal_hz(family: str) -> np.ndarray:
 @functools.lru_cache(maxsize=None)
 def make_case(family: str, label: str, seed: int, scale: float = 1.0) -> TruthCase:
     """One blind test of ``family`` ("grid", "footbridge", "portal") with the effect ``label`` (one of
-    :func:`applicable`) hidden, scatter, places and noise drawn from ``seed``; ``scale`` multiplies the
-    model-form scatter (0: only the formulation differs). Cached per process."""
+    :func:`applicable`) hidden; the model-form scatter drawn from (family, seed), the same for every label, places
+    and noise from (family, label, seed); ``scale`` multiplies the scatter (0: only the formulation differs)."""
     frame = FAMILIES[family]()
+    # one structure per (family, seed): every effect of a seed is hidden in the same scattered truth; the places
+    # and the identification noise are drawn per case
+    form = ModelForm.draw(frame, [seed, list(FAMILIES).index(family)], N_SUB[family], scale)
     rng = np.random.default_rng([seed, LABELS.index(label), list(FAMILIES).index(family)])
-    form = ModelForm.draw(frame, rng, N_SUB[family], scale)
     effects = _effects(frame, label, rng, _nominal_hz(family))
     f, u = solve(frame, form, effects, n_modes=N_MODES[family] + 8)
     data, f_true = measure(frame, f, u, rng, N_MODES[family])
