@@ -18,6 +18,7 @@ import numpy as np
 from ..data import ResponseData
 from ..errors import DataError, EraError
 from ..geometry import Geometry
+from ..words import listed
 from .csv import read_csv
 from .hdf5 import read_hdf5
 from .inflate import Budget
@@ -203,7 +204,9 @@ def read(source, format: str | None = None, *, name: str | None = None, dt: floa
     converted."""
     unknown = set(how) - set(_READER_OPTIONS)
     if unknown:
-        raise DataError(f"Unknown reading option(s) {sorted(unknown)}; the readers take {sorted(_READER_OPTIONS)}.")
+        raise DataError(f"Unknown reading {'options' if len(unknown) > 1 else 'option'} "
+                        f"{listed(sorted(unknown), quote=True)}; the readers take "
+                        f"{listed(sorted(_READER_OPTIONS), quote=True)}.")
     how = {k: v for k, v in how.items() if v is not None and v is not False}
     sources = list(source) if isinstance(source, (list, tuple)) else [source]
     if not sources:

@@ -22,6 +22,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 from .records import MIN_SAMPLES, Records, hammer_channel
 from .text import ORIENTATIONS
 from .timebase import UnevenClock, binary_resolution, even_step as _even_step_any
@@ -137,7 +138,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     bad = ~np.isfinite(y) if not np.isfinite(np.add.reduce(y, axis=None)) else None  # one pass when all is well
     if bad is not None and bad.any():
         k, c = np.argwhere(bad)[0]
-        raise DataError(f"{label}: {int(bad.sum())} NaN or infinite value(s), the first at sample {k}, channel "
+        raise DataError(f"{label}: {counted(bad.sum(), 'NaN or infinite value')}, the first at sample {k}, channel "
                         f"{c + 1}. Remove or interpolate them, then load again.")
     names, units, points = [], [], []
     for v, b in zip(chosen, blocks):
@@ -166,8 +167,8 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     return Records(domain="time", values=[y], step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units) if any(units) else (), force=force,
                    points={"channel_points": tuple(points)} if any(points) else None,
-                   described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as {y.shape[1]} channel(s) × "
-                              f"{len(y)} samples, {how}"])
+                   described=[f"{label}: {fmt}, {', '.join(v.name for v in chosen)} as "
+                              f"{counted(y.shape[1], 'channel')} × {len(y)} samples, {how}"])
 
 
 def even_step(t, resolution, where):

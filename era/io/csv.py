@@ -13,6 +13,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 from .records import Records, hammer_channel
 from .text import read_headerless
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
@@ -193,7 +194,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
                    f"{max(len(values[0]) // 100, 1)} samples, the others ring on)")
     return Records(domain="time", values=values, step=step, start=start, outputs=tuple(names),
                    output_units=tuple(units), force=force, nodes=None, directions=None, conversions=conversions,
-                   described=[f"{label}: {len(table)} lines × {len(names)} channels"
+                   described=[f"{label}: {len(table)} lines × {counted(len(names), 'channel')}"
                               + (f" in {len(values)} records (column {tests is not None and 'test'})" if len(values) > 1
                                  else "") + timing + (", decimal comma" if decimal_comma else "")
                               + (f", delimiter {delim!r}" if delim else ", blank-separated")

@@ -24,6 +24,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 from .csv import FORCE_UNITS, UNIT_IN_NAME, decode
 from .records import Records, check_finite
 from .timebase import UnevenClock, even_step_printed, printed_resolution
@@ -159,10 +160,12 @@ def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
             values.append(part["y"])
     names, units = first["names"], first["units"]
     force = np.array([u.lower() in FORCE_UNITS or "force" in nm.lower() for nm, u in zip(names, units)])
-    described = (f"{label}: LabVIEW LVM, {len(segments)} segment(s) as {len(values)} record(s) of "
+    segmented = f"{counted(len(segments), 'segment')} as " if len(segments) > 1 else ""
+    described = (f"{label}: LabVIEW LVM, {segmented}{counted(len(values), 'record')} of "
                  f"{', '.join(str(len(v)) for v in values[:6])}{'…' if len(values) > 6 else ''} samples × "
-                 f"{len(names)} channel(s), Δt = {first['dt']:.6g} s ({1 / first['dt']:.6g} Hz, {first['dt_from']})"
-                 + (f"; {first['dropped']} empty column(s) dropped" if first["dropped"] else ""))
+                 f"{counted(len(names), 'channel')}, Δt = {first['dt']:.6g} s ({1 / first['dt']:.6g} Hz, "
+                 f"{first['dt_from']})" + (f"; {counted(first['dropped'], 'empty column')} dropped"
+                                           if first["dropped"] else ""))
     return Records(domain="time", values=values, step=first["dt"],
                    start=0.0 if absolute or first["t0"] is None else float(first["t0"]),
                    outputs=tuple(names), output_units=tuple(units), force=force, described=[described])
@@ -225,11 +228,11 @@ def _read_segment(text: str, seg: _Segment, sep: str, decimal: str, label: str, 
             if abs(step - header_dt) > digit + 1e-6 * step:
                 raise DataError(f"{where}: the X_Value column steps {step:.9g} s but the header's Delta_X is "
                                 f"{header_dt:g} s; the file contradicts itself. Check the acquisition settings.")
-        t0, dt_from = float(t[0]), "X_Value column"
+        t0, dt_from = float(t[0]), "from the X_Value column"
     elif header_dt is not None:
-        step, t0, dt_from = header_dt, x0 if x0 is not None else 0.0, "Delta_X"
+        step, t0, dt_from = header_dt, x0 if x0 is not None else 0.0, "from Delta_X"
     elif dt is not None:
-        step, t0, dt_from = float(dt), None, "dt given"
+        step, t0, dt_from = float(dt), None, "given"
     else:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...).", option="dt")
     if not (np.isfinite(step) and step > 0):

@@ -9,6 +9,7 @@ can give the sample rate.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +21,9 @@ from .records import Records, guess_kind
 
 #: Points per plotted channel at most (min/max pairs of equal bins keep every peak visible).
 MAX_POINTS = 2000
+#: The step the preview reads files without a sampling interval with (Δt = 1: against the sample number), as the
+#: readers describe it ("Δt = 1 s (1 Hz) given", LVM's "Δt = 1 s (1 Hz, given)"): said as what it is instead.
+_STAND_IN_STEP = re.compile(r"Δt = 1 s \(1 Hz(\) given|, given\))")
 
 
 @dataclass(frozen=True)
@@ -162,7 +166,8 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
         start=chosen.start if step is not None else float(start_sample or 0), channels=channels,
         references=list(rec.inputs), n_records=len(chosen.values), n_samples=[len(v) for v in chosen.values],
         kind=guess_kind(chosen),
-        described=list(chosen.described) + ([] if problem else list(rec.conversions)), x=np.asarray(x, float),
+        described=[_STAND_IN_STEP.sub("no sampling interval in the file", d) for d in chosen.described] if problem
+        else list(chosen.described) + list(rec.conversions), x=np.asarray(x, float),
         traces=np.asarray(y[idx].T, float),
         problem=problem, problem_option=option,
         geometry_nodes=len(got.parts[0]) if got.parts is not None else 0,

@@ -14,6 +14,7 @@ import numpy as np
 from ..data import ResponseData
 from ..errors import DataError
 from ..markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
+from ..words import counted
 
 KINDS = ("frf", "pulse", "decay", "io", "ambient")
 #: Fewest samples from which any identification is attempted (a 2 × 2 block Hankel needs 4 at the least).
@@ -211,7 +212,7 @@ def check_finite(values: np.ndarray, where: str, row_offset: int = 0, row_name: 
     if bad.any():
         first = np.argwhere(bad)[0]
         col = f", column {first[1] + 1}" if values.ndim > 1 else ""
-        raise DataError(f"{where}: {int(bad.sum())} NaN or infinite value(s), the first at {row_name} "
+        raise DataError(f"{where}: {counted(bad.sum(), 'NaN or infinite value')}, the first at {row_name} "
                         f"{int(first[0]) + row_offset}{col}. Remove or interpolate them, then load again.")
 
 

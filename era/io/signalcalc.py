@@ -22,6 +22,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 from .csv import decode
 from .records import Records, check_finite
 from .timebase import even_step_printed
@@ -133,7 +134,7 @@ def read_signalcalc(raws: list[bytes], labels: list[str], setup: tuple | None = 
             i, j = np.argwhere(~filled)[0]
             raise DataError(f"{', '.join(labels)}: no FRF of response {outs[i]} to reference {refs[j]}; the "
                             f"{len(outs)} × {len(refs)} matrix of outputs × references must be complete.")
-        how = f"{len(outs)} response(s) × {len(refs)} reference(s) by their channels"
+        how = f"{counted(len(outs), 'response')} × {counted(len(refs), 'reference')} by their channels"
     unit = f"{first['rsp_unit']}/{first['ref_unit']}".strip("/")
     frf_type = _FRF_TYPE.get(first["rsp_unit"]) if first["ref_unit"] in ("N", "lbf") else None
     points = parts = nodes = directions = None
@@ -145,15 +146,15 @@ def read_signalcalc(raws: list[bytes], labels: list[str], setup: tuple | None = 
             points["proposed_band_hz"] = got["band_hz"]
         nodes = np.array([int(p[:-1]) for p in points["output_points"]])
         directions = got["accel_dir"] / np.linalg.norm(got["accel_dir"], axis=1, keepdims=True)
-        placed = [f"{setup[1]}: {len(refs)} hammer point(s) and {len(outs)} accelerometer(s) placed on "
-                  f"{len(parts[0])} node(s)" + (f"; band {got['band_hz'][0]:g}-{got['band_hz'][1]:g} Hz proposed"
-                                                 if got["band_hz"] else "")]
+        placed = [f"{setup[1]}: {counted(len(refs), 'hammer point')} and {counted(len(outs), 'accelerometer')} placed "
+                  f"on {counted(len(parts[0]), 'node')}"
+                  + (f"; band {got['band_hz'][0]:g}-{got['band_hz'][1]:g} Hz proposed" if got["band_hz"] else "")]
     return Records(domain="frequency", values=[values], step=first["df"], start=first["f0"],
                    outputs=tuple(f"resp {o}" for o in outs), output_units=(unit,) * len(outs),
                    inputs=tuple(r if len(set(pairs)) == 1 and len(funcs) > 1 else f"ref {r}" for r in refs),
                    input_units=(first["ref_unit"],) * len(refs),
                    frf_type=frf_type, nodes=nodes, directions=directions, points=points,
-                   described=[f"{len(funcs)} SignalCalc FRF file(s), {len(first['h'])} lines every "
+                   described=[f"{counted(len(funcs), 'SignalCalc FRF file')}, {len(first['h'])} lines every "
                               f"{first['df']:.9g} Hz from {first['f0']:g} Hz, {unit}"
                               + (f" ({frf_type})" if frf_type else "") + f": {how}"] + placed), parts
 
@@ -231,9 +232,10 @@ def setup_points(setup: dict, n_outputs: int, n_inputs: int, label: str) -> tupl
     from ..points import axis_and_sign, point_label
     h_xyz, a_xyz = setup["hammer_xyz"], setup["accel_xyz"]
     if len(h_xyz) != n_inputs or len(a_xyz) != n_outputs:
-        raise DataError(f"{label}: {len(h_xyz)} hammer points and {len(a_xyz)} accelerometer(s), but the FRF files "
-                        f"hold {n_inputs} reference(s) and {n_outputs} response(s); the setup must list one hammer "
-                        "point per file (in the files' order) and one accelerometer per response.")
+        raise DataError(f"{label}: {counted(len(h_xyz), 'hammer point')} and {counted(len(a_xyz), 'accelerometer')}, "
+                        f"but the FRF files hold {counted(n_inputs, 'reference')} and "
+                        f"{counted(n_outputs, 'response')}; the setup must list one hammer point per file (in the "
+                        "files' order) and one accelerometer per response.")
     xyz, node_of = [], []
     scale = max(float(np.ptp(np.vstack([h_xyz, a_xyz]), axis=0).max()), 1e-300)
     for p in np.vstack([h_xyz, a_xyz]):

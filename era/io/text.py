@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 from .records import Records, hammer_channel
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
@@ -69,8 +70,8 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
         found = f"time in the first {chosen[:-1]}, Δt = {step:.6g} s ({1 / step:.6g} Hz)"
     elif dt is None:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...). The file is a bare matrix "
-                        f"({n_rows} lines × {n_cols} values, read as {y.shape[1]} channel(s) in {chosen}; say "
-                        f"orientation='rows' or 'columns' if that is wrong).", option="dt")
+                        f"({n_rows} lines × {n_cols} values, read as {counted(y.shape[1], 'channel')} in {chosen}; "
+                        f"say orientation='rows' or 'columns' if that is wrong).", option="dt")
     else:
         step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given", []
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))
@@ -83,8 +84,8 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
     how = "as given" if orientation else "from the shape"
     return Records(domain="time", values=[np.ascontiguousarray(y)], step=step, start=start, outputs=names,
                    output_units=(), force=force, conversions=conversions,
-                   described=[f"{label}: headerless text, {y.shape[1]} channel(s) in {chosen} ({how}) × {len(y)} "
-                              f"samples, {found}{notes}"])
+                   described=[f"{label}: headerless text, {counted(y.shape[1], 'channel')} in {chosen} ({how}) × "
+                              f"{len(y)} samples, {found}{notes}"])
 
 
 def _first_bad(numbered, split, label) -> str | None:

@@ -13,6 +13,7 @@ import numpy as np
 import pyuff
 
 from ..errors import DataError
+from ..words import counted
 from ..markov.common import uneven_step
 from .records import Records, check_finite, merge
 from .uff_geometry import (build_geometry, geometry_parts, in_global_directions, merge_parts,  # noqa: F401
@@ -129,7 +130,7 @@ def _function_record(i: int, line: _Line, d: dict, label: str) -> dict | None:
         raise DataError(f"{where}: the header promises {n_promised} values but the record holds {y.size}; the file "
                         "is truncated or corrupt.")
     if y.size < 2:
-        raise DataError(f"{where}: {y.size} value(s); far too few samples for identification.")
+        raise DataError(f"{where}: {counted(y.size, 'value')}; far too few samples for identification.")
     if domain == "time" and np.iscomplexobj(y):
         raise DataError(f"{where}: a time record with complex values; time histories must be real.")
     check_finite(y, where)
@@ -219,8 +220,10 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
                    nodes=np.array([k[0] for k in outs]), directions=np.array([direction_vector(k[1]) for k in outs]),
                    frf_type=frf_type, points=_points(outs, refs),
                    described=[f"{len(recs)} UFF 58 {'FRF' if domain == 'frequency' else 'impulse response'} records "
-                              f"(sets {recs[0]['set']}..{recs[-1]['set']}) as {len(outs)} outputs × {len(refs)} "
-                              f"references" + (f", {frf_type}" if frf_type else "")])
+                              f"(sets {recs[0]['set']}..{recs[-1]['set']}) as {counted(len(outs), 'output')} × "
+                              f"{counted(len(refs), 'reference')}" + (f", {frf_type}" if frf_type else "")
+                              + (f", {len(values)} lines every {recs[0]['dx']:.6g} Hz" if domain == "frequency" else
+                                 f", {len(values)} samples, Δt = {recs[0]['dx']:.6g} s ({1 / recs[0]['dx']:.6g} Hz)")])
 
 
 def _points(outs: list, refs: list) -> dict | None:
@@ -256,8 +259,8 @@ def _channels(recs: list[dict], label: str) -> Records:
                    nodes=np.array([r["rsp"][0] for r in g0]),
                    directions=np.array([direction_vector(r["rsp"][1]) for r in g0]),
                    described=[f"{len(recs)} UFF 58 time records (sets {recs[0]['set']}..{recs[-1]['set']}) as "
-                              f"{len(g0)} channels × {len(groups)} record(s) of {g0[0]['y'].size} samples, "
-                              f"Δτ = {g0[0]['dx']:g} s"])
+                              f"{counted(len(g0), 'channel')} × {counted(len(groups), 'record')} of "
+                              f"{g0[0]['y'].size} samples, Δt = {g0[0]['dx']:.6g} s ({1 / g0[0]['dx']:.6g} Hz)"])
 
 
 @dataclass(frozen=True, eq=False)
@@ -344,7 +347,7 @@ def read_uff(path, label):
         if any(f.get("si") for f in funcs):
             records.described.append("values converted to SI units with the files' UFF 164 unit factors")
         if skipped:
-            records.described.append(f"{skipped} other UFF 58 record(s) (spectra, coherence, ...) not used")
+            records.described.append(f"{counted(skipped, 'other UFF 58 record')} (spectra, coherence, ...) not used")
     parts = merge_parts([geometry_parts(sets, lab) for sets, lab in zip(per_file, labels)], labels)
     if records is not None and records.nodes is not None and parts is not None:
         records = in_global_directions(records, parts)

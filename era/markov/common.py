@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 
 
 def records(value, name: str) -> list[np.ndarray]:
@@ -25,7 +26,7 @@ def records(value, name: str) -> list[np.ndarray]:
         bad = ~np.isfinite(a)
         if bad.any():
             k, c = np.argwhere(bad)[0]
-            raise DataError(f"`{name}` record {r} holds {int(bad.sum())} NaN or infinite value(s), the first at "
+            raise DataError(f"`{name}` record {r} holds {counted(bad.sum(), 'NaN or infinite value')}, the first at "
                             f"sample {k}, channel {c}; remove or interpolate them first.")
         out.append(a)
     widths = {a.shape[1] for a in out}

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
+from ..words import counted, listed
 from .common import check_dt
 
 
@@ -56,15 +57,19 @@ def markov_from_decay(responses, dt, *, start="peak", n_samples: int | None = No
             raise DataError(f"`start` must hold whole sample indices, got {start!r}.")
         starts = [int(s) for s in starts]
     if any(s < 0 or s >= len(y) for s in starts):
-        raise DataError(f"Start sample(s) {starts} lie outside the record of {len(y)} samples.")
+        outside = [s for s in starts if s < 0 or s >= len(y)]
+        raise DataError(f"{'Start samples' if len(outside) > 1 else 'Start sample'} {listed(outside)} "
+                        f"{'lie' if len(outside) > 1 else 'lies'} outside the record of {len(y)} samples.")
     available = min(len(y) - s for s in starts)
     n_keep = available if n_samples is None else min(int(n_samples), available)
     if n_keep < 4:
-        raise DataError(f"Only {available} sample(s) remain after the start sample {max(starts)}; too few for "
-                        "any identification. Choose an earlier start or a longer record.")
+        raise DataError(f"Only {counted(available, 'sample')} {'remains' if available == 1 else 'remain'} after the "
+                        f"start sample {max(starts)}; too few for any identification. Choose an earlier start or a "
+                        "longer record.")
     out = np.stack([y[s:s + n_keep, :, j] for j, s in enumerate(starts)], axis=2)
     return ResponseData(markov=out, dt=dt, outputs=outputs, inputs=inputs, output_units=output_units,
                         input_units=input_units,
                         meta={"start_samples": starts, "source": "decay",
-                              "conversions": [f"free decay from sample(s) {starts} (t = "
-                                              f"{', '.join(f'{s * dt:g}' for s in starts)} s), {n_keep} samples"]})
+                              "conversions": [f"free decay from {'samples' if len(starts) > 1 else 'sample'} "
+                                              f"{listed(starts)} (t = {', '.join(f'{s * dt:g}' for s in starts)} s), "
+                                              f"{n_keep} samples"]})

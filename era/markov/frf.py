@@ -12,6 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
+from ..words import counted
 from .common import uneven_step
 
 #: Power of iω that turns displacement into each quantity: receptance (x/F), mobility (v/F), accelerance (a/F).
@@ -35,7 +36,7 @@ def _as_frf(frf) -> np.ndarray:
     bad = ~np.isfinite(h)
     if bad.any():
         k, i, j = np.argwhere(bad)[0]
-        raise DataError(f"`frf` holds {int(bad.sum())} NaN or infinite value(s), the first at frequency line {k}, "
+        raise DataError(f"`frf` holds {counted(bad.sum(), 'NaN or infinite value')}, the first at frequency line {k}, "
                         f"output {i}, input {j}; remove or interpolate them first.")
     return h
 
@@ -103,7 +104,7 @@ def markov_from_frf(frequencies_hz, frf, *, frf_type: str | None = None, to: str
     conversions = []
     if first:
         h = np.concatenate([np.zeros((first,) + h.shape[1:], complex), h])
-        conversions.append(f"filled {first} missing line(s) below {first * df:g} Hz with zeros")
+        conversions.append(f"filled {counted(first, 'missing line')} below {first * df:g} Hz with zeros")
     f = np.arange(h.shape[0]) * df
     f_lo, f_hi = 0.0, float(f[-1])
     if band_hz is not None:

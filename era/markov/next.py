@@ -12,6 +12,7 @@ import numpy as np
 
 from ..data import ResponseData
 from ..errors import DataError
+from ..words import counted, listed
 from .common import check_dt, kept_records, positive_int, records
 
 #: Smallest FFT length of the block-wise correlation sum; blocks stay small (cache-friendly, bounded memory).
@@ -113,6 +114,8 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
     return ResponseData(markov=r[1:], dt=dt, outputs=labels, inputs=[f"ref {labels[i]}" for i in idx],
                         output_units=units, input_units=ref_units if units is not None else None,
                         records=per_record, meta={"zero_lag": r[0], "references": idx, "source": "next",
-                              "conversions": [f"NExT (James et al. 1995): correlations with reference channel(s) "
-                                              f"{[labels[i] for i in idx]} over {len(ys)} record(s), lags 1..{n_lags}"
+                              "conversions": [f"NExT (James et al. 1995): correlations with reference "
+                                              f"{'channels' if len(idx) > 1 else 'channel'} "
+                                              f"{listed([labels[i] for i in idx])} over "
+                                              f"{counted(len(ys), 'record')}, lags 1..{n_lags}"
                                               + (", means removed" if detrend else "")]})

@@ -18,6 +18,7 @@ import scipy.linalg
 
 from ..data import ResponseData
 from ..errors import DataError
+from ..words import counted, listed
 from .common import check_dt, kept_records, positive_int, records
 
 #: Rows of the regression factored at once; the QR of each chunk is stacked under the running R factor,
@@ -114,8 +115,9 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
     scale_u = np.sqrt(np.mean(np.concatenate(us) ** 2, axis=0))
     scale_y = np.sqrt(np.mean(np.concatenate(ys) ** 2, axis=0))
     if np.any(scale_u == 0):
-        raise DataError(f"Input channel(s) {np.flatnonzero(scale_u == 0).tolist()} are all zero; OKID needs the "
-                        "measured excitation.")
+        zero = np.flatnonzero(scale_u == 0).tolist()
+        raise DataError(f"{'Input channels' if len(zero) > 1 else 'Input channel'} {listed(zero)} "
+                        f"{'are' if len(zero) > 1 else 'is'} all zero; OKID needs the measured excitation.")
     scale_y = np.where(scale_y > 0, scale_y, 1.0)
     # fit in scaled units (conditioning), then undo: Y = diag(s_y) Ŷ diag(1/s_u)
     obs, residual = observer_markov([u / scale_u for u in us], [y / scale_y for y in ys], l)
@@ -132,5 +134,6 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
                         output_units=output_units, input_units=input_units, records=per_record,
                         meta={"direct_term": y_sys[0], "fit_residual": residual, "source": "okid",
                               "conversions": [f"OKID (Juang et al. 1993) with l = {l} observer Markov parameters "
-                                              f"from {len(ys)} record(s), {n_rows} equations; relative residual "
+                                              f"from {counted(len(ys), 'record')}, {n_rows} equations; relative "
+                                              f"residual "
                                               f"{residual:.3g}; {n_markov} Markov parameters"]})

@@ -69,7 +69,7 @@ def test_the_usc_cantilever_lvm_reaches_the_published_frequencies():
     assert ds.data.outputs == ("Acceleration",) and ds.data.output_units == ("g",)
     # Δt from the X_Value column (49.599395 s after 81919 steps: 51.2 kHz / 31), not the header's rounded 0.000605
     assert ds.data.dt == pytest.approx(49.599395 / 81919, rel=1e-7)
-    assert "81920 samples × 1 channel(s)" in ds.source["records"][0]
+    assert "1 record of 81920 samples × 1 channel," in ds.source["records"][0]
     ident = era.identify(ds.data, rows=200, cols=3500)
     stab = era.stabilization(ident, orders=range(2, 61, 2))
     persistent = [m for m in stab.modes if len(m.orders) >= 10 and m.emac > 0.98]
@@ -96,13 +96,13 @@ def test_segments_that_start_again_are_records_and_continued_ones_are_joined(tmp
     (y1, y2), f_modes = decays(hits=(2, 0))
     (tmp_path / "two_hits.lvm").write_text(lvm_text([y1, y2], sep=",", decimal="."))
     ds = era.load(tmp_path / "two_hits.lvm")
-    assert ds.data.markov.shape[2] == 2 and "2 segment(s) as 2 record(s)" in ds.source["records"][0]
+    assert ds.data.markov.shape[2] == 2 and "2 segments as 2 records" in ds.source["records"][0]
     model = era.identify(ds.data, rows=30, cols=30).realize(order=6)
     np.testing.assert_allclose(np.sort(model.frequency_hz), f_modes, rtol=1e-5)
     # one acquisition written in two calls, the second header without its own names line
     text = lvm_text([y1[:700], y1[700:]], starts=[0.0, 700 * DT], header_per_segment=False)
     ds = era.load(text.encode(), name="chunks.lvm")
-    assert "2 segment(s) as 1 record(s) of 1500 samples" in ds.source["records"][0]
+    assert "2 segments as 1 record of 1500 samples" in ds.source["records"][0]
     assert ds.data.markov.shape[2] == 1
 
 

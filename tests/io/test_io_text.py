@@ -35,7 +35,7 @@ def test_the_carini_rows_file_needs_its_rate_and_gives_the_psd_peaks():
     ds = era.load(CARINI, dt=1 / 25, orientation="rows", kind="ambient", n_lags=500)
     assert ds.data.markov.shape == (500, 3, 3) and ds.data.dt == 0.04
     assert ds.data.outputs == ("ch1", "ch2", "ch3") and ds.data.output_units is None
-    assert "3 channel(s) in rows (as given) × 32768 samples" in ds.source["records"][0]
+    assert "3 channels in rows (as given) × 32768 samples" in ds.source["records"][0]
     model = era.identify(ds.data, rows=100, cols=60).realize(order=20)
     strong = model.select(min_contribution=0.2)
     for peak in (2.31, 4.96, 7.37):  # PSD peaks (dataset README)
@@ -51,7 +51,7 @@ def test_a_bare_matrix_either_way_round_gives_the_chain(tmp_path, orientation):
     path = savetxt(tmp_path / "y.txt", y if orientation == "columns" else y.T, fmt="%.12e")
     ds = era.load(path, dt=DT)
     assert ds.data.outputs == ("ch1", "ch2", "ch3") and ds.source["kind"] == "decay"
-    assert f"3 channel(s) in {orientation} (from the shape)" in ds.source["records"][0]
+    assert f"3 channels in {orientation} (from the shape)" in ds.source["records"][0]
     model = era.identify(ds.data, rows=30, cols=30).realize(order=6)
     np.testing.assert_allclose(np.sort(model.frequency_hz), f_modes, rtol=1e-5)
     other = "rows" if orientation == "columns" else "columns"

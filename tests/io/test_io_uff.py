@@ -109,7 +109,7 @@ def test_real_58b_operational_records_are_read_as_ambient_response():
     assert ds.data.dt == pytest.approx(1 / 3200)
     assert ds.data.outputs == ("1+Z", "2+Z", "3+Z", "1+Z (2)") and ds.data.output_units == ("m/s2",) * 4
     assert ds.data.markov.shape == (512, 4, 4)
-    assert "4 channels × 1 record(s) of 8192 samples" in ds.source["records"][0]
+    assert "4 channels × 1 record of 8192 samples, Δt = 0.0003125 s (3200 Hz)" in ds.source["records"][0]
 
 
 def test_full_mpstd_file_from_shared():
@@ -117,7 +117,7 @@ def test_full_mpstd_file_from_shared():
     require_shared(path)
     ds = era.load(path, references=[0], n_lags=1024)
     assert ds.data.markov.shape == (1024, 4, 1)
-    assert "4 channels × 1 record(s) of 222400 samples" in ds.source["records"][0]
+    assert "4 channels × 1 record of 222400 samples" in ds.source["records"][0]
     assert ds.data.dt == pytest.approx(1 / 3200)
     assert np.all(ds.data.meta["zero_lag"][:, 0] != 0)
 
@@ -181,7 +181,7 @@ def test_normal_modes_of_a_finite_element_program_and_spectra_that_are_not_used(
     U.write(tmp_path / "with_coherence.uff", [frf, coherence])
     ds = era.load(tmp_path / "with_coherence.uff")
     assert ds.data.markov.shape == (398, 1, 1)
-    assert "1 other UFF 58 record(s) (spectra, coherence, ...) not used" in ds.source["records"]
+    assert "1 other UFF 58 record (spectra, coherence, ...) not used" in ds.source["records"]
 
 
 def test_uff55_id_lines_carry_sigma_and_the_shape_scatter_and_read_back(tmp_path):

@@ -71,7 +71,7 @@ def test_frf_not_starting_at_zero_is_zero_filled_and_uneven_lines_are_refused():
     f = np.arange(0, 50.0 + 1e-9, 0.01)
     h, f_modes, _ = chain_frf(f)
     data = era.markov_from_frf(f[100:], h[100:], band_hz=(2.0, 50.0), n_samples=1500)
-    assert "filled 100 missing line(s)" in data.meta["conversions"][0]
+    assert "filled 100 missing lines" in data.meta["conversions"][0]
     modes_near(era.identify(data, rows=30, cols=30).realize(order=6), f_modes, 3e-3)
     bad = f.copy()
     bad[500] += 0.003
