@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import era
-from era.discrepancy.explain import _node_rows
+from era.discrepancy.weights import node_rows
 from era.discrepancy.measured import input_point
 from era.examples.frame_simulation import simulate_frame_records
 from era.examples.frames import portal
@@ -45,7 +45,7 @@ def test_known_impulses_at_frame_nodes_give_modal_constants_and_the_knee():
     r = era.explain(data, portal())
     m = r.measured
     assert m.input_locations == (("F", "x"), ("E", "z")) and m.modal_constants.shape[:2] == (7, 2)
-    rows = _node_rows(r.nominal_model, m)
+    rows = node_rows(r.nominal_model, m)
     assert rows is not None and rows[1] == [3 * 5 + 0, 3 * 2 + 2]       # F is the 6th node, E the 3rd
     f, w = truth.model.node_modes(14)
     for k in range(m.n_modes):
@@ -87,5 +87,5 @@ def test_the_portal_as_drawn_with_known_impulses_gets_no_effect(seed):
     the members' scatter widens their sizes too (member_scale_sensitivity): no effect is named."""
     data, truth = simulate_frame_records(portal(), seed=seed, inputs=(1, 4), known_inputs=True)
     r = era.explain(data, portal())
-    assert r.measured.modal_constants is not None and _node_rows(r.nominal_model, r.measured) is not None
+    assert r.measured.modal_constants is not None and node_rows(r.nominal_model, r.measured) is not None
     assert r.verdict != "explained", [(e.name, e.location) for e in r.effects]

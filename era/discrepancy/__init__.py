@@ -10,7 +10,8 @@ unless the named set fits within the measurement error (a χ² test, ranking.ade
 from .effects import EffectSpec, Param
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
-from .explain import VERDICTS, Explanation, NamedEffect, explain
+from .explain import explain
+from .explanation import VERDICTS, Explanation, NamedEffect
 from .fitting import ErrorLevels, Fit
 from .fe_modes import ModeComparison, compare_fe_modes
 from .frame_model import FrameModel

@@ -143,6 +143,13 @@ def as_location(loc):
     return tuple(float(v) for v in loc)
 
 
+def as_json_location(loc):
+    """A location as JSON: a node id, or lists of node ids or of floats (None stays None)."""
+    if loc is None or isinstance(loc, str):
+        return loc
+    return [as_json_location(x) for x in loc] if isinstance(loc, (tuple, list)) else float(loc)
+
+
 def place(loc) -> str:
     """Where, in words: "at node 7", "on member 3-4", "at joint (x = 2 ft, y = 7 ft)",
     "on the member (4, 0)-(5, 0) ft"."""

@@ -3,19 +3,16 @@
 ERA modes (those era.choose_modes chooses from the diagram, or those a person kept) → pairing with the model
 → every candidate effect fitted and weighed by its evidence → further effects on top of the first while the gap
 stays beyond the noise (search.py) → a verdict, the updated model, and the gap before, after each named effect,
-and after.
+and after (explanation.py).
 """
 
 from __future__ import annotations
 
-import dataclasses
 import time
-from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
-from ..correlation import Gap, ModePairing, comac, gap, pair_modes, serep, subspace_mac
+from ..correlation import ModePairing, comac, gap, serep, subspace_mac
 from ..data import ResponseData
 from ..errors import DataError
 from ..realization import Identification
@@ -23,172 +20,17 @@ from ..structure import Frame
 from .effects import describe, nuisance, short_place
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
-from .frame_model import FrameModel, refit_exact
+from .explanation import VERDICTS, Explanation, NamedEffect
 from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
+from .frame_model import FrameModel, refit_exact
 from .measured import MeasuredModes, identify_modes, measured_modes
-from .ranking import RankedEffect, _js, rank_effects
+from .protocol import ExplainModel, as_explain_model
+from .ranking import rank_effects
 from .search import Search, search_effects
-from .protocol import ExplainModel, Modes, as_explain_model
 from .verdict import message_for, too_few_data, verdict_of
+from .weights import close_modes, node_rows, pair, with_member_scatter
 
-VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
-
-
-@dataclass(frozen=True)
-class NamedEffect:
-    """The effect the data support: name, fitted parameters {keyword: value} (incl. stiffness_factor),
-    location (x_ft, y_ft) on the grid, a node id (str) or a member (node i, node j) on an era.Frame, or None;
-    posterior probability, a one-sentence description, the 1σ uncertainty
-    {keyword: value} of each parameter (Laplace posterior), and for located effects the probability of the
-    location given the effect and the other places still in contention (location, probability);
-    interval {keyword: (low, high)}: the effect parameter's 95 % profile-posterior interval, None on a side the
-    data do not bound (then the description gives a bound, not a value); gap_after : the Gap of the model with
-    the effects named up to this one; log_bayes_factor : against the model with the effects named before it;
-    step : 1 for the first named, 2 for the second, ...
-    With several effects, parameters, uncertainty and interval come from the fit of the whole named set."""
-
-    name: str
-    parameters: dict
-    location: tuple | None
-    probability: float
-    description: str
-    uncertainty: dict
-    location_probability: float | None = None
-    other_locations: tuple = ()
-    interval: dict = field(default_factory=dict)
-    gap_after: Gap | None = None
-    log_bayes_factor: float | None = None
-    step: int = 1
-
-    def as_dict(self) -> dict:
-        loc = self.location
-
-        def js(v):
-            return [js(x) for x in v] if isinstance(v, tuple) else (v if isinstance(v, str) else float(v))
-        return {"name": self.name, "parameters": self.parameters, "uncertainty": self.uncertainty,
-                "location": None if loc is None else js(loc), "location_probability": self.location_probability,
-                "other_locations": [[js(loc), q] for loc, q in self.other_locations],
-                "interval": {k: list(v) for k, v in self.interval.items()},
-                "probability": self.probability, "description": self.description,
-                "gap_after": None if self.gap_after is None else self.gap_after.as_dict(),
-                "log_bayes_factor": self.log_bayes_factor, "step": self.step}
-
-
-@dataclass(frozen=True, eq=False)
-class Explanation:
-    """Result of :func:`explain`.
-
-    verdict : one of VERDICTS; effects : the NamedEffects, most important first (empty unless "explained");
-    effect : the first of them or None; message : one paragraph for the report.
-    ranking : RankedEffect per candidate, most probable first (step 1: each alone against the nominal);
-    rankings : the ranking of every step of the search for several effects (rankings[0] is ranking).
-    before, after : Gap of the nominal and of the updated model over the paired modes.
-    updated_model : the best-supported model (the named effects fitted, else the nominal with the fitted
-        global stiffness factor); nominal_model : the model given.
-    measured : every mode ERA found; fit_modes : (k,) indices of those used (paired with some candidate);
-    unpaired_measured : indices of measured modes no candidate could pair (set aside).
-    pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
-    mac_before, mac_after : their MAC matrices (k, n_model); comac_before, comac_after : (p,) per sensor.
-    close_modes : (k,) bool, nearly repeated modes (their shapes are compared as a plane, not one by one).
-    residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9),
-        worst first;
-    residual_sensors : sensors with COMAC < 0.9 after the update.
-    node_xy_ft : (n_nodes, 2) on the grid, (0, 2) on a frame; expanded_measured : (n_rows, k) SEREP expansion of
-    the measured shapes with the updated model's paired modes; expanded_model : (n_rows, k) those model modes (NaN
-    columns when unpaired); rows: the grid's joints, or a frame's node translations (node_labels "7:x", ...).
-    timing_s : wall-clock seconds of each stage.
-    """
-
-    verdict: str
-    effect: NamedEffect | None
-    message: str
-    ranking: tuple
-    before: Gap
-    after: Gap
-    updated_model: ExplainModel
-    nominal_model: ExplainModel
-    measured: MeasuredModes
-    fit_modes: np.ndarray
-    unpaired_measured: tuple
-    pairing_before: ModePairing
-    pairing_after: ModePairing
-    mac_before: np.ndarray
-    mac_after: np.ndarray
-    comac_before: np.ndarray
-    comac_after: np.ndarray
-    close_modes: np.ndarray
-    residual_modes: tuple
-    residual_sensors: tuple
-    node_xy_ft: np.ndarray
-    expanded_measured: np.ndarray
-    expanded_model: np.ndarray
-    timing_s: dict
-    node_labels: tuple = ()
-    effects: tuple = ()
-    rankings: tuple = ()
-
-    @property
-    def rejected_trials(self) -> tuple:
-        """(effect name, location or None, reason) of every trial model that could not be solved (a change that
-        made the model a mechanism, singular or modeless), over every step of the search: no evidence there."""
-        seen, out = set(), []
-        for ranking in self.rankings or (self.ranking,):
-            for r in ranking:
-                for name, loc, why in r.rejected:
-                    if (name, repr(loc)) not in seen:
-                        seen.add((name, repr(loc)))
-                        out.append((name, loc, why))
-        return tuple(out)
-
-    def candidate(self, name: str) -> RankedEffect:
-        """The ranking entry of one candidate, by name."""
-        return next(r for r in self.ranking if r.name == name)
-
-    def mode_table(self) -> list:
-        """One row per fitted measured mode: measured f (Hz) and ζ, then the nominal and the updated model's
-        partner (f Hz, error %, MAC; None when unpaired), and whether the mode is nearly repeated."""
-        fm = self.measured.take(self.fit_modes)
-        rows = []
-        for i in range(fm.n_modes):
-            row: dict[str, Any] = {"mode": i + 1, "measured_hz": float(fm.frequency_hz[i]), "damping_ratio": float(fm.damping_ratio[i]),
-                   "nearly_repeated": bool(self.close_modes[i])}
-            for key, pairing in (("nominal", self.pairing_before), ("updated", self.pairing_after)):
-                hit = np.flatnonzero(pairing.measured_index == i)
-                k = int(hit[0]) if hit.size else None
-                row[f"{key}_hz"] = None if k is None else float(pairing.frequency_model_hz[k])
-                row[f"{key}_error_pct"] = None if k is None else float(pairing.frequency_error_pct[k])
-                row[f"{key}_mac"] = None if k is None else float(pairing.mac[k])
-            rows.append(row)
-        return rows
-
-    def as_dict(self) -> dict:
-        """JSON-ready summary for the app and the report (no model objects; arrays as lists)."""
-        e = self.effect
-        return {
-            "verdict": self.verdict, "message": self.message,
-            "effect": None if e is None else e.as_dict(),
-            "effects": [x.as_dict() for x in self.effects],
-            "ranking": [r.as_dict() for r in self.ranking],
-            "rejected_trials": [{"effect": n, "location": _js(loc), "reason": why}
-                                for n, loc, why in self.rejected_trials],
-            "before": self.before.as_dict(), "after": self.after.as_dict(),
-            "updated_params": {k: (list(v) if isinstance(v, tuple) else v)
-                               for k, v in self.updated_model.params.items()},
-            "modes": self.mode_table(),
-            "unpaired_measured_hz": [float(self.measured.frequency_hz[i]) for i in self.unpaired_measured],
-            "mac_before": self.mac_before.tolist(), "mac_after": self.mac_after.tolist(),
-            "comac_before": self.comac_before.tolist(), "comac_after": self.comac_after.tolist(),
-            "residual_modes": list(self.residual_modes), "residual_sensors": list(self.residual_sensors),
-            "node_xy_ft": self.node_xy_ft.tolist(),
-            "expanded_measured": self.expanded_measured.tolist(),
-            "expanded_model": np.where(np.isfinite(self.expanded_model), self.expanded_model, 0.0).tolist(),
-            "timing_s": dict(self.timing_s),
-        }
-
-
-def _pair(model: Modes, measured: MeasuredModes, n_model: int, **kw) -> ModePairing:
-    f, shapes = model.modes(n_model)
-    return pair_modes(measured.frequency_hz, measured.shapes, f, shapes, **kw)
+__all__ = ["VERDICTS", "Explanation", "NamedEffect", "explain"]
 
 
 def _select_modes(nominal: ExplainModel, specs, measured: MeasuredModes, n_model: int) -> np.ndarray:
@@ -201,7 +43,7 @@ def _select_modes(nominal: ExplainModel, specs, measured: MeasuredModes, n_model
         params = (nu,) + tuple(spec.params)
         try:
             model = build_model(nominal, spec, params, [p.prior_mean for p in params])
-            used |= set(_pair(model, measured, n_model).measured_index.tolist())
+            used |= set(pair(model, measured, n_model).measured_index.tolist())
         except TRIAL_FAILURES:     # a candidate that cannot be solved pairs nothing (rank_effects says why)
             continue
     return np.array(sorted(used), dtype=int)
@@ -223,67 +65,6 @@ def _expand(fm: MeasuredModes, pairing: ModePairing, f_model, s_model, w_nodes) 
         basis = seen[np.argsort(np.abs(f_model[seen] - centre), kind="stable")[:n_basis]]
         out[:, i] = serep(fm.shapes[:, i], s_model[:, basis], w_nodes[:, basis])
     return out
-
-
-def _node_rows(model: ExplainModel, measured: MeasuredModes):
-    """Rows of model.node_modes at the sensors and at the measured inputs, or None when the modal constants
-    cannot be compared (no known inputs, or an input that is not a model node)."""
-    if measured.modal_constants is None:
-        return None
-    return model.modal_rows(measured.input_locations)
-
-
-def _close_modes(model: ExplainModel, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
-    """(k,) True for measured modes with a neighbour within ``close`` (relative), among the measured modes or
-    among the nominal model's modes next to their partner: nearly repeated modes."""
-    f = measured.frequency_hz
-    rel = np.abs(f[:, None] - f[None, :]) / f[:, None]
-    np.fill_diagonal(rel, np.inf)
-    out = rel.min(axis=1) <= close
-    p = _pair(model, measured, n_model, max_freq_error=1.0)
-    fa = np.clip(np.nan_to_num(model.modes(n_model)[0]), 0.0, None)
-    for i, j in zip(p.measured_index, p.model_index):
-        others = np.delete(fa, j)
-        if others.size and np.min(np.abs(others - fa[j])) <= close * max(fa[j], 1e-12):
-            out[i] = True
-    return out
-
-
-def _with_member_scatter(w: ModeWeights, errors: ErrorLevels, model: ExplainModel, fm: MeasuredModes, n_model: int):
-    """The weights with the members' stiffness scatter added (ErrorLevels.member_scatter, or the model's
-    ``default_member_scatter``), through each measured mode's nominal partner: to its frequency by the partner's
-    strain-energy shares, to its shape components by the shape's sensitivity to each member
-    (``member_shape_sensitivity``; capped at ``close_shape_sigma``, which already frees a nearly repeated pair),
-    and to its modal constants' size (``member_scale_sensitivity``, correlated across modes) when they are fitted."""
-    scatter = errors.member_scatter
-    if scatter is None:
-        scatter = model.default_member_scatter
-    share = model.member_energy_fractions(n_model) if scatter else None     # (n_members, n_model)
-    if share is None:
-        return w
-    rel = 0.5 * scatter * np.sqrt(np.sum(share**2, axis=0))          # (n_model,) relative 1σ of each frequency
-    pairing = _pair(model, fm, n_model, max_freq_error=1.0)
-    per_mode = np.full(fm.n_modes, rel.max())
-    per_mode[pairing.measured_index] = rel[pairing.model_index]
-    w = dataclasses.replace(w, sigma_f=np.hypot(w.sigma_f, per_mode * fm.frequency_hz))
-    d = model.member_shape_sensitivity(n_model)                       # (n_members, p, n_model)
-    if d is None:
-        return w
-    comp = np.minimum(scatter * np.sqrt(np.mean(np.sum(d**2, axis=0), axis=0)), errors.close_shape_sigma)
-    per_shape = np.full(fm.n_modes, comp.max())
-    per_shape[pairing.measured_index] = comp[pairing.model_index]
-    w = dataclasses.replace(w, sigma_s=np.hypot(w.sigma_s, per_shape))
-    whitener = w.scale_whitener
-    g = None if whitener is None else model.member_scale_sensitivity(w.node_rows, n_model)
-    if whitener is None or g is None:                                   # g: (n_members, n_model)
-        return w
-    # the modal constants' sizes move with the shapes at the sensors and inputs, together across modes (each
-    # member's scatter is one draw for all of them): scatter² GᵀG joins their covariance, as the gains' does
-    per = np.zeros((g.shape[0], fm.n_modes))
-    per[:, pairing.measured_index] = g[:, pairing.model_index]
-    unwhite = np.linalg.inv(whitener)
-    cov = unwhite @ unwhite.T + scatter**2 * per.T @ per
-    return dataclasses.replace(w, scale_whitener=np.linalg.inv(np.linalg.cholesky(cov)))
 
 
 def _named_effects(model: ExplainModel, found: Search, fm: MeasuredModes, w: ModeWeights, n_model: int, close: float) -> tuple:
@@ -310,7 +91,7 @@ def _named_effects(model: ExplainModel, found: Search, fm: MeasuredModes, w: Mod
         others = tuple((loc, q) for loc, _, q in r.locations[1:] if q >= 0.05)
         step = fit.model if i == len(found.named) - 1 else r.fit.model.exact
         f_s, s_s = step.modes(n_model)
-        pairing = _pair(step, fm, n_model, max_freq_error=1.0)
+        pairing = pair(step, fm, n_model, max_freq_error=1.0)
         g = gap(pairing, subspace_mac(pairing, fm.shapes, s_s, f_s, close))
         lead = ("The test data are best explained if" if i == 0 else
                 "With that, the rest of the gap is best explained if")
@@ -398,8 +179,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     if frames:   # a frame's sensors miss many modes (out of plane, torsion): every model mode in the tested band
         f_nominal = model.modes(n_model + 8)[0]
         n_model = max(n_model, int(np.searchsorted(f_nominal, 1.2 * fm.frequency_hz.max())) + 2)
-    close = _close_modes(model, fm, n_model, errors.close)
-    weights = _with_member_scatter(errors.weights(fm, close, _node_rows(model, fm)), errors, model, fm, n_model)
+    close = close_modes(model, fm, n_model, errors.close)
+    weights = with_member_scatter(errors.weights(fm, close, node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(model.joints_ft, float)
     ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
@@ -421,8 +202,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     updated = chosen.model.exact     # a frame's full model, not its reduced one
     effects = _named_effects(model, found, fm, weights, n_model, errors.close) if verdict == "explained" else ()
     effect = effects[0] if effects else None
-    before = _pair(model, fm, n_model, max_freq_error=1.0)
-    after = _pair(updated, fm, n_model, max_freq_error=1.0)
+    before = pair(model, fm, n_model, max_freq_error=1.0)
+    after = pair(updated, fm, n_model, max_freq_error=1.0)
     fa, sa = model.modes(n_model)
     fb, sb = updated.modes(n_model)
     badness = np.abs(chosen.freq_residual) + np.where(close, 0.0, (1 - chosen.mac) / 0.1 * 3.0)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import logsumexp
 
-from .effects import EffectSpec, Param, as_location
+from .effects import EffectSpec, Param, as_json_location, as_location
 from .fitting import TRIAL_FAILURES, Fit, ModeWeights, build_model, fit_effect, mode_residuals, trial_failure
 from .measured import MeasuredModes
 from .protocol import ExplainModel
@@ -72,7 +72,7 @@ class RankedEffect:
                 "seconds": self.seconds, "n_solves": self.n_solves,
                 "chi2_freq": None if self.test is None else self.test.chi2_freq,
                 "chi2_shape": None if self.test is None else self.test.chi2_shape,
-                "rejected": [{"effect": n, "location": _js(loc), "reason": why} for n, loc, why in self.rejected]}
+                "rejected": [{"effect": n, "location": as_json_location(loc), "reason": why} for n, loc, why in self.rejected]}
 
 
 @dataclass(frozen=True)
@@ -300,10 +300,3 @@ def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured:
             fit=f, locations=locs, seconds=float(sec), n_solves=int(solves), screen=screen, rejected=no_place))
     out.sort(key=lambda r: -r.probability)
     return tuple(out)
-
-
-def _js(loc):
-    """A location as JSON: a node id, or lists of node ids or of floats."""
-    if loc is None or isinstance(loc, str):
-        return loc
-    return [_js(x) for x in loc] if isinstance(loc, (tuple, list)) else float(loc)

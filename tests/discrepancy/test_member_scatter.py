@@ -4,7 +4,7 @@ import dataclasses
 
 import numpy as np
 
-from era.discrepancy.explain import _with_member_scatter
+from era.discrepancy.weights import with_member_scatter
 from era.discrepancy.fitting import ErrorLevels
 from era.discrepancy.frame_model import FrameModel
 from era.discrepancy.measured import modes_from_arrays
@@ -48,12 +48,12 @@ def test_member_scatter_widens_a_frames_shape_errors_and_not_the_grids():
     fm = modes_from_arrays(f[seen], s[:, seen])
     errors = ErrorLevels()
     w0 = errors.weights(fm)
-    w = _with_member_scatter(w0, errors, model, fm, 12)
+    w = with_member_scatter(w0, errors, model, fm, 12)
     d = model.member_shape_sensitivity(12)
     want = 0.02 * np.sqrt(np.mean(np.sum(d[:, :, seen] ** 2, axis=0), axis=0))   # each measured mode's partner
     assert np.allclose(w.sigma_s, np.hypot(w0.sigma_s, np.minimum(want, errors.close_shape_sigma)))
     assert np.all(w.sigma_f > w0.sigma_f) and np.max(w.sigma_s / w0.sigma_s) > 1.2
-    none = _with_member_scatter(w0, dataclasses.replace(errors, member_scatter=0.0), model, fm, 12)
+    none = with_member_scatter(w0, dataclasses.replace(errors, member_scatter=0.0), model, fm, 12)
     assert none is w0
 
 
