@@ -17,6 +17,7 @@ import time
 import numpy as np
 
 import era
+from era.words import counted, listed
 
 from . import payloads
 
@@ -43,7 +44,8 @@ def nominal_model(params: dict | None):
     known = nominal_keywords()
     unknown = sorted(set(params) - set(known))
     if unknown:
-        raise era.EraError(f"Unknown nominal-model parameter(s) {unknown}: nasa_grid() takes {', '.join(known)}.")
+        raise era.EraError(f"Unknown nominal-model {'parameters' if len(unknown) > 1 else 'parameter'} "
+                           f"{listed(unknown, quote=True)}: nasa_grid() takes {', '.join(known)}.")
     for name, value in params.items():
         ok = (value is None or isinstance(value, (bool,) + _NUMBER)
               or (isinstance(value, list) and len(value) == 2 and all(isinstance(v, _NUMBER) for v in value)))
@@ -65,7 +67,7 @@ def check_grid_dataset(data: era.ResponseData, geometry: era.Geometry | None, mo
             "grid example has them); for another structure, describe it in the Model panel or upload a model file "
             "first.")
     if data.n_outputs != len(model.sensors):
-        raise era.DataError(f"This dataset has {data.n_outputs} output(s). {need}")
+        raise era.DataError(f"This dataset has {counted(data.n_outputs, 'output')}. {need}")
     if geometry is None:
         raise era.DataError(f"This dataset has no geometry, so its sensors cannot be matched to the model. {need}")
     ref = model.geometry()
@@ -184,8 +186,8 @@ def basis(ident: era.Identification, orders: list[int], kept: tuple, chosen: boo
            "orders": [int(o) for o in orders], "modes": "stable" if chosen else "kept", "order": order,
            "kept": indices}
     span = f"orders {orders[0]}-{orders[-1]}" if len(orders) > 1 else f"order {orders[0]}"
-    which = (f"the {len(indices)} mode(s) era chose at order {order}" if chosen else
-             f"the {len(indices)} mode(s) kept at order {order}") + f" (spread over {span})"
+    which = (f"the {counted(len(indices), 'mode')} era chose at order {order}" if chosen else
+             f"the {counted(len(indices), 'mode')} kept at order {order}") + f" (spread over {span})"
     out["text"] = f"This analysis's H(0) ({rows} × {cols}, r = {ident.rows}, s = {ident.cols}); {which}."
     return out
 

@@ -19,6 +19,7 @@ import numpy as np
 
 import era
 from era.structure import DIRECTIONS, MATERIALS, UNITS_M
+from era.words import counted
 
 #: Frequencies of a saved model shown beside the test's, and computed to check it (a mechanism fails here).
 N_MODES = 10
@@ -165,7 +166,8 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
     geometry's labels, at the node and along the direction each channel measures. era.DataError otherwise."""
     p = len(outputs)
     if len(fr.sensors) != p:
-        raise era.DataError(f"The model has {len(fr.sensors)} sensor(s) but this dataset has {p} output(s) "
+        raise era.DataError(f"The model has {counted(len(fr.sensors), 'sensor')} but this dataset has "
+                            f"{counted(p, 'output')} "
                             f"({', '.join(outputs)}): list one sensor (node, direction) per output, in the "
                             "outputs' order.", option="sensors")
     if geometry is None or geometry.channel_nodes.size != p:

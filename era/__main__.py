@@ -10,6 +10,7 @@ import sys
 
 from . import __version__
 from .errors import EraError
+from .words import counted
 
 
 def _orders(text: str) -> range:
@@ -64,7 +65,8 @@ def campaign(args) -> int:
     if args.modes_out:
         result.modes_frame().to_csv(args.modes_out, index=False)
     n_ok = len(result.records)
-    print(f"{n_ok} record(s) analysed, {len(result.failed)} failed, {len(result.modes)} tracked mode(s); "
+    print(f"{counted(n_ok, 'record')} analysed, {len(result.failed)} failed, "
+          f"{counted(len(result.modes), 'tracked mode')}; "
           f"table written to {args.out}", file=sys.stderr)
     for f in result.failed:
         print(f"failed: {f.name}: {f.reason}", file=sys.stderr)

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import DataError
+from .words import counted
 
 
 def _labels(given, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
@@ -92,7 +93,7 @@ class ResponseData:
             k, i, j = np.argwhere(~finite)[0]
             n_bad = int((~finite).sum())
             raise DataError(
-                f"`markov` holds {n_bad} NaN or infinite value(s), the first at sample {k}, output {i}, "
+                f"`markov` holds {counted(n_bad, 'NaN or infinite value')}, the first at sample {k}, output {i}, "
                 f"input {j}; remove or interpolate them before identification."
             )
         y.setflags(write=False)

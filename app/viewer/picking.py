@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from era.errors import DataError
+from era.words import listed
 
 from .recent import Recent
 
@@ -84,7 +85,8 @@ def pick_scene(nodes: dict, members: list, marks: dict | None = None) -> PickSce
     marks = {str(k): str(v) for k, v in (marks or {}).items()}
     unknown = sorted(set(marks.values()) - set(MARK_RGB))
     if unknown:
-        raise DataError(f"Unknown node mark(s) {unknown}; known: {sorted(k for k in MARK_RGB if k)}.")
+        raise DataError(f"Unknown node {'marks' if len(unknown) > 1 else 'mark'} {listed(unknown, quote=True)}; "
+                        f"known: {listed(sorted(k for k in MARK_RGB if k), quote=True)}.")
     return PickScene(ids, xyz, np.array(pairs, dtype=int).reshape(-1, 2), marks)
 
 

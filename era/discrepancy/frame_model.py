@@ -24,6 +24,7 @@ from ..errors import DataError
 from ..fem import space
 from ..fem.reduced import ReducedFrame, reducible
 from ..structure import Frame, Section
+from ..words import listed
 from .effects import Param
 from .fitting import TRIAL_FAILURES, fit_effect
 from .protocol import RitzModes
@@ -84,7 +85,8 @@ class FrameModel:
     def with_params(self, **changes) -> "FrameModel":
         unknown = set(changes) - set(DEFAULTS)
         if unknown:
-            raise DataError(f"FrameModel: unknown parameter(s) {sorted(unknown)}; known: {sorted(DEFAULTS)}.")
+            raise DataError(f"FrameModel: unknown {'parameters' if len(unknown) > 1 else 'parameter'} "
+                            f"{listed(sorted(unknown), quote=True)}; known: {listed(sorted(DEFAULTS), quote=True)}.")
         return FrameModel(self.frame, {**self._params, **changes}, self._shared)
 
     @property

@@ -17,6 +17,7 @@ from ..errors import DataError
 from ..realization import Identification
 from ..selection import keep_mask, kept_modes
 from ..stabilization import Stabilization, StableMode, stabilization
+from ..words import listed
 
 #: A kept mode below this frequency (Hz) is refused: a pole that slow is drift, not a vibration mode to compare.
 KEPT_MIN_FREQUENCY_HZ = 0.05
@@ -272,8 +273,9 @@ def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode
                           is_pair=model.is_pair[indices], physical_only=True)
     bad = indices[~vibrating | (f < min_frequency_hz) | (f > top_hz)]
     if bad.size:
-        raise DataError(f"Mode(s) {', '.join(str(int(k)) for k in bad)} at order {order} are not decaying vibration "
-                        f"modes between {min_frequency_hz:g} Hz and {100 * KEPT_MAX_NYQUIST:g} % of Nyquist "
+        raise DataError(f"{'Modes' if bad.size > 1 else 'Mode'} {listed(int(k) for k in bad)} at order {order} "
+                        f"{'are not decaying vibration modes' if bad.size > 1 else 'is not a decaying vibration mode'} "
+                        f"between {min_frequency_hz:g} Hz and {100 * KEPT_MAX_NYQUIST:g} % of Nyquist "
                         f"({top_hz:.3g} Hz): real or growing poles, or at the band's edge. Untick them, or compare "
                         "the modes era chooses.")
     return _pole_modes(ident, stab, order, indices)

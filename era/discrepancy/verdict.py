@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..words import counted
 from .effects import short_place
 from .measured import MeasuredModes
 from .search import Search
@@ -61,7 +62,8 @@ def message_for(verdict, effects, ranking, found, g_b, g_a, miss, fm, fit, comac
                              for i in miss[:4]) + (f" and {len(miss) - 4} more" if len(miss) > 4 else ""))
         low = np.flatnonzero(comac_a < 0.9)
         where += (" and at sensors " + ", ".join(str(i + 1) for i in low) if low.size else "") + "."
-    aside = f" {len(unpaired)} measured mode(s) had no model partner and were set aside." if unpaired else ""
+    aside = (f" {counted(len(unpaired), 'measured mode')} had no model partner and "
+             f"{'was' if len(unpaired) == 1 else 'were'} set aside." if unpaired else "")
     partial = ""
     if verdict != "explained" and found.named:
         t = found.named[-1].test

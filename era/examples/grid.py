@@ -22,6 +22,7 @@ from .. import fem
 from ..errors import EraError
 from ..discrepancy.protocol import RitzModes, joint_rows
 from ..geometry import Geometry
+from ..words import listed
 from .grid_solves import SolveCache, assemble, attachments, changed_nodes, param_key, self_weight
 
 FT = 0.3048  # m
@@ -114,7 +115,8 @@ class GridPerturbation:
 def _check_params(p: dict) -> dict:
     unknown = set(p) - set(DEFAULTS)
     if unknown:
-        raise EraError(f"nasa_grid: unknown parameter(s) {sorted(unknown)}; known: {sorted(DEFAULTS)}.")
+        raise EraError(f"nasa_grid: unknown {'parameters' if len(unknown) > 1 else 'parameter'} "
+                       f"{listed(sorted(unknown), quote=True)}; known: {listed(sorted(DEFAULTS), quote=True)}.")
     p = {**DEFAULTS, **p}
     g = p["gravity"]
     if not (isinstance(g, (bool, np.bool_)) or (isinstance(g, (int, float)) and 0 <= g <= 1)):

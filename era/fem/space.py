@@ -16,6 +16,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from ..errors import DataError
+from ..words import counted
 from . import beam3d
 from .sparse import diagonal, scatter
 
@@ -337,7 +338,7 @@ def _mechanism_error(frame: SpaceFrame, zero: np.ndarray, free: np.ndarray) -> D
     rigid_note = (" (the whole structure moves as a rigid body)" if frame.supported
                   and np.linalg.norm(part) < 1e-6 * np.linalg.norm(full) else "")
     return DataError(f"Frame is a mechanism: node {frame.names[node]} {DOF_NAMES[dof]} is free: add a support or "
-                     f"a member{rigid_note}; {basis.shape[1]} zero-stiffness motion(s) among the lowest modes.")
+                     f"a member{rigid_note}; {counted(basis.shape[1], 'zero-stiffness motion')} among the lowest modes.")
 
 
 def system(frame: SpaceFrame, gravity: np.ndarray | None = None) -> tuple:

@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import DataError
-from ..words import counted
+from ..words import counted, sampling
 from .records import MIN_SAMPLES, Records, hammer_channel
 from .text import ORIENTATIONS
 from .timebase import UnevenClock, binary_resolution, even_step as _even_step_any
@@ -152,7 +152,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
     lead = _time_channel(y, vars_, label)
     if lead is not None:  # a time axis stored as the first channel (np.vstack([t, force, acc]) and the like)
         step, start = lead
-        how = f"Δt = {step:.6g} s ({1 / step:.6g} Hz) from the first channel, a time axis"
+        how = f"{sampling(step)} from the first channel, a time axis"
         y, names, units, points = y[:, 1:], names[1:], units[1:], points[1:]
     else:
         step, start, how = _sampling(vars_, chosen, len(y), label, dt)
@@ -217,8 +217,8 @@ def _sampling(vars_: list[Var], chosen: list[Var], n: int, label: str, dt) -> tu
             if abs(other[2] - step) > 1e-6 * step:
                 raise DataError(f"{label}: {kind} {name} gives a sampling interval of {step:.9g} s but {other[0]} "
                                 f"{other[1]} {other[2]:.9g} s; the file contradicts itself. Remove the wrong one.")
-        return step, start, f"Δt = {step:.6g} s ({1 / step:.6g} Hz) from {kind} {name}"
+        return step, start, f"{sampling(step)} from {kind} {name}"
     if dt is not None:
-        return float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given"
+        return float(dt), 0.0, f"{sampling(float(dt))} given"
     raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...), or store it in the file as "
                     "fs (Hz), dt (s) or a time vector t.", option="dt")

@@ -13,7 +13,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from ..words import counted
+from ..words import counted, sampling
 from .records import Records, hammer_channel
 from .text import read_headerless
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
@@ -181,10 +181,10 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
             values.append(table[g])
     if step is None:
         step = float(dt)
-        timing = f", Δt = {step:.6g} s ({1 / step:.6g} Hz) given"
+        timing = f", {sampling(step)} given"
     else:
         timing = f", time column {time_name!r}" + (f" in units of {scale:g} s" if scale != 1 else "") + \
-            f", Δt = {step:.6g} s ({1 / step:.6g} Hz)" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
+            f", {sampling(step)}" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
     force = np.array([u.lower() in FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
                       for n, u in zip(names, units)])
     pulse = None if force.any() else _pulse_channel(values, units)

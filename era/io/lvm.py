@@ -24,7 +24,7 @@ import re
 import numpy as np
 
 from ..errors import DataError
-from ..words import counted
+from ..words import counted, sampling
 from .csv import FORCE_UNITS, UNIT_IN_NAME, decode
 from .records import Records, check_finite
 from .timebase import UnevenClock, even_step_printed, printed_resolution
@@ -163,9 +163,8 @@ def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
     segmented = f"{counted(len(segments), 'segment')} as " if len(segments) > 1 else ""
     described = (f"{label}: LabVIEW LVM, {segmented}{counted(len(values), 'record')} of "
                  f"{', '.join(str(len(v)) for v in values[:6])}{'…' if len(values) > 6 else ''} samples × "
-                 f"{counted(len(names), 'channel')}, Δt = {first['dt']:.6g} s ({1 / first['dt']:.6g} Hz, "
-                 f"{first['dt_from']})" + (f"; {counted(first['dropped'], 'empty column')} dropped"
-                                           if first["dropped"] else ""))
+                 f"{counted(len(names), 'channel')}, {sampling(first['dt'], first['dt_from'])}"
+                 + (f"; {counted(first['dropped'], 'empty column')} dropped" if first["dropped"] else ""))
     return Records(domain="time", values=values, step=first["dt"],
                    start=0.0 if absolute or first["t0"] is None else float(first["t0"]),
                    outputs=tuple(names), output_units=tuple(units), force=force, described=[described])

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
-from ..words import counted
+from ..words import counted, sampling
 from .records import Records, hammer_channel
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
@@ -67,13 +67,13 @@ def read_headerless(numbered: list[tuple[int, str]], split, body: str, delim: st
             y, done = resample_onto(t, y[:, 1:], clock.step)
             conversions.append(f"{label}: {done}")
         start = float(t[0])
-        found = f"time in the first {chosen[:-1]}, Δt = {step:.6g} s ({1 / step:.6g} Hz)"
+        found = f"time in the first {chosen[:-1]}, {sampling(step)}"
     elif dt is None:
         raise DataError(f"no sampling interval in {label}: give the sample rate (dt=...). The file is a bare matrix "
                         f"({n_rows} lines × {n_cols} values, read as {counted(y.shape[1], 'channel')} in {chosen}; "
                         f"say orientation='rows' or 'columns' if that is wrong).", option="dt")
     else:
-        step, start, found, conversions = float(dt), 0.0, f"Δt = {float(dt):.6g} s ({1 / float(dt):.6g} Hz) given", []
+        step, start, found, conversions = float(dt), 0.0, f"{sampling(float(dt))} given", []
     names = tuple(f"ch{i + 1}" for i in range(y.shape[1]))
     force = np.zeros(len(names), bool)
     pulse = hammer_channel(y) if time else None

@@ -13,7 +13,7 @@ import numpy as np
 import pyuff
 
 from ..errors import DataError
-from ..words import counted
+from ..words import counted, sampling, significant
 from ..markov.common import uneven_step
 from .records import Records, check_finite, merge
 from .uff_geometry import (build_geometry, geometry_parts, in_global_directions, merge_parts,  # noqa: F401
@@ -222,8 +222,8 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
                    described=[f"{len(recs)} UFF 58 {'FRF' if domain == 'frequency' else 'impulse response'} records "
                               f"(sets {recs[0]['set']}..{recs[-1]['set']}) as {counted(len(outs), 'output')} × "
                               f"{counted(len(refs), 'reference')}" + (f", {frf_type}" if frf_type else "")
-                              + (f", {len(values)} lines every {recs[0]['dx']:.6g} Hz" if domain == "frequency" else
-                                 f", {len(values)} samples, Δt = {recs[0]['dx']:.6g} s ({1 / recs[0]['dx']:.6g} Hz)")])
+                              + (f", {len(values)} lines every {significant(recs[0]['dx'])} Hz"
+                                 if domain == "frequency" else f", {len(values)} samples, {sampling(recs[0]['dx'])}")])
 
 
 def _points(outs: list, refs: list) -> dict | None:
@@ -260,7 +260,7 @@ def _channels(recs: list[dict], label: str) -> Records:
                    directions=np.array([direction_vector(r["rsp"][1]) for r in g0]),
                    described=[f"{len(recs)} UFF 58 time records (sets {recs[0]['set']}..{recs[-1]['set']}) as "
                               f"{counted(len(g0), 'channel')} × {counted(len(groups), 'record')} of "
-                              f"{g0[0]['y'].size} samples, Δt = {g0[0]['dx']:.6g} s ({1 / g0[0]['dx']:.6g} Hz)"])
+                              f"{g0[0]['y'].size} samples, {sampling(g0[0]['dx'])}"])
 
 
 @dataclass(frozen=True, eq=False)

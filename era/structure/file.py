@@ -29,6 +29,7 @@ from pathlib import Path
 
 from ..errors import DataError
 from ..fem.solution import SUPPORT_KEYS
+from ..words import listed
 
 
 def frame_to_dict(frame) -> dict:
@@ -63,7 +64,8 @@ def frame_from_dict(d: dict, cls: type):
     known = {f.name for f in fields(cls)}
     unknown = set(d) - known - {"format", "version"}
     if unknown:
-        raise DataError(f"Frame: unknown key(s) {sorted(unknown)}; known: {sorted(known)}.")
+        raise DataError(f"Frame: unknown {'keys' if len(unknown) > 1 else 'key'} {listed(sorted(unknown), quote=True)}; "
+                        f"known: {listed(sorted(known), quote=True)}.")
     missing = {"nodes", "members", "sections"} - set(d)
     if missing:
         raise DataError(f"Frame: the model lacks {sorted(missing)}.")

@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import DataError
 from ..fem import solution, space
 from ..fem.solution import SUPPORT_KEYS
+from ..words import counted
 from .file import frame_from_dict, frame_to_dict, load_frame, save_frame
 from .sections import Section
 
@@ -166,7 +167,7 @@ class Frame:
         if len(used) < len(nodes):
             lonely = sorted(set(nodes) - used)
             raise DataError(f"Frame: node {lonely[0]} is on no member: add a member or remove the node "
-                            f"({len(lonely)} such node(s)).")
+                            f"({counted(len(lonely), 'such node')}).")
         supports = {self._known(n, "support"): MappingProxyType(_support(str(n), s, self.gravity))
                     for n, s in dict(self.supports).items()}
         put("supports", MappingProxyType(supports))

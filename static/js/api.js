@@ -43,7 +43,7 @@ function refusal(payload, fallback) {
 
 export function describe(p) {
   if (p.state === "queued") {
-    return `Waiting for ${p.queued_ahead + p.running_total} other computation(s) to finish… ${p.seconds.toFixed(1)} s`;
+    return `Waiting for ${p.queued_ahead + p.running_total} other ${p.queued_ahead + p.running_total === 1 ? "computation" : "computations"} to finish… ${p.seconds.toFixed(1)} s`;
   }
   return `${p.message}… ${p.seconds.toFixed(1)} s`;
 }

@@ -27,7 +27,7 @@ async function upload(ev) {
   const rate = Number($("setups-rate").value);
   if (rate > 0) form.append("dt", String(1 / rate));
   $("setups-upload").disabled = true;
-  $("setups-status").textContent = `Reading ${files.length} file(s)…`;
+  $("setups-status").textContent = `Reading ${files.length} ${files.length === 1 ? "file" : "files"}…`;
   try {
     const res = await fetch("/api/setups", { method: "POST", body: form });
     const body = await res.json().catch(() => null);

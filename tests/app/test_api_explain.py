@@ -153,7 +153,8 @@ def test_explain_runs_on_the_analysis_and_says_so(grid_run):
     assert (b["modes"], b["order"], b["kept"]) == ("stable", a["suggested_order"], a["chosen_indices"])
     assert b["orders"] == c.get(f"/api/analyses/{a['id']}/stabilization").json()["orders"]
     assert f"{a['hankel_shape'][0]} × {a['hankel_shape'][1]}" in b["text"]
-    assert f"the {len(a['chosen_indices'])} mode(s) era chose at order {a['suggested_order']}" in b["text"]
+    n = len(a['chosen_indices'])
+    assert f"the {n} {'mode' if n == 1 else 'modes'} era chose at order {a['suggested_order']}" in b["text"]
     # the measured modes compared are the chosen ones, at the choice's order (unpaired ones set aside)
     modes = c.get(f"/api/analyses/{a['id']}/modes", params={"order": a["suggested_order"], "fit": False}).json()
     assert sorted(s["measured_hz"] + s["unpaired_measured_hz"]) == pytest.approx(
@@ -172,7 +173,7 @@ def test_explain_compares_exactly_the_modes_kept_at_the_chosen_order(grid_run):
     s = r.json()
     b = s["basis"]
     assert (b["modes"], b["order"], b["kept"], b["orders"]) == ("kept", order, kept, [32, 36, 40, 44])
-    assert f"{len(kept)} mode(s) kept at order {order}" in b["text"]
+    assert f"{len(kept)} {'mode' if len(kept) == 1 else 'modes'} kept at order {order}" in b["text"]
     # the measured modes compared are the kept ones, at the chosen order's frequencies (unpaired ones set aside)
     chosen = sorted(s["measured_hz"] + s["unpaired_measured_hz"])
     # (explain runs in a worker process: the same arithmetic, last-bit differences from its own BLAS)

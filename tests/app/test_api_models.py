@@ -95,7 +95,7 @@ def test_bad_models_are_refused_with_a_sentence_and_the_saved_one_is_kept(portal
     refused(bad, "Section 'col' has no material")
     bad = copy.deepcopy(good)
     bad["sensors"] = bad["sensors"][:6]
-    refused(bad, "6 sensor(s) but this dataset has 7 output(s)")
+    refused(bad, "6 sensors but this dataset has 7 outputs")
     bad = copy.deepcopy(good)
     bad["sensors"][0], bad["sensors"][1] = bad["sensors"][1], bad["sensors"][0]
     refused(bad, "output 1 (Fx) measures node 6 along x")
@@ -283,7 +283,7 @@ def test_each_refusal_of_era_frame_names_its_control():
              "Frame: support at node 9, which is not in nodes.": "node:9",
              "Frame: mass at node 3 must be a number of kg ≥ 0, got -2.": "node:3",
              "Frame: joint spring at node 4 must be a number of N·m/rad > 0, got 0.": "node:4",
-             "Frame: node 6 is on no member: add a member or remove the node (1 such node(s)).": "node:6",
+             "Frame: node 6 is on no member: add a member or remove the node (1 such node).": "node:6",
              "Frame is a mechanism: node B rotation about z is free: add a support or a member": "node:B",
              "Frame: sensor at node 2: direction 'q' is not one of": "sensors",
              "Frame: gravity must be None or a non-zero (gx, gy, gz) in m/s², got 0.": "gravity",

@@ -1,6 +1,8 @@
 """The rules the app and explain share, each owned once by era/: which modes are kept, one channel of a model,
 a pole's place in the stabilization, the one path to a model of an order, the order cap."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -131,7 +133,7 @@ def test_a_kept_pole_that_is_not_a_vibration_mode_is_refused_by_name(ident):
     model = ident.model(40)  # noise at order 40: real or growing computational poles
     odd = np.flatnonzero(~model.is_pair | (model.damping_ratio <= 0))
     assert odd.size
-    with pytest.raises(era.DataError, match="not decaying vibration modes") as err:
+    with pytest.raises(era.DataError, match="not (a )?decaying vibration mode") as err:
         measured_modes(ident, range(30, 41, 2), kept=(40, np.arange(model.n_modes)))
-    named = str(err.value).split(" at order")[0].removeprefix("Mode(s) ").split(", ")
+    named = re.findall(r"\d+", str(err.value).split(" at order")[0])  # "Modes 3, 5 and 7", "Mode 3"
     assert {str(int(k)) for k in odd} <= set(named)

@@ -36,7 +36,7 @@ def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, 
         assert all(float(v) >= 0 for r in gap for v in r[1:5])
         assert page.locator("#explain-modes tbody tr").count() >= 5
         basis = page.text_content("#explain-basis")  # what was compared: this analysis's H(0) and orders
-        assert "This analysis's H(0)" in basis and "mode(s) era chose at order" in basis  # the table's default ticks
+        assert "This analysis's H(0)" in basis and "era chose at order" in basis  # the table's default ticks
         for plot in ("#explain-mac-before", "#explain-mac-after", "#explain-overlay", "#explain-shape-measured"):
             page.wait_for_selector(f"{plot} .main-svg")
         page.wait_for_timeout(1500)
@@ -49,7 +49,7 @@ def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, 
         page.click("#explain-run")
         page.wait_for_function(f"(document.getElementById('explain-basis') || {{}}).textContent"
                                f"?.includes('kept at order {order}')", timeout=120000)
-        assert f"the {kept} mode(s) kept at order {order}" in page.text_content("#explain-basis")
+        assert f"the {kept} {'mode' if kept == 1 else 'modes'} kept at order {order}" in page.text_content("#explain-basis")
         head = page.text_content("#explain-verdict > div")
 
         # a report created now freezes the result; its page draws the same verdict read-only

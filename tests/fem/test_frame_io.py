@@ -85,7 +85,7 @@ def test_pinned_fixed_cable_and_default_orientation_round_trip():
     ("{not json", ".json", ["bad.json", "not a readable model"]),
     ("nodes = [", ".toml", ["bad.toml", "not a readable model"]),
     ('{"format": "other"}', ".json", ["bad.json", "not an era.frame model"]),
-    ('{"nodes": {}, "members": [], "sections": {}, "colour": 1}', ".json", ["unknown key(s) ['colour']"]),
+    ('{"nodes": {}, "members": [], "sections": {}, "colour": 1}', ".json", ["unknown key 'colour'"]),
     ('{"nodes": {"1": [0, 0, 0]}}', ".json", ["lacks ['members', 'sections']"]),
     ('{"nodes": {"1": [0,0,0], "2": [1,0,0]}, "members": [["1", "2", "s"]], '
      '"sections": {"s": {"shape": "rectangle", "width": 0.1}}}', ".json", ["Section", "depth"]),

@@ -142,7 +142,7 @@ def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset
     direct = era.markov_from_io([r[1][:, None] for r in recs], [r[2][:, None] for r in recs], pv.step,
                                 n_observer=40, n_markov=400)
     np.testing.assert_allclose(ds.data.markov, direct.markov, rtol=1e-9, atol=1e-12 * np.abs(direct.markov).max())
-    assert "Δt = 3.90625e-05 s (25600 Hz) from the first channel, a time axis" in ds.source["records"][0]
+    assert "Δt = 0.0000390625 s (25600 Hz) from the first channel, a time axis" in ds.source["records"][0]
 
 
 def test_complex_numbers_in_text_are_named_as_frfs_without_a_frequency_axis():

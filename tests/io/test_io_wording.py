@@ -5,7 +5,6 @@ drawn with."""
 
 from __future__ import annotations
 
-import ast
 import re
 import sys
 from pathlib import Path
@@ -15,22 +14,9 @@ import numpy as np
 import era
 from era.io.preview import preview
 from era.markov import markov_from_decay
-from era.words import counted, listed
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
-
-ROOT = Path(__file__).resolve().parents[2]
-#: "channel(s)", "record(s)": a word with "(s)" glued on ("time (s)", a unit, is not one).
-PLURAL_S = re.compile(r"[A-Za-z]\(s\)")
-
-
-def test_counts_agree_with_their_nouns_and_lists_read_as_sentences():
-    assert [counted(1, "channel"), counted(2, "channel"), counted(0, "record")] == ["1 channel", "2 channels",
-                                                                                   "0 records"]
-    assert counted(2, "axis", "axes") == "2 axes" and counted(np.int64(1), "node") == "1 node"
-    assert [listed([1826]), listed([3, 4]), listed([10, 12, 14])] == ["1826", "3 and 4", "10, 12 and 14"]
-    assert listed(["colour", "size"], quote=True) == "'colour' and 'size'" and listed([]) == ""
 
 
 def test_the_usc_cantilever_is_described_once_in_words():
@@ -64,18 +50,3 @@ def test_a_file_without_a_sampling_interval_is_not_described_with_the_stand_in_s
     assert pv.step is None and pv.problem_option == "dt"
     assert pv.described == ["bare.txt: headerless text, 3 channels in rows (from the shape) × 600 samples, no "
                             "sampling interval in the file, blank-separated"], pv.described
-
-
-def test_no_reader_message_glues_an_s_in_brackets_to_a_word():
-    """Every string (not docstrings) in era/io and era/markov: "(s)" after a letter reads as a program's words."""
-    found = []
-    for path in sorted((ROOT / "era" / "io").glob("*.py")) + sorted((ROOT / "era" / "markov").glob("*.py")):
-        tree = ast.parse(path.read_text())
-        docs = {id(n.body[0].value) for n in ast.walk(tree)
-                if isinstance(n, (ast.Module, ast.FunctionDef, ast.ClassDef, ast.AsyncFunctionDef)) and n.body
-                and isinstance(n.body[0], ast.Expr) and isinstance(n.body[0].value, ast.Constant)}
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs \
-                    and PLURAL_S.search(node.value):
-                found.append(f"{path.relative_to(ROOT)}:{node.lineno}: {node.value!r}")
-    assert found == []
