@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 import era
+from era.decomposition import CLUSTER_SCREEN
 from era.spectrum import cmif
 from era.stabilization import COHERENT_MIN
 from era.suggest import order_from_singular_values
@@ -110,6 +111,36 @@ def analysis_json(analysis_id: str, dataset_id: str, params: dict, ident: era.Id
     }
 
 
+def std_groups(model: era.ModalModel) -> list:
+    """(k,) for each mode, the indices of the modes that share its ± (itself included, ascending), or None.
+
+    era gives every member of a repeated cluster the cluster's largest σ (era.Identification.decomposed,
+    era.mode_uncertainty.mode_std): poles closer together than CLUSTER_SIGMAS times their scatter
+    (era.decomposition.repeated_clusters) are one eigenvalue as far as the data can tell; which of them the noise
+    pushed where is not determined, and first-order perturbation does not hold for each alone (it divides by their
+    distance), so each one's own σ would claim a precision the data do not give. The model does not keep its
+    clusters; they are found again as the connected groups of poles of the same kind within CLUSTER_SCREEN of
+    each other whose frequency and damping σ are equal (the cluster's largest, copied: equal floats, which two
+    separately computed σ are not)."""
+    f_std, d_std = model.standard_deviations()
+    z, pair = np.asarray(model.z), np.asarray(model.is_pair)
+    linked = ((np.abs(z[:, None] - z[None, :]) <= CLUSTER_SCREEN) & (pair[:, None] == pair[None, :])
+              & (f_std[:, None] == f_std[None, :]) & (d_std[:, None] == d_std[None, :])
+              & np.isfinite(f_std)[:, None])
+    out: list = [None] * len(z)
+    for k in range(len(z)):
+        if out[k] is not None or linked[k].sum() < 2:
+            continue
+        group, grown = {k}, True
+        while grown:  # the connected group (a chain of close poles is one cluster)
+            more = set(np.flatnonzero(linked[sorted(group)].any(axis=0)).tolist())
+            grown = not more <= group
+            group |= more
+        for j in group:
+            out[j] = sorted(int(i) for i in group)
+    return out
+
+
 def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = True,
                shape_scatter: np.ndarray | None = None) -> dict:
     """The modes of one order (schemas.Modes); with_fit adds the fit of all modes to every channel (one full
@@ -126,7 +157,7 @@ def modes_json(model: era.ModalModel, data: era.ResponseData, with_fit: bool = T
         "eigenvalue_re": floats(model.eigenvalues.real), "eigenvalue_im": floats(model.eigenvalues.imag),
         "damping_ratio": floats(model.damping_ratio), "emac": floats(model.emac), "mpc": floats(model.mpc),
         "frequency_std_hz": floats(f_std), "damping_std": floats(d_std),
-        "uncertainty_source": model.uncertainty_source or None,
+        "uncertainty_source": model.uncertainty_source or None, "std_group": std_groups(model),
         "emac_mpc": floats(model.emac * model.mpc), "contribution": floats(contrib),
         "contribution_relative": floats(rel), "is_pair": model.is_pair.tolist(),
         "shapes_re": [floats(c) for c in model.shapes.real.T], "shapes_im": [floats(c) for c in model.shapes.imag.T],

@@ -52,6 +52,10 @@ class Modes(Schema):
     uncertainty_source: str | None = Field(None, description="which scatter the standard deviations come from: "
                                            "\"σ from N records\" (repeated records) or \"σ from one record's "
                                            "residuals\"")
+    std_group: list[list[int] | None] | None = Field(None, description="(k,) the modes (indices) sharing each mode's "
+                                                     "± (a repeated cluster: poles closer than their scatter each "
+                                                     "carry the cluster's largest σ; app.payloads.std_groups), or "
+                                                     "null for a mode with its own")
     shape_scatter: Floats | None = Field(None, description="(k,) expected 1 - MAC of each shape against the true "
                                          "one from the data's scatter (era Identification.shape_scatter), fraction; "
                                          "null unless asked for (GET /modes?scatter=true, reports)")

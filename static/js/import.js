@@ -6,6 +6,7 @@ import { api, upload } from "./api.js";
 import { el, plotConfig, plain, showError } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
+const { counted } = window.EraFormat;
 
 // The option a refusal names -> the element that shows it (next to its control).
 const ERROR_BOX = { dt: "import-error-dt", resample: "import-error-resample", orientation: "import-error-orientation", kind: "import-error-kind",
@@ -98,7 +99,8 @@ function kindWords(kind) {
 
 function renderRead(answer) {
   const pv = answer.preview;
-  $("import-files").textContent = `${answer.files.length} file(s): ${answer.files.join(", ")} · ` +
+  const n = answer.files.length;
+  $("import-files").textContent = `${n > 1 ? `${n} files: ` : ""}${answer.files.join(", ")} · ` +
     `${(answer.bytes / 1e6).toFixed(2)} MB`;
   if (!pv) {
     $("import-read").textContent = "";
@@ -124,15 +126,12 @@ function renderRead(answer) {
     bandProposed = true;  // once per upload: a band the person cleared stays cleared
   }
   $("import-start").disabled = pv.domain === "frequency";
-  const step = pv.dt === null ? "no sampling interval yet"
-    : timeLike ? `Δt ${Number(pv.dt.toPrecision(6))} s (${Number(pv.sample_rate_hz.toPrecision(6))} Hz)`
-      : `Δf ${Number(pv.dt.toPrecision(6))} Hz`;
-  const kept = pv.channels.filter((c) => !c.dropped).length;
-  $("import-read").textContent = `${pv.format.toUpperCase()}, ${pv.domain} records: ${pv.channels.length} channel(s)` +
-    `${kept < pv.channels.length ? ` (${kept} kept)` : ""}` +
-    `${pv.references.length ? ` × ${pv.references.length} reference(s)` : ""}, ${pv.n_records} record(s) of ` +
-    `${[...new Set(pv.n_samples)].join("/")} samples, ${step}; read as ${kindWords(pv.kind)} unless you say otherwise` +
-    `${pv.geometry_nodes ? `; geometry of ${pv.geometry_nodes} nodes` : ""}. ${pv.described.join(" · ")}`;
+  // one sentence: what the reader found (its counts, step and where it came from; the person's choices), then how
+  // the records will be read; the counts are the reader's, not said a second time here
+  const read = pv.described.join("; ");
+  const nodes = pv.geometry_nodes && !read.includes(`${pv.geometry_nodes} node`)
+    ? `; geometry of ${counted(pv.geometry_nodes, "node")}` : "";
+  $("import-read").textContent = `${read}${nodes}; read as ${kindWords(pv.kind)} unless you say otherwise.`;
   renderChannels(pv);
   const traces = pv.traces.map((y, i) => ({
     x: pv.x, y, name: plain(pv.channels[i].name), type: "scatter", mode: "lines",

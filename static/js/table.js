@@ -61,7 +61,8 @@ export function render() {
     });
     const keep = el("td", { class: "keep", title: chosen.has(k) ? "chosen automatically (era.choose_modes)" : null }, box);
     const tr = el("tr", { "data-mode": k, class: chosen.has(k) ? "chosen" : null }, keep,
-                  ...columns.map((c) => el("td", { text: c.text(m, k), "data-key": c.key })));
+                  ...columns.map((c) => el("td", { text: c.text(m, k), "data-key": c.key,
+                                                   title: c.cellTitle ? c.cellTitle(m, k) : null })));
     if (!state.kept.has(k)) tr.classList.add("rejected");
     if (state.selected === k) tr.classList.add("selected");
     tr.addEventListener("click", () => emit("select", k));
@@ -74,8 +75,20 @@ export function render() {
 function note() {
   // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.uncertainty)
   const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source} · ` : "";
-  $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
+  $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}` +
+    shared(state.modes);
   rule();
+}
+
+// The modes that share one ± (a repeated cluster, schemas.Modes.std_group), said once under the table.
+function shared(m) {
+  const seen = new Set(), groups = [];
+  for (const g of m.std_group || []) {
+    if (g && !seen.has(g.join())) { seen.add(g.join()); groups.push(g.map((j) => j + 1)); }
+  }
+  if (!groups.length) return "";
+  const words = groups.map((g) => `${g.slice(0, -1).join(", ")} and ${g[g.length - 1]}`).join("; ");
+  return ` · modes ${words}: one ± for the group (their poles lie closer together than their scatter)`;
 }
 
 // Which rule ticked the table, and the way back to the automatic choice when another did.

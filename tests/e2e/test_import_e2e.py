@@ -56,7 +56,7 @@ def test_drop_the_lvm_and_see_its_modes(tmp_path, browser, shots):  # noqa: F811
         assert cells[1:3] == ["Acceleration", "g"]  # the channel and its unit, as LabVIEW wrote them
         assert page.input_value("#import-rate") == "1651.61"  # the file's 1 / 0.00060546875 s, to 6 digits
         assert page.is_disabled("#import-rate")  # read from the file: nothing to say
-        assert "LVM, time records" in page.text_content("#import-read")
+        assert "LabVIEW LVM, 1 record of 81920 samples × 1 channel" in page.text_content("#import-read")
         page.wait_for_function("document.getElementById('import-plot').data?.length === 1")
         page.screenshot(path=str(shots / "import-1-lvm.png"), full_page=True)
         assert page.locator("#summary").is_hidden()  # nothing identified before the person says so
@@ -84,7 +84,7 @@ def test_the_rows_file_asks_for_its_sample_rate_next_to_the_control(tmp_path, br
         page.select_option("#import-orientation", "rows")
         page.wait_for_function("!document.getElementById('import-use').disabled")
         assert page.locator("#import-error-dt").is_hidden()
-        assert "Δt 0.04 s (25 Hz)" in page.text_content("#import-read")
+        assert "Δt = 0.04 s (25 Hz) given" in page.text_content("#import-read")
         assert "ambient" in page.text_content("#import-read")  # what "detected" will read it as
         page.screenshot(path=str(shots / "import-2-rows.png"), full_page=True)
         page.click("#import-use")
@@ -120,9 +120,9 @@ def test_three_uff_files_of_a_roving_hammer_test_dropped_at_once(tmp_path, brows
         page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", [str(p) for p in paths])
         page.wait_for_selector("#import:not([hidden]) #import-channels tbody tr")
-        assert "3 file(s): hit1.uff, hit2.uff, hit3.uff" in page.text_content("#import-files")
+        assert "3 files: hit1.uff, hit2.uff, hit3.uff" in page.text_content("#import-files")
         read = page.text_content("#import-read")
-        assert "UFF, frequency records: 1 channel(s) × 3 reference(s)" in read and "geometry of 3 nodes" in read
+        assert "as 1 output × 3 references" in read and "geometry of 3 nodes" in read and "(s)" not in read
         row = page.eval_on_selector_all("#import-channels tbody tr td", "tds => tds.map(td => td.textContent)")
         assert row[3:5] == ["1", "+Z"]  # node and direction from the files
         assert page.is_disabled("#import-start")  # FRFs have no pre-trigger, but a sign convention
@@ -193,7 +193,7 @@ def test_a_phone_csv_is_read_and_resampled_when_the_person_ticks_the_box(tmp_pat
         page.check("#import-resample")
         page.wait_for_function("!document.getElementById('import-use').disabled")
         read = page.text_content("#import-read")
-        assert "Δt 0.00235252 s (425.077 Hz)" in read and "resampled onto an even grid" in read
+        assert "Δt = 0.00235252 s (425.077 Hz)" in read and "resampled onto an even grid" in read
         page.click("#import-use")
         page.wait_for_selector("#summary:not([hidden])")
         summary = page.text_content("#summary")
@@ -230,7 +230,7 @@ def test_the_usc_cantilever_saved_as_csv_with_7_significant_digits_is_read_as_ev
         page, errors = open_page(server, browser, 1100)
         page.set_input_files("#file", str(path))
         page.wait_for_function("!document.getElementById('import-use').disabled")
-        assert "Δt 0.000605469 s (1651.61 Hz)" in page.text_content("#import-read")
+        assert "Δt = 0.000605469 s (1651.61 Hz)" in page.text_content("#import-read")
         assert page.locator("#field-resample").is_hidden()  # an even record: nothing to resample
         page.wait_for_function("document.getElementById('import-plot').data?.length === 1")
         page.screenshot(path=str(shots / "import-usc-csv.png"), full_page=True)
@@ -260,7 +260,7 @@ def test_the_ladisk_hammer_records_propose_their_force_channel(tmp_path, browser
         names = page.eval_on_selector_all("#import-channels tbody tr td:nth-child(2)", "tds => tds.map(t => t.textContent)")
         assert roles == ["force", "response"] and names == ["measurements_1:2", "measurements_1:3"]
         read = page.text_content("#import-read")
-        assert "read as “input and output time histories”" in read and "Δt 0.0000390625 s (25600 Hz)" in read
+        assert "read as “input and output time histories”" in read and "Δt = 0.0000390625 s (25600 Hz)" in read
         page.screenshot(path=str(shots / "import-ladisk.png"), full_page=True)
         assert not errors, errors
     finally:
