@@ -289,6 +289,20 @@ async function compare() {
 
 function canCompare() { $("model-compare").disabled = !(saved && state.analysis && state.modes); }
 
+const NO_TRACE_LINES = "This dataset has no trace lines: upload a model file instead.";
+
+// The visible reason under a disabled button (a hover title alone is missed): made once, in a box with the button.
+function whyDisabled(button) {
+  let note = document.getElementById(`${button.id}-why`);
+  if (!note) {
+    const box = el("div", { class: "with-why", style: "display:flex;flex-direction:column;align-items:flex-start;gap:4px" });
+    button.replaceWith(box);
+    note = el("div", { id: `${button.id}-why`, class: "note", style: "max-width:380px" });
+    box.append(button, note);
+  }
+  return note;
+}
+
 async function load(ds) {
   saved = null; draft = null; desc = null;
   view3d.close();
@@ -297,8 +311,10 @@ async function load(ds) {
   $("model-compare-note").textContent = "";
   $("model-status").textContent = "";
   for (const id of ["model-error", "model-file-error", "model-compare-error"]) showError(id, null);
-  $("model-from-geometry").disabled = !(ds.geometry && ds.geometry.n_edges > 0);
-  $("model-from-geometry").title = $("model-from-geometry").disabled ? "This dataset has no trace lines: upload a model file." : "";
+  const button = $("model-from-geometry");
+  button.disabled = !(ds.geometry && ds.geometry.n_edges > 0);
+  button.title = button.disabled ? NO_TRACE_LINES : "";
+  whyDisabled(button).textContent = button.disabled ? NO_TRACE_LINES : "";
   if (!ds.has_model) { show(null); return; }  // none stored: asking would be a 404
   try {
     const r = await api(`/api/datasets/${encodeURIComponent(ds.id)}/model`);
