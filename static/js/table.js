@@ -74,9 +74,8 @@ export function render() {
 
 function note() {
   // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.uncertainty)
-  const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source} · ` : "";
-  $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}` +
-    shared(state.modes);
+  const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source}${shared(state.modes)} · ` : "";
+  $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
   rule();
 }
 
@@ -88,7 +87,7 @@ function shared(m) {
   }
   if (!groups.length) return "";
   const words = groups.map((g) => `${g.slice(0, -1).join(", ")} and ${g[g.length - 1]}`).join("; ");
-  return ` · modes ${words}: one ± for the group (their poles lie closer together than their scatter)`;
+  return ` (modes ${words}: one ± for the group, their poles closer together than their scatter)`;
 }
 
 // Which rule ticked the table, and the way back to the automatic choice when another did.
