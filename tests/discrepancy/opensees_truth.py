@@ -327,7 +327,8 @@ def solve(frame: Frame, form: ModelForm, effects: list = (), n_modes: int = 14) 
     f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
     tags = [b.node[n] for n in frame.node_ids]
     u = np.array([[ops.nodeEigenvector(t, m + 1)[:3] for m in range(n_modes)] for t in tags]).transpose(0, 2, 1)
-    u /= np.abs(u).max(axis=(0, 1))
+    ref = 1.0 + np.sin(1.7 * np.arange(u[..., 0].size) + 0.3)     # a fixed sign per mode (ARPACK's is arbitrary)
+    u *= np.where(ref @ u.reshape(-1, n_modes) < 0, -1.0, 1.0) / np.abs(u).max(axis=(0, 1))
     ops.wipe()
     return f, u
 
