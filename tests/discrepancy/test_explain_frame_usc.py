@@ -2,7 +2,6 @@
 clamped, one accelerometer near the tip; published 6.62 / 41.4 / 117.5 Hz. The nominal era.Frame model is ~9-10 %
 high; with one sensor and three modes explain cannot say why, and says so (ambiguous, with the ranking)."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,10 +10,9 @@ import scipy.signal
 import era
 from era.discrepancy import measured_modes
 from era.examples.frames import cantilever
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-USC = Path(__file__).resolve().parents[1].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
-    "timeseries_data.lvm"
+USC = SHARED_DATASETS / "usc_cantilever_free_decay" / "timeseries_data.lvm"
 
 
 @pytest.fixture(scope="module")
