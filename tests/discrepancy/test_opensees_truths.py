@@ -71,10 +71,12 @@ def test_the_scorer_reads_single_places_sets_of_places_and_refusals():
     assert score(named(mass), outside) == "confident wrong" and score(named(), outside) == "honest"
 
 
-# a handful of blind cases: nothing hidden (portal, footbridge), the issue's footbridge (a point mass and a softened
-# member), a semi-rigid portal joint, a crack in a grid bar, a tuned mass outside the library
-SMALL = (("portal", "none", 0), ("footbridge", "none", 1), ("footbridge", "two", 0), ("portal", "joint_flexibility", 0),
-         ("grid", "damage", 0), ("footbridge", "tuned_mass (outside)", 1))
+# a handful of blind cases: nothing hidden (portal), the issue's footbridge (a point mass and a softened member), a
+# crack in a grid bar, a tuned mass outside the library, and two that today's explain names wrongly: a softened
+# footbridge chord, a semi-rigid portal joint
+SMALL = (("portal", "none", 0), ("footbridge", "two", 0), ("grid", "damage", 0),
+         ("footbridge", "tuned_mass (outside)", 0), ("footbridge", "member_stiffness", 2),
+         ("portal", "joint_flexibility", 0))
 
 
 @pytest.fixture(scope="module")
@@ -88,8 +90,8 @@ def test_every_blind_case_ends_in_an_explanation_or_a_refusal_in_words(small_mat
 
 
 @pytest.mark.xfail(strict=False, reason="today's explain (before the model-form allowance of issue 27): 2 of 6 "
-                   "confident wrong (footbridge/none/s1: a point mass at b1L that is not there; footbridge/tuned_mass "
-                   "(outside)/s1: member b1L-b2R or b0R-b1R softened)")
+                   "confident wrong (the footbridge's softened chord b3L-b4L named at b3R-b4R or b4L-b5R; the "
+                   "portal's semi-rigid joint C named with an extra softened member B-E)")
 def test_no_confident_wrong_name_on_the_blind_cases(small_matrix):
     wrong = [r["name"] for r in small_matrix["rows"] if r["outcome"] == "confident wrong"]
     assert not wrong, wrong
