@@ -43,6 +43,14 @@ class NamedEffect(Explained):
     probability: float | None = Field(description="posterior probability of the effect, fraction")
     description: str = Field(description="the verdict in one sentence")
     gap_after: Gap | None = Field(None, description="the gap with the effects named up to this one")
+    places: list[tuple[Place, float | None]] = Field(default_factory=list, description="[place, probability] of "
+                                                     "the places the data cannot tell apart under the model-form "
+                                                     "allowance, most probable first (the smallest set holding 90 % "
+                                                     "of the posterior over places; one when the place is clear)")
+    size_parameter: str | None = Field(None, description="the keyword of the effect's size (its own parameter)")
+    size_interval: list[float | None] | None = Field(None, description="[low, high] 95 % interval of the size; null "
+                                                                       "on a side the data do not bound")
+    cannot_tell: list[str] = Field(default_factory=list, description="what the data cannot distinguish, in words")
 
 
 class LocatedEvidence(Explained):
@@ -154,6 +162,9 @@ class Explanation(Explained):
     expanded_measured: Matrix = Field(description="(joints, modes) measured shapes expanded by SEREP")
     expanded_model: Matrix = Field(description="(joints, modes) the updated model's shapes")
     timing_s: dict[str, float | None] = Field(description="era_s, ranking_s, report_s, total_s, s")
+    model_form: dict[str, float] | None = Field(None, description="the model-form allowance the evidence used: "
+                                                                 "{frequency: relative 1σ, shape: 1σ per unit-shape "
+                                                                 "component} (null for results stored before it)")
     nominal_params: dict[str, Any] = Field(description="nasa_grid keywords of the nominal model as asked")
     model_hz_before: Floats = Field(description="nominal model frequencies, Hz")
     model_hz_after: Floats = Field(description="updated model frequencies, Hz")

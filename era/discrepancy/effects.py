@@ -177,12 +177,35 @@ def short_place(loc) -> str:
     return f"({loc[0]:g}, {loc[1]:g}) ft"
 
 
+def places_noun(spec: EffectSpec, loc) -> str:
+    """What the places of a located effect are, in the plural: "members", "supports", "joints" or "nodes"."""
+    key = spec.location_keyword or ""
+    if key == "member_at":
+        return "members"
+    if key == "support_at":
+        return "supports"
+    if "joint" in key or not isinstance(as_location(loc), str):
+        return "joints"
+    return "nodes"
+
+
+def one_of(spec: EffectSpec, places) -> str:
+    """ "one of these members: member 3-4 55 %, member 4-5 30 %, member 2-3 15 %" from ((place, probability),
+    ...) best first (the first eight, then how many more)."""
+    shown = ", ".join(f"{short_place(loc)} {100 * q:.0f} %" for loc, q in places[:8])
+    more = f" and {len(places) - 8} more" if len(places) > 8 else ""
+    return f"one of these {places_noun(spec, places[0][0])}: {shown}{more}"
+
+
 def describe(spec: EffectSpec, parameters: dict, location, probability: float, uncertainty=None,
-             interval=None, lead: str = "The test data are best explained if") -> str:
-    """A sentence an engineer understands: what is missing, how big (± 1σ), where, and how sure.
+             interval=None, lead: str = "The test data are best explained if", places=()) -> str:
+    """A sentence an engineer understands: what is missing, how big (± 1σ and the 95 % interval), where, and how
+    sure.
 
     interval : {name: (low, high)} 95 % posterior interval, None on a side the data do not bound; a one-sided
     interval is reported as a bound ("≤ high"), not as a value ± σ the data cannot support.
+    places : ((place, probability), ...) the places the data cannot tell apart (the credible set); with two or
+    more the sentence says "on one of these members: A 55 %, B 30 %" instead of one place.
     """
     shown = []
     for prm in spec.params:
@@ -197,10 +220,14 @@ def describe(spec: EffectSpec, parameters: dict, location, probability: float, u
                 shown.append(f"{label} ≤ {high:.2g}{unit} (95 %; the data cannot tell lower values apart)")
             elif high is None and low is not None:
                 shown.append(f"{label} ≥ {low:.2g}{unit} (95 %; the data cannot tell higher values apart)")
+            elif low is not None and high is not None and (low, high) != (0.0, 0.0):
+                shown.append(f"{label} = {v:.4g}{pm}{unit}, 95 % {low:.3g} to {high:.3g}")
             else:
                 shown.append(f"{label} = {v:.4g}{pm}{unit}")
     sf = parameters.get("stiffness_factor")
     where = f" {place(location)}" if location is not None else ""
+    if len(places) > 1:
+        where = " " + ("on " if spec.location_keyword == "member_at" else "at ") + one_of(spec, places)
     size = f" ({', '.join(shown)})" if shown else ""
     extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
     return (f"{lead} {spec.summary}{where}{size}{extra}; "

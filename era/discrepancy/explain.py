@@ -17,17 +17,18 @@ from ..data import ResponseData
 from ..errors import DataError
 from ..realization import Identification
 from ..structure import Frame
-from .effects import describe, nuisance, short_place
+from ..words import counted
+from .effects import describe, nuisance, one_of, places_noun, short_place
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
-from .explanation import VERDICTS, Explanation, NamedEffect
+from .explanation import PLACE_COVERAGE, VERDICTS, Explanation, NamedEffect
 from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
 from .frame_model import FrameModel, refit_exact
 from .measured import MeasuredModes, identify_modes, measured_modes
 from .protocol import ExplainModel, as_explain_model
-from .ranking import rank_effects
+from .ranking import credible_places, rank_effects
 from .search import Search, search_effects
-from .verdict import message_for, too_few_data, verdict_of
+from .verdict import message_for, modes_the_model_lacks, too_few_data, verdict_of
 from .weights import close_modes, node_rows, pair, with_member_scatter
 
 __all__ = ["VERDICTS", "Explanation", "NamedEffect", "explain"]
@@ -89,19 +90,58 @@ def _named_effects(model: ExplainModel, found: Search, fm: MeasuredModes, w: Mod
         unc = {n: fit.uncertainty[n] for n in params}
         p_loc = r.locations[0][2] if r.locations else None
         others = tuple((loc, q) for loc, _, q in r.locations[1:] if q >= 0.05)
+        places = credible_places(r.locations, PLACE_COVERAGE) if r.locations else ()
+        size_name, size_iv = _size(spec, params, unc, interval)
         step = fit.model if i == len(found.named) - 1 else r.fit.model.exact
         f_s, s_s = step.modes(n_model)
         pairing = pair(step, fm, n_model, max_freq_error=1.0)
         g = gap(pairing, subspace_mac(pairing, fm.shapes, s_s, f_s, close))
         lead = ("The test data are best explained if" if i == 0 else
                 "With that, the rest of the gap is best explained if")
-        text = describe(spec, params, r.location, r.probability, unc, interval, lead=lead)
-        if others:
+        text = describe(spec, params, r.location, r.probability, unc, interval, lead=lead, places=places)
+        if others and len(places) < 2:
             text += (f" The place is not certain ({p_loc:.0%}); also possible: "
                      + ", ".join(f"{short_place(loc)} {q:.0%}" for loc, q in others) + ".")
         text += (f" Gap after this step: max |Δf| {g.max_abs_freq_error_pct:.2f} %, min MAC {g.min_mac:.3f}.")
         out.append(NamedEffect(r.name, params, r.location, r.probability, text, unc, p_loc, others, interval,
-                               gap_after=g, log_bayes_factor=r.log_bayes_factor, step=i + 1))
+                               gap_after=g, log_bayes_factor=r.log_bayes_factor, step=i + 1, places=places,
+                               size_parameter=size_name, size_interval=size_iv,
+                               cannot_tell=_cannot_tell(spec, places, size_name, size_iv, found.rankings[i], r.name)))
+    return tuple(out)
+
+
+def _size(spec, params: dict, unc: dict, interval: dict) -> tuple:
+    """(keyword, (low, high)) of the effect's size, its own parameter: the 95 % profile interval, else ±1.96σ of
+    the Laplace posterior (in ln for log parameters); (None, None) for an effect without a parameter."""
+    if not spec.params:
+        return None, None
+    prm = spec.params[0]
+    if prm.name in interval:
+        return prm.name, tuple(interval[prm.name])
+    v, sd = params.get(prm.name), unc.get(prm.name)
+    if v is None or sd is None or not np.isfinite(sd):
+        return prm.name, None
+    if prm.log and v > 0:
+        return prm.name, (float(v * np.exp(-1.96 * sd / v)), float(v * np.exp(1.96 * sd / v)))
+    return prm.name, (float(v - 1.96 * sd), float(v + 1.96 * sd))
+
+
+def _cannot_tell(spec, places: tuple, size_name, size_iv, ranking: tuple, name: str) -> tuple:
+    """What the data cannot distinguish, in sentences: which of the places, a size bounded on one side only,
+    another candidate of the same step still holding ≥ 5 % of the posterior."""
+    out = []
+    if len(places) > 1:
+        out.append(f"which of {len(places)} {places_noun(spec, places[0][0])} it is ({one_of(spec, places)})")
+    if size_name is not None and size_iv is not None:
+        label = size_name.removesuffix("_kg").removesuffix("_m").replace("_", " ")
+        low, high = size_iv
+        if low is None and high is not None:
+            out.append(f"how low the {label} is: every value below {high:.2g} fits as well")
+        elif high is None and low is not None:
+            out.append(f"how high the {label} is: every value above {low:.2g} fits as well")
+    for x in ranking:
+        if x.name not in (name, "none") and x.probability >= 0.05:
+            out.append(f"whether it is {x.name.replace('_', ' ')} instead ({x.probability:.0%})")
     return tuple(out)
 
 
@@ -147,6 +187,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     timing = {}
     nominal: ExplainModel = FrameModel.of(model) if isinstance(model, Frame) else as_explain_model(model)
     model = nominal
+    errors = errors.for_model(model)     # the model's own member scatter and model-form allowance where not given
     if kept is not None and not isinstance(data, Identification):
         raise DataError("explain: `kept` (order, mode indices) names modes of an identification; pass the "
                         "era.Identification they were kept from as `data`.")
@@ -196,6 +237,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         why = too_few_data(fm, found)
         if why:
             verdict = "ambiguous"
+    if verdict == "explained" and found.fit is not None:
+        why = modes_the_model_lacks(found.fit.model.exact, measured, n_model, close=errors.close)
+        if why:
+            verdict = "unexplained"
     t2 = time.perf_counter()           # the report: the named parameters' intervals, pairings, expansion
     none = next(r for r in ranking if r.name == "none")
     chosen = found.fit if verdict == "explained" and found.fit is not None else none.fit
@@ -226,7 +271,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     if rejected:       # rejected trials: no evidence for those places, said so (the first reason as an example)
         name, loc, reason = rejected[0]
         at = "" if loc is None else f" at {short_place(loc)}"
-        message += (f" {len(rejected)} trial model(s) could not be solved and count as no evidence for their "
+        message += (f" {counted(len(rejected), 'trial model')} could not be solved and "
+                    f"{'counts' if len(rejected) == 1 else 'count'} as no evidence for "
+                    f"{'its' if len(rejected) == 1 else 'their'} "
                     f"place, e.g. {name}{at}: {reason}")
     return Explanation(
         verdict=verdict, effect=effect, message=message, ranking=ranking, before=g_b, after=g_a,
@@ -236,4 +283,4 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         residual_sensors=tuple(int(i) for i in np.flatnonzero(comac_a < 0.9)),
         node_xy_ft=joints, expanded_measured=expanded, expanded_model=model_nodes,
         timing_s=timing, node_labels=tuple(model.node_labels), effects=effects,
-        rankings=found.rankings)
+        rankings=found.rankings, model_form=(errors.model_form or 0.0, errors.model_form_shape or 0.0))

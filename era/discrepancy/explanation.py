@@ -14,6 +14,8 @@ from .measured import MeasuredModes
 from .protocol import ExplainModel
 from .ranking import RankedEffect
 
+#: The set of places a named effect reports holds this share of the posterior over its places (NamedEffect.places).
+PLACE_COVERAGE = 0.9
 VERDICTS = ("explained", "no_significant_discrepancy", "ambiguous", "unexplained")
 
 
@@ -28,6 +30,13 @@ class NamedEffect:
     data do not bound (then the description gives a bound, not a value); gap_after : the Gap of the model with
     the effects named up to this one; log_bayes_factor : against the model with the effects named before it;
     step : 1 for the first named, 2 for the second, ...
+    places : ((location, probability), ...) the places the data cannot tell apart under the model-form
+        allowance: the smallest set, most probable first, holding PLACE_COVERAGE (90 %) of the place posterior
+        (normalised over the places in contention); one entry when the place is clear, empty when not located;
+    size_parameter : the keyword of the effect's size (its own parameter, e.g. "point_mass_kg"); size_interval :
+        its 95 % interval (low, high), None on a side the data do not bound;
+    cannot_tell : sentences saying what the data cannot distinguish (which of the places, a bound instead of a
+        value, another candidate still probable).
     With several effects, parameters, uncertainty and interval come from the fit of the whole named set."""
 
     name: str
@@ -42,6 +51,10 @@ class NamedEffect:
     gap_after: Gap | None = None
     log_bayes_factor: float | None = None
     step: int = 1
+    places: tuple = ()
+    size_parameter: str | None = None
+    size_interval: tuple | None = None
+    cannot_tell: tuple = ()
 
     def as_dict(self) -> dict:
         loc = self.location
@@ -54,7 +67,10 @@ class NamedEffect:
                 "interval": {k: list(v) for k, v in self.interval.items()},
                 "probability": self.probability, "description": self.description,
                 "gap_after": None if self.gap_after is None else self.gap_after.as_dict(),
-                "log_bayes_factor": self.log_bayes_factor, "step": self.step}
+                "log_bayes_factor": self.log_bayes_factor, "step": self.step,
+                "places": [[js(loc), q] for loc, q in self.places], "size_parameter": self.size_parameter,
+                "size_interval": None if self.size_interval is None else list(self.size_interval),
+                "cannot_tell": list(self.cannot_tell)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +96,8 @@ class Explanation:
     the measured shapes with the updated model's paired modes; expanded_model : (n_rows, k) those model modes (NaN
     columns when unpaired); rows: the grid's joints, or a frame's node translations (node_labels "7:x", ...).
     timing_s : wall-clock seconds of each stage.
+    model_form : (relative frequency 1σ, shape-component 1σ) of the model-form allowance the evidence used
+        (ErrorLevels.model_form, model_form_shape, or the model's default).
     """
 
     verdict: str
@@ -109,6 +127,7 @@ class Explanation:
     node_labels: tuple = ()
     effects: tuple = ()
     rankings: tuple = ()
+    model_form: tuple = (0.0, 0.0)
 
     @property
     def rejected_trials(self) -> tuple:
@@ -166,4 +185,5 @@ class Explanation:
             "expanded_measured": self.expanded_measured.tolist(),
             "expanded_model": np.where(np.isfinite(self.expanded_model), self.expanded_model, 0.0).tolist(),
             "timing_s": dict(self.timing_s),
+            "model_form": {"frequency": float(self.model_form[0]), "shape": float(self.model_form[1])},
         }

@@ -21,6 +21,7 @@ absolute mass that frequencies and shapes cannot (only E/ρ moves those).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,6 +69,12 @@ class ErrorLevels:
         few per cent); mode j's frequency then carries ½ · scatter · √(Σ_e w_ej²), w_ej member e's share of the
         mode's strain energy (model.member_energy_fractions). None: the model's own default (2 % for an
         era.Frame, whose few members do not average out; 0 for the grid, whose 157 bars do, in freq_floor).
+    model_form, model_form_shape : the model-form allowance: the relative 1σ of each frequency, and the 1σ of each
+        unit-shape component, by which a nominal FE model misses the real structure it describes (element
+        formulation and mesh, joint details, sections and materials a few per cent off), added in quadrature to
+        the levels above, so it enters every fit's evidence: effects and places the data cannot tell apart at
+        this allowance stay apart, and a further effect is named only when it pays for itself under it. None:
+        the model's own (ExplainModel.default_model_form; docs/explain-accuracy.md says how it was calibrated).
     """
 
     freq_floor: float = 0.0015
@@ -80,6 +87,16 @@ class ErrorLevels:
     close: float = 0.03
     close_shape_sigma: float = 0.3
     member_scatter: float | None = None
+    model_form: float | None = None
+    model_form_shape: float | None = None
+
+    def for_model(self, model: ExplainModel) -> "ErrorLevels":
+        """These levels with the model's defaults put in for those left None (member scatter, model form)."""
+        freq, shape = model.default_model_form
+        return dataclasses.replace(
+            self, member_scatter=model.default_member_scatter if self.member_scatter is None else self.member_scatter,
+            model_form=freq if self.model_form is None else self.model_form,
+            model_form_shape=shape if self.model_form_shape is None else self.model_form_shape)
 
     def weights(self, measured: MeasuredModes, close_mask=None, node_rows=None) -> "ModeWeights":
         """Per-mode error levels for ``measured``; close_mask (k,) marks nearly repeated modes.
@@ -89,8 +106,10 @@ class ErrorLevels:
         """
         weak = np.clip(1.0 - measured.emac, 0.0, 1.0)
         f = measured.frequency_hz
-        sf = np.sqrt(measured.frequency_std_hz**2 + (self.freq_floor * f) ** 2 + (self.emac_freq * weak * f) ** 2)
-        ss = np.sqrt(measured.shape_std**2 + self.shape_floor**2 + (self.emac_shape * weak) ** 2)
+        form_f, form_s = self.model_form or 0.0, self.model_form_shape or 0.0
+        sf = np.sqrt(measured.frequency_std_hz**2 + (self.freq_floor * f) ** 2 + (self.emac_freq * weak * f) ** 2
+                     + (form_f * f) ** 2)
+        ss = np.sqrt(measured.shape_std**2 + self.shape_floor**2 + (self.emac_shape * weak) ** 2 + form_s**2)
         if close_mask is not None:
             ss = np.where(close_mask, np.maximum(ss, self.close_shape_sigma), ss)
         whiten = None

@@ -58,6 +58,8 @@ class ExplainModel(Model, Protocol):
         until then); the model itself when it has no shortcut;
     default_member_scatter : relative 1σ of each member's stiffness when ErrorLevels.member_scatter is None (0:
         none, the grid's 157 bars average out);
+    default_model_form : (relative frequency 1σ, shape-component 1σ) of the model-form allowance when
+        ErrorLevels.model_form is None (see ErrorLevels);
     ritz(reference, n_modes) : this model's modes in the span of the solved ``reference``'s lowest n_modes
         (:class:`RitzModes`), or None when it cannot (then the trial is solved);
     screening_ritz : the approximation used to screen places (ranking.screen_locations);
@@ -83,6 +85,9 @@ class ExplainModel(Model, Protocol):
 
     @property
     def default_member_scatter(self) -> float: ...
+
+    @property
+    def default_model_form(self) -> tuple[float, float]: ...
 
     def with_params(self, **changes: Any) -> ExplainModel: ...
 
@@ -140,6 +145,10 @@ class PlainModel:
     @property
     def default_member_scatter(self) -> float:
         return 0.0
+
+    @property
+    def default_model_form(self) -> tuple[float, float]:
+        return (0.0, 0.0)
 
     @property
     def has_ritz(self) -> bool:

@@ -206,6 +206,41 @@ def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
     return np.array([*base.u, np.clip(u, p.prior_mean - 3 * p.prior_std, p.prior_mean + 3 * p.prior_std)])
 
 
+def place_posterior(spec: EffectSpec, fitted_at: list, places, chi2: np.ndarray) -> tuple:
+    """The posterior over a located effect's places: ((location, log evidence, probability), ...), best first.
+
+    fitted_at : [(Fit, index into places)] the places fitted in full, best first; chi2 : (n_places,) the
+    screening's linearised misfit (inf where not screened). A fitted place's log evidence is its fit's; a place
+    screened but not fitted gets the best fitted place's evidence less half its screened misfit above that
+    place's (the data's say, linearised), so a place the data cannot tell from the best stays in contention
+    though it was not fitted. Probabilities ∝ exp(log evidence / T) (T = spec.place_temperature), normalised over
+    the places within e^{-12} of the best (the others hold less than a millionth each)."""
+    best, i_best = fitted_at[0]
+    rows = [(f.location, f.log_evidence) for f, _ in fitted_at]
+    done = {i for _, i in fitted_at}
+    if np.isfinite(chi2[i_best]):
+        for i in np.flatnonzero(np.isfinite(chi2)):
+            le = best.log_evidence - 0.5 * float(chi2[i] - chi2[i_best])
+            if int(i) not in done and le > best.log_evidence - 12.0 * spec.place_temperature:
+                rows.append((as_location(places[i]), min(le, best.log_evidence)))
+    les = np.array([le for _, le in rows])
+    q = np.exp(les / spec.place_temperature - logsumexp(les / spec.place_temperature))
+    order = np.argsort(-les, kind="stable")
+    return tuple((rows[k][0], float(les[k]), float(q[k])) for k in order)
+
+
+def credible_places(locations: tuple, coverage: float = 0.9) -> tuple:
+    """The smallest set of places, most probable first, whose probabilities add up to ``coverage``:
+    ((location, probability), ...) from RankedEffect.locations ((location, log evidence, probability), ...)."""
+    out, total = [], 0.0
+    for loc, _, q in sorted(locations, key=lambda x: -x[2]):
+        out.append((loc, float(q)))
+        total += q
+        if total >= coverage:
+            break
+    return tuple(out)
+
+
 def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, test: dict | None = None,
                  fine_scan: bool = False, ritz_modes: int = 30, base: Fit | None = None,
@@ -265,22 +300,21 @@ def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured:
             # is below the best's by more than e^{-12}, well within the marginal's rounding
             top = top[np.isfinite(chi2[top])]
             top = top[chi2[top] - chi2[top[0]] <= max(25.0, 0.5 * chi2[top[0]])] if top.size else top
-            fits = []
+            fitted_at = []
             for i in top:
                 f, why = fitted(spec, location=places[i], u0=_start(spec, base, size[i]))
                 if f is None:
                     rejected.append((spec.name, as_location(places[i]), why))
                 else:
-                    fits.append(f)
-            if not fits:
+                    fitted_at.append((f, int(i)))
+            if not fitted_at:
                 dropped += rejected or [(spec.name, None, "no place could be screened")]
                 continue
-            fits.sort(key=lambda f: -f.log_evidence)
+            fitted_at.sort(key=lambda x: -x[0].log_evidence)
+            fits = [f for f, _ in fitted_at]
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))
-            t_place = spec.place_temperature    # the places' probabilities, with the candidate's model-form allowance
-            p_loc = np.exp(les / t_place - logsumexp(les / t_place))
-            locs = tuple((f.location, f.log_evidence, float(q)) for f, q in zip(fits, p_loc))
+            locs = place_posterior(spec, fitted_at, places, chi2)
             screened = int(np.isfinite(chi2).sum())
             rows.append((spec, log_ev, fits[0], locs, time.perf_counter() - t,
                          screened + 2 + sum(f.n_evals for f in fits), changes if screened == len(places) else None,

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..words import counted
+from ..correlation import pair_modes
+from ..words import counted, listed
 from .effects import short_place
 from .measured import MeasuredModes
+from .protocol import Modes
 from .search import Search
 
 
@@ -25,6 +27,35 @@ def too_few_data(fm: MeasuredModes, found: Search) -> str | None:
             f"{n_unknown} unknowns of the best candidate ({names}, its stiffness factor"
             f"{' and its place' if n_places else ''}): it fits them whatever the truth, so the "
             "data cannot name it or tell it from the others; more sensors or more modes are needed.")
+
+
+def modes_the_model_lacks(model: Modes, measured: MeasuredModes, n_model: int, min_mac: float = 0.6,
+                          close: float = 0.03) -> str | None:
+    """A sentence when the model with the named effects (``model``) leaves a measured mode without a partner
+    (pairing by frequency and MAC, era.pair_modes) though it has that mode's shape (MAC ≥ min_mac) at a mode
+    another measured mode pairs with: the structure has the mode twice where the model has it once (a tuned
+    mass, a local mode): physics outside the library, so nothing may be named. A mode without a partner that no
+    model shape resembles (noise, a sensor fault), or one of a nearly repeated pair (another measured mode within
+    ``close``, relative: at few sensors the two shapes of such a pair are hardly told apart), is left aside.
+    None otherwise."""
+    f_model, s_model = model.modes(n_model)
+    p = pair_modes(measured.frequency_hz, measured.shapes, f_model, s_model, max_freq_error=0.5)
+    f = measured.frequency_hz
+    alone = [i for i in range(measured.n_modes) if i not in set(p.measured_index.tolist())
+             and np.min(np.abs(np.delete(f, i) - f[i]), initial=np.inf) > close * f[i]]
+    if not alone or not p.n_pairs:
+        return None
+    a, s = measured.shapes[:, alone], s_model[:, p.model_index]
+    mac = (a.T @ s) ** 2 / np.outer(np.sum(a**2, axis=0), np.maximum(np.sum(s**2, axis=0), 1e-300))
+    twice = [i for i, row in zip(alone, mac) if row.max() >= min_mac]
+    if not twice:
+        return None
+    hz = listed(f"{f[i]:.3f} Hz" for i in twice)
+    one = len(twice) == 1
+    return (f"The measured {'mode' if one else 'modes'} at {hz} {'has' if one else 'have'} no partner in the model, "
+            f"though the model has {'its' if one else 'their'} shape (MAC ≥ {min_mac:g}) at another measured mode: "
+            "the structure has a mode the model and every candidate lack (a tuned mass, a local mode), so nothing "
+            "is named.")
 
 
 def verdict_of(ranking, found: Search, min_probability: float, min_log_bayes: float) -> tuple:

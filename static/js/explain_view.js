@@ -20,7 +20,8 @@
     torsion_factor: ["torsion (GJ) factor", ""], cable_length_m: ["cable length", "m"],
     distributed_mass_kg: ["distributed mass", "kg"], point_mass_kg: ["point mass", "kg"],
     loose_joint_stiffness: ["loose-joint stiffness", "N·m/rad"], gravity: ["gravity stiffening fraction", ""],
-    member_factor: ["member stiffness factor", ""],
+    member_factor: ["member stiffness factor", ""], support_rotation_stiffness: ["support rotational stiffness", "N·m/rad"],
+    support_vertical_stiffness: ["support vertical stiffness", "N/m"],
   };
   function el(tag, text, attrs) {
     const n = document.createElement(tag);
@@ -71,6 +72,22 @@
     }).join("; ");
   }
 
+  // the effect's size: its own parameter with the 95 % interval (a bound when the data close one side only)
+  function sizeText(e) {
+    const k = e.size_parameter;
+    if (!k || !e.parameters || typeof e.parameters[k] !== "number") return "";
+    const label = (PARAM[k] || [k])[0];
+    const [lo, hi] = e.size_interval || [null, null];
+    if (lo === null && typeof hi === "number") return `${label} ≤ ${value(k, hi)} (lower values fit as well)`;
+    if (hi === null && typeof lo === "number") return `${label} ≥ ${value(k, lo)} (higher values fit as well)`;
+    const range = typeof lo === "number" && typeof hi === "number" ? ` (95 %: ${value(k, lo)} to ${value(k, hi)})` : "";
+    return `${label} = ${value(k, e.parameters[k])}${range}`;
+  }
+
+  function gapText(g) {
+    return g ? `max |Δf| ${num(g.max_abs_freq_error_pct, 2)} %, min MAC ${num(g.min_mac, 3)}` : "–";
+  }
+
   function verdictBox(s, id) {
     const [title, bg, ink] = VERDICT[s.verdict] || [s.verdict, "#f4f6f9", "#1d2330"];
     const box = el("div", null, { id: `${id}-verdict`, "data-verdict": s.verdict,
@@ -86,16 +103,30 @@
       add(effects.length > 1 ? `Effect ${k + 1}` : "Effect", e.name);
       const own = Object.fromEntries(Object.entries(e.parameters || {}).filter(([n]) => n !== "stiffness_factor"));
       const shown = effects.length > 1 && Object.keys(own).length ? own : e.parameters;
-      add("Parameters (± 1σ)", paramText(shown, e.uncertainty, e.interval));
-      if (e.location) {
-        add("Location", where(e.location) +
+      if ((e.places || []).length > 1) {   // places the data cannot tell apart: the set, with the probability of each
+        add("Place", `one of these: ${e.places.map(([l, q]) => `${where(l)} ${num(100 * q, 0)} %`).join(", ")}`);
+      } else if (e.location) {
+        add("Place", where(e.location) +
           (e.location_probability !== null && e.location_probability !== undefined ? `, ${num(100 * e.location_probability, 0)} % certain` : "") +
           ((e.other_locations || []).length ? `; also possible ${e.other_locations.map(([l, q]) => `${where(l)} ${num(100 * q, 0)} %`).join(", ")}` : ""));
       }
+      const size = sizeText(e);
+      if (size) add("Size (95 % interval)", size);
+      add("Parameters (± 1σ)", paramText(shown, e.uncertainty, e.interval));
+      add("The data cannot tell", (e.cannot_tell || []).length ? e.cannot_tell.join("; ")
+        : "nothing more: one place, a size bounded on both sides, no other candidate left");
       add(k === 0 ? "Posterior probability" : "Posterior probability (given the effects before)", `${num(100 * e.probability, 1)} %`);
-      if (e.gap_after) add("Gap after this step", `max |Δf| ${num(e.gap_after.max_abs_freq_error_pct, 2)} %, min MAC ${num(e.gap_after.min_mac, 3)}`);
+      const prev = k === 0 ? s.before : effects[k - 1].gap_after;
+      if (e.gap_after) add("Gap before → after", `${gapText(prev)} → ${gapText(e.gap_after)}`);
       box.append(dl);
     });
+    if (s.model_form) {   // results stored before it was recorded have none
+      const mf = s.model_form;
+      box.append(el("div", "Model-form allowance (how far a nominal model may miss the real structure, 1σ): " +
+        (mf.frequency || mf.shape ? `${num(100 * mf.frequency, 1)} % on each frequency, ${num(mf.shape, 3)} on each shape component`
+          : "none for this model (its error floors were calibrated on its own simulated tests)"),
+        { id: `${id}-model-form`, style: "margin-top:4px;color:#4a5160" }));
+    }
     if (effects.length > 1 && effects[0].parameters && "stiffness_factor" in effects[0].parameters) {
       box.append(el("div", `Global stiffness factor (nuisance): ${num(effects[0].parameters.stiffness_factor, 3)}`));
     }

@@ -10,7 +10,8 @@ Each case is classed by what explain() names against what the truth hides (era.e
   right     the named set is the hidden set (located effects at their place: the joint, the member);
   part      only some of the hidden effects are named, nothing wrong (verdict "explained" on a subset);
   near      the right names, but a place left uncertain: the best place is a neighbour, and the report lists
-            the true place among the others still in contention (with its probability);
+            the true place among its set of places ("one of these", NamedEffect.places) or the others still in
+            contention (with its probability);
   wrong     some named effect is not hidden, or sits at a wrong place the report does not qualify: a confident
             wrong name;
   honest    nothing named: "unexplained", "ambiguous" or "no_significant_discrepancy" (right for "none").
@@ -67,7 +68,7 @@ def classify(result, truth) -> str:
     # a wrong place: "near" when the report names the true place among the others in contention
     for e in result.effects:
         if _key(e.name, e.location) not in hidden:
-            alts = {_key(e.name, loc) for loc, _ in e.other_locations}
+            alts = {_key(e.name, loc) for loc, _ in tuple(e.places) + tuple(e.other_locations)}
             if not (alts & hidden) or e.name not in {n for n, _ in hidden}:
                 return "wrong"
     return "near"

@@ -50,8 +50,10 @@ def test_the_nominal_strip_is_ten_percent_stiff_and_explain_cannot_say_why_from_
 
 
 def test_with_the_members_taken_as_exact_one_sensor_still_names_nothing(usc_modes):
-    """Without the members' scatter the 0.15 % floor leaves only a point mass placed freely fitting the three
-    frequencies: three numbers for three unknowns (mass, place, stiffness factor), so no name."""
-    r = era.explain(usc_modes, model(), errors=era.discrepancy.ErrorLevels(member_scatter=0.0))
+    """Without the members' scatter and the model-form allowance the 0.15 % floor leaves only a point mass placed
+    freely fitting the three frequencies: three numbers for three unknowns (mass, place, stiffness factor), so no
+    name."""
+    r = era.explain(usc_modes, model(), errors=era.discrepancy.ErrorLevels(member_scatter=0.0, model_form=0.0,
+                                                                           model_form_shape=0.0))
     assert r.verdict == "ambiguous" and r.effect is None
     assert "3 numbers (3 modes at 1 sensor)" in r.message and r.ranking[0].name == "point_mass"

@@ -89,9 +89,6 @@ def test_every_blind_case_ends_in_an_explanation_or_a_refusal_in_words(small_mat
     assert sum(small_matrix["total"].values()) == len(SMALL)
 
 
-@pytest.mark.xfail(strict=False, reason="today's explain (before the model-form allowance of issue 27): 2 of 6 "
-                   "confident wrong (the footbridge's softened chord b3L-b4L named at b3R-b4R or b4L-b5R; the "
-                   "portal's semi-rigid joint C named with an extra softened member B-E)")
 def test_no_confident_wrong_name_on_the_blind_cases(small_matrix):
     wrong = [r["name"] for r in small_matrix["rows"] if r["outcome"] == "confident wrong"]
     assert not wrong, wrong

@@ -30,6 +30,13 @@ def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, 
         words = {"explained": "Explained", "no_significant_discrepancy": "No significant discrepancy",
                  "ambiguous": "Ambiguous", "unexplained": "Unexplained"}[verdict]
         assert head.startswith(words) and "Gap before" in page.text_content("#explain-verdict")
+        # what is certain, in the panel's words: the allowance for model-form error the evidence used (none for the
+        # grid's own model) and, for a named effect, its place (or "one of these"), size, what the data cannot tell
+        assert "Model-form allowance" in page.text_content("#explain-verdict")
+        if verdict == "explained":
+            named = page.text_content("#explain-effect")
+            assert "Place" in named or "Size (95 % interval)" in named, named
+            assert "The data cannot tell" in named and "Gap before → after" in named, named
         gap = page.eval_on_selector_all("#explain-gap tbody tr",
                                         "rows => rows.map(r => [...r.cells].map(c => c.textContent))")
         assert [r[0] for r in gap] == ["before (nominal model)", "after (updated model)"]

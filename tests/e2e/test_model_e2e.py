@@ -144,7 +144,12 @@ def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path
         assert page.get_attribute("#explain-verdict", "data-verdict") == "explained"
         assert page.text_content("#explain-verdict > div").startswith("Explained: point mass")
         where = page.text_content("#explain-effect")
-        assert any(f"Locationnode {n}" in where for n in ("2", "3", "4")), where
+        # the verdict panel says what is certain: the place (or "one of these" with the probability of each), the
+        # size with its 95 % interval, what the data cannot tell, the gap before and after, the allowance used
+        assert any(f"Placenode {n}" in where or f"node {n} " in where for n in ("2", "3", "4")), where
+        assert "Size (95 % interval)point mass = " in where and " kg (95 %: " in where, where
+        assert "The data cannot tell" in where and "Gap before → aftermax |Δf| " in where, where
+        assert "Model-form allowance" in page.text_content("#explain-verdict")
         assert "point mass = " in where and " kg" in where
         assert "7 nodes, 6 members" in page.text_content("#explain-model")
         page.wait_for_selector("#explain-shape-measured .main-svg")
