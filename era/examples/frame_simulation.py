@@ -32,7 +32,8 @@ class FrameTruth:
 
 
 def truth_model(frame: Frame, params: dict, *, scatter: float = 0.02, rng=None, refine: int = 2) -> tuple:
-    """The truth FrameModel: per-member E, G factors 1 + N(0, scatter²), ``refine`` × the nominal's elements."""
+    """The truth FrameModel: per-member E, G factors 1 + N(0, scatter²), ``refine`` × the nominal's elements; each
+    member's non-structural mass (``frame.added_mass_per_length``, kg/m) follows it to its renamed section."""
     rng = np.random.default_rng(rng)
     counts = np.array(frame.element_counts(10)) * refine
     factors = 1.0 + scatter * rng.standard_normal(len(frame.members))
@@ -42,7 +43,10 @@ def truth_model(frame: Frame, params: dict, *, scatter: float = 0.02, rng=None, 
         s = frame.sections[sec]
         sections[f"{sec}#{k}"] = dataclasses.replace(s, e=s.e * a, g=s.g * a)
         members.append((i, j, f"{sec}#{k}", orient))
-    truth = dataclasses.replace(frame, sections=sections, members=members, elements_per_member=tuple(counts.tolist()))
+    extra = {f"{sec}#{k}": frame.added_mass_per_length[sec] for k, (_, _, sec, _) in enumerate(frame.members)
+             if sec in frame.added_mass_per_length}
+    truth = dataclasses.replace(frame, sections=sections, members=members, added_mass_per_length=extra,
+                                elements_per_member=tuple(counts.tolist()))
     return FrameModel.of(truth, gravity=params.pop("gravity", True) if params else True, reduced=False).with_params(
         **params), factors
 
