@@ -29,7 +29,7 @@ from .protocol import ExplainModel, as_explain_model
 from .ranking import credible_places, rank_effects
 from .search import Search, search_effects
 from .verdict import message_for, modes_the_model_lacks, too_few_data, verdict_of
-from .weights import close_modes, node_rows, pair, with_member_scatter
+from .weights import close_modes, node_rows, pair, struck_sensors, with_member_scatter
 
 __all__ = ["VERDICTS", "Explanation", "NamedEffect", "explain"]
 
@@ -203,6 +203,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     else:
         raise DataError(f"explain: `data` must be an era.ResponseData, Identification or MeasuredModes, got "
                         f"{type(data).__name__}.")
+    struck_words = ""
+    if isinstance(model, FrameModel) and measured.struck_points:   # struck points: sensors for the comparison too
+        frame, measured, struck_words = struck_sensors(model.frame, measured)
+        model = nominal = model if frame is model.frame else FrameModel.of(frame)
     timing["era_s"] = time.perf_counter() - t0
     if effects is not None:
         specs = tuple(effects)
@@ -267,6 +271,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     message = message_for(verdict, effects, ranking, found, g_b, g_a, miss, fm, chosen, comac_a, unpaired)
     if why:
         message = why + " " + message
+    if struck_words:
+        message += " " + struck_words
     rejected = [x for ranking in found.rankings for r in ranking for x in r.rejected]
     if rejected:       # rejected trials: no evidence for those places, said so (the first reason as an example)
         name, loc, reason = rejected[0]

@@ -14,6 +14,7 @@ from ..choice import ModeChoice, choose_modes
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
+from ..points import channel_points, point_shapes
 from ..realization import Identification
 from ..selection import keep_mask, kept_modes
 from ..stabilization import Stabilization, StableMode, stabilization
@@ -37,6 +38,10 @@ class MeasuredModes:
         :func:`modal_constants`); modal_constant_std : (k,) their relative spread across orders;
         input_locations : (m,) the input points (:func:`input_point`): grid joints (x_ft, y_ft), matching the
         model's node coordinates, or an era.Frame's (node id, direction), e.g. ("E", "x").
+    struck_points : (e,) labels of the struck points (``data.meta["input_points"]``) not among the outputs' points,
+        or None; struck_shapes : (p + e, k) real unit-norm shapes at the outputs and then those points (the
+        input-side shapes scaled through a driving point, by reciprocity: :mod:`era.points`), None when no point is
+        both measured and struck; struck_shape_std : (k,) their spread across orders. See :meth:`with_struck`.
     """
 
     frequency_hz: np.ndarray
@@ -50,6 +55,9 @@ class MeasuredModes:
     modal_constants: np.ndarray | None = None
     modal_constant_std: np.ndarray | None = None
     input_locations: tuple | None = None
+    struck_points: tuple | None = None
+    struck_shapes: np.ndarray | None = None
+    struck_shape_std: np.ndarray | None = None
 
     @property
     def n_modes(self) -> int:
@@ -61,7 +69,18 @@ class MeasuredModes:
         return MeasuredModes(self.frequency_hz[idx], self.frequency_std_hz[idx], self.damping_ratio[idx],
                              self.mpc[idx], self.emac[idx], self.shapes[:, idx], self.n_orders[idx],
                              self.shape_std[idx], None if q is None else q[:, :, idx],
-                             None if q_std is None else q_std[idx], self.input_locations)
+                             None if q_std is None else q_std[idx], self.input_locations, self.struck_points,
+                             None if self.struck_shapes is None else self.struck_shapes[:, idx],
+                             None if self.struck_shape_std is None else self.struck_shape_std[idx])
+
+    def with_struck(self, keep) -> "MeasuredModes":
+        """These modes with the struck points ``keep`` (indices into struck_points) as extra shape rows after the
+        outputs' (unit norm again; the spread of the extended shapes), the struck fields cleared."""
+        p = self.shapes.shape[0]
+        rows = list(range(p)) + [p + int(i) for i in keep]
+        s = self.struck_shapes[rows]
+        return replace(self, shapes=s / np.linalg.norm(s, axis=0, keepdims=True), shape_std=self.struck_shape_std,
+                       struck_points=None, struck_shapes=None, struck_shape_std=None)
 
 
 def modes_from_arrays(frequency_hz, shapes, frequency_std_hz=None) -> MeasuredModes:
@@ -252,6 +271,7 @@ def _measured(ident: Identification, stab: Stabilization, chosen: list[StableMod
     impulses = _impulse_inputs(data)
     if impulses is not None:
         constants, constant_std = modal_constants(ident, stab, chosen, impulses[1], weights)
+    struck = struck_shapes(ident, stab, chosen, weights)
     return MeasuredModes(
         frequency_hz=np.array([md.frequency_hz for md in chosen]),
         frequency_std_hz=np.array([md.frequency_std_hz for md in chosen]),
@@ -259,7 +279,47 @@ def _measured(ident: Identification, stab: Stabilization, chosen: list[StableMod
         mpc=np.array([md.mpc for md in chosen]), emac=np.array([md.emac for md in chosen]),
         shapes=shapes, n_orders=np.array([len(md.orders) for md in chosen]), shape_std=np.array(spread),
         modal_constants=constants, modal_constant_std=constant_std,
-        input_locations=None if impulses is None else impulses[0])
+        input_locations=None if impulses is None else impulses[0], struck_points=struck[0], struck_shapes=struck[1],
+        struck_shape_std=struck[2])
+
+
+def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
+    """(labels (e,), shapes (p + e, k), spread (k,)) of the struck points of ``ident.data`` that are not among its
+    outputs' points: each chosen mode's shape at the outputs (as the channels read it, the rows of ``shapes``) and
+    at those points, from every pole of its track (:func:`era.points.point_shapes`: reciprocity, scaled through
+    the driving points), real, unit norm, averaged like the shapes. (None, None, None) without
+    ``data.meta["input_points"]``; (labels, None, None) when no point is both measured and struck.
+    weights : (m,) the factors the records were multiplied by before ERA (:func:`input_weights`), undone."""
+    data = ident.data
+    meta = data.meta or {}
+    if not any(str(x) for x in (meta.get("input_points") or ())):
+        return None, None, None
+    out_pts, out_signs = channel_points(meta, "output", data.outputs or ("",) * data.n_outputs)
+    in_pts, in_signs = channel_points(meta, "input", data.inputs or ("",) * data.n_inputs)
+    extra = tuple(dict.fromkeys(pt for pt in in_pts if pt and pt not in out_pts))
+    if not extra or not (set(out_pts) & set(in_pts)) - {""}:
+        return extra or None, None, None
+    unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
+    orders = sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})
+    with single_threaded_blas():
+        models = {o: ident.model(o, uncertainty=False) for o in orders}
+    shapes, spread = [], []
+    for md in chosen:
+        each = []
+        for pole in md.pole_indices:
+            mdl, k = models[int(stab.order[pole])], int(stab.mode_index[pole])
+            pts, vals = point_shapes(mdl.shapes[:, [k]], mdl.amplitudes[[k], :] * unweight, out_pts, in_pts,
+                                     out_signs, in_signs)
+            at = {pt: i for i, pt in enumerate(pts)}
+            each.append([vals[at[pt], 0] * sg for pt, sg in zip(out_pts, out_signs)]
+                        + [vals[at[pt], 0] for pt in extra])
+        each = real_shapes(np.array(each).T)
+        each = each / np.linalg.norm(each, axis=0, keepdims=True)
+        each = each * np.where(each.T @ each[:, 0] < 0, -1.0, 1.0)[None, :]
+        mean = each.mean(axis=1)
+        shapes.append(mean / np.linalg.norm(mean))
+        spread.append(float(np.sqrt(np.mean(np.var(each, axis=1)))))
+    return extra, np.stack(shapes, axis=1), np.array(spread)
 
 
 def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode]:

@@ -5,6 +5,7 @@ added to the frequencies, shapes and modal constants (a drawn model's members ar
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 
@@ -24,7 +25,51 @@ def node_rows(model: ExplainModel, measured: MeasuredModes):
     cannot be compared (no known inputs, or an input that is not a model node)."""
     if measured.modal_constants is None:
         return None
-    return model.modal_rows(measured.input_locations)
+    rows = model.modal_rows(measured.input_locations)
+    p = measured.modal_constants.shape[0]       # struck points added as sensors (struck_sensors) come after them
+    return None if rows is None else (rows[0][:p], rows[1])
+
+
+_NODE_AXIS = re.compile(r"^(\S+?)\s*(-?[xyz])$", re.IGNORECASE)
+
+
+def frame_point(label: str, node_ids) -> tuple | None:
+    """(node id, direction) of an era.Frame that a point label names: "4X" / "4 x" / "E -z" (era.points' "node
+    axis" labels, a frame's sensor names "node direction"), or None when it names no node of ``node_ids``."""
+    hit = _NODE_AXIS.match(str(label).strip())
+    if hit is None or hit.group(1) not in set(node_ids):
+        return None
+    return hit.group(1), hit.group(2).lower()
+
+
+def struck_sensors(frame, measured: MeasuredModes) -> tuple:
+    """(frame, measured, words): the struck points that name a node and direction of ``frame`` (an era.Frame)
+    added after its sensors, and their shapes after the outputs' (MeasuredModes.with_struck); the points that
+    do not map, or the reason none is compared, in one sentence ("" when all are). Unchanged without struck points."""
+    labels = measured.struck_points
+    if not labels:
+        return frame, measured, ""
+    if measured.struck_shapes is None:
+        return frame, measured, (f"The {len(labels)} struck points are not compared: none of the struck points is "
+                                 "also measured (a driving point), so their shapes cannot be scaled to the sensors'.")
+    have = {(str(n), d.lstrip("-")) for n, d in frame.sensors if isinstance(d, str)}
+    keep, sensors, missing = [], [], []
+    for i, label in enumerate(labels):
+        at = frame_point(label, frame.node_ids)
+        if at is None:
+            missing.append(str(label))
+        elif (at[0], at[1].lstrip("-")) not in have:
+            have.add((at[0], at[1].lstrip("-")))
+            keep.append(i)
+            sensors.append(at)
+    many = len(missing) > 1
+    words = ("" if not missing else f"{len(missing)} struck point{'s' if many else ''} "
+             f"({', '.join(missing[:5])}{', ...' if len(missing) > 5 else ''}) {'name' if many else 'names'} no node "
+             f"and direction of the model and {'are' if many else 'is'} left out of the shape comparison.")
+    if not keep:
+        return frame, measured, words
+    frame = dataclasses.replace(frame, sensors=tuple(frame.sensors) + tuple(sensors))
+    return frame, measured.with_struck(keep), words
 
 
 def close_modes(model: ExplainModel, measured: MeasuredModes, n_model: int, close: float) -> np.ndarray:
