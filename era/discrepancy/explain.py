@@ -159,7 +159,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         such data (a person's own Hankel size: its SVD is used as it is); or MeasuredModes already identified. Pulse
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
-        modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only.
+        modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only. With an
+        era.Frame, the struck points of data.meta["input_points"] (era.points' labels, "4Z" or "E x") that name a
+        node and direction of the frame are sensors for the comparison too, after the outputs (their input-side
+        shapes scaled through a driving point, a point both measured and struck); others are said and left out.
     model : the nominal model: an era.Frame (wrapped in :class:`FrameModel`, its mesh kept for every candidate),
         ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n), .node_modes(n), .params,
         .with_params(**changes), .sensors and the candidate places of located effects (EffectSpec.locations, or

@@ -4,6 +4,7 @@ rule the app and era.analyse follow), or the modes a person kept at one order, w
 from __future__ import annotations
 
 import numbers
+import re
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -294,11 +295,14 @@ def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
     meta = data.meta or {}
     if not any(str(x) for x in (meta.get("input_points") or ())):
         return None, None, None
-    out_pts, out_signs = channel_points(meta, "output", data.outputs or ("",) * data.n_outputs)
-    in_pts, in_signs = channel_points(meta, "input", data.inputs or ("",) * data.n_inputs)
+    out_labels, out_signs = channel_points(meta, "output", data.outputs or ("",) * data.n_outputs)
+    in_labels, in_signs = channel_points(meta, "input", data.inputs or ("",) * data.n_inputs)
+    key = lambda pt: " ".join(node_direction(pt) or (pt,))     # noqa: E731  "4Z" and "4 z": one point
+    out_pts, in_pts = tuple(key(pt) for pt in out_labels), tuple(key(pt) for pt in in_labels)
     extra = tuple(dict.fromkeys(pt for pt in in_pts if pt and pt not in out_pts))
+    labels = tuple(in_labels[in_pts.index(pt)] for pt in extra) or None
     if not extra or not (set(out_pts) & set(in_pts)) - {""}:
-        return extra or None, None, None
+        return labels, None, None
     unweight = 1.0 if weights is None else 1.0 / np.asarray(weights, dtype=float)[None, :]
     orders = sorted({int(stab.order[i]) for md in chosen for i in md.pole_indices})
     with single_threaded_blas():
@@ -319,7 +323,19 @@ def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
         mean = each.mean(axis=1)
         shapes.append(mean / np.linalg.norm(mean))
         spread.append(float(np.sqrt(np.mean(np.var(each, axis=1)))))
-    return extra, np.stack(shapes, axis=1), np.array(spread)
+    return labels, np.stack(shapes, axis=1), np.array(spread)
+
+
+_NODE_DIRECTION = re.compile(r"^(\S+?)\s*(-?[xyz])$", re.IGNORECASE)
+
+
+def node_direction(label) -> tuple | None:
+    """(node, direction) a point label names: "4X", "4 x" -> ("4", "x"); "E -z" -> ("E", "-z") (era.points' "node
+    axis" labels, a frame's sensor names "node direction"); None for any other label (e.g. "4RX", a rotation)."""
+    hit = _NODE_DIRECTION.match(str(label).strip())
+    if hit is None or re.fullmatch(r"-?\d+R", hit.group(1), re.IGNORECASE):
+        return None
+    return hit.group(1), hit.group(2).lower()
 
 
 def _kept_modes(ident, stab, order: int, indices: np.ndarray) -> list[StableMode]:

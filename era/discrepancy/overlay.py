@@ -36,8 +36,9 @@ def model_response(data: ResponseData, model, damping_ratio: np.ndarray, n_modes
     f, phi = np.asarray(f, float)[idx], np.asarray(shapes, float)[:, idx]
     y = data.markov
     n, p, m = y.shape
-    if phi.shape[0] != p:
+    if phi.shape[0] < p:
         raise DataError(f"model_response: the model has {phi.shape[0]} sensors, the data {p} outputs.")
+    phi = phi[:p]       # explain's struck points are sensors after the outputs': the records are the outputs'
     t = np.arange(n) * data.dt
     w = 2 * np.pi * f
     wd = w * np.sqrt(np.clip(1 - zeta**2, 1e-12, None))

@@ -5,13 +5,13 @@ added to the frequencies, shapes and modal constants (a drawn model's members ar
 from __future__ import annotations
 
 import dataclasses
-import re
 
 import numpy as np
 
 from ..correlation import ModePairing, pair_modes
+from ..words import counted
 from .fitting import ErrorLevels, ModeWeights
-from .measured import MeasuredModes
+from .measured import MeasuredModes, node_direction
 from .protocol import ExplainModel, Modes
 
 
@@ -30,16 +30,11 @@ def node_rows(model: ExplainModel, measured: MeasuredModes):
     return None if rows is None else (rows[0][:p], rows[1])
 
 
-_NODE_AXIS = re.compile(r"^(\S+?)\s*(-?[xyz])$", re.IGNORECASE)
-
-
 def frame_point(label: str, node_ids) -> tuple | None:
-    """(node id, direction) of an era.Frame that a point label names: "4X" / "4 x" / "E -z" (era.points' "node
-    axis" labels, a frame's sensor names "node direction"), or None when it names no node of ``node_ids``."""
-    hit = _NODE_AXIS.match(str(label).strip())
-    if hit is None or hit.group(1) not in set(node_ids):
-        return None
-    return hit.group(1), hit.group(2).lower()
+    """(node id, direction) of an era.Frame that a point label names (:func:`measured.node_direction`: "4X",
+    "4 x", "E -z"), or None when it names no node of ``node_ids``."""
+    at = node_direction(label)
+    return at if at is not None and at[0] in set(node_ids) else None
 
 
 def struck_sensors(frame, measured: MeasuredModes) -> tuple:
@@ -63,7 +58,7 @@ def struck_sensors(frame, measured: MeasuredModes) -> tuple:
             keep.append(i)
             sensors.append(at)
     many = len(missing) > 1
-    words = ("" if not missing else f"{len(missing)} struck point{'s' if many else ''} "
+    words = ("" if not missing else f"{counted(len(missing), 'struck point')} "
              f"({', '.join(missing[:5])}{', ...' if len(missing) > 5 else ''}) {'name' if many else 'names'} no node "
              f"and direction of the model and {'are' if many else 'is'} left out of the shape comparison.")
     if not keep:

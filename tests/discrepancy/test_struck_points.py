@@ -8,6 +8,7 @@ import numpy as np
 from era.correlation import mac
 from era.data import ResponseData
 from era.discrepancy import explain
+from era.discrepancy.overlay import overlay
 from era.discrepancy.weights import frame_point
 from era.examples.frame_simulation import truth_model
 from era.examples.frames import cantilever
@@ -46,8 +47,16 @@ def test_frame_point_reads_era_points_labels():
     assert frame_point("9Z", ids) is None and frame_point("1RX", ids) is None and frame_point("", ids) is None
 
 
+def test_overlay_of_an_explanation_with_struck_points_takes_the_outputs_rows():
+    nominal, data, _ = roving(("4Z", "1 z", "2 z", "3Z"))
+    ex = explain(data, nominal)
+    out = overlay(ex, data)
+    assert out["nominal"].shape == data.markov.shape
+    assert np.all(out["fit_error_updated"] < 0.1)
+
+
 def test_struck_points_become_shape_rows_and_the_mass_is_placed():
-    nominal, data, truth = roving(("4 z", "1 z", "2 z", "3Z"))     # the tip is struck too: the driving point
+    nominal, data, truth = roving(("4Z", "1 z", "2 z", "3Z"))     # the tip ("4 z") is struck too: a driving point
     ex = explain(data, nominal)
     assert ex.nominal_model.sensors == (("4", "z"), ("1", "z"), ("2", "z"), ("3", "z"))
     assert ex.measured.shapes.shape == (4, ex.measured.n_modes)          # 1 sensor + 3 struck points
