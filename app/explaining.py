@@ -163,7 +163,9 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         overlay_fit_percent={k: payloads.fit_percent(responses[f"fit_error_{k}"]) for k in ("nominal", "updated")},
         seconds=seconds)
     if is_frame:
-        summary.update(frame=frame_json(model, result.node_labels), model_text=modeling.describe(described))
+        # the compared sensors: the frame's, then the struck points explain compared too (era.explain)
+        summary.update(frame=frame_json(result.nominal_model.frame, result.node_labels),
+                       model_text=modeling.describe(described))
     return _json(summary), {k: np.asarray(responses[k], float) for k in ("measured", "nominal", "updated")}
 
 
