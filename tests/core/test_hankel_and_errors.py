@@ -65,7 +65,7 @@ def test_order_errors_name_the_rank():
 
 
 @pytest.mark.parametrize("markov, dt, message", [
-    (np.array([1.0, np.nan, 2.0]), 0.1, "1 NaN or infinite value\\(s\\), the first at sample 1"),
+    (np.array([1.0, np.nan, 2.0]), 0.1, "1 NaN or infinite value, the first at sample 1"),
     (np.ones((5, 2, 2)) * np.inf, 0.1, "20 NaN"),
     (np.ones((5, 2, 2, 2)), 0.1, "4 dimensions"),
     (np.ones((0, 2, 2)), 0.1, "every axis"),
