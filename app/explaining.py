@@ -164,7 +164,7 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         seconds=seconds)
     if is_frame:
         # the compared sensors: the frame's, then the struck points explain compared too (era.explain)
-        summary.update(frame=frame_json(result.nominal_model.frame, result.node_labels),
+        summary.update(frame=frame_json(getattr(result.nominal_model, "frame", model), result.node_labels),
                        model_text=modeling.describe(described))
     return _json(summary), {k: np.asarray(responses[k], float) for k in ("measured", "nominal", "updated")}
 

@@ -77,6 +77,8 @@ class MeasuredModes:
     def with_struck(self, keep) -> "MeasuredModes":
         """These modes with the struck points ``keep`` (indices into struck_points) as extra shape rows after the
         outputs' (unit norm again; the spread of the extended shapes), the struck fields cleared."""
+        if self.struck_shapes is None or self.struck_shape_std is None:
+            raise DataError("with_struck: these modes have no shapes at struck points (no driving point).")
         p = self.shapes.shape[0]
         rows = list(range(p)) + [p + int(i) for i in keep]
         s = self.struck_shapes[rows]
@@ -309,15 +311,15 @@ def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
         models = {o: ident.model(o, uncertainty=False) for o in orders}
     shapes, spread = [], []
     for md in chosen:
-        each = []
+        rows = []
         for pole in md.pole_indices:
             mdl, k = models[int(stab.order[pole])], int(stab.mode_index[pole])
             pts, vals = point_shapes(mdl.shapes[:, [k]], mdl.amplitudes[[k], :] * unweight, out_pts, in_pts,
                                      out_signs, in_signs)
             at = {pt: i for i, pt in enumerate(pts)}
-            each.append([vals[at[pt], 0] * sg for pt, sg in zip(out_pts, out_signs)]
+            rows.append([vals[at[pt], 0] * sg for pt, sg in zip(out_pts, out_signs)]
                         + [vals[at[pt], 0] for pt in extra])
-        each = real_shapes(np.array(each).T)
+        each = real_shapes(np.array(rows).T)
         each = each / np.linalg.norm(each, axis=0, keepdims=True)
         each = each * np.where(each.T @ each[:, 0] < 0, -1.0, 1.0)[None, :]
         mean = each.mean(axis=1)
