@@ -23,17 +23,14 @@ from ..errors import EraError
 from ..discrepancy.protocol import RitzModes, joint_rows
 from ..geometry import Geometry
 from ..words import listed
+# the layout (joints, members, sensors, indices) is era/examples/grid_layout.py; its names are read from here too
+from .grid_layout import (AIR_JET_FT, CABLES_FT, FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL,  # noqa: F401
+                          N_SEGMENTS, NX, NY, SEGMENT_JOINTS, SENSORS_FT, joint_index, segment_index)
 from .grid_solves import SolveCache, assemble, attachments, changed_nodes, param_key, self_weight
 
-FT = 0.3048  # m
-NX, NY = 11, 8
-SENSORS_FT = np.array([(0, 0), (4, 0), (9, 1), (1, 3), (6, 4), (10, 3), (2, 7), (5, 6), (8, 7)], float)
-AIR_JET_FT = (10.0, 0.0)
-CABLES_FT = ((2.0, 7.0), (8.0, 7.0))
 SAMPLE_RATE_HZ = 32.0
 TABLE1_HZ = np.array([0.362, 0.612, 1.425, 2.331, 2.826, 4.936, 5.476, 6.429, 7.047, 9.841])
 BAR = fem.flat_bar(width_m=2 * 0.0254, thickness_m=0.25 * 0.0254, E=68.9e9, nu=0.33, rho=2700.0)
-
 # parameters the in-plane self-weight solve depends on (its forces are reused when none of these change)
 _STATIC_PARAMS = ("distributed_mass_kg", "point_mass_kg", "point_mass_at", "elements_per_bar", "member_at",
                   "member_factor")
@@ -41,46 +38,7 @@ DEFAULTS = dict(gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_le
                 distributed_mass_kg=0.0, point_mass_kg=0.0, point_mass_at=None, loose_joint_at=None,
                 loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1, member_at=None,
                 member_factor=1.0)
-
-# 157 one-foot segments: 80 horizontal (row by row from the bottom, left to right), then 77 vertical
-# (column by column from the left, bottom to top). Joint index = iy * 11 + ix.
-_H = [(iy * NX + ix, iy * NX + ix + 1) for iy in range(NY) for ix in range(NX - 1)]
-_V = [(iy * NX + ix, (iy + 1) * NX + ix) for ix in range(NX) for iy in range(NY - 1)]
-SEGMENT_JOINTS = np.array(_H + _V, int)
-N_SEGMENTS = len(SEGMENT_JOINTS)
-N_HORIZONTAL = len(_H)
 _SIGN_REFERENCE = 1.0 + np.sin(1.7 * np.arange(NX * NY) + 0.3)   # fixed, no symmetry of the grid
-JOINTS_FT = np.array([(ix, iy) for iy in range(NY) for ix in range(NX)], float)
-
-
-def joint_index(at) -> int:
-    """Index 0..87 of the joint at (x_ft, y_ft); integer feet only."""
-    try:
-        x, y = (float(v) for v in at)
-    except (TypeError, ValueError):
-        raise EraError(f"A joint location must be (x_ft, y_ft), got {at!r}.") from None
-    if not (x.is_integer() and y.is_integer() and 0 <= x < NX and 0 <= y < NY):
-        raise EraError(f"({x:g}, {y:g}) ft is not a joint of the grid: joints sit at whole feet, "
-                       f"x in 0..{NX - 1}, y in 0..{NY - 1}.")
-    return int(y) * NX + int(x)
-
-
-def segment_index(member) -> int:
-    """Index 0..156 (SEGMENT_JOINTS order) of the 1-ft segment between two neighbouring joints
-    ((x1, y1), (x2, y2)) in ft, either way round."""
-    try:
-        a, b = (joint_index(j) for j in member)
-    except (TypeError, ValueError):
-        raise EraError(f"A member must be its two joints ((x1, y1), (x2, y2)) in ft, got {member!r}.") from None
-    hit = np.flatnonzero(((SEGMENT_JOINTS[:, 0] == a) & (SEGMENT_JOINTS[:, 1] == b))
-                         | ((SEGMENT_JOINTS[:, 0] == b) & (SEGMENT_JOINTS[:, 1] == a)))
-    if hit.size == 0:
-        raise EraError(f"{member!r} is not a member of the grid: its two joints must be 1 ft apart along a bar.")
-    return int(hit[0])
-
-
-MEMBERS_FT = tuple((tuple(JOINTS_FT[i].tolist()), tuple(JOINTS_FT[j].tolist())) for i, j in SEGMENT_JOINTS.tolist())
-"""The 157 members ((x1, y1), (x2, y2)) ft, in SEGMENT_JOINTS order: the places of member_stiffness."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,7 +107,7 @@ def _check_params(p: dict) -> dict:
     return p
 
 
-def _build_frame(p: dict, pert: GridPerturbation) -> fem.Frame:
+def _build_frame(p: dict, pert: GridPerturbation) -> fem.PlaneFrame:
     """Mesh the grid. Nodes 0..87 are the joints (index iy·11 + ix; at a semi-rigid joint, the horizontal bar's
     node); then one node per semi-rigid joint for the vertical bar, linked to the first; then segment interiors."""
     compliance = np.array(pert.joint_compliance, float)
@@ -196,7 +154,7 @@ def _build_frame(p: dict, pert: GridPerturbation) -> fem.Frame:
     ones = np.ones(bars.shape[0])
     with np.errstate(divide="ignore"):
         k_links = np.where(compliance[split] > 0, 1.0 / compliance[split], np.inf)
-    frame = fem.Frame(
+    frame = fem.PlaneFrame(
         nodes_m=nodes_ft * FT, bars=bars,
         EI_out=E * BAR.i_out * np.asarray(pert.ei_factor)[seg_of_bar] * scale,
         GJ=G * BAR.j_torsion * np.asarray(pert.gj_factor)[seg_of_bar] * scale,
@@ -264,7 +222,7 @@ class GridModel:
         return frame, system, tension, system.dofs[:NX * NY, 0], (axial_force, tension)
 
     @property
-    def frame(self) -> fem.Frame:
+    def frame(self) -> fem.PlaneFrame:
         """The meshed structure (SI units)."""
         return self._system[0]
 

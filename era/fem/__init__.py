@@ -12,7 +12,3 @@ from .statics import G_STANDARD, SelfWeight, self_weight
 
 __all__ = ["BeamSection", "flat_bar", "PlaneFrame", "Assembled", "assemble_out_of_plane", "dof_map", "lowest_modes",
            "SelfWeight", "self_weight", "G_STANDARD"]
-
-#: The planar frame's old name, kept only until era/examples/grid.py (edited by another engineer today) says
-#: PlaneFrame; not in __all__. Remove it then (tests/test_architecture.py allows no class name twice).
-Frame = PlaneFrame
