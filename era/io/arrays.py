@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..words import counted, sampling
-from .records import MIN_SAMPLES, Records, hammer_channel
+from .records import MIN_SAMPLES, Records, force_channels, hammer_channel
 from .text import ORIENTATIONS
 from .timebase import UnevenClock, binary_resolution, even_step as _even_step_any
 
@@ -33,7 +33,6 @@ TIME_NAMES = ("t", "time", "times", "time_s", "t_s", "tt", "timevector", "time_v
 DT_NAMES = ("dt", "ts", "delta_t", "deltat", "sampling_interval", "sample_interval", "wf_increment", "dx", "delta_x")
 FS_NAMES = ("fs", "sf", "srate", "sample_rate", "sampling_rate", "samplerate", "sampling_frequency", "fsamp",
             "rate")
-_FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
 
 
 @dataclass
@@ -156,8 +155,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
         y, names, units, points = y[:, 1:], names[1:], units[1:], points[1:]
     else:
         step, start, how = _sampling(vars_, chosen, len(y), label, dt)
-    force = np.array([u.lower() in _FORCE_UNITS or "force" in nm.lower() or "hammer" in nm.lower()
-                      for nm, u in zip(names, units)])
+    force = force_channels(names, units)
     if lead is not None and not force.any():  # time, force, response rows (a hammer test's np.vstack)
         pulse = hammer_channel(y)
         if pulse is not None:

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..words import counted, sampling
-from .records import Records, hammer_channel
+from .records import Records, force_channels, hammer_channel
 from .text import read_headerless
 from .timebase import UnevenClock, even_step_printed, resample as resample_onto
 
@@ -24,7 +24,6 @@ _TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0,
                "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "usec": 1e-6, "ns": 1e-9, "min": 60.0}
 _SUFFIX_UNIT = re.compile(r"^(.*?)[_ ](s|sec|ms|msec|us|µs|μs|ns)$", re.I)
 _TEST_NAMES = {"test", "run", "record", "case", "ic", "reference", "ref", "trial"}
-FORCE_UNITS = {"n", "kn", "lbf", "lb", "kgf"}
 UNIT_IN_NAME = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
 #: A channel unit as a name's suffix, as spreadsheets write it: tip_acc_g, force_N, F_lbf, drive_mV.
 _UNIT_SUFFIX = re.compile(r"^(.+?)_(g|N|kN|lbf|V|mV|m/s2|m/s\^2|ms2|mps2)$")
@@ -185,8 +184,7 @@ def read_csv(raw: bytes, label: str, dt: float | None = None, orientation: str |
     else:
         timing = f", time column {time_name!r}" + (f" in units of {scale:g} s" if scale != 1 else "") + \
             f", {sampling(step)}" + (f", {h_unit:.6g} in the file's unit" if scale != 1 else "")
-    force = np.array([u.lower() in FORCE_UNITS or any(w in n.lower() for w in ("force", "hammer", "impact"))
-                      for n, u in zip(names, units)])
+    force = force_channels(names, units)
     pulse = None if force.any() else _pulse_channel(values, units)
     if pulse is not None:  # generic names (t,ch1,ch2; time,a,b): the values show the hammer
         force[pulse] = True

@@ -25,8 +25,8 @@ import numpy as np
 
 from ..errors import DataError
 from ..words import counted, sampling
-from .csv import FORCE_UNITS, UNIT_IN_NAME, decode
-from .records import Records, check_finite
+from .csv import UNIT_IN_NAME, decode
+from .records import Records, check_finite, force_channels
 from .timebase import UnevenClock, even_step_printed, printed_resolution
 
 MAGIC = "LabVIEW Measurement"
@@ -159,7 +159,7 @@ def read_lvm(raw: bytes, label: str, dt: float | None = None) -> Records:
         else:
             values.append(part["y"])
     names, units = first["names"], first["units"]
-    force = np.array([u.lower() in FORCE_UNITS or "force" in nm.lower() for nm, u in zip(names, units)])
+    force = force_channels(names, units)
     segmented = f"{counted(len(segments), 'segment')} as " if len(segments) > 1 else ""
     described = (f"{label}: LabVIEW LVM, {segmented}{counted(len(values), 'record')} of "
                  f"{', '.join(str(len(v)) for v in values[:6])}{'…' if len(values) > 6 else ''} samples × "

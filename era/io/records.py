@@ -63,6 +63,18 @@ class Records:
     conversions: list = field(default_factory=list)
 
 
+#: Units a force channel is written in (lower case).
+FORCE_UNITS = frozenset({"n", "kn", "lbf", "lb", "kgf"})
+#: Words in a channel's name that say it is the force.
+FORCE_WORDS = ("force", "hammer", "impact")
+
+
+def force_channels(names, units) -> np.ndarray:
+    """(n,) bool: the channels whose unit is a force unit or whose name says force, hammer or impact."""
+    return np.array([str(u).lower() in FORCE_UNITS or any(w in str(n).lower() for w in FORCE_WORDS)
+                     for n, u in zip(names, units)], bool)
+
+
 def hammer_channel(y: np.ndarray) -> int | None:
     """The one channel of ``y`` (N, c) that is a short pulse (99 % of its energy within 1 % of the record around
     its peak: a hammer's force) when the others are not; else None."""
