@@ -53,7 +53,9 @@ class Session:
         self.revision = -1
         self.drawn: tuple | None = None
         geometry, state = entry.geometry, entry.state
-        position, look_at = scene.camera_pose(geometry)
+        # any mode, as measured or interpolated, stays in view at the slider's full swing
+        motions = list(entry.node_vectors) + list(entry.spline_vectors or [])
+        position, look_at = scene.camera_pose(geometry, motions, MAX_AMPLITUDE)
         client.camera.position = position
         client.camera.look_at = look_at
         first = scene.frame(geometry, entry.vectors(state), state.phase, state.amplitude)

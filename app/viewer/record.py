@@ -87,7 +87,7 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
     with quiet():
         server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
     try:
-        position, look_at = scene.camera_pose(geometry)
+        position, look_at = scene.camera_pose(geometry, [vectors], amplitude)
         server.initial_camera.position = position
         server.initial_camera.look_at = look_at
         lines, points = add_mode_nodes(server.scene, geometry, scene.frame(geometry, vectors, 0.0, amplitude),

@@ -226,17 +226,22 @@ def project(position: np.ndarray, look_at: np.ndarray, xyz: np.ndarray, fov: flo
     return rel @ right / depth / (tan_v * aspect), rel @ up / depth / tan_v
 
 
-def camera_pose(geometry: Geometry, fov: float = VIEWER_FOV, aspect: float = VIEWER_ASPECT,
-                fill: float = FRAME_FILL) -> tuple[np.ndarray, np.ndarray]:
+def camera_pose(geometry: Geometry, motions=(), amplitude: float = 0.0, fov: float = VIEWER_FOV,
+                aspect: float = VIEWER_ASPECT, fill: float = FRAME_FILL) -> tuple[np.ndarray, np.ndarray]:
     """(position, look_at) of a three-quarter view from above (VIEW_DIRECTION) that frames the structure: its
-    nodes span ``fill`` of the view's width or height (whichever is reached first; :func:`project` with the
-    vertical field of view ``fov``, rad, and width/height ``aspect``), centred in it. A structure with no extent
-    (one point) is seen from 1.3 structure sizes. Units: the geometry's."""
-    xyz = np.asarray(geometry.coordinates, dtype=float).reshape(-1, 3)
-    centre = (xyz.min(axis=0) + xyz.max(axis=0)) / 2 if geometry.n_nodes else np.zeros(3)
+    nodes, and where ``motions`` (each (n_nodes, 3) complex, from :func:`node_modal_vectors`) take them over a
+    cycle at ``amplitude`` (a fraction of :func:`structure_size`), span ``fill`` of the view's width or height
+    (whichever is reached first; :func:`project` with the vertical field of view ``fov``, rad, and width/height
+    ``aspect``), centred in it; so a mode drawn at that amplitude stays in view. A structure with no extent (one
+    point) is seen from 1.3 structure sizes. Units: the geometry's."""
+    rest = np.asarray(geometry.coordinates, dtype=float).reshape(-1, 3)
+    centre = (rest.min(axis=0) + rest.max(axis=0)) / 2 if geometry.n_nodes else np.zeros(3)
     size = structure_size(geometry)
-    if not geometry.n_nodes or np.ptp(xyz, axis=0).max() == 0:
+    if not geometry.n_nodes or np.ptp(rest, axis=0).max() == 0:
         return centre + 1.3 * size * VIEW_DIRECTION, centre
+    turns = np.exp(2j * np.pi * np.arange(8) / 8)
+    xyz = np.vstack([rest] + [(rest + amplitude * size * np.real(np.asarray(v)[None] * turns[:, None, None]))
+                              .reshape(-1, 3) for v in motions])
     right = np.cross(-VIEW_DIRECTION, (0.0, 0.0, 1.0))
     right /= np.linalg.norm(right)
     up = np.cross(right, -VIEW_DIRECTION)

@@ -206,6 +206,25 @@ def test_camera_frames_the_structure_from_above_filling_four_fifths_of_the_view(
     assert np.ptp(old_x) / 2 < 0.5  # the former pose: half the width
 
 
+def test_a_mode_at_the_sliders_full_swing_stays_in_view():
+    """Framed at rest only, the grid's first bending at amplitude 0.5 left the view (its peak at 3.3 view
+    half-heights); framed with the motion, every node at every instant of the cycle is inside, and the structure
+    still fills more of the width than the former pose's half."""
+    from app.viewer.registry import MAX_AMPLITUDE
+    geometry = grid()
+    xyz = geometry.coordinates
+    bending = np.zeros((geometry.n_nodes, 3), complex)
+    bending[:, 2] = np.sin(np.pi * (xyz[:, 0] - xyz[:, 0].min()) / np.ptp(xyz[:, 0]))   # up at mid-span
+    size = scene.structure_size(geometry)
+    for motions, amplitude, inside in (((), 0.0, False), ([bending], MAX_AMPLITUDE, True)):
+        position, look_at = scene.camera_pose(geometry, motions, amplitude)
+        swung = [xyz + sign * MAX_AMPLITUDE * size * np.real(bending) for sign in (1, -1)]
+        peak = max(np.abs(scene.project(position, look_at, nodes)[1]).max() for nodes in swung)
+        assert (peak <= scene.FRAME_FILL + 1e-6) == inside, peak
+        x, _ = scene.project(position, look_at, xyz)
+    assert np.ptp(x) / 2 > 0.5
+
+
 def test_a_single_point_is_seen_from_a_little_over_its_unit_size():
     point = Geometry(node_ids=np.array([1]), coordinates=np.zeros((1, 3)), edges=np.zeros((0, 2), int),
                      channel_nodes=np.array([0]), channel_directions=np.array([[0.0, 0.0, 1.0]]), units="m")
