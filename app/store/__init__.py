@@ -34,7 +34,7 @@ import era
 from era.io.npz import npz_bytes, read_arrays, read_npz
 
 from . import database
-from .files import LOCKED_TMP, abandoned, holding, write_atomic
+from .files import LOCKED_TMP, abandoned, holding, unborn, write_atomic
 from .staging import Staging
 from .tables import analyses, campaigns, datasets, explanations, reports, viewer_keys
 
@@ -324,9 +324,10 @@ class Store:
         """Remove what a killed process (kill -9 in the middle of a write) left: report folders with no indexed
         report (the index row is written last) and the temporary files of atomic writes (app/store/files.py).
         A write in progress holds an flock (on the temporary file, on the report folder's WRITING file): what is
-        locked is another live process's and stays; what was locked by a process now dead goes at once. What
-        carries no lock (written by an older version, or in the instant before its lock) goes only when last
-        changed before ``before`` (Unix s). Safe with several processes sweeping and writing at once. Returns how
+        locked is another live process's and stays; what was locked by a process now dead goes at once, and so does
+        a report folder killed before its lock was in place (files.unborn: empty but for the lock's temporary name).
+        What else carries no lock (written by an older version) goes only when last changed before ``before``
+        (Unix s). Safe with several processes sweeping and writing at once. Returns how
         many folders and files were removed."""
         removed = 0
         folder = self.root / "reports"
@@ -335,7 +336,7 @@ class Store:
                 if not path.is_dir() or self._has_report(path.name):
                     continue
                 dead = abandoned(path / WRITING)
-                if dead is False or (dead is None and _last_change(path) >= before):
+                if dead is False or (dead is None and not unborn(path, WRITING) and _last_change(path) >= before):
                     continue
             except FileNotFoundError:  # removed meanwhile by another sweeper
                 continue

@@ -60,11 +60,19 @@ def holding(lock: Path):
 
     The lock is taken on a temporary name that is then renamed to ``lock``: whoever finds ``lock`` finds it held
     (or its holder dead)."""
-    lock.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=lock.parent, prefix=f"{lock.name}.", suffix=".tmp")
+    while True:  # a sweeper may take a folder caught before its lock (``unborn``) for a dead writer's: make it again
+        lock.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            fd, tmp = tempfile.mkstemp(dir=lock.parent, prefix=f"{lock.name}.", suffix=".tmp")
+        except FileNotFoundError:
+            continue
+        try:
+            if _lock(fd):  # else no lock file: the folder is left to the age rule
+                os.rename(tmp, lock)
+            break
+        except FileNotFoundError:
+            os.close(fd)
     try:
-        if _lock(fd):  # else no lock file: the folder is left to the age rule
-            os.rename(tmp, lock)
         yield
     finally:
         for name in (tmp, lock):  # the temporary name only when the rename did not happen
@@ -74,6 +82,14 @@ def holding(lock: Path):
             except FileNotFoundError:
                 pass
         os.close(fd)
+
+
+def unborn(folder: Path, lock_name: str) -> bool:
+    """Whether ``folder`` holds nothing but unheld temporary names of its lock file (``lock_name``): what a writer
+    killed while making the folder's lock (:func:`holding`, between its mkdir and its flock) leaves, with no lock to
+    ask. A live writer caught in that instant makes the folder again if a sweeper removes it."""
+    return all(p.name.startswith(f"{lock_name}.") and p.name.endswith(".tmp") and abandoned(p) is not False
+               for p in folder.iterdir())
 
 
 def _lock(fd: int) -> bool:

@@ -150,3 +150,29 @@ def test_a_file_system_without_flock_still_takes_every_write(tmp_path, monkeypat
     assert housekeeping.sweep(store, 30)["orphans"] == 0
     assert housekeeping.sweep(store, 30, now=time.time() + 2 * housekeeping.ORPHAN_AFTER_S)["orphans"] == 1
     assert not half.exists()
+
+
+def test_a_report_folder_killed_before_its_lock_goes_at_once_and_a_live_writer_makes_it_again(tmp_path, monkeypatch):
+    """Killed between the folder's mkdir and its lock's rename (three writers at once made this the common catch):
+    nothing but the lock's temporary name, no lock to ask; the next sweep removes it at once. A live writer whose
+    folder a sweeper removed in that instant makes it again and writes its report whole."""
+    import app.store.files as files
+
+    store = Store(tmp_path)
+    unborn = tmp_path / "reports" / "unborn"
+    unborn.mkdir(parents=True)
+    (unborn / f"{WRITING}.k1l2m3n4.tmp").write_bytes(b"")
+    assert housekeeping.sweep(store, 30)["orphans"] == 1 and not unborn.exists()
+
+    take, swept = files._lock, []
+
+    def swept_first(fd):  # a sweeper removes the new folder just before this writer locks its first file
+        if not swept:
+            swept.append(housekeeping.sweep(Store(tmp_path), 30)["orphans"])
+        return take(fd)
+
+    monkeypatch.setattr(files, "_lock", swept_first)
+    store.add_report("racing", "an-analysis", {"order": 4}, {"mode_0.viser": b"recorded"})
+    assert swept == [1]
+    assert store.report("racing") == {"order": 4} and store.report_file("racing", "mode_0.viser") is not None
+    assert _orphans(tmp_path) == []
