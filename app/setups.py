@@ -30,6 +30,7 @@ import numpy as np
 
 import era
 import era.setups
+from era.words import listed
 
 from .errors import NotFound
 from .importing import page_words
@@ -225,7 +226,7 @@ def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
         unknown_at = [model.points[q] for q in np.flatnonzero(~np.isfinite(model.point_shapes[:, j]))]
         n_seen = int(chosen[j].sum())
         note = [f"shape unknown at the points of setup{'s' if len(missing) > 1 else ''} "
-                f"{', '.join(str(k + 1) for k in missing)} ({', '.join(unknown_at)})"] if missing else []
+                f"{listed(k + 1 for k in missing)} ({', '.join(unknown_at)})"] if missing else []
         note += [f"setup {k + 1}'s part from a weak cluster its analysis had left out, confirmed by the others"
                  for k in np.flatnonzero(result.recovered[j])]
         modes.append({"frequency_hz": float(model.frequency_hz[j]), "damping_ratio": float(model.damping_ratio[j]),

@@ -84,7 +84,8 @@ def stand_in_note(geometry: Geometry) -> str | None:
         return None
     if geometry.n_nodes == 1:
         return "No geometry in the file: the one sensor drawn as a point moving up and down"
-    return f"No geometry in the file: the {geometry.n_nodes} sensors in a row, in channel order, each moving up and down"
+    return (f"No geometry in the file: the {geometry.n_nodes} sensors in a row, in channel order, "
+            "each moving up and down")
 
 
 def geometry_for(geometry: Geometry | None, n_channels: int) -> Geometry:
@@ -229,19 +230,20 @@ def project(position: np.ndarray, look_at: np.ndarray, xyz: np.ndarray, fov: flo
 def camera_pose(geometry: Geometry, motions=(), amplitude: float = 0.0, fov: float = VIEWER_FOV,
                 aspect: float = VIEWER_ASPECT, fill: float = FRAME_FILL) -> tuple[np.ndarray, np.ndarray]:
     """(position, look_at) of a three-quarter view from above (VIEW_DIRECTION) that frames the structure: its
-    nodes, and where ``motions`` (each (n_nodes, 3) complex, from :func:`node_modal_vectors`) take them over a
-    cycle at ``amplitude`` (a fraction of :func:`structure_size`), span ``fill`` of the view's width or height
-    (whichever is reached first; :func:`project` with the vertical field of view ``fov``, rad, and width/height
-    ``aspect``), centred in it; so a mode drawn at that amplitude stays in view. A structure with no extent (one
-    point) is seen from 1.3 structure sizes. Units: the geometry's."""
+    nodes, and as far as ``motions`` (each (n_nodes, 3) complex, from :func:`node_modal_vectors`) may take them
+    over a cycle at ``amplitude`` (a fraction of :func:`structure_size`; each node's box of reach), span ``fill``
+    of the view's width or height (whichever is reached first; :func:`project` with the vertical field of view
+    ``fov``, rad, and width/height ``aspect``), centred in it; so a mode drawn at that amplitude stays in view.
+    A structure with no extent (one point) is seen from 1.3 structure sizes. Units: the geometry's."""
     rest = np.asarray(geometry.coordinates, dtype=float).reshape(-1, 3)
     centre = (rest.min(axis=0) + rest.max(axis=0)) / 2 if geometry.n_nodes else np.zeros(3)
     size = structure_size(geometry)
     if not geometry.n_nodes or np.ptp(rest, axis=0).max() == 0:
         return centre + 1.3 * size * VIEW_DIRECTION, centre
-    turns = np.exp(2j * np.pi * np.arange(8) / 8)
-    xyz = np.vstack([rest] + [(rest + amplitude * size * np.real(np.asarray(v)[None] * turns[:, None, None]))
-                              .reshape(-1, 3) for v in motions])
+    # each node's reach, axis by axis, over every motion's cycle: |v| bounds Re(v·e^{iθ}); the box's corners
+    reach = amplitude * size * np.max([np.abs(v) for v in motions], axis=0, initial=0.0)  # (n_nodes, 3) or 0
+    corners = np.array([(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)], float)
+    xyz = (rest + (corners[:, None, :] * reach)).reshape(-1, 3)
     right = np.cross(-VIEW_DIRECTION, (0.0, 0.0, 1.0))
     right /= np.linalg.norm(right)
     up = np.cross(right, -VIEW_DIRECTION)

@@ -23,7 +23,7 @@ def too_few_data(fm: MeasuredModes, found: Search) -> str | None:
     if n_data > n_unknown:
         return None
     names = " + ".join(r.name for r in found.named)
-    return (f"The data are {n_data} numbers ({k} modes at {p} sensor{'s' if p > 1 else ''}), no more than the "
+    return (f"The data are {n_data} numbers ({counted(k, 'mode')} at {counted(p, 'sensor')}), no more than the "
             f"{n_unknown} unknowns of the best candidate ({names}, its stiffness factor"
             f"{' and its place' if n_places else ''}): it fits them whatever the truth, so the "
             "data cannot name it or tell it from the others; more sensors or more modes are needed.")
@@ -61,8 +61,8 @@ def modes_the_model_lacks(model: Modes, measured: MeasuredModes, n_model: int, m
 def verdict_of(ranking, found: Search, min_probability: float, min_log_bayes: float) -> tuple:
     """(verdict, a sentence to put first in the message or None) from the step-1 ranking and the search."""
     if found.named and found.not_needed:
-        return "ambiguous", (f"{' and '.join(r.name for r in found.named)} together fit the test, but "
-                             f"{', '.join(found.not_needed)} is not needed beside the other"
+        return "ambiguous", (f"{listed(r.name for r in found.named)} together fit the test, but "
+                             f"{listed(found.not_needed)} is not needed beside the other"
                              f"{'s' if len(found.named) > 2 else ''}: the data cannot tell which effects are "
                              "really there.")
     if found.named:

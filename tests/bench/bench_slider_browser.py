@@ -2,9 +2,10 @@
 reconstruction drawn and painted.
 
 Run: python3 -m pytest tests/bench/bench_slider_browser.py -s
-Starts ``python3 -m app`` (ERA_DATA_DIR = a temporary folder, ERA_PORT = a free port), opens the page in Debian's
-Chromium (software rendering), loads the grid example and presses the arrow key on the focused slider ~20 times,
-one step after the other, each to an order not shown before (so the server realizes it: no cache help).
+Starts the app as the tests do (apiclient.live_server: uvicorn on a free port, a temporary data folder), opens
+the page in Debian's Chromium (software rendering), loads the grid example and presses the arrow key on the focused
+slider ~20 times, one step after the other, each to an order not shown before (so the server realizes it: no
+cache help).
 
 Per step, timed in the page from the input event's timeStamp (so the wait for the page's main thread counts):
 - ``drawn``: until the DOM shows that order in all three panels: the table (its note), the stabilization diagram
@@ -28,12 +29,8 @@ server-only 9-12 ms (GET /step), fast drag 44-80 ms.
 from __future__ import annotations
 
 import json
-import os
-import socket
 import statistics
-import subprocess
 import sys
-import tempfile
 import time
 import urllib.error
 import urllib.parse
@@ -48,6 +45,9 @@ if not Path(CHROMIUM).exists():
 sync_api = pytest.importorskip("playwright.sync_api")
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "tests" / "app"))
+from apiclient import live_server  # noqa: E402  (the tests' one way to start the app on a free port)
+
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 STEPS = 20
@@ -84,12 +84,6 @@ HOOK = """() => {
 }"""
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def get(base: str, path: str, params: dict | None = None, method: str = "GET", body: dict | None = None):
     q = "" if not params else "?" + urllib.parse.urlencode(params)
     req = urllib.request.Request(base + path + q, method=method,
@@ -105,31 +99,9 @@ def summary(values) -> str:
 
 
 @pytest.fixture()
-def server():
-    port = free_port()
-    base = f"http://127.0.0.1:{port}"
-    with tempfile.TemporaryDirectory() as data_dir:
-        env = dict(os.environ, ERA_DATA_DIR=data_dir, ERA_PORT=str(port), ERA_VIEWER="0")
-        log = open(Path(data_dir) / "server.log", "wb")
-        proc = subprocess.Popen([sys.executable, "-m", "app"], cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
-        try:
-            deadline = time.monotonic() + 30
-            while True:
-                try:
-                    get(base, "/api/examples")
-                    break
-                except OSError:
-                    if proc.poll() is not None or time.monotonic() > deadline:
-                        raise RuntimeError("the app did not start") from None
-                    time.sleep(0.2)
-            yield base
-        finally:
-            proc.terminate()
-            try:
-                proc.wait(10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-            log.close()
+def server(tmp_path):
+    with live_server(tmp_path / "data") as (base, _pid):
+        yield base
 
 
 def server_step(base: str, analysis_id: str, order: int) -> None:
