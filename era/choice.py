@@ -53,6 +53,14 @@ MAINS_TOLERANCE = 0.003
 #: mode would sit on one by chance.
 MAINS_MULTIPLES = 10
 
+#: Exact rank (noise-free data) needs the last singular value kept this many times above round-off
+#: (max(r p, s m)·ε·d_1): the paper's simulated cases stand 1e9 times above it, a spectrum fading into round-off
+#: (a noise-free FRF cut to a band) about once. A value that far above round-off is computed to 1e-4 or better,
+#: so BLAS cannot move it across the threshold.
+EXACT_RANK_MARGIN = 1e4
+#: Singular values below this fraction of the largest realize round-off in the default diagram (diagram_max_order).
+ROUNDOFF_RANK = 1e-10
+
 #: Reason codes of a rejected candidate, in the order they are tested.
 REASONS = ("rigid", "band", "harmonic", "damping", "uncertain", "twin", "orders", "noise", "absent")
 
@@ -256,12 +264,32 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
                       rejected=tuple(rejected))
 
 
-def exact_rank(ident, tol: float = 1e-10) -> bool:
+def exact_rank(ident, tol: float = ROUNDOFF_RANK, margin: float = EXACT_RANK_MARGIN) -> bool:
     """True when H(0) has an exact rank below what was computed (noise-free data): a singular value past the
-    identification's max_order exists and is below ``tol`` × the largest."""
+    identification's max_order exists and is below ``tol`` × the largest, while the last one kept stands at least
+    ``margin`` times above round-off (max(r p, s m)·ε·d_1).
+
+    The values of an exact-rank H(0) (the paper's simulated cases) fall from their last mode to round-off at
+    once. A spectrum that fades smoothly into round-off (an FRF cut to a band) has no rank: how many of its
+    values clear the floor changes with the BLAS kernel and thread count, so it takes the diagram's path."""
     d = np.asarray(ident.singular_values)
     k = int(ident.max_order)
-    return bool(d.size > k > 0 and d[k] <= tol * d[0])
+    if not d.size > k > 0:
+        return False
+    floor = max(ident.P.shape[0], ident.Q.shape[0]) * np.finfo(float).eps * d[0]
+    return bool(d[k] <= tol * d[0] and d[k - 1] >= margin * floor)
+
+
+def diagram_max_order(ident) -> int:
+    """The highest order worth a diagram: the identification's max_order, but not past the singular values below
+    ROUNDOFF_RANK × the largest unless H(0) has an exact rank (:func:`exact_rank`). Orders past them realize
+    round-off, and how many values lie between there and the floor changes with the BLAS (era.analysis uses it
+    for the default orders)."""
+    k = int(ident.max_order)
+    if exact_rank(ident):
+        return k
+    d = np.asarray(ident.singular_values)
+    return int(min(k, np.count_nonzero(d > ROUNDOFF_RANK * d[0]))) if d.size and d[0] > 0 else k
 
 
 def _choose_exact(ident, stab, lo, hi, edge, record_s) -> ModeChoice:
