@@ -3,8 +3,10 @@
 The app's threads share one GIL: a stabilization loop in a heavy thread would hold it against the slider's quick
 threads. Worker processes have their own interpreter, run at low CPU priority (nice +10) with one BLAS thread,
 so on a 2-core server the slider keeps its cores and its GIL while identifications run. The pool is one per Python
-process, created on first use (spawned: safe next to threads) and shared by every app instance in it; functions
-and arguments must be picklable (era's dataclasses are). ``run`` blocks: call it from a heavy-pool thread.
+process, started with the server (:func:`start`: its workers import era while the server answers, so the first
+upload does not wait for them) or else on first use (spawned: safe next to threads), and shared by every app
+instance in it; functions and arguments must be picklable (era's dataclasses are). ``run`` blocks: call it from a
+heavy-pool thread.
 """
 
 from __future__ import annotations
@@ -64,6 +66,21 @@ def _executor(workers: int) -> ProcessPoolExecutor:
             _pool = ProcessPoolExecutor(max_workers=max(1, workers), initializer=_init_worker,
                                         initargs=(os.getpid(),), mp_context=multiprocessing.get_context("spawn"))
         return _pool
+
+
+def _ready() -> int:
+    """Import in a worker what every analysis needs (a spawned worker starts with nothing): era, scipy's LAPACK."""
+    import scipy.linalg  # noqa: F401
+
+    import era  # noqa: F401
+    return os.getpid()
+
+
+def start(workers: int = 2) -> None:
+    """Start the pool's ``workers`` processes now and have each import era, without waiting for them."""
+    pool = _executor(workers)
+    for _ in range(max(1, workers)):
+        pool.submit(_ready)
 
 
 def _reset() -> None:

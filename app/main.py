@@ -19,7 +19,7 @@ from swagger_ui_bundle import swagger_ui_path
 
 import era
 
-from . import config, errors, housekeeping, middleware, schemas, viewing
+from . import compute, config, errors, housekeeping, middleware, schemas, viewing
 from .access import Access
 from .cache import Cache
 from .campaigns import Campaigns
@@ -45,6 +45,7 @@ def create_app(settings: config.Settings | None = None) -> FastAPI:
         app.state.cache = Cache(store, settings)
         app.state.jobs = Jobs(settings.heavy_workers, settings.heavy_queue)
         app.state.campaigns = Campaigns(store, settings)
+        compute.start(settings.heavy_workers)  # the workers import era now, not on the first upload
         if viewer is not None:  # a key published by another process is rebuilt here from the store
             viewer.resolver = viewing.resolver(app.state.cache)
             viewer.states = viewing.SharedStates(store)
