@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 
 _G = 1.0 / np.sqrt(3.0)
 _QUAD_R, _QUAD_S = np.array([-1.0, 1.0, 1.0, -1.0]), np.array([-1.0, -1.0, 1.0, 1.0])
@@ -52,8 +53,8 @@ def _frame(xyz: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     area2 = np.linalg.norm(normal, axis=1)
     size = np.max(np.linalg.norm(xyz - xyz[:, :1], axis=2), axis=1)
     if np.any(area2 <= 1e-10 * size**2):
-        raise DataError(f"{int(np.sum(area2 <= 1e-10 * size**2))} shell elements have no area (collinear or "
-                        "coincident nodes); check their connectivity.")
+        bad = counted(np.sum(area2 <= 1e-10 * size**2), "shell element")
+        raise DataError(f"{bad} without area (collinear or coincident nodes); check the connectivity.")
     ez = normal / area2[:, None]
     ex = _unit(side - np.einsum("ei,ei->e", side, ez)[:, None] * ez)
     ey = np.cross(ez, ex)
@@ -161,8 +162,8 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
         J = _jacobian(local, dNr, dNs)
         det = np.linalg.det(J)
         if np.any(det <= 0):
-            raise DataError(f"{int(np.sum(det <= 0))} shell elements are inverted or too distorted (a corner angle "
-                            "of 180° or more, or nodes out of order around the edge); renumber or remesh them.")
+            raise DataError(f"{counted(np.sum(det <= 0), 'shell element')} inverted or too distorted (a corner "
+                            "angle of 180° or more, or nodes out of order around the edge); renumber or remesh.")
         dN = np.linalg.solve(J, np.stack([np.broadcast_to(dNr, (e, n)), np.broadcast_to(dNs, (e, n))], axis=1))
         Bm, bd, Bb, Bs = _point_b(N, dN[:, 0], dN[:, 1], J, shear(r, s, J))
         dA = (w * det)[:, None, None]
