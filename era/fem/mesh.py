@@ -21,6 +21,7 @@ from . import beam3d, shell
 from .sparse import scatter
 
 DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
+CHUNK = 4096             # shell elements computed at a time
 
 
 @dataclass(frozen=True)
@@ -133,11 +134,12 @@ def _shell_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
     out: dict = {}
     for (name, nn), conns in groups.items():
         p = mesh.shell_properties[name]
-        c = np.asarray(conns)
         fn = shell.quad4_batch if nn == 4 else shell.tria3_batch
-        k, m = fn(xyz[c], p)
-        dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
-        out.setdefault(name, []).append((k, m, dofs))
+        for start in range(0, len(conns), CHUNK):   # bounded memory: a chunk's matrices, never the whole mesh's
+            c = np.asarray(conns[start:start + CHUNK])
+            k, m = fn(xyz[c], p)
+            dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
+            out.setdefault(name, []).append((k, m, dofs))
     return out
 
 

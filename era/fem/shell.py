@@ -127,14 +127,6 @@ def _jacobian(local, dNr, dNs):
     return np.stack([dNr @ local, dNs @ local], axis=1)     # (e, 2, 2): rows (x_r, y_r), (x_s, y_s)
 
 
-def _mass_rows(N, n: int, e: int) -> np.ndarray:
-    """(e, 6, 6n): the interpolation of every DOF at a point."""
-    H = np.zeros((e, 6, 6 * n))
-    for a in range(6):
-        H[:, a, a::6] = N
-    return H
-
-
 def _incompatible(r: float, s: float, J0: np.ndarray, det0: np.ndarray, det: np.ndarray) -> np.ndarray:
     """Membrane strain rows (e, 3, 4) of Wilson's incompatible modes 1 - r², 1 - s² in u and v (DOFs a1u, a2u,
     a1v, a2v), with Taylor's centre Jacobian and det J0 / det J scaling so that a patch of distorted quads still
@@ -174,8 +166,7 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
             Bi = _incompatible(r, s, J0, det0, det)
             k_ci += dA * (np.swapaxes(DBm, 1, 2) @ Bi)
             k_ii += dA * (np.swapaxes(Bi, 1, 2) @ mat["membrane"] @ Bi)
-        H = _mass_rows(N, n, e)
-        m += dA * (np.swapaxes(H, 1, 2) @ rho @ H)
+        m += dA * np.kron(np.outer(N, N), rho)[None]          # the shapes are the same in every element
     if incompatible:
         k -= k_ci @ np.linalg.solve(k_ii, np.swapaxes(k_ci, 1, 2))
         k = 0.5 * (k + np.swapaxes(k, 1, 2))
