@@ -17,7 +17,8 @@ HEIGHT, WIDTH = 0.02, 0.004         # stiffener section (m): depth along z, widt
 
 
 def stiffener() -> BeamProperty:
-    """The rectangular stiffener's section; torsion constant β h w³ after Roark (β = 1/3 - 0.21 w/h (1 - w⁴/12h⁴))."""
+    """The rectangular stiffener's section; torsion constant β h w³ after Roark,
+    β = 1/3 - 0.21 w/h (1 - w⁴/12h⁴)."""
     beta = 1 / 3 - 0.21 * WIDTH / HEIGHT * (1 - (WIDTH / HEIGHT) ** 4 / 12)
     return BeamProperty(area=HEIGHT * WIDTH, iy=WIDTH * HEIGHT**3 / 12, iz=HEIGHT * WIDTH**3 / 12,
                         j=beta * HEIGHT * WIDTH**3, e=PLATE.e, g=PLATE.e / (2 * (1 + PLATE.nu)), rho=PLATE.rho)
