@@ -54,9 +54,10 @@ def with_webs(nx: int, ny: int, nz: int = 2, triangles: bool = False) -> FEMesh:
 
 
 def opensees_hz(mesh: FEMesh, n_modes: int) -> np.ndarray:
-    """The lowest frequencies (Hz) of a quad-and-beam FEMesh (one shell and one beam property, fixed DOFs) by
-    OpenSees: ShellMITC4 on an ElasticMembranePlateSection, elasticBeamColumn with a Linear transformation, each
-    element's own (lumped) mass, ARPACK."""
+    """The lowest frequencies (Hz) of a shell-and-beam FEMesh (one shell and one beam property, fixed DOFs) by
+    OpenSees: ShellMITC4 quads or ShellDKGT triangles (discrete Kirchhoff bending, a thin-plate theory) on an
+    ElasticMembranePlateSection, elasticBeamColumn with a Linear transformation, each element's own mass,
+    ARPACK."""
     import openseespy.opensees as ops
 
     ops.wipe()
@@ -74,7 +75,7 @@ def opensees_hz(mesh: FEMesh, n_modes: int) -> np.ndarray:
     eid = 0
     for _, conn in mesh.shells:
         eid += 1
-        ops.element("ShellMITC4", eid, *[tag[n] for n in conn], 1)
+        ops.element("ShellMITC4" if len(conn) == 4 else "ShellDKGT", eid, *[tag[n] for n in conn], 1)
     for t, (name, n1, n2, v) in enumerate(mesh.beams):
         p = mesh.beam_properties[name]
         ops.geomTransf("Linear", 100 + t, *map(float, v))
