@@ -197,8 +197,14 @@ def _constraints(mesh: FEMesh, index: dict, xyz: np.ndarray) -> tuple[scipy.spar
     keep = np.ones(n_all, bool)
     keep[dependent] = False
     for node, name in mesh.fixed:
+        if node not in mesh.nodes:
+            raise DataError(f"A fixed DOF names node {node!r}, which is not defined; add the node or drop the SPC.")
         if node in index:
-            keep[6 * index[node] + _direction(name, f"fixed DOF of node {node}")] = False
+            dof = 6 * index[node] + _direction(name, f"fixed DOF of node {node}")
+            if dependent[dof]:
+                raise DataError(f"DOF {name} of node {node} is both fixed and an RBE2's dependent DOF; fix the "
+                                "RBE2's independent node instead.")
+            keep[dof] = False
     ident = np.flatnonzero(~dependent)
     C = scipy.sparse.csr_matrix((np.concatenate([np.ones(ident.size), vals]),
                                  (np.concatenate([ident, rows]).astype(int),
