@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))  # this checkout's era, run as a script
 import era  # noqa: E402
 from oma_structures import ambient, shear_building  # noqa: E402
 
