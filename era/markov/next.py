@@ -9,7 +9,7 @@ R(0) also holds the measurement-noise variance, so like the direct term it is dr
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import welch
+from scipy.signal import find_peaks, welch
 
 from ..data import ResponseData
 from ..errors import DataError
@@ -53,18 +53,21 @@ def correlations(y: np.ndarray, refs: np.ndarray, n_lags: int, start: int = 0,
 
 
 def lowest_mode_hz(y: np.ndarray, dt: float) -> float | None:
-    """The lowest frequency (Hz) where the response has a resonance: the first bin above 0 where the channels'
-    mean normalised Welch spectrum exceeds LOW_PEAK_FACTOR × its median (the broadband floor), or None."""
+    """The lowest frequency (Hz) where the response has a resonance, or None: the lowest peak of the channels'
+    mean normalised Welch spectrum that stands LOW_PEAK_FACTOR × above the spectrum's median (the broadband floor)
+    and as many times above the valleys beside it (its prominence: a skirt or a wiggle of the estimate is not a
+    peak; a lightly damped mode, even 10 × weaker than the strongest, is)."""
     n = y.shape[0]
     nperseg = int(min(n // 8, 4096))
     if nperseg < 16:
         return None
     f, pxx = welch(y, fs=1.0 / dt, nperseg=nperseg, axis=0)
     pxx = pxx / np.maximum(pxx.sum(axis=0, keepdims=True), 1e-300)
-    level = pxx.mean(axis=1)
-    above = np.flatnonzero((level > LOW_PEAK_FACTOR * np.median(level)) & (f > 0))
-    above = above[above >= 2]  # the first bins hold the trend and the window's leakage of the mean
-    return float(f[above[0]]) if above.size else None
+    level = np.log(np.maximum(pxx.mean(axis=1), 1e-300))
+    factor = np.log(LOW_PEAK_FACTOR)
+    peaks, _ = find_peaks(level, height=np.median(level) + factor, prominence=factor)
+    peaks = peaks[peaks >= 2]  # the first bins hold the trend and the window's leakage of the mean
+    return float(f[peaks[0]]) if peaks.size else None
 
 
 def default_lags(y: np.ndarray, dt: float) -> int:
