@@ -96,3 +96,42 @@ def ambient(structure: Structure, dt: float, duration_s: float, noise: float = 0
     y = y[steps - keep:]
     rms = np.sqrt(np.mean(y ** 2, axis=0, keepdims=True))
     return y + rng.standard_normal(y.shape) * rms * noise
+
+
+def pulse(structure: Structure, dt: float, duration_s: float, inputs=(0,), noise: float = 0.05,
+          seed: int = 0) -> np.ndarray:
+    """(N, n, m) acceleration pulse responses Y(k) = C A_d^(k-1) B_d, k = 1..N, to unit zero-order-held force
+    pulses at the masses ``inputs`` (a hammer test's impulse responses, or free decays), plus white noise of
+    ``noise`` × each output's rms."""
+    s = structure
+    n = s.M.shape[0]
+    Minv = np.linalg.inv(s.M)
+    A = state_matrix(s.M, s.K, s.C)
+    B = np.vstack([np.zeros((n, n)), Minv])[:, list(inputs)]
+    Cy = np.hstack([-Minv @ s.K, -Minv @ s.C])
+    big = np.zeros((2 * n + B.shape[1],) * 2)
+    big[:2 * n, :2 * n], big[:2 * n, 2 * n:] = A * dt, B * dt
+    e = scipy.linalg.expm(big)
+    Ad, Bd = e[:2 * n, :2 * n], e[:2 * n, 2 * n:]
+    steps = int(round(duration_s / dt))
+    y = np.empty((steps, n, B.shape[1]))
+    x = Bd.copy()
+    for k in range(steps):
+        y[k] = Cy @ x
+        x = Ad @ x
+    rng = np.random.default_rng(seed)
+    rms = np.sqrt(np.mean(y ** 2, axis=(0, 2), keepdims=True))
+    return y + rng.standard_normal(y.shape) * rms * noise
+
+
+def accelerance(structure: Structure, frequencies_hz, inputs=(0,), noise: float = 0.05,
+                seed: int = 0) -> np.ndarray:
+    """(K, n, m) FRFs H(f) = -ω² (K - ω² M + iω C)⁻¹ of acceleration to force at ``inputs`` (e^{-iωt} sign
+    convention: the dynamic stiffness K - ω² M + iω C), plus complex white noise of ``noise`` × each output's
+    rms over the lines."""
+    s = structure
+    w = 2 * np.pi * np.asarray(frequencies_hz, float)
+    h = np.stack([-(wk ** 2) * np.linalg.inv(s.K - wk ** 2 * s.M + 1j * wk * s.C)[:, list(inputs)] for wk in w])
+    rng = np.random.default_rng(seed)
+    rms = np.sqrt(np.mean(np.abs(h) ** 2, axis=(0, 2), keepdims=True))
+    return h + (rng.standard_normal(h.shape) + 1j * rng.standard_normal(h.shape)) * rms * noise / np.sqrt(2)

@@ -33,7 +33,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))  # this checkout's era, run as a script
 import era  # noqa: E402
-from oma_structures import ambient, shear_building  # noqa: E402
+from oma_structures import accelerance, ambient, pulse, shear_building  # noqa: E402
 
 os.environ.setdefault("PYOMA_LOG_LEVEL", "WARNING")
 os.environ.setdefault("TQDM_DISABLE", "1")
@@ -178,6 +178,29 @@ def run_peer(case: Case, n_records: int):
     return s, summarize(s.frequency_hz, s.damping_ratio, est), float(np.median(times))
 
 
+def run_other(case: Case, n_records: int, kind: str):
+    """Free decays ("decay": impulse responses at the first and last mass, as many seconds as the record's
+    minutes × 2, through era.analyse) or FRFs ("frf": accelerance at the same two masses on 0 .. fs/2 with
+    0.01 Hz lines, era.markov_from_frf then era.analyse), 5 % noise, ``n_records`` noise draws."""
+    s = structure_of(case)
+    dt = 1.0 / case.fs
+    est, times = [], []
+    for r in range(n_records):
+        seed = case.seed * 100_003 + r
+        t0 = time.perf_counter()
+        if kind == "decay":
+            data = era.ResponseData(pulse(s, dt, 2.0 * case.minutes, inputs=(0, case.n - 1), seed=seed), dt)
+        else:
+            lines = np.arange(0.0, case.fs / 2 + 1e-9, 0.01)
+            data = era.markov_from_frf(lines, accelerance(s, lines, inputs=(0, case.n - 1), seed=seed))
+        m = era.analyse(data).model
+        times.append(time.perf_counter() - t0)
+        k = match(s.frequency_hz, m.frequency_hz)
+        pick = lambda v: np.where(k >= 0, np.asarray(v)[np.maximum(k, 0)], np.nan)  # noqa: E731
+        est.append((pick(m.frequency_hz), pick(m.damping_ratio), pick(m.frequency_std_hz), pick(m.damping_std)))
+    return s, summarize(s.frequency_hz, s.damping_ratio, est), float(np.median(times))
+
+
 def table(label, case, s, rows, seconds):
     out = [f"{label} {case.name}: {case.n} sensors, {case.minutes:g} min, ζ {case.damping:.1%}, "
            f"median {seconds:.2f} s per record"]
@@ -205,7 +228,14 @@ if __name__ == "__main__":
         n_rec = int(args[i + 1])
         del args[i:i + 2]
     with_peer, only_peer = "--peer" in args, "--only-peer" in args
-    args = [a for a in args if a not in ("--peer", "--only-peer")]
+    other = [k for k in ("decay", "frf") if f"--{k}" in args]
+    args = [a for a in args if a not in ("--peer", "--only-peer", "--decay", "--frf")]
+    if other:
+        for name in args or list(CASES):
+            for kind in other:
+                s_, rows_, sec_ = run_other(CASES[name], n_rec, kind)
+                print(table(f"era {kind}", CASES[name], s_, rows_, sec_), flush=True)
+        sys.exit(0)
     for name in args or list(CASES):
         c = CASES[name]
         if not only_peer:
