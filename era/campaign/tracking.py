@@ -7,8 +7,11 @@ modes that cross in frequency keep their identities: the shape decides, not the 
 - the frequency compared is the tracked mode's latest one (modes drift with temperature), the shape is its
   reference shape (identity does not drift); a pair is refused when MAC < ``min_mac`` or the frequency moved more
   than ``max_freq_error`` (relative);
-- a tracked mode a record does not show is missing there (NaN in the table) and stays tracked: it is matched again
-  whenever a later record shows it (it reappears);
+- a tracked mode the record's chosen modes do not hold is looked for among the record's spares (the diagram's
+  other clusters, which the choice left out: at a crossing, or a weak mode), with the same gates; found there it
+  counts as found (the table's ``record_mode`` is then n_modes + the spare's index);
+- a tracked mode a record does not show at all is missing there (NaN in the table) and stays tracked: it is
+  matched again whenever a later record shows it (it reappears);
 - a record's mode that no tracked mode takes is a candidate, unless it is a twin of a tracked mode (its shape
   with MAC ≥ ``min_mac`` and its frequency within ``max_freq_error`` of a tracked mode's: a mode split in two
   by one record's noise, whose better half the tracked mode took); a new tracked mode is only ever a shape or
@@ -32,7 +35,7 @@ from scipy.optimize import linear_sum_assignment
 from ..correlation import pairing_cost
 from ..errors import DataError
 from ..indicators import mac
-from .record import RecordFailure
+from .record import RecordFailure, mode_shape
 
 
 @dataclass(frozen=True, eq=False)
@@ -182,6 +185,7 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
             tracks[j].hits.append((pos, i))
             tracks[j].frequency_hz = float(f[i])
             taken.add(i)
+        _from_spares(rec, pos, tracks, gates)
         free = [i for i in range(rec.n_modes) if i not in taken]
         twin = twins(f[free], shapes[:, free], tracks, min_mac=min_mac, max_freq_error=max_freq_error)
         free = [i for i, t in zip(free, twin) if not t]  # a twin of a tracked mode is never a new mode
@@ -204,6 +208,20 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
     return _tracking(kept, tracks, refused)
 
 
+def _from_spares(rec, pos, tracks, gates) -> None:
+    """Tracked modes the record's chosen modes do not hold, looked for among its spares (the diagram's other
+    clusters, RecordModes.spares) with the same gates and one assignment: a mode the choice left out of one record
+    (at a crossing, or weak) is still that mode when its shape and frequency say so. Spares never start a mode."""
+    missing = [j for j, t in enumerate(tracks) if not t.hits or t.hits[-1][0] != pos]
+    if not missing or not rec.spares:
+        return
+    f = np.array([sp[0] for sp in rec.spares])
+    shapes = np.stack([np.asarray(sp[-1], complex) for sp in rec.spares], axis=1)
+    for a, k in _assign(f, shapes, [tracks[j] for j in missing], **gates):
+        tracks[missing[k]].hits.append((pos, rec.n_modes + a))
+        tracks[missing[k]].frequency_hz = float(f[a])
+
+
 def _tracking(records, tracks, refused) -> Tracking:
     n, k = len(records), len(tracks)
     order = sorted(range(k), key=lambda j: (tracks[j].origin != "reference", tracks[j].reference[2]
@@ -215,7 +233,7 @@ def _tracking(records, tracks, refused) -> Tracking:
         t = tracks[j]
         for pos, i in t.hits:
             assignment[pos, col] = i
-            mac_ref[pos, col] = mac(records[pos].shapes[:, i:i + 1], t.shape[:, None])[0, 0]
+            mac_ref[pos, col] = mac(mode_shape(records[pos], i)[:, None], t.shape[:, None])[0, 0]
         modes.append(TrackedMode(mode=col, reference_frequency_hz=t.reference[0],
                                  reference_damping_ratio=t.reference[1], shape=t.shape, origin=t.origin,
                                  first_record=records[t.reference[2]].index if t.reference[2] >= 0 else -1,

@@ -197,3 +197,30 @@ def test_a_weak_mode_missed_in_some_records_stays_one_mode_with_its_rate():
     trk = track_modes(recs)
     assert len(trk.modes) == 2 and trk.modes[1].n_found == 10 and trk.modes[1].n_held == 12
     assert trk.modes[1].identification_rate == pytest.approx(10 / 12)
+
+
+def test_a_mode_the_choice_left_out_is_found_among_the_records_spares_and_a_spare_never_starts_a_mode():
+    """Record 3's choice left mode 1 out (a crossing, a weak mode): its diagram still holds it as a spare cluster
+    (RecordModes.spares), which the tracked mode takes by shape and frequency (rate 1, record_mode n_modes + 0);
+    a spare of another shape in every record is never a new mode."""
+    from dataclasses import replace
+
+    other = SHAPES[:, 4].astype(complex)
+    recs = []
+    for r in range(8):
+        rec = record(r, [2.0, 4.0] if r != 3 else [2.0], [0, 1] if r != 3 else [0], noise=0.02)
+        spares = [(7.5, 0.01, 0.001, 0.001, 1.0, 1.0, 5, other)]
+        if r == 3:
+            spares.insert(0, (4.01, 0.012, 0.002, 0.002, 0.9, 0.9, 4, SHAPES[:, 1].astype(complex)))
+        recs.append(replace(rec, spares=tuple(spares)))
+    trk = track_modes(recs)
+    assert len(trk.modes) == 2 and trk.assignment[3, 1] == 1  # n_modes (1) + spare 0
+    assert trk.modes[1].identification_rate == 1.0 and trk.mac_to_reference[3, 1] > 0.99
+    np.testing.assert_allclose(frequencies_with_spares(trk, 1)[2:5], [4.0, 4.01, 4.0])
+
+
+def frequencies_with_spares(trk, mode):
+    from era.campaign.record import mode_value
+
+    return np.array([mode_value(rec, "frequency_hz", i) if (i := trk.assignment[pos, mode]) >= 0 else np.nan
+                     for pos, rec in enumerate(trk.records)])
