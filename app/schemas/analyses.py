@@ -149,7 +149,8 @@ class Stabilization(Schema):
                                             "the data, Hz (null where not computed)")
     damping_std: Floats | None = Field(None, description="(poles,) standard deviation of ζ from the data")
     uncertainty_source: str | None = Field(None, description="which scatter those standard deviations come "
-                                           "from: σ from N records, or σ from one record's residuals")
+                                           "from: σ from N records, σ from N segments of the record (one "
+                                           "ambient record), or σ from one record's residuals")
     stable_frequency: list[bool] = Field(description="(poles,) frequency within 1 % of the previous order's pole")
     stable_damping: list[bool] = Field(description="(poles,) damping within 5 %")
     stable_shape: list[bool] = Field(description="(poles,) MAC ≥ 0.98 with it")

@@ -47,7 +47,8 @@ def to_json(rec: RecordModes) -> dict:
                n_orders=rec.n_orders.tolist(), shapes_re=rec.shapes.real.tolist(),
                shapes_im=rec.shapes.imag.tolist(), outputs=list(rec.outputs), kind=rec.kind, rows=rec.rows,
                cols=rec.cols, n_samples=rec.n_samples, p=int(rec.shapes.shape[0]), order=rec.order,
-               rejected=[list(r) for r in rec.rejected])
+               rejected=[list(r) for r in rec.rejected],
+               spares=[list(sp[:7]) + [sp[7].real.tolist(), sp[7].imag.tolist()] for sp in rec.spares])
     return out
 
 
@@ -59,7 +60,10 @@ def from_json(d: dict, index: int, name: str) -> RecordModes:
                        **{k: np.array(d[k], float) for k in _ARRAYS}, n_orders=np.array(d["n_orders"], int),
                        shapes=shapes, outputs=tuple(d["outputs"]), kind=d["kind"], rows=int(d["rows"]),
                        cols=int(d["cols"]), n_samples=int(d["n_samples"]), order=int(d["order"]),
-                       rejected=tuple((float(f), str(c), str(r)) for f, c, r in d["rejected"]))
+                       rejected=tuple((float(f), str(c), str(r)) for f, c, r in d["rejected"]),
+                       spares=tuple(tuple(float(x) for x in sp[:6]) + (int(sp[6]),
+                                    np.array(sp[7], float) + 1j * np.array(sp[8], float))
+                                    for sp in d.get("spares", [])))
 
 
 def load_entry(folder, key: str, index: int, name: str) -> RecordModes | None:

@@ -73,7 +73,11 @@ class RecordModes:
     order : the diagram order the modes are read at (ModeChoice.order);
     rejected : ((frequency_hz, code, reason), ...) the diagram's other clusters and why each is not a mode
         (era.Candidate's code and reason), by frequency;
-    kind : the conversion era.load used; rows, cols : the Hankel size; n_samples : Markov parameters used.
+    kind : the conversion era.load used; rows, cols : the Hankel size; n_samples : Markov parameters used;
+    spares : the diagram's other clusters (those in ``rejected``) as (frequency_hz, damping_ratio,
+        frequency_std_hz, damping_std, emac, mpc, n_orders, shape (p,) complex), by frequency: a tracked mode
+        the choice left out of this record is looked for among them (era.campaign.track_modes); index
+        ``n_modes + k`` is spare k (:func:`mode_value`, :func:`mode_shape`).
     """
 
     index: int
@@ -94,10 +98,29 @@ class RecordModes:
     n_samples: int
     order: int = 0
     rejected: tuple = ()
+    spares: tuple = ()
 
     @property
     def n_modes(self) -> int:
         return int(self.frequency_hz.size)
+
+
+#: The values of a spare mode, in the order RecordModes.spares holds them.
+SPARE_FIELDS = ("frequency_hz", "damping_ratio", "frequency_std_hz", "damping_std", "emac", "mpc", "n_orders",
+                "shape")
+
+
+def mode_value(rec: RecordModes, name: str, i: int) -> float:
+    """The value ``name`` (a RecordModes array: frequency_hz, damping_ratio, ...) of the record's mode i: a chosen
+    mode for i < n_modes, else spare i - n_modes."""
+    if i < rec.n_modes:
+        return float(getattr(rec, name)[i])
+    return float(rec.spares[i - rec.n_modes][SPARE_FIELDS.index(name)])
+
+
+def mode_shape(rec: RecordModes, i: int) -> np.ndarray:
+    """(p,) complex shape of the record's mode i (a chosen mode, or a spare for i ≥ n_modes)."""
+    return rec.shapes[:, i] if i < rec.n_modes else np.asarray(rec.spares[i - rec.n_modes][-1], complex)
 
 
 @dataclass(frozen=True)
@@ -156,7 +179,10 @@ def record_modes(result: AnalysisResult, *, index: int, name: str, outputs, kind
         damping_std=std(model.damping_std), emac=np.asarray(model.emac, float), mpc=np.asarray(model.mpc, float),
         n_orders=np.array(n_orders, dtype=int), shapes=np.asarray(model.shapes, complex), outputs=tuple(outputs),
         kind=str(kind), rows=int(rows), cols=int(cols), n_samples=int(n_samples), order=int(choice.order),
-        rejected=tuple((float(c.frequency_hz), str(c.code), str(c.reason)) for c in choice.rejected))
+        rejected=tuple((float(c.frequency_hz), str(c.code), str(c.reason)) for c in choice.rejected),
+        spares=tuple((float(c.frequency_hz), float(c.damping_ratio), float(c.frequency_std_hz), float(c.damping_std),
+                      float(c.emac), float(c.mpc), len(c.orders), np.asarray(c.shape, complex))
+                     for c in choice.rejected if np.isfinite(c.frequency_hz) and c.frequency_hz > 0))
 
 
 def analyse_record(source, index: int, settings: CampaignSettings):

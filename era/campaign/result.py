@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import EraError
+from .record import mode_value
 
 #: The table's columns, in order (see :class:`CampaignResult`).
 COLUMNS = ("record", "name", "time", "mode", "found", "frequency_hz", "damping_ratio", "mac_to_reference", "emac",
@@ -25,8 +26,9 @@ class CampaignResult:
         mpc (μ), n_orders (orders of the diagram where the mode is stable), frequency_std_hz and damping_std
         (standard deviations from the data, era.uncertainty), order (the diagram order the record's modes are
         read at, era.choose_modes), record_mode (the mode's index in the record's own RecordModes, -1 where
-        missing). The values are the record's chosen model's (era.analyse). Where a record does not show a
-        tracked mode, ``found`` is False and the numbers are NaN (n_orders 0). Failed records have no rows.
+        missing; n_modes + k for the record's spare k, a cluster the choice left out: RecordModes.spares). The
+        values are the record's chosen model's (era.analyse), or the spare cluster's. Where a record does not
+        show a tracked mode, ``found`` is False and the numbers are NaN (n_orders 0). Failed records have no rows.
     modes : tuple of era.campaign.TrackedMode: number, reference frequency, damping and shape, origin
         ("reference" or "new"), the record that defined it and how many records found it.
     failed : tuple of era.campaign.RecordFailure (record, name, reason), in record order.
@@ -46,10 +48,12 @@ class CampaignResult:
 
     def modes_frame(self):
         """pandas.DataFrame of the tracked modes (without shapes): mode, reference_frequency_hz,
-        reference_damping_ratio, origin, first_record, n_found."""
+        reference_damping_ratio, origin, first_record, n_found, n_held (records that hold it: from the one that
+        defined it on) and identification_rate (n_found / n_held)."""
         return pandas().DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
                               "reference_damping_ratio": m.reference_damping_ratio, "origin": m.origin,
-                              "first_record": m.first_record, "n_found": m.n_found} for m in self.modes])
+                              "first_record": m.first_record, "n_found": m.n_found, "n_held": m.n_held,
+                              "identification_rate": m.identification_rate} for m in self.modes])
 
 
 def pandas():
@@ -83,20 +87,20 @@ def build_table(tracking):
         for col, mode in enumerate(tracking.modes):
             i = int(tracking.assignment[pos, col])
             found = i >= 0
-            value = (lambda a: float(a[i]) if found else np.nan)  # noqa: E731
+            value = (lambda a: mode_value(rec, a, i) if found else np.nan)  # noqa: E731
             rows["record"].append(rec.index)
             rows["name"].append(rec.name)
             rows["time"].append(times[pos])
             rows["mode"].append(mode.mode)
             rows["found"].append(found)
-            rows["frequency_hz"].append(value(rec.frequency_hz))
-            rows["damping_ratio"].append(value(rec.damping_ratio))
+            rows["frequency_hz"].append(value("frequency_hz"))
+            rows["damping_ratio"].append(value("damping_ratio"))
             rows["mac_to_reference"].append(float(tracking.mac_to_reference[pos, col]))
-            rows["emac"].append(value(rec.emac))
-            rows["mpc"].append(value(rec.mpc))
-            rows["n_orders"].append(int(rec.n_orders[i]) if found else 0)
-            rows["frequency_std_hz"].append(value(rec.frequency_std_hz))
-            rows["damping_std"].append(value(rec.damping_std))
+            rows["emac"].append(value("emac"))
+            rows["mpc"].append(value("mpc"))
+            rows["n_orders"].append(int(mode_value(rec, "n_orders", i)) if found else 0)
+            rows["frequency_std_hz"].append(value("frequency_std_hz"))
+            rows["damping_std"].append(value("damping_std"))
             rows["order"].append(int(rec.order))
             rows["record_mode"].append(i)
     table = pd.DataFrame(rows, columns=list(COLUMNS))

@@ -84,6 +84,9 @@ def test_uploaded_records_are_tracked_and_bad_files_listed_as_failed(records, on
     # what era.campaign gives on the same files, in this process: the app carries it unchanged
     mine = run_campaign(sorted(records.iterdir()), kind="ambient", orders=range(2, 81, 2), workers=0)
     assert [m["reference_frequency_hz"] for m in r["modes"]] == [m.reference_frequency_hz for m in mine.modes]
+    assert [(m["n_held"], m["identification_rate"]) for m in r["modes"]] == \
+        [(m.n_held, m.identification_rate) for m in mine.modes]  # each mode's rate, as era.campaign gives it
+    assert all(m["n_held"] == 3 for m in r["modes"] if m["origin"] == "reference")  # the three analysed records
     for s in r["series"]:
         rows = mine.table[mine.table["mode"] == s["mode"]]
         assert np.allclose(np.array(s["frequency_hz"], dtype=float), rows["frequency_hz"], equal_nan=True)
