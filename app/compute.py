@@ -77,10 +77,18 @@ def _ready() -> int:
 
 
 def start(workers: int = 2) -> None:
-    """Start the pool's ``workers`` processes now and have each import era, without waiting for them."""
-    pool = _executor(workers)
-    for _ in range(max(1, workers)):
-        pool.submit(_ready)
+    """Start the pool's ``workers`` processes now and have each import era, without waiting for them.
+
+    A pool whose workers died (they end with the thread that started them: an earlier app's lifespan in the same
+    process, as in tests) is replaced."""
+    for _ in range(2):
+        try:
+            pool = _executor(workers)
+            for _ in range(max(1, workers)):
+                pool.submit(_ready)
+            return
+        except BrokenProcessPool:
+            _reset()
 
 
 def _reset() -> None:
