@@ -147,7 +147,7 @@ def _split(body: str) -> tuple[str, list[str], bool]:
 
 def _cards(lines) -> list[BulkCard]:
     cards: list[BulkCard] = []
-    name, fields, start = None, [], ("", 0)
+    name, fields, start, last = None, [], ("", 0), 0
     for shown, number, body in lines:
         first, data, _ = _split(body)
         if first == "" or first[0] in "+*":
@@ -155,16 +155,17 @@ def _cards(lines) -> list[BulkCard]:
                 raise DataError(f"{shown}, line {number}: a continuation line with no card before it. "
                                 "Start the card with its name in the first field.")
             fields += data
+            last = number
             continue
         if name is not None:
-            cards.append(_card(name, fields, start))
-        name, fields, start = first.rstrip("*").upper(), list(data), (shown, number)
+            cards.append(_card(name, fields, start, last))
+        name, fields, start, last = first.rstrip("*").upper(), list(data), (shown, number), number
     if name is not None:
-        cards.append(_card(name, fields, start))
+        cards.append(_card(name, fields, start, last))
     return cards
 
 
-def _card(name: str, fields: list[str], start) -> BulkCard:
+def _card(name: str, fields: list[str], start, last: int) -> BulkCard:
     while fields and fields[-1] == "":
         fields.pop()
-    return BulkCard(name, tuple(fields), start[0], start[1])
+    return BulkCard(name, tuple(fields), start[0], start[1], last)

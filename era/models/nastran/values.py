@@ -30,13 +30,14 @@ class BulkCard:
     name : the card's name in upper case without the large-field star ("GRID");
     fields : its data fields (Nastran's fields 2-9, 12-19, ... of the small-field layout), stripped text, "" when
         blank; continuation markers are left out;
-    file, line : where it starts (for messages).
+    file, line : where it starts (for messages); last_line : its last continuation line (0: the card is one line).
     """
 
     name: str
     fields: tuple[str, ...]
     file: str
     line: int
+    last_line: int = 0
 
     def where(self) -> str:
         """ "deck.bdf, line 12, GRID 7": the place and the card's first field, for messages."""
