@@ -1,0 +1,112 @@
+"""Bulk-data decks for the Nastran reader's tests, written from one list of cards in the three field formats
+(small field 8 characters with Nastran's exponent-without-E reals, large field 16 characters, free field), and
+the analytic truths they are checked against."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+
+
+def small_real(v: float) -> str:
+    """A real in 8 characters at the most digits that fit, Nastran style where it saves room: 2.1E+11 ->
+    "2.1+11", 1E-9 -> "1.-9", 7850 -> "7850."."""
+    v = float(v)
+    for digits in range(8, 0, -1):
+        mant, exp = f"{v:.{digits - 1}E}".split("E")
+        mant, e = mant.rstrip("0"), int(exp)
+        nastran = mant if e == 0 else f"{mant}{'+' if e > 0 else '-'}{abs(e)}"
+        plain = f"{v:.{digits}g}"
+        plain = None if "e" in plain else (plain if "." in plain else plain + ".")
+        for text in (plain, nastran):
+            if text and len(text) <= 8:
+                return text
+    raise ValueError(v)
+
+
+def _text(v, width: int) -> str:
+    if v is None or v == "":
+        return ""
+    if isinstance(v, (int, np.integer)) or isinstance(v, str):
+        return str(v)
+    return small_real(v) if width == 8 else f"{float(v):.9E}"
+
+
+def card_text(name: str, values, style: str) -> str:
+    """One card in ``style`` "small", "large" or "free" (continuations: "+" lines, "*" lines, "," lines)."""
+    if style == "free":
+        vals = [_text(v, 16) if not isinstance(v, float) else repr(v) for v in values]
+        lines = [",".join([name] + vals[:8])]
+        for k in range(8, len(vals), 8):
+            lines.append(",".join([""] + vals[k:k + 8]))
+        return "\n".join(lines)
+    width, per = (8, 8) if style == "small" else (16, 4)
+    vals = [_text(v, width) for v in values]
+    lines = []
+    for k in range(0, max(len(vals), 1), per):
+        head = (name if style == "small" else name + "*") if k == 0 else ("+" if style == "small" else "*")
+        lines.append(head.ljust(8) + "".join(v.rjust(width) for v in vals[k:k + per]))
+    return "\n".join(lines)
+
+
+def deck_text(cards, style: str, header: str = "") -> str:
+    """A whole deck: an optional executive/case-control header, BEGIN BULK, the cards, ENDDATA."""
+    body = "\n".join(card_text(n, v, style) for n, v in cards)
+    top = f"{header}\nBEGIN BULK\n" if header else ""
+    return f"{top}$ written by tests/models/nastran_decks.py ({style} field)\n{body}\nENDDATA\n"
+
+
+def plate_cards(nx: int, ny: int, a: float, b: float, t: float, e: float, nu: float, rho: float,
+                triangles: bool = False) -> list:
+    """A flat rectangular plate a × b in the x-y plane, nx × ny CQUAD4 (or 2 CTRIA3 each), PSHELL 1, MAT1 1,
+    simply supported on all edges (SPC1 set 1: w on the edges; u, v and the drilling rotation everywhere, which
+    leaves plate bending only)."""
+    cards, gid = [], {}
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            gid[i, j] = 1 + i + j * (nx + 1)
+            cards.append(("GRID", [gid[i, j], None, a * i / nx, b * j / ny, 0.0]))
+    eid = 0
+    for j in range(ny):
+        for i in range(nx):
+            c = [gid[i, j], gid[i + 1, j], gid[i + 1, j + 1], gid[i, j + 1]]
+            if triangles:
+                cards += [("CTRIA3", [eid + 1, 1, c[0], c[1], c[2]]), ("CTRIA3", [eid + 2, 1, c[0], c[2], c[3]])]
+                eid += 2
+            else:
+                eid += 1
+                cards.append(("CQUAD4", [eid, 1, *c]))
+    cards += [("PSHELL", [1, 1, t, 1]), ("MAT1", [1, e, None, nu, rho])]
+    edge = [g for (i, j), g in gid.items() if i in (0, nx) or j in (0, ny)]
+    cards.append(("SPC1", [1, 126, 1, "THRU", gid[nx, ny]]))
+    cards.append(("SPC1", [1, 3, *sorted(edge)]))
+    return cards
+
+
+def plate_frequencies(a: float, b: float, t: float, e: float, nu: float, rho: float, n: int) -> np.ndarray:
+    """The lowest n frequencies (Hz) of a simply supported Kirchhoff plate: (π/2)(m²/a² + n²/b²)√(D/ρt)."""
+    d = e * t ** 3 / (12 * (1 - nu ** 2))
+    f = sorted(np.pi / 2 * (m ** 2 / a ** 2 + k ** 2 / b ** 2) * np.sqrt(d / (rho * t))
+               for m in range(1, 8) for k in range(1, 8))
+    return np.array(f[:n])
+
+
+def cantilever_tip_mass(ei: float, mass_per_length: float, length: float, tip_mass: float, tip_inertia: float,
+                        n: int, f_max: float) -> np.ndarray:
+    """The lowest n bending frequencies (Hz) of an Euler-Bernoulli cantilever with a tip mass and a tip rotary
+    inertia, from the roots of the 4 × 4 boundary determinant (w = a cos βx + b sin βx + c cosh βx + d sinh βx;
+    w(0) = w'(0) = 0, EI w''(L) = J ω² w'(L), EI w'''(L) = -M ω² w(L))."""
+    def det(w):
+        beta = (mass_per_length * w ** 2 / ei) ** 0.25
+
+        def row(x, d):
+            c, s, ch, sh = np.cos(beta * x), np.sin(beta * x), np.cosh(beta * x), np.sinh(beta * x)
+            table = [[c, s, ch, sh], [-s, c, sh, ch], [-c, -s, ch, sh], [s, -c, sh, ch]]
+            return np.array(table[d]) * beta ** d
+        return np.linalg.det(np.array([row(0, 0), row(0, 1),
+                                       ei * row(length, 2) - tip_inertia * w ** 2 * row(length, 1),
+                                       ei * row(length, 3) + tip_mass * w ** 2 * row(length, 0)]))
+    grid = np.linspace(1.0, 2 * np.pi * f_max, 20000)
+    v = np.array([det(w) for w in grid])
+    roots = [brentq(det, grid[k], grid[k + 1]) for k in range(len(grid) - 1) if np.sign(v[k]) != np.sign(v[k + 1])]
+    return np.array(roots[:n]) / (2 * np.pi)
