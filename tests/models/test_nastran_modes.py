@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from nastran_decks import cantilever_tip_mass, deck_text, plate_cards, plate_frequencies
+from nastran_decks import cantilever_tip_mass, deck_text, every_card, plate_cards, plate_frequencies
 
 from era.models import load_model
 from era.models.nastran import read_bdf
@@ -52,44 +52,6 @@ def test_simply_supported_plate_against_kirchhoff(tmp_path, triangles):
     f, _ = m.modes(4)
     truth = plate_frequencies(a, b, t, e, nu, rho, 4)
     assert f == pytest.approx(truth, rel=0.015 if triangles else 0.01)
-
-
-def every_card() -> list:
-    """A small structure with every modelled card: a plate of CQUAD4 and CTRIA3 in a CORD2R frame, a CBAR
-    stiffener (PBARL I, offset below the plate), a CBEAM (PBEAM) and a CROD (PROD) leg, a CONM2 with offset and
-    inertia, springs (CELAS1/PELAS, CELAS2), an RBE2 spider, SPC and SPC1 of the case control's set 1."""
-    cards = [("CORD2R", [3, 0, 0., 0., 1., 0., 0., 2., 1., 0., 1.])]          # shifted up 1, axes as basic
-    gid = {}
-    for j in range(3):
-        for i in range(4):
-            gid[i, j] = 100 + 10 * j + i
-            cards.append(("GRID", [gid[i, j], 3, 0.25 * i, 0.25 * j, 0.]))
-    eid = 1
-    for j in range(2):
-        for i in range(3):
-            c = [gid[i, j], gid[i + 1, j], gid[i + 1, j + 1], gid[i, j + 1]]
-            if (i + j) % 2:
-                cards += [("CTRIA3", [eid, 1, c[0], c[1], c[2]]), ("CTRIA3", [eid + 1, 1, c[0], c[2], c[3]])]
-                eid += 2
-            else:
-                cards.append(("CQUAD4", [eid, 1, *c]))
-                eid += 1
-    cards += [("PSHELL", [1, 1, 0.005, 1]), ("MAT1", [1, 7e10, None, 0.33, 2700.]),
-              ("MAT1", [2, 2.1e11, 8.1e10, None, 7850.])]
-    for i in range(3):
-        cards.append(("CBAR", [30 + i, 2, gid[i, 1], gid[i + 1, 1], 0., 0., 1., None, None, None,
-                               0., 0., -0.02, 0., 0., -0.02]))
-    cards.append(("PBARL", [2, 2, None, "I", None, None, None, None, .03, .02, .02, .002, .003, .003]))
-    cards += [("GRID", [1, None, 0., 0., 0.]), ("GRID", [2, None, 0.75, 0., 0.]),
-              ("CBEAM", [40, 4, 1, gid[0, 0], 1., 0., 0.]), ("PBEAM", [4, 2, 1e-4, 1e-9, 2e-9, 0., 3e-9]),
-              ("CROD", [41, 5, 2, gid[3, 0]]), ("PROD", [5, 2, 5e-5, 1e-9])]
-    cards += [("CONM2", [50, gid[3, 2], 0, 0.4, 0.01, 0.02, 0.05, None, 1e-4, 0., 2e-4, 0., 0., 3e-4]),
-              ("CELAS1", [51, 6, gid[0, 2], 3]), ("PELAS", [6, 2e4]), ("CELAS2", [52, 5e3, gid[3, 1], 3]),
-              ("GRID", [3, None, 0.375, 0.25, 1.2]), ("RBE2", [60, 3, 123456, gid[1, 1], gid[2, 1], gid[1, 2]]),
-              ("CONM2", [61, 3, 0, 0.2]),
-              ("SPC", [1, 1, 123456, 0., 2, 123, 0.]), ("SPC1", [1, 6, 100, "THRU", 103]),
-              ("SPC1", [2, 3, 110])]
-    return cards
 
 
 def test_small_large_and_free_field_give_one_model(tmp_path):
