@@ -5,7 +5,8 @@ its x-y plane: a quad's mean plane (normal along the cross product of its diagon
 direction); a warped quad's nodes are projected onto that plane and joined to the real nodes by rigid offsets
 (u_p = u + θ × d), which keeps the six rigid-body motions exact.
 
-- Membrane: bilinear (quad) or constant-strain (triangle) displacements with the Hughes-Brezzi drilling rotation,
+- Membrane: bilinear (quad, with Wilson's incompatible modes condensed out so that it bends in its plane without
+  locking: a stiffener's web) or constant-strain (triangle) displacements with the Hughes-Brezzi drilling rotation,
   a penalty γ ∫ (θz - ½(∂v/∂x - ∂u/∂y))² t dA with γ = G/10 at the full Gauss rule (no zero-energy mode,
   little in-plane locking). T. J. R. Hughes, F. Brezzi, *On drilling degrees of freedom*, CMAME 72 (1989) 105-121.
 - Bending: rotations interpolated like the displacements, β = (θy, -θx); bending stiffness D = E t³/12(1-ν²).
@@ -25,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError
+from ..words import counted
 
 _G = 1.0 / np.sqrt(3.0)
 _QUAD_R, _QUAD_S = np.array([-1.0, 1.0, 1.0, -1.0]), np.array([-1.0, -1.0, 1.0, 1.0])
@@ -32,6 +34,7 @@ _QUAD_GAUSS = [(r, s, 1.0) for s in (-_G, _G) for r in (-_G, _G)]
 _TRIA_POINTS = [(0.5, 0.0, 1 / 6), (0.5, 0.5, 1 / 6), (0.0, 0.5, 1 / 6)]   # weights sum to ½, the reference area
 SHEAR_FACTOR = 5.0 / 6.0
 DRILL_FACTOR = 0.1
+TRIA_STABILITY = 0.1
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -50,8 +53,8 @@ def _frame(xyz: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     area2 = np.linalg.norm(normal, axis=1)
     size = np.max(np.linalg.norm(xyz - xyz[:, :1], axis=2), axis=1)
     if np.any(area2 <= 1e-10 * size**2):
-        raise DataError(f"{int(np.sum(area2 <= 1e-10 * size**2))} shell elements have no area (collinear or "
-                        "coincident nodes); check their connectivity.")
+        bad = counted(np.sum(area2 <= 1e-10 * size**2), "shell element")
+        raise DataError(f"{bad} without area (collinear or coincident nodes); check the connectivity.")
     ez = normal / area2[:, None]
     ex = _unit(side - np.einsum("ei,ei->e", side, ez)[:, None] * ez)
     ey = np.cross(ez, ex)
@@ -132,26 +135,50 @@ def _mass_rows(N, n: int, e: int) -> np.ndarray:
     return H
 
 
-def _integrate(points, local, mat, shapes, shear):
+def _incompatible(r: float, s: float, J0: np.ndarray, det0: np.ndarray, det: np.ndarray) -> np.ndarray:
+    """Membrane strain rows (e, 3, 4) of Wilson's incompatible modes 1 - r², 1 - s² in u and v (DOFs a1u, a2u,
+    a1v, a2v), with Taylor's centre Jacobian and det J0 / det J scaling so that a patch of distorted quads still
+    passes the constant-strain test (R. L. Taylor, P. J. Beresford, E. L. Wilson, IJNME 10 (1976) 1211-1219)."""
+    dP = np.linalg.solve(J0, np.broadcast_to(np.array([[-2 * r, 0.0], [0.0, -2 * s]]), J0.shape))
+    dP = dP * (det0 / det)[:, None, None]
+    B = np.zeros((J0.shape[0], 3, 4))
+    B[:, 0, 0:2], B[:, 1, 2:4], B[:, 2, 0:2], B[:, 2, 2:4] = dP[:, 0], dP[:, 1], dP[:, 1], dP[:, 0]
+    return B
+
+
+def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
     """Sum the local stiffness and mass over the integration points; ``shear(r, s, J)`` gives the assumed
-    covariant shear rows."""
+    covariant shear rows. With ``incompatible``, the quad's membrane gets Wilson's incompatible modes, condensed
+    out: the bilinear quad then bends in its plane without shear locking (exact for a rectangle)."""
     e, n = local.shape[:2]
     k, m = np.zeros((e, 6 * n, 6 * n)), np.zeros((e, 6 * n, 6 * n))
+    k_ci, k_ii = np.zeros((e, 6 * n, 4)), np.zeros((e, 4, 4))
     rho = np.diag([mat["m_t"]] * 3 + [mat["m_r"]] * 3)
+    _, dNr0, dNs0 = shapes(0.0, 0.0)
+    J0 = _jacobian(local, dNr0, dNs0)
+    det0 = np.linalg.det(J0)
     for r, s, w in points:
         N, dNr, dNs = shapes(r, s)
         J = _jacobian(local, dNr, dNs)
         det = np.linalg.det(J)
         if np.any(det <= 0):
-            raise DataError(f"{int(np.sum(det <= 0))} shell elements are inverted or too distorted (a corner angle "
-                            "of 180° or more, or nodes out of order around the edge); renumber or remesh them.")
+            raise DataError(f"{counted(np.sum(det <= 0), 'shell element')} inverted or too distorted (a corner "
+                            "angle of 180° or more, or nodes out of order around the edge); renumber or remesh.")
         dN = np.linalg.solve(J, np.stack([np.broadcast_to(dNr, (e, n)), np.broadcast_to(dNs, (e, n))], axis=1))
         Bm, bd, Bb, Bs = _point_b(N, dN[:, 0], dN[:, 1], J, shear(r, s, J))
         dA = (w * det)[:, None, None]
-        k += dA * (np.swapaxes(Bm, 1, 2) @ mat["membrane"] @ Bm + np.swapaxes(Bb, 1, 2) @ mat["bending"] @ Bb
+        DBm = mat["membrane"] @ Bm
+        k += dA * (np.swapaxes(Bm, 1, 2) @ DBm + np.swapaxes(Bb, 1, 2) @ mat["bending"] @ Bb
                    + mat["shear"] * np.swapaxes(Bs, 1, 2) @ Bs + mat["drill"] * bd[:, :, None] * bd[:, None, :])
+        if incompatible:
+            Bi = _incompatible(r, s, J0, det0, det)
+            k_ci += dA * (np.swapaxes(DBm, 1, 2) @ Bi)
+            k_ii += dA * (np.swapaxes(Bi, 1, 2) @ mat["membrane"] @ Bi)
         H = _mass_rows(N, n, e)
         m += dA * (np.swapaxes(H, 1, 2) @ rho @ H)
+    if incompatible:
+        k -= k_ci @ np.linalg.solve(k_ii, np.swapaxes(k_ci, 1, 2))
+        k = 0.5 * (k + np.swapaxes(k, 1, 2))
     return k, m
 
 
@@ -171,7 +198,7 @@ def quad4_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
         g_s = 0.5 * (1 - r) * tie["D"][:, 1] + 0.5 * (1 + r) * tie["B"][:, 1]
         return np.stack([g_r, g_s], axis=1)
 
-    k, m = _integrate(_QUAD_GAUSS, local, mat, _quad_shapes, shear)
+    k, m = _integrate(_QUAD_GAUSS, local, mat, _quad_shapes, shear, incompatible=True)
     return _to_basic(k, R, offset), _to_basic(m, R, offset)
 
 
@@ -194,6 +221,9 @@ def tria3_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
     def shear(r, s, J):
         return np.stack([g1[:, 0] + c * s, g2[:, 1] - c * r], axis=1)
 
+    t2 = float(prop.thickness) ** 2
+    h2 = np.max(np.sum((local - np.roll(local, 1, axis=1)) ** 2, axis=2), axis=1)
+    mat = dict(mat, shear=(mat["shear"] * t2 / (t2 + TRIA_STABILITY * h2))[:, None, None])
     k, m = _integrate(_TRIA_POINTS, local, mat, _tria_shapes, shear)
     return _to_basic(k, R, offset), _to_basic(m, R, offset)
 
