@@ -148,3 +148,30 @@ def every_card() -> list:
               ("SPC", [1, 1, 123456, 0., 2, 123, 0.]), ("SPC1", [1, 6, 100, "THRU", 103]),
               ("SPC1", [2, 3, 110])]
     return cards
+
+
+def stiffened_panel(nx: int, ny: int, nz: int = 2) -> tuple[list, dict]:
+    """An aluminium plate 0.6 × 0.4 m, 3 mm (CQUAD4, PSHELL 1), clamped along x = 0 (SPC1 123456), with two
+    stiffeners along x on the rows y = 0.4/3 and 0.8/3: webs 20 mm tall and 4 mm thick (CQUAD4, PSHELL 2, nz
+    elements up). Returns the deck's cards, and the same structure for an independent solver {"nodes": {label:
+    xyz}, "shells": [(property, (n1..n4))], "clamped": [labels], "plate", "web": (t, e, nu, rho)}."""
+    a, b, height = 0.6, 0.4, 0.02
+    plate, web = (0.003, 70e9, 0.33, 2700.0), (0.004, 70e9, 0.33, 2700.0)
+    gid = {(i, j, 0): 1 + i + j * (nx + 1) for j in range(ny + 1) for i in range(nx + 1)}
+    nodes = {str(g): (a * i / nx, b * j / ny, 0.0) for (i, j, _), g in gid.items()}
+    rows = (ny // 3, 2 * ny // 3)
+    for j in rows:
+        for k in range(1, nz + 1):
+            for i in range(nx + 1):
+                gid[i, j, k] = 10000 * k + 100 * j + i
+                nodes[str(gid[i, j, k])] = (a * i / nx, b * j / ny, height * k / nz)
+    shells = [("plate", tuple(str(gid[c]) for c in ((i, j, 0), (i + 1, j, 0), (i + 1, j + 1, 0), (i, j + 1, 0))))
+              for j in range(ny) for i in range(nx)]
+    shells += [("web", tuple(str(gid[c]) for c in ((i, j, k), (i + 1, j, k), (i + 1, j, k + 1), (i, j, k + 1))))
+               for j in rows for k in range(nz) for i in range(nx)]
+    clamped = [n for n, x in nodes.items() if x[0] == 0.0]
+    cards = [("GRID", [int(n), None, *x]) for n, x in nodes.items()]
+    cards += [("CQUAD4", [k + 1, 1 if p == "plate" else 2, *map(int, q)]) for k, (p, q) in enumerate(shells)]
+    cards += [("PSHELL", [1, 1, plate[0], 1]), ("PSHELL", [2, 1, web[0], 1]), ("MAT1", [1, 70e9, None, 0.33, 2700.]),
+              ("SPC1", [1, 123456, *map(int, clamped)])]
+    return cards, {"nodes": nodes, "shells": shells, "clamped": clamped, "plate": plate, "web": web}

@@ -173,3 +173,21 @@ def test_the_unmodelled_cards_in_one_sentence(tmp_path):
 def test_bad_cards_name_the_file_line_and_card(tmp_path, card, match):
     with pytest.raises(DataError, match=match):
         _model(tmp_path, [card] + _cantilever(), style="small")
+
+
+def test_pbarl_bar_bends_with_i1_in_the_plane_of_v(tmp_path):
+    # BAR DIM1 = 0.01 (along element z), DIM2 = 0.03 (along y): I1 = DIM1·DIM2³/12 for deflection along v = y,
+    # I2 = DIM2·DIM1³/12 along z; a cantilever's first bending is 1.8751²/(2π L²) √(EI/ρA) (Euler-Bernoulli)
+    n, length, e, rho = 20, 1.0, 2e11, 7800.0
+    cards = [("GRID", [k + 1, None, length * k / n, 0., 0.]) for k in range(n + 1)]
+    cards += [("CBAR", [k + 1, 1, k + 1, k + 2, 0., 1., 0.]) for k in range(n)]
+    cards += [("PBARL", [1, 1, None, "BAR", None, None, None, None, 0.01, 0.03]), ("MAT1", [1, e, None, 0.3, rho]),
+              ("SPC1", [1, 123456, 1])]
+    m = _model(tmp_path, cards, "small")
+    f, phi = m.modes(2)
+    area = 0.01 * 0.03
+    for k, (inertia, d) in enumerate(((0.03 * 0.01 ** 3 / 12, "z"), (0.01 * 0.03 ** 3 / 12, "y"))):
+        assert f[k] == pytest.approx(1.875104 ** 2 / (2 * np.pi * length ** 2) * np.sqrt(e * inertia / (rho * area)),
+                                     rel=1e-4)
+        other = "y" if d == "z" else "z"
+        assert abs(phi[m.index(n + 1, d), k]) > 1e6 * abs(phi[m.index(n + 1, other), k])

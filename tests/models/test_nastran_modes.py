@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from nastran_decks import cantilever_tip_mass, deck_text, every_card, plate_cards, plate_frequencies
+from nastran_decks import (cantilever_tip_mass, deck_text, every_card, plate_cards, plate_frequencies,
+                           stiffened_panel)
 
 from era.models import load_model
 from era.models.nastran import read_bdf
@@ -69,3 +70,26 @@ def test_small_large_and_free_field_give_one_model(tmp_path):
         assert abs(other.mass - first.mass).max() <= 1e-6 * abs(first.mass).max()
     f, _ = first.modes(6)
     assert np.all(f > 0) and np.all(np.isfinite(f))
+
+
+def test_a_stiffened_panel_deck_against_calculix(tmp_path):
+    """A plate with two shell-web stiffeners (CQUAD4 of two PSHELLs, clamped by SPC1) read from a large-field
+    deck, against CalculiX (ccx run as a separate program; its S8R shells expanded into 20-node solids) on the
+    same structure described to it directly."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fem"))
+    from calculix import frequencies, frequency_inp, run
+
+    from era.fem.mesh import FEMesh, ShellProperty
+
+    cards, s = stiffened_panel(16, 12)
+    path = tmp_path / "panel.bdf"
+    path.write_text(deck_text(cards, "large"))
+    model = read_bdf(path)
+    assert set(model.parts) == {"PSHELL 1", "PSHELL 2"}
+    f = model.modes(6)[0]
+    mesh = FEMesh(s["nodes"], tuple(s["shells"]), (), {"plate": ShellProperty(*s["plate"]),
+                                                       "web": ShellProperty(*s["web"])},
+                  fixed=tuple((n, d) for n in s["clamped"] for d in ("x", "y", "z", "rx", "ry", "rz")))
+    truth = frequencies(run(frequency_inp(mesh, 6), tmp_path / "ccx"))
+    np.testing.assert_allclose(f, truth, rtol=0.015)
