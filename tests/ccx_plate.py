@@ -33,9 +33,14 @@ def plate_deck(step: str, *, e_scale: float = 1.0, extra: str = "") -> str:
             ids = [node(i, j, 0), node(i + 1, j, 0), node(i + 1, j + 1, 0), node(i, j + 1, 0),
                    node(i, j, 1), node(i + 1, j, 1), node(i + 1, j + 1, 1), node(i, j + 1, 1)]
             out.append(f"{1 + i + NX * j}, " + ", ".join(map(str, ids)))
+    out += ["*ELSET, ELSET=ROOT"] + [str(1 + i + NX * j) for j in range(NY) for i in range(NX // 2)]
+    out += ["*ELSET, ELSET=TIP"] + [str(1 + i + NX * j) for j in range(NY) for i in range(NX // 2, NX)]
     out += ["*NSET, NSET=FIX"] + [str(node(0, j, k)) for k in range(2) for j in range(NY + 1)]
-    out += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{210e9 * e_scale!r}, 0.3", "*DENSITY", "7850.",
-            "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL", extra, "*BOUNDARY", "FIX, 1, 3", "*STEP", step,
+    root, tip = (e_scale, e_scale) if np.ndim(e_scale) == 0 else e_scale
+    for name, scale in (("ROOT", root), ("TIP", tip)):
+        out += [f"*MATERIAL, NAME=STEEL{name}", "*ELASTIC", f"{210e9 * scale!r}, 0.3", "*DENSITY", "7850.",
+                f"*SOLID SECTION, ELSET={name}, MATERIAL=STEEL{name}"]
+    out += [extra, "*BOUNDARY", "FIX, 1, 3", "*STEP", step,
             "*END STEP"]
     return "\n".join(x for x in out if x) + "\n"
 
@@ -65,7 +70,7 @@ def frequencies(dat: Path) -> np.ndarray:
     return np.array([float(r[3]) for r in rows])
 
 
-def modes(folder: Path, job: str, n_modes: int, sensors, *, mass=None, spring=None, e_scale: float = 1.0):
+def modes(folder: Path, job: str, n_modes: int, sensors, *, mass=None, spring=None, e_scale=1.0):
     """Frequencies (n,) Hz and shapes (p, n) at ``sensors`` ((node, direction) each) of the plate with a point
     mass (node, kg) and/or a spring to ground (node, direction, N/m) hidden in it, solved by ccx."""
     extra, nset = [], sorted({int(n) for n, _ in sensors})

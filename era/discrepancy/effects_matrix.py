@@ -3,6 +3,8 @@ MatrixExplainModel); docs/effects.md#matrices says what each changes physically.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..models.changes import PART, dof_place
@@ -49,16 +51,27 @@ def _static_stiffness(model: MatrixExplainModel, rows) -> np.ndarray:
     return 1.0 / np.maximum(flex, 1e-300)
 
 
-def _spring(model: MatrixExplainModel, nodes: tuple, directions: tuple, name: str, unit: str,
-            summary: str) -> EffectSpec | None:
+def _springs(model: MatrixExplainModel, nodes: tuple, directions: tuple, unit: str, what: str) -> list:
+    """One ground-spring candidate per direction (their stiffness scales differ by orders: a plate is 1000 times
+    stiffer in its plane than across it), each with its prior centred at the median stiffness a spring meets
+    there; together they weigh as one candidate (prior odds 1/n each)."""
     m = model.model
-    places = tuple(dof_place(n, d) for n in nodes for d in directions if (n, d) in m.dof_index)
-    if not places:
-        return None
-    k = float(np.median(_static_stiffness(model, [m.dof_index[tuple(p.rsplit(":", 1))] for p in places])))
-    return EffectSpec(name, (Param("spring_stiffness", True, np.log(k), 2.0, unit),), location_keyword="spring_at",
-                      locations=places, trial={"spring_stiffness": 0.3 * k}, trial_power=1.0, summary=summary,
-                      caveat="The spring is the equivalent grounded spring on that DOF.")
+    out = []
+    for d in directions:
+        places = tuple(dof_place(n, d) for n in nodes if (n, d) in m.dof_index)
+        if not places:
+            continue
+        ks = _static_stiffness(model, [m.dof_index[(p.rsplit(":", 1)[0], d)] for p in places])
+        k = float(np.median(ks))
+        # the screening's trial: a tenth of the softest places' stiffness, so that the change it makes grows
+        # linearly with the spring at nearly every place (a spring as stiff as the place pins it instead)
+        trial = 0.1 * float(np.quantile(ks, 0.05))
+        out.append(EffectSpec(
+            f"ground_spring_{d}", (Param("spring_stiffness", True, np.log(k), 2.0, unit),),
+            location_keyword="spring_at", locations=places, trial={"spring_stiffness": trial}, trial_power=1.0,
+            summary=f"a {what} spring to ground in {d} holds the structure (a support or attachment the model "
+                    "leaves free)", caveat="The spring is the equivalent grounded spring on that DOF."))
+    return [dataclasses.replace(s, prior_log_odds=-float(np.log(len(out)))) for s in out]
 
 
 def matrix_effects(model) -> tuple:
@@ -66,9 +79,9 @@ def matrix_effects(model) -> tuple:
     (a MatrixExplainModel; a MatrixModel with ``sensors`` is wrapped).
 
     Priors (log-normal) scale with the structure, as frame_effects' do: a point mass at 5 % of the structure's
-    moving mass (1σ a factor e^1.2 ≈ 3.3); a spring to ground centred at the median stiffness a spring meets at
-    the candidate DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4), translations and rotations
-    apart (their units differ); a part's stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass
+    moving mass (1σ a factor e^1.2 ≈ 3.3); a spring to ground, one candidate per direction
+    (ground_spring_x ... ground_spring_rz, together weighed as one), centred at the median stiffness a spring
+    meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass
     10 % of the structure's (a factor 3.3). Places: every node with a free translation (a mass), every free DOF
     (a spring), every part; a mesh with more than MAX_PLACES such nodes is thinned evenly over the structure
     (:func:`spread`).
@@ -84,14 +97,9 @@ def matrix_effects(model) -> tuple:
                       location_keyword="point_mass_at", locations=moving, trial={"point_mass": 0.05 * total},
                       summary="a concentrated mass is attached",
                       caveat="The mass is the equivalent point mass on the node's translations.")]
-    for spec in (_spring(model, moving, TRANSLATIONS, "ground_spring", f"{u['force']}/{u['length']}",
-                         "a spring to ground holds the structure (a support or attachment the model leaves free)"),
-                 _spring(model, spread(model, m.nodes), ("rx", "ry", "rz"), "ground_rotation_spring",
-                         f"{u['force']}·{u['length']}/rad",
-                         "a rotational spring to ground holds the structure (a support the model leaves free to "
-                         "rotate)")):
-        if spec is not None:
-            out.append(spec)
+    out += _springs(model, moving, TRANSLATIONS, f"{u['force']}/{u['length']}", "translational")
+    out += _springs(model, spread(model, m.nodes), ("rx", "ry", "rz"), f"{u['force']}·{u['length']}/rad",
+                    "rotational")
     if m.parts:
         out.append(EffectSpec(
             "part_stiffness", (Param("part_factor", True, 0.0, 0.5, ""),), location_keyword="part_at",
