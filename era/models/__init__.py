@@ -4,6 +4,7 @@ Market, CalculiX's matrix storage, Nastran bulk data), and a named effect writte
 
 from .files import load_model
 from .matrix import MatrixModel
+from .patch import patch_files, save_patch
 from .write import save_model
 
-__all__ = ["MatrixModel", "load_model", "save_model"]
+__all__ = ["MatrixModel", "load_model", "save_model", "patch_files", "save_patch"]

@@ -89,6 +89,8 @@ def calculix_model(files, job: str) -> MatrixModel:
     inp = files.find(f"{job}.inp")
     if inp is not None:
         coords = inp_nodes(files.text(inp)) or None
+        if coords is not None and any(n not in coords for n, _ in dofs):
+            coords = None       # ccx's own internal nodes (C3D8I's incompatible modes, expanded elements)
     elif files.find("coordinates.csv") is not None:
         coords = read_coordinates(files, files.find("coordinates.csv"))
     try:

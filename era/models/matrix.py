@@ -83,6 +83,8 @@ class MatrixModel:
         (each diagonal entry of their sum at most the whole's).
     part_masses : {name: (n, n) the mass of that part} optional (a part heavier or lighter than modelled).
     name : a label for reports; units : a name of UNIT_SYSTEMS or {"mass": ..., "force": ..., "length": ...}.
+    sensors : the test's points, one (node, direction) per output channel (a direction may carry a sign, "-z"),
+        for era.explain; () when the test is matched later (:meth:`with_sensors`).
     """
 
     stiffness: scipy.sparse.csr_matrix
@@ -93,9 +95,10 @@ class MatrixModel:
     part_masses: dict = field(default_factory=dict)
     name: str = "model"
     units: dict = field(default_factory=lambda: dict(UNIT_SYSTEMS["SI"]))
+    sensors: tuple = ()
 
     def __init__(self, stiffness, mass, dofs, *, coordinates=None, parts=None, part_masses=None,
-                 name: str = "model", units="SI"):
+                 name: str = "model", units="SI", sensors=()):
         k = _square(stiffness, "the stiffness matrix")
         n = k.shape[0]
         m = _square(mass, "the mass matrix", n)
@@ -116,6 +119,9 @@ class MatrixModel:
         set_(self, "part_masses", _parts(part_masses, m, n, dofs, "part_masses", "mass"))
         set_(self, "name", str(name))
         set_(self, "units", _units(units))
+        points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
+        self.at(points)      # each a free DOF, else an error naming it
+        set_(self, "sensors", points)
 
     @property
     def n_dofs(self) -> int:
@@ -163,7 +169,16 @@ class MatrixModel:
         """The same DOFs, coordinates, parts and units with another stiffness and/or mass matrix."""
         return MatrixModel(self.stiffness if stiffness is None else stiffness, self.mass if mass is None else mass,
                            self.dofs, coordinates=self.coordinates, parts=self.parts, part_masses=self.part_masses,
-                           name=self.name, units=self.units)
+                           name=self.name, units=self.units, sensors=self.sensors)
+
+    def with_sensors(self, sensors) -> "MatrixModel":
+        """The same model seen at the test's points ((node, direction) per output channel)."""
+        out = MatrixModel.__new__(MatrixModel)
+        out.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
+        points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
+        self.at(points)
+        object.__setattr__(out, "sensors", points)
+        return out
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """The lowest ``n_modes`` modes: frequencies (n,) Hz and mass-normalised shapes (n_dofs, n) (φᵀ M φ = 1
