@@ -43,6 +43,15 @@ def change_key(card: str, pid: int, field: str) -> str:
     return f"{card} {pid} {field}"
 
 
+def property_keys(deck: Deck) -> tuple[str, ...]:
+    """Every property a factor can change in ``deck``, the one field each candidate effect varies: "PSHELL 3 T"
+    (thickness), "MAT1 1 E" (E and G), "PBAR 7 I" (I1 and I2 of any bar or beam section), "PROD 5 A"."""
+    keys = [change_key("PSHELL", p, "T") for p in sorted(deck.shell_sections)]
+    keys += [change_key("MAT1", m, "E") for m in sorted(deck.materials)]
+    keys += [change_key(s.kind, p, "A" if s.kind == "PROD" else "I") for p, s in sorted(deck.line_sections.items())]
+    return tuple(keys)
+
+
 def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
     """The deck's elements as a FEMesh, each property multiplied by ``factors`` {change_key: factor}.
 
