@@ -9,7 +9,7 @@ from nastran_decks import deck_text, every_card
 
 from era.errors import DataError
 from era.models.nastran import deck_model, read_bdf, read_deck
-from era.models.nastran.patch import PATCH_FILE, deck_patch, write_patched_deck
+from era.models.nastran.patch import PATCH_FILE, deck_patch, deck_patch_for, write_patched_deck
 
 FACTORS = {"PSHELL 1 T": 0.9, "MAT1 2 E": 1.2, "PBARL 2 I": 0.7, "PBEAM 4 J": 1.3, "PROD 5 A": 0.5}
 
@@ -85,3 +85,35 @@ def test_factors_change_what_they_name(tmp_path):
     assert np.all(stiffer.modes(3)[0] > nominal.modes(3)[0])
     with pytest.raises(DataError, match="not a property of the deck"):
         deck_model(deck, {"PSHELL 9 T": 0.5})
+
+
+@pytest.mark.parametrize("part", ["PSHELL 1", "PBARL 2", "PROD 5"])
+def test_a_part_stiffer_and_lighter_is_a_new_mat1_under_its_property(tmp_path, part):
+    deck = _deck(tmp_path)
+    nominal = deck_model(deck)
+    params = {"part_at": f"part:{part}", "part_factor": 1.25, "part_mass_at": f"part:{part}",
+              "part_mass_factor": 0.8, "stiffness_factor": 1.01, "point_mass_at": "122", "point_mass": 0.05}
+    patch = deck_patch_for(deck, params, title="explain's updated model")
+    assert f"MAT1*   {deck.max_ids['material'] + 1:>16}" in patch.text
+    got = read_bdf(write_patched_deck(deck, patch, tmp_path / "patched"))
+    k = nominal.stiffness + 0.25 * nominal.parts[part]
+    m = (nominal.mass - 0.2 * nominal.part_masses[part]).tolil()
+    for d in ("x", "y", "z"):
+        m[nominal.index(122, d), nominal.index(122, d)] += 0.05
+    assert _close(got.stiffness, k) and _close(got.mass, m.tocsr())
+
+
+def test_explains_parameters_become_the_patch(tmp_path):
+    deck = _deck(tmp_path)
+    params = {"property_at": "property:PSHELL 1 T", "property_factor": 0.9, "spring_at": "103:z",
+              "spring_stiffness": 1e4, "stiffness_factor": 0.98}
+    patch = deck_patch_for(deck, params)
+    got = read_bdf(write_patched_deck(deck, patch, tmp_path / "patched"))
+    want = deck_model(deck, {"PSHELL 1 T": 0.9}).stiffness.tolil()
+    want[got.index(103, "z"), got.index(103, "z")] += 1e4
+    assert _close(got.stiffness, want.tocsr())
+    with pytest.raises(DataError, match="PARAM WTMASS"):
+        deck_patch_for(deck, {"distributed_mass": 0.3})
+    with pytest.raises(DataError, match="changed twice"):
+        deck_patch_for(deck, {"property_at": "property:PSHELL 1 T", "property_factor": 0.9,
+                              "part_at": "part:PSHELL 1", "part_factor": 1.1})

@@ -3,6 +3,8 @@
 effect written back as bulk data the engineer includes (era.models.nastran.patch)."""
 
 from .deck import Deck, read_deck
+from .patch import DeckPatch, deck_patch, deck_patch_for, write_patched_deck
 from .reader import NastranModel, deck_model, read_bdf
 
-__all__ = ["read_bdf", "read_deck", "deck_model", "NastranModel", "Deck"]
+__all__ = ["read_bdf", "read_deck", "deck_model", "NastranModel", "Deck", "DeckPatch", "deck_patch",
+           "deck_patch_for", "write_patched_deck"]

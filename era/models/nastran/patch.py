@@ -5,9 +5,11 @@
 - a property off by a factor: the changed card with the deck's own id (PSHELL T; MAT1 E and G together, or RHO;
   PBAR/PBEAM I1 and I2, A or J; a PBARL/PBEAML becomes the PBAR/PBEAM of its section; PROD A), which replaces
   the deck's card: the patch lists them at its top, :func:`write_patched_deck` writes a copy of the deck with
-  them commented out and the patch included.
+  them commented out and the patch included;
+- a part (a property's elements) stiffer or heavier: its property card pointing at a new MAT1 with E, G and RHO
+  scaled, its NSM scaled (:func:`deck_patch_for` turns explain's parameters into these).
 
-New cards take ids above the deck's largest (elements, properties), so they never collide with it. Cards are
+New cards take ids above the deck's largest (elements, properties, materials), so they never collide with it. Cards are
 written in large field (16 characters a value: 10 significant digits).
 """
 
@@ -20,6 +22,7 @@ from ...errors import DataError
 from ..matrix import DIRECTIONS, direction_of
 from .deck import Deck
 from .mesh import CHANGEABLE
+from .sections import DIMENSIONS
 from .values import BulkCard
 
 #: the name of the patch file write_patched_deck includes
@@ -96,16 +99,47 @@ def _trim(fields: list) -> list:
     return fields
 
 
-def deck_patch(deck: Deck, *, masses=(), springs=(), factors=None, title: str = "") -> DeckPatch:
+def _part_cards(deck: Deck, name: str, k_factor: float, m_factor: float, factors: dict, mid: int):
+    """(the property card, its replacement text, the new MAT1's text) for a part ("PSHELL 3", "PBAR 7") whose
+    stiffness is times k_factor and mass times m_factor: the property points at a new MAT1 ``mid`` with E and G
+    times k_factor (and any factor on the old material's E), RHO times m_factor, and its NSM times m_factor."""
+    card_name, pid = name.split()
+    table = deck.shell_sections if card_name == "PSHELL" else deck.line_sections
+    prop = table.get(int(pid))
+    if prop is None or (card_name != "PSHELL" and prop.kind != card_name):
+        raise DataError(f"part {name!r} is not a property of the deck; its parts are its PSHELL, PBAR, PBARL, PBEAM, "
+                        "PBEAML and PROD cards.")
+    old = deck.materials[prop.mid1 if card_name == "PSHELL" else prop.mid]
+    e_factor = float(factors.get(f"MAT1 {old.mid} E", 1.0)) * k_factor
+    rho_factor = float(factors.get(f"MAT1 {old.mid} RHO", 1.0)) * m_factor
+    material = large_field("MAT1", [mid, old.e * e_factor, old.g * e_factor, old.nu, old.rho * rho_factor])
+    fields = list(prop.card.fields) + [""] * 10
+    if card_name == "PSHELL":
+        fields[1], fields[3] = mid, mid
+        if fields[5] not in ("", None):
+            fields[5] = mid
+        fields[7] = prop.nsm * m_factor
+    else:
+        fields[1] = mid
+        nsm_at = {"PBAR": 6, "PBEAM": 7, "PROD": 5}.get(prop.kind)
+        if nsm_at is None:       # PBARL, PBEAML: NSM after the dimensions
+            nsm_at = 8 + DIMENSIONS[prop.shape]
+        fields[nsm_at] = prop.nsm * m_factor
+    return prop.card, large_field(prop.card.name, _trim(fields)), material
+
+
+def deck_patch(deck: Deck, *, masses=(), springs=(), factors=None, parts=None, title: str = "") -> DeckPatch:
     """The bulk data that adds effects to ``deck``.
 
     masses : ((grid, mass), ...) or ((grid, mass, (Ixx, Iyy, Izz)), ...) in the model's units (WTMASS applied);
     springs : ((grid, direction, k), ...) springs to ground, direction "x".."rz" (or 1-6) in the grid's
         displacement frame, k in force per length (or moment per radian);
     factors : {"PSHELL 3 T": 0.9, "MAT1 1 E": 1.1, "PBAR 7 I": 0.5, ...} (era.models.nastran.mesh.CHANGEABLE);
+    parts : {"PSHELL 3": (stiffness factor, mass factor), ...}: a part stiffer or heavier than modelled, written
+        as its property card pointing at a new MAT1 (E, G and RHO scaled) with its NSM scaled;
     title : a comment line at the top (what the effect is, e.g. the explanation's sentence).
     """
-    eid, pid = deck.max_ids["element"], deck.max_ids["property"]
+    eid, pid, mid = deck.max_ids["element"], deck.max_ids["property"], deck.max_ids["material"]
     head = [f"$ era patch for {Path(deck.path).name}" + (f": {title}" if title else "")]
     body, replaces = [], []
     for item in masses:
@@ -123,14 +157,52 @@ def deck_patch(deck: Deck, *, masses=(), springs=(), factors=None, title: str = 
         body.append(large_field("CELAS1", [eid, pid, grid, component]))
         body.append(large_field("PELAS", [pid, float(k)]))
     for key, factor in (factors or {}).items():
-        parts = key.split()
-        if len(parts) != 3 or parts[2] not in CHANGEABLE.get(parts[0], ()):
+        words = key.split()
+        if len(words) != 3 or words[2] not in CHANGEABLE.get(words[0], ()):
             raise DataError(f"{key!r} is not a property change a patch can write (see CHANGEABLE).")
         card, text = _replacement(deck, key, float(factor))
         head.append(f"$ replaces {card.name} {card.fields[0]} ({card.file}, line {card.line}): comment it out")
         replaces.append((card.file, card.line, card.last_line or card.line, card.name, card.fields[0]))
         body.append(text)
+    replaced = {(r[3], r[4]) for r in replaces}
+    for name, (k_factor, m_factor) in (parts or {}).items():
+        mid += 1
+        card, text, material = _part_cards(deck, str(name), float(k_factor), float(m_factor), factors or {}, mid)
+        if (card.name, card.fields[0]) in replaced:
+            raise DataError(f"{card.name} {card.fields[0]} is changed twice (a property factor and a part factor); "
+                            "name one of the two.")
+        head.append(f"$ replaces {card.name} {card.fields[0]} ({card.file}, line {card.line}): comment it out")
+        replaces.append((card.file, card.line, card.last_line or card.line, card.name, card.fields[0]))
+        body += [material, text]
     return DeckPatch("\n".join(head + body) + "\n", tuple(replaces))
+
+
+def deck_patch_for(deck: Deck, params: dict, title: str = "") -> DeckPatch:
+    """The patch of explain's parameters (an updated DeckExplainModel's .params: point_mass_at/point_mass,
+    spring_at "grid:direction"/spring_stiffness, part_at and part_mass_at "part:PSHELL 3" with their factors,
+    property_at "property:PSHELL 3 T"/property_factor); the global stiffness factor, a nuisance, is not written.
+    Spread mass (distributed_mass) has no card of its own: DataError says to scale PARAM WTMASS instead."""
+    p = dict(params)
+    if p.get("distributed_mass"):
+        raise DataError("spread mass is not written as a card: multiply PARAM WTMASS by (1 + the spread mass / "
+                        "the structure's mass) in the deck.")
+    masses = [(p["point_mass_at"], p["point_mass"])] if p.get("point_mass_at") is not None and p.get(
+        "point_mass") else []
+    springs = []
+    if p.get("spring_at") is not None and p.get("spring_stiffness"):
+        grid, _, d = str(p["spring_at"]).rpartition(":")
+        springs.append((grid, d, p["spring_stiffness"]))
+    factors = {}
+    if p.get("property_at") is not None and p.get("property_factor", 1.0) != 1.0:
+        factors[str(p["property_at"]).removeprefix("property:")] = p["property_factor"]
+    parts: dict = {}
+    for at, key, slot in (("part_at", "part_factor", 0), ("part_mass_at", "part_mass_factor", 1)):
+        if p.get(at) is not None and p.get(key, 1.0) != 1.0:
+            name = str(p[at]).removeprefix("part:")
+            pair = list(parts.get(name, (1.0, 1.0)))
+            pair[slot] = float(p[key])
+            parts[name] = tuple(pair)
+    return deck_patch(deck, masses=masses, springs=springs, factors=factors, parts=parts, title=title)
 
 
 def _grid(deck: Deck, grid: int) -> None:
