@@ -12,6 +12,8 @@ import numpy as np
 
 from ..errors import DataError
 from ..models.changes import EFFECT_DEFAULTS
+from ..models.matrix import MatrixModel
+from ..models.nastran.deck import Deck
 from ..models.nastran.mesh import property_keys
 from ..models.nastran.reader import NastranModel
 from ..models.nastran.variation import property_variation
@@ -45,15 +47,25 @@ class DeckExplainModel:
     reduced: bool = True
 
     @classmethod
-    def of(cls, model: NastranModel, sensors) -> "DeckExplainModel":
+    def of(cls, model: MatrixModel, sensors) -> "DeckExplainModel":
         """The nominal of a deck (a NastranModel) seen at ``sensors`` ((grid, direction) per output channel)."""
-        if getattr(model, "deck", None) is None:
+        if not isinstance(model, NastranModel) or model.deck is None:
             raise DataError("explain: this model was not read from a Nastran deck; use MatrixExplainModel.")
         return cls(MatrixExplainModel.of(model, sensors))
 
     @property
     def deck_model(self) -> NastranModel:
-        return self.nominal.model        # type: ignore[return-value]
+        """The deck as read (the nominal's NastranModel)."""
+        model = self.nominal.model
+        assert isinstance(model, NastranModel)
+        return model
+
+    @property
+    def deck(self) -> Deck:
+        """The deck's cards."""
+        deck = self.deck_model.deck
+        assert deck is not None
+        return deck
 
     @property
     def params(self) -> dict:
@@ -82,9 +94,9 @@ class DeckExplainModel:
         factor = float(p["property_factor"])
         if p["property_at"] is not None and factor != 1.0:
             key = property_key(p["property_at"])
-            if key not in property_keys(self.deck_model.deck):
+            if key not in property_keys(self.deck):
                 raise DataError(f"{key!r} is not a property of the deck; its properties are "
-                                f"{listed(property_keys(self.deck_model.deck))}.")
+                                f"{listed(property_keys(self.deck))}.")
             if not np.isfinite(factor) or factor <= 0:
                 raise DataError(f"property_factor = {factor:g}: a factor on a property must be positive.")
             got = self._shared.get((key, factor))
@@ -93,7 +105,7 @@ class DeckExplainModel:
                     self._shared.pop(next(k for k in self._shared if k != "variations"))
                 variations = self._shared.setdefault("variations", {})
                 if key not in variations:
-                    variations[key] = property_variation(self.deck_model.deck, key, self.deck_model)
+                    variations[key] = property_variation(self.deck, key, self.deck_model)
                 # another deck: solved in full (a reduced basis of its own would cost more than it saves)
                 got = self._shared[(key, factor)] = MatrixExplainModel.of(
                     variations[key].model(self.deck_model, factor), self.sensors, reduced=False)

@@ -15,7 +15,7 @@ def deck_effects(model: DeckExplainModel) -> tuple:
     then "property_factor" at every property change (property_keys; places "property:PSHELL 3 T"), its factor
     log-normal centred at 1 with 1σ a factor e^0.3 (a thickness or modulus 30 % off is already a gross error of
     the deck), its places compared at T = 2 as a part's are."""
-    keys = property_keys(model.deck_model.deck)
+    keys = property_keys(model.deck)
     out = list(matrix_effects(model.nominal))
     if keys:
         out.append(EffectSpec(

@@ -27,10 +27,10 @@ def nominal(tmp_path_factory):
 
 def test_keywords_change_the_model_as_named(nominal):
     f0 = nominal.modes(4)[0]
-    assert property_keys(nominal.deck_model.deck) == ("PSHELL 1 T", "MAT1 1 E", "MAT1 2 E", "PBARL 2 I",
+    assert property_keys(nominal.deck) == ("PSHELL 1 T", "MAT1 1 E", "MAT1 2 E", "PBARL 2 I",
                                                       "PBEAM 4 I", "PROD 5 A")
     thin = nominal.with_params(property_at="property:PSHELL 1 T", property_factor=0.8)
-    want = deck_model(nominal.deck_model.deck, {"PSHELL 1 T": 0.8}).modes(4)[0]
+    want = deck_model(nominal.deck, {"PSHELL 1 T": 0.8}).modes(4)[0]
     assert thin.exact.modes(4)[0] == pytest.approx(want, rel=2e-4)     # the cubic in t (variation.py)
     heavy = nominal.with_params(point_mass_at="122", point_mass=0.5)
     assert np.all(heavy.exact.modes(4)[0] <= f0 * (1 + 1e-9))
@@ -57,3 +57,12 @@ def test_explain_names_the_thinner_plate(nominal):
     assert r.effect.location == "property:PSHELL 1 T"
     assert r.effect.parameters["property_factor"] == pytest.approx(0.85, rel=0.01)
     assert "in T of PSHELL 1" in r.effect.description
+
+
+def test_explain_takes_a_deck_model_as_a_deck(nominal):
+    from era.discrepancy.explain import _nominal
+    model = nominal.deck_model.with_sensors(SENSORS)
+    assert type(model).__name__ == "NastranModel" and model.deck is nominal.deck
+    wrapped = _nominal(model, None)
+    assert isinstance(wrapped, DeckExplainModel)
+    assert [e.name for e in deck_effects(wrapped)][-1] == "property_factor"
