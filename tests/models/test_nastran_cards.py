@@ -191,3 +191,15 @@ def test_pbarl_bar_bends_with_i1_in_the_plane_of_v(tmp_path):
                                      rel=1e-4)
         other = "y" if d == "z" else "z"
         assert abs(phi[m.index(n + 1, d), k]) > 1e6 * abs(phi[m.index(n + 1, other), k])
+
+
+def test_pynastran_free_field_channel_deck():
+    # pyNastran's models/bars/pbarl_chan.bdf (BSD): CHAN 10 wide, 30 high, web 2, flanges 6, in free field with
+    # a comma continuation; its area by pyNastran's documented formula 2·DIM1·DIM4 + (DIM2 − 2·DIM4)·DIM3
+    from pathlib import Path
+    deck = read_deck(Path(__file__).resolve().parents[1] / "data" / "nastran" / "pynastran" / "pbarl_chan.bdf")
+    s = deck.line_sections[100]
+    assert s.area == pytest.approx(2 * 10 * 6 + (30 - 12) * 2)
+    assert s.i1 == pytest.approx((10 * 30 ** 3 - 8 * 18 ** 3) / 12)
+    assert deck.materials[1000].g == pytest.approx(3e7 / 2.6)
+    assert sorted(deck.lines) == [10, 11] and deck.skipped == {}

@@ -12,7 +12,7 @@ import pytest
 from nastran_decks import (cantilever_tip_mass, deck_text, every_card, plate_cards, plate_frequencies,
                            stiffened_panel)
 
-from era.models import load_model
+from era import load_model
 from era.models.nastran import read_bdf
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "nastran" / "pynastran"

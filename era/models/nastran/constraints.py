@@ -35,17 +35,19 @@ class Reduced:
 
 def _rotation(labels: list, cd_axes: dict) -> scipy.sparse.csr_matrix:
     """A (6N, 6N): u_basic = A u_cd, block-diagonal, the identity for grids in basic."""
-    rows, cols, vals = [], [], []
-    for i, label in enumerate(labels):
-        a = cd_axes.get(label)
-        for half in (0, 3):
-            block = np.eye(3) if a is None else a
-            r, c = np.nonzero(np.abs(block) > 0)
-            rows += list(6 * i + half + r)
-            cols += list(6 * i + half + c)
-            vals += list(block[r, c])
     n = 6 * len(labels)
-    return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    turned = [i for i, label in enumerate(labels) if label in cd_axes]
+    plain = np.setdiff1d(np.arange(n), (6 * np.array(turned, dtype=int)[:, None] + np.arange(6)).ravel())
+    rows, cols, vals = [plain], [plain], [np.ones(plain.size)]
+    r, c = np.meshgrid(np.arange(3), np.arange(3), indexing="ij")
+    for i in turned:
+        a = cd_axes[labels[i]]
+        for half in (0, 3):
+            rows.append(6 * i + half + r.ravel())
+            cols.append(6 * i + half + c.ravel())
+            vals.append(a.ravel())
+    return scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                   shape=(n, n))
 
 
 def _block(label: str, cd_axes: dict) -> np.ndarray:
