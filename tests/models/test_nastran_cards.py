@@ -203,3 +203,15 @@ def test_pynastran_free_field_channel_deck():
     assert s.i1 == pytest.approx((10 * 30 ** 3 - 8 * 18 ** 3) / 12)
     assert deck.materials[1000].g == pytest.approx(3e7 / 2.6)
     assert sorted(deck.lines) == [10, 11] and deck.skipped == {}
+
+
+def test_grdset_gives_the_grids_blank_frames_and_constraints(tmp_path):
+    cards = [("GRDSET", [None, 7, None, None, None, 7, 456]),
+             ("CORD2R", [7, 0, 0., 0., 0., 0., 0., 1., 0., 1., 0.]),      # x = basic y, y = basic -x
+             ("GRID", [1, 0, 0., 0., 0., 0, 123456]), ("GRID", [2, None, 1., 0., 0.]),
+             ("CROD", [1, 1, 1, 2]), ("PROD", [1, 1, 1.]), ("MAT1", [1, 10., None, 0.3, 1.])]
+    m = _model(tmp_path, cards)
+    assert m.coordinates["2"] == pytest.approx((0., 1., 0.))    # CP 7 from the GRDSET
+    assert m.dofs == (("2", "x"),)                                  # the rod runs along grid 2's CD x; PS 456
+    assert m.stiffness.toarray()[0, 0] == pytest.approx(10.0)
+    assert m.unmodelled == ""

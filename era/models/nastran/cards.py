@@ -17,14 +17,24 @@ def _xyz(c: BulkCard, i: int, what: str, default: float | None = 0.0) -> np.ndar
     return np.array([c.real(i + k, f"{what}{k + 1}", default) for k in range(3)])
 
 
-def grid(c: BulkCard) -> GridCard:
-    """GRID ID CP X1 X2 X3 CD PS (PS, the permanent constraints, is read by :func:`grid_spc`)."""
-    return GridCard(c.integer(0, "ID"), c.integer(1, "CP", 0), _xyz(c, 2, "X"), c.integer(5, "CD", 0), c)
+def grdset(c: BulkCard) -> dict:
+    """GRDSET (blank) CP (3 blanks) CD PS: the defaults of the GRIDs' blank CP, CD and PS fields."""
+    return {"cp": c.integer(1, "CP", 0), "cd": c.integer(5, "CD", 0), "ps": c.text(6)}
 
 
-def grid_spc(c: BulkCard) -> list[SpcCard]:
-    """The permanent single-point constraints of a GRID (its PS field), as an SPC that every set includes."""
-    return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS"), c)] if not c.blank(6) else []
+def grid(c: BulkCard, defaults: dict | None = None) -> GridCard:
+    """GRID ID CP X1 X2 X3 CD PS (PS, the permanent constraints, is read by :func:`grid_spc`); blank CP and CD
+    take the GRDSET's ``defaults``."""
+    d = defaults or {}
+    return GridCard(c.integer(0, "ID"), c.integer(1, "CP", d.get("cp", 0)), _xyz(c, 2, "X"),
+                    c.integer(5, "CD", d.get("cd", 0)), c)
+
+
+def grid_spc(c: BulkCard, defaults: dict | None = None) -> list[SpcCard]:
+    """The permanent single-point constraints of a GRID (its PS field, or the GRDSET's), as an SPC that every set
+    includes."""
+    ps = c.text(6) or (defaults or {}).get("ps", "")
+    return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS", ps), c)] if ps else []
 
 
 def cord2r(c: BulkCard) -> CoordCard:

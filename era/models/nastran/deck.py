@@ -13,7 +13,7 @@ from .values import BulkCard
 
 #: cards that hold solution or output requests, never stiffness or mass: said apart in the notes
 SOLUTION_CARDS = {"EIGRL", "EIGR", "EIGB", "PARAM", "MDLPRM", "USET", "USET1", "DTI", "NLPARM", "TSTEP", "FREQ",
-                  "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA", "GRDSET"}
+                  "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA"}
 _TABLES = {"GRID": "grids", "CORD2R": "frames", "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
            "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
            "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
@@ -23,7 +23,7 @@ _READERS = {"GRID": read.grid, "CORD2R": read.cord2r, "CBAR": read.line_element,
             "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
             "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2}
 #: every card read into the model
-MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "SPC", "SPC1"}))
+MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "SPC", "SPC1", "GRDSET", "PARAM WTMASS"}))
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,13 +84,16 @@ def build_deck(bulk: BulkData) -> Deck:
     skipped: Counter = Counter()
     spcs, pelas, celas, notes = [], {}, [], list(bulk.notes)
     wtmass = 1.0
+    defaults = next((read.grdset(c) for c in bulk.cards if c.name == "GRDSET"), {})
     for card in bulk.cards:
         name = card.name
-        if name in _READERS:
+        if name == "GRID":
+            record = read.grid(card, defaults)
+            _put(tables["grids"], record.id, record, card)
+            spcs += read.grid_spc(card, defaults)
+        elif name in _READERS:
             record = _READERS[name](card)
             _put(tables[_TABLES[name]], _key(record), record, card)
-            if name == "GRID":
-                spcs += read.grid_spc(card)
         elif name in ("SPC", "SPC1"):
             spcs += read.spc(card) if name == "SPC" else read.spc1(card)
         elif name == "PELAS":
@@ -99,6 +102,8 @@ def build_deck(bulk: BulkData) -> Deck:
             celas.append(card)
         elif name == "PARAM" and card.text(0).upper() == "WTMASS":
             wtmass = card.real(1, "WTMASS")
+        elif name == "GRDSET":
+            continue
         else:
             skipped[name] += 1
     for card in celas:
