@@ -93,3 +93,18 @@ def test_a_stiffened_panel_deck_against_calculix(tmp_path):
                   fixed=tuple((n, d) for n in s["clamped"] for d in ("x", "y", "z", "rx", "ry", "rz")))
     truth = frequencies(run(frequency_inp(mesh, 6), tmp_path / "ccx"))
     np.testing.assert_allclose(f, truth, rtol=0.015)
+
+
+def test_pshell_12i_over_t3_scales_the_bending_stiffness(tmp_path):
+    # a simply supported plate whose PSHELL says 12I/T³ = 2: D doubled, Kirchhoff's frequencies √2 higher than
+    # the same mesh's with 12I/T³ = 1 (the transverse shear, not scaled, and the rotary inertia take 0.1 % off)
+    a, b, t, e, nu, rho = 0.6, 0.4, 0.004, 7e10, 0.3, 2700.0
+    f = []
+    for ratio in (1.0, 2.0):
+        cards = [c if c[0] != "PSHELL" else ("PSHELL", [1, 1, t, 1, ratio])
+                 for c in plate_cards(24, 16, a, b, t, e, nu, rho)]
+        path = tmp_path / f"plate{ratio}.bdf"
+        path.write_text(deck_text(cards, "free"))
+        f.append(read_bdf(path).modes(3)[0])
+    assert f[1] / f[0] == pytest.approx(np.full(3, np.sqrt(2)), rel=2e-3)
+    assert f[1] == pytest.approx(np.sqrt(2) * plate_frequencies(a, b, t, e, nu, rho, 3), rel=0.02)

@@ -52,11 +52,12 @@ def property_keys(deck: Deck) -> tuple[str, ...]:
     return tuple(keys)
 
 
-def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
-    """The deck's elements as a FEMesh, each property multiplied by ``factors`` {change_key: factor}.
+def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> DeckMesh:
+    """The deck's elements as a FEMesh, each property multiplied by ``factors`` {change_key: factor}; the
+    PSHELLs whose ids are in ``thicker`` twice as thick (reader.py takes their bending part from the difference).
 
     Raises DataError (naming the card) for a reference to a missing grid, property or material, or a property
-    this reader does not model (a PSHELL without bending, or with 12I/T³ other than 1)."""
+    this reader does not model (a PSHELL without bending)."""
     factors = dict(factors or {})
     _check_factors(deck, factors)
     axes = frame_axes(deck.frames)
@@ -68,7 +69,7 @@ def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
         prop = require(deck.shell_sections, e.pid, "PSHELL", e.card)
         name = f"PSHELL {e.pid}"
         if name not in shell_props:
-            shell_props[name] = _shell_property(deck, prop, factors)
+            shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
         for g in e.nodes:
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))
@@ -131,15 +132,14 @@ def _material(deck: Deck, mid: int, card, factors: dict) -> tuple[float, float, 
     return m.e * fe, m.g * fe, m.nu, m.rho * factors.get(change_key("MAT1", mid, "RHO"), 1.0)
 
 
-def _shell_property(deck: Deck, p, factors: dict) -> ShellProperty:
+def _shell_property(deck: Deck, p, factors: dict, scale: float = 1.0) -> ShellProperty:
     if p.mid1 is None or p.mid2 is None:
         raise p.card.error("a membrane-only or bending-only PSHELL (MID1 or MID2 blank) is not modelled; give "
                            "the same MAT1 as MID1 and MID2")
-    if abs(p.bending_ratio - 1.0) > 1e-9:
-        raise p.card.error(f"12I/T**3 = {p.bending_ratio:g} (a sandwich or a smeared stiffener) is not modelled; "
-                           "only a solid plate (1.0) is")
+    if p.bending_ratio <= 0:
+        raise p.card.error(f"12I/T**3 = {p.bending_ratio:g}; give a positive ratio (1.0 for a solid plate)")
     e, _, nu, rho = _material(deck, p.mid1, p.card, factors)
-    t = p.t * factors.get(change_key("PSHELL", p.pid, "T"), 1.0)
+    t = p.t * factors.get(change_key("PSHELL", p.pid, "T"), 1.0) * scale
     return ShellProperty(t, e, nu, rho * deck.wtmass, p.nsm * deck.wtmass)
 
 
