@@ -29,21 +29,30 @@ from .protocol import RitzModes
 RIGID = 1e-4
 
 
-def _solve_subspace(k: np.ndarray, m: np.ndarray, n_modes: int, shift: float) -> tuple[np.ndarray, np.ndarray]:
+def _solve_subspace(k: np.ndarray, m: np.ndarray, n_modes: int, shift: float,
+                    scale: float) -> tuple[np.ndarray, np.ndarray]:
     """The lowest n_modes of k y = λ m y (r, r) in a Ritz basis: shift-inverted, m y = μ (k + c m) y, so that
-    directions without mass (μ = 0) drop out instead of breaking the solve; (λ (n,), y (r, n), yᵀ m y = 1)."""
+    directions without mass (μ = 0) drop out instead of breaking the solve; (λ (n,), y (r, n), yᵀ m y = 1).
+    scale : the size of the structure's own reduced stiffness, below which a direction counts as dependent (a
+    spring far stiffer than the structure must not make the others look dependent)."""
+    try:     # the usual case, M positive definite in the basis: one generalised eigenproblem
+        lam, y = scipy.linalg.eigh(k, m, subset_by_index=[0, n_modes - 1], check_finite=False)
+        if lam[0] > -1e-8 * scale and lam.size == n_modes:
+            return lam, y
+    except (np.linalg.LinAlgError, ValueError):
+        pass
     g = k + shift * m
     d, v = scipy.linalg.eigh(0.5 * (g + g.T))
     if d.max() <= 0:
         raise np.linalg.LinAlgError("the reduced stiffness is not positive")
-    keep = d > 1e-12 * d.max()
-    if np.any(d < -1e-8 * d.max()):
+    keep = d > 1e-12 * scale
+    if np.any(d < -1e-8 * scale):
         raise np.linalg.LinAlgError("the reduced stiffness is indefinite (a negative spring or factor)")
     w = v[:, keep] / np.sqrt(d[keep])
     mu, z = np.linalg.eigh(w.T @ m @ w)
     order = np.argsort(-mu)[:n_modes]
     mu, y = mu[order], w @ z[:, order]
-    if np.any(mu <= 1e-14 * max(mu.max(), 1e-300)):
+    if mu.size < n_modes or np.any(mu <= 1e-14 * max(mu.max(), 1e-300)):
         raise np.linalg.LinAlgError("fewer modes with mass than asked in the reduced model")
     y = y / np.sqrt(np.maximum(np.einsum("ij,ij->j", y, m @ y), 1e-300))
     return 1.0 / mu - shift, y
@@ -151,8 +160,8 @@ class MatrixExplainModel:
         return 1e-3 * float(lam[min(self.n_rigid, lam.size - 1)]) if lam.size else 1.0
 
     def _reduced_modes(self, n_modes: int, screen: bool = False):
-        """(λ (n,), shapes (n_dofs, n)) of this parameter set in the reduced model, every mode (rigid ones too),
-        or None when the basis is too small for n_modes."""
+        """(λ (n,), y (r, n), T (n_dofs, r) cached with its rows) of this parameter set in the reduced model,
+        every mode (rigid ones too): the shapes are T y. None when the basis is too small for n_modes."""
         lam0, _, n_rigid = self._basis(n_modes)
         if lam0.size < n_modes + 10:
             return None
@@ -178,8 +187,10 @@ class MatrixExplainModel:
         if q["mass"] is not None:
             rows, value = q["mass"]
             m_r = m_r + value * t[rows].T @ t[rows]
-        lam, y = _solve_subspace(k_r, m_r, n_modes, self._shift())
-        return lam, t @ y
+        lam, y = _solve_subspace(k_r, m_r, n_modes, self._shift(), float(np.max(np.abs(np.diag(proj["k"])))))
+        if "rows" not in proj:     # the basis at the sensors and the translations: all explain reads
+            proj["rows"] = (self._at_sensors(t), t[self._translation_rows])
+        return lam, y, proj["rows"]
 
     def _part(self, proj: dict, kind: str, place, matrix) -> np.ndarray:
         key = (kind, str(place))
@@ -187,8 +198,9 @@ class MatrixExplainModel:
             proj["parts"][key] = proj["t"].T @ (matrix @ proj["t"])
         return proj["parts"][key]
 
-    def _all_modes(self, n_modes: int) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and shapes (n_dofs, n) of the elastic modes, rigid ones left out; cached."""
+    def _all_modes(self, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz of the elastic modes (rigid ones left out) and their mass-normalised shapes at
+        the sensors (p, n) and at the free translations (node_labels, n); cached."""
         cache = self.__dict__.setdefault("_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
         if got is None:
@@ -197,29 +209,37 @@ class MatrixExplainModel:
             if red is None:
                 k, m = changed_matrices(self.model, self._params)
                 f, phi = sparse_modes(k, m, min(n_modes + r, self.model.n_dofs))
+                f, sensors, nodes = np.asarray(f), self._at_sensors(phi), phi[self._translation_rows]
             else:
-                f, phi = np.sqrt(np.clip(red[0], 0.0, None)) / (2 * np.pi), red[1]
-            got = cache[n_modes] = (np.asarray(f)[r:], np.asarray(phi)[:, r:])
-        return got[0][:n_modes], got[1][:, :n_modes]
+                f = np.sqrt(np.clip(red[0], 0.0, None)) / (2 * np.pi)
+                sensors, nodes = red[2][0] @ red[1], red[2][1] @ red[1]
+            got = cache[n_modes] = (f[r:], sensors[:, r:], nodes[:, r:])
+        return got[0][:n_modes], got[1][:, :n_modes], got[2][:, :n_modes]
 
     # -- what explain asks ---------------------------------------------------------------------------------
     @property
     def _translation_rows(self) -> np.ndarray:
-        return np.array([i for i, (_, d) in enumerate(self.model.dofs) if d in TRANSLATIONS], dtype=int)
+        got = self._shared.get("translations")
+        if got is None:
+            got = self._shared["translations"] = np.array(
+                [i for i, (_, d) in enumerate(self.model.dofs) if d in TRANSLATIONS], dtype=int)
+        return got
 
     def _at_sensors(self, shapes: np.ndarray) -> np.ndarray:
-        rows, signs = self.model.at(self.sensors)
-        return shapes[rows] * signs[:, None]
+        got = self._shared.get("sensor_rows")
+        if got is None:
+            got = self._shared["sensor_rows"] = self.model.at(self.sensors)
+        return shapes[got[0]] * got[1][:, None]
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n)."""
-        f, phi = self._all_modes(n_modes)
-        return f.copy(), self._at_sensors(phi)
+        f, sensors, _ = self._all_modes(n_modes)
+        return f.copy(), sensors.copy()
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels)."""
-        f, phi = self._all_modes(n_modes)
-        return f.copy(), phi[self._translation_rows]
+        f, _, nodes = self._all_modes(n_modes)
+        return f.copy(), nodes.copy()
 
     @property
     def node_labels(self) -> tuple:
@@ -237,8 +257,8 @@ class MatrixExplainModel:
         if red is None:
             return None
         f = np.sqrt(np.clip(red[0][r:], 0.0, None)) / (2 * np.pi)
-        phi = red[1][:, r:]
-        return RitzModes(f, phi[self._translation_rows], self._at_sensors(phi))
+        y = red[1][:, r:]
+        return RitzModes(f, red[2][1] @ y, red[2][0] @ y)
 
     def screening_ritz(self, reference: "MatrixExplainModel", n_modes: int) -> RitzModes | None:
         return self.ritz(reference, n_modes)
@@ -271,19 +291,60 @@ class MatrixExplainModel:
         """0.02 (the parts' stiffness known to ±2 %, 1σ, as a frame's members) when the model has parts, else 0."""
         return 0.02 if self.model.parts else 0.0
 
+    def _part_modal(self, n_modes: int) -> tuple:
+        """The nominal's elastic basis: λ (r,), its shapes at the sensors (p, r) and the translations (t, r), and
+        Φᵀ K_part Φ (n_parts, r, r) of each part (cached); r ≥ n_modes."""
+        got = self._shared.get("part_modal")
+        if got is None or got[0].size < n_modes:
+            self._basis(n_modes)
+            lam, phi = self.nominal_basis()
+            cross = np.array([phi.T @ (p @ phi) for p in self.model.parts.values()])
+            got = self._shared["part_modal"] = (lam, self._at_sensors(phi), phi[self._translation_rows], cross)
+        return got
+
     def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray | None:
-        """(n_parts, n) each part's share of each mode's strain energy (φᵀ K_part φ / φᵀ K φ), None without parts."""
+        """(n_parts, n) each part's share of each nominal mode's strain energy (φᵀ K_part φ / φᵀ K φ), None
+        without parts."""
         if not self.model.parts:
             return None
-        f, phi = self._all_modes(n_modes)
-        total = np.maximum(np.einsum("ij,ij->j", phi, self.model.stiffness @ phi), 1e-300)
-        return np.array([np.einsum("ij,ij->j", phi, p @ phi) / total for p in self.model.parts.values()])
+        lam, _, _, cross = self._part_modal(n_modes)
+        return np.einsum("ejj->ej", cross)[:, :n_modes] / np.maximum(lam[:n_modes], 1e-300)
+
+    def _shape_change(self, n_modes: int, rows: int) -> tuple:
+        """Shapes u (rows, n) and their changes du (n_parts, rows, n) per unit relative change of each part's
+        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968); rows 1: at
+        the sensors, 2: at the translations."""
+        lam, *shapes, cross = self._part_modal(n_modes)
+        u = shapes[rows - 1]
+        diff = lam[None, :] - lam[:, None]
+        apart = np.abs(diff) > 1e-9 * lam.max()
+        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
+        return u[:, :n_modes], np.einsum("rk,ekj,kj->erj", u, cross, inv)[:, :, :n_modes]
 
     def member_shape_sensitivity(self, n_modes: int = 10) -> np.ndarray | None:
-        return None
+        """(n_parts, p, n) d ψ_j / d a_e of the unit-norm sensor shapes per unit relative change of part e's
+        stiffness (as FrameModel.member_shape_sensitivity for members); None without parts."""
+        if not self.model.parts:
+            return None
+        s, ds = self._shape_change(n_modes, 1)
+        norm = np.linalg.norm(s, axis=0)
+        seen = norm > 1e-9 * max(norm.max(), 1e-300)
+        psi = s / np.where(seen, norm, 1.0)
+        dpsi = (ds - psi[None] * np.einsum("pj,epj->ej", psi, ds)[:, None, :]) / np.where(seen, norm, 1.0)
+        return np.where(seen[None, None, :], dpsi, 0.0)
 
     def member_scale_sensitivity(self, node_rows, n_modes: int = 10) -> np.ndarray | None:
-        return None
+        """(n_parts, n) d ln‖P_j‖ / d a_e of the modal constants' size at ``node_rows`` (rows of node_modes) per
+        unit relative change of part e's stiffness; None without parts."""
+        if not self.model.parts:
+            return None
+        u, du = self._shape_change(n_modes, 2)
+        out = np.zeros((du.shape[0], n_modes))
+        for rows in node_rows:
+            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
+            nn = np.sum(a**2, axis=0)
+            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
+        return out
 
     def part_place(self, place) -> str:
         """A part's place, "part:name", checked against the model's parts."""
