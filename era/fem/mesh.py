@@ -21,6 +21,7 @@ from . import beam3d, shell
 from .sparse import scatter
 
 DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
+CHUNK = 4096             # shell elements computed at a time
 
 
 @dataclass(frozen=True)
@@ -133,11 +134,12 @@ def _shell_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
     out: dict = {}
     for (name, nn), conns in groups.items():
         p = mesh.shell_properties[name]
-        c = np.asarray(conns)
         fn = shell.quad4_batch if nn == 4 else shell.tria3_batch
-        k, m = fn(xyz[c], p)
-        dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
-        out.setdefault(name, []).append((k, m, dofs))
+        for start in range(0, len(conns), CHUNK):   # bounded memory: a chunk's matrices, never the whole mesh's
+            c = np.asarray(conns[start:start + CHUNK])
+            k, m = fn(xyz[c], p)
+            dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
+            out.setdefault(name, []).append((k, m, dofs))
     return out
 
 
@@ -195,8 +197,14 @@ def _constraints(mesh: FEMesh, index: dict, xyz: np.ndarray) -> tuple[scipy.spar
     keep = np.ones(n_all, bool)
     keep[dependent] = False
     for node, name in mesh.fixed:
+        if node not in mesh.nodes:
+            raise DataError(f"A fixed DOF names node {node!r}, which is not defined; add the node or drop the SPC.")
         if node in index:
-            keep[6 * index[node] + _direction(name, f"fixed DOF of node {node}")] = False
+            dof = 6 * index[node] + _direction(name, f"fixed DOF of node {node}")
+            if dependent[dof]:
+                raise DataError(f"DOF {name} of node {node} is both fixed and an RBE2's dependent DOF; fix the "
+                                "RBE2's independent node instead.")
+            keep[dof] = False
     ident = np.flatnonzero(~dependent)
     C = scipy.sparse.csr_matrix((np.concatenate([np.ones(ident.size), vals]),
                                  (np.concatenate([ident, rows]).astype(int),

@@ -71,3 +71,22 @@ def leissa_hz(a: float, prop: ShellProperty, parameters) -> np.ndarray:
     """Frequencies (Hz) of a square Kirchhoff plate of side a from the parameters λ = ω a² √(ρt / D)."""
     D = prop.e * prop.thickness**3 / (12 * (1 - prop.nu**2))
     return np.asarray(parameters) / a**2 * np.sqrt(D / (prop.rho * prop.thickness)) / (2 * np.pi)
+
+
+def mindlin_hz(a: float, b: float, prop: ShellProperty, count: int, shear_factor: float = 5 / 6) -> np.ndarray:
+    """The lowest ``count`` flexural frequencies (Hz) of a simply supported Reissner-Mindlin plate (the tangential
+    rotation held on the edges), with shear deformation and rotary inertia. With w and a rotation potential ψ
+    (β = ∇ψ) both ∝ sin(mπx/a) sin(nπy/b), k² = (mπ/a)² + (nπ/b)², Mindlin's equations become the 2 x 2 problem
+    [[κGt k², κGt k²], [κGt k², D k⁴ + κGt k²]] = ω² diag(ρt, ρt³/12 k²), whose lower root is the flexural mode
+    (R. D. Mindlin, J. Appl. Mech. 18, 1951, 31-38)."""
+    t, rho = prop.thickness, prop.rho
+    D = prop.e * t**3 / (12 * (1 - prop.nu**2))
+    s = shear_factor * prop.e / (2 * (1 + prop.nu)) * t
+    omega = []
+    for m in range(1, 12):
+        for n in range(1, 12):
+            k2 = (m * np.pi / a) ** 2 + (n * np.pi / b) ** 2
+            K = np.array([[s * k2, s * k2], [s * k2, D * k2**2 + s * k2]])
+            M = np.diag([rho * t, rho * t**3 / 12 * k2])
+            omega.append(np.sqrt(np.min(np.linalg.eigvals(np.linalg.solve(M, K)).real)))
+    return np.sort(omega)[:count] / (2 * np.pi)

@@ -55,7 +55,7 @@ def test_repeated_eigenvalues_are_all_found():
     assert np.linalg.matrix_rank(phi, tol=1e-6 * np.abs(phi).max()) == 6
 
 
-@pytest.mark.parametrize("n", [60, 1500])
+@pytest.mark.parametrize("n", [60, 900])
 def test_massless_dofs_match_static_condensation(n):
     """Every third DOF massless (a singular M): the truth condenses them out statically (exact for massless
     DOFs) and solves the rest with plain LAPACK."""

@@ -91,9 +91,10 @@ def test_patch_reproduces_constant_membrane_strain(triangles):
     np.testing.assert_allclose(u, exact.ravel(), atol=1e-12)
 
 
-def test_quad_patch_reproduces_constant_curvature():
+@pytest.mark.parametrize("triangles", [False, True])
+def test_patch_reproduces_constant_curvature(triangles):
     """w = 1e-3 (x² + xy + y²)/2 with zero shear: θx = ∂w/∂y, θy = -∂w/∂x, all curvatures constant."""
-    xyz, K = patch(False)
+    xyz, K = patch(triangles)
     x, y = xyz[:, 0], xyz[:, 1]
     exact = np.zeros((8, 6))
     exact[:, 3], exact[:, 4] = 1e-3 * (y + x / 2), -1e-3 * (x + y / 2)

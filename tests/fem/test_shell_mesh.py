@@ -91,6 +91,9 @@ def test_parts_sum_to_the_model():
     (FEMesh({"a": (0, 0, 0)}, springs=(("a", "q", None, None, 1.0),)), "'q' is not one of"),
     (FEMesh({"a": (0, 0, 0), "b": (1, 0, 0)}, masses=(("a", 1.0, (1, 1, 1)),),
             rigid=(("a", ("b",), ALL), ("b", ("a",), ALL))), "loop"),
+    (FEMesh({"a": (0, 0, 0), "b": (1, 0, 0)}, masses=(("b", 1.0, (1, 1, 1)),), rigid=(("a", ("b",), ALL),),
+            fixed=(("b", "x"),)), "both fixed and an RBE2"),
+    (FEMesh({"a": (0, 0, 0)}, masses=(("a", 1.0, (1, 1, 1)),), fixed=(("z9", "x"),)), "'z9', which is not defined"),
 ])
 def test_mesh_errors_say_what_to_fix(mesh, message):
     with pytest.raises(DataError, match=message):
