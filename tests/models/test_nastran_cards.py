@@ -215,3 +215,37 @@ def test_grdset_gives_the_grids_blank_frames_and_constraints(tmp_path):
     assert m.dofs == (("2", "x"),)                                  # the rod runs along grid 2's CD x; PS 456
     assert m.stiffness.toarray()[0, 0] == pytest.approx(10.0)
     assert m.unmodelled == ""
+
+
+@pytest.mark.parametrize("shape, dims, area", [
+    # areas by pyNastran's documented MSC formulas (pyNastran/bdf/cards/properties/bars.py docstring)
+    ("T", [6., 8., 1., .5], 6 * 1 + (8 - 1) * .5),
+    ("H", [4., 2., 6., .5], 2 * (0.5 * 2) * 6 + 4 * .5),
+    ("CROSS", [4., .5, 6., .5], .5 * 6 + 2 * (0.5 * 4) * .5),
+    ("I", [10., 6., 4., .5, 1., .8], 4 * .8 + 6 * 1 + (10 - 1.8) * .5),
+])
+def test_pbarl_areas_follow_msc(shape, dims, area):
+    assert section_properties(shape, dims)[0] == pytest.approx(area)
+
+
+def test_open_sections_inertia_by_numerical_integration():
+    # a T (flange 6 × 1 on top of a web 0.5 × 7) and an L (legs 5 × 1 and 1 × 7) sampled on a fine grid: ∫y² dA
+    # and ∫z² dA about the centroid
+    def integrate(inside, box, n=1500):
+        z, y = np.meshgrid(np.linspace(box[0], box[1], n), np.linspace(box[2], box[3], n))
+        w = inside(z, y) * ((box[1] - box[0]) / (n - 1)) * ((box[3] - box[2]) / (n - 1))
+        a = w.sum()
+        yc, zc = (w * y).sum() / a, (w * z).sum() / a
+        return a, (w * (y - yc) ** 2).sum(), (w * (z - zc) ** 2).sum()
+
+    def tee(z, y):
+        return ((abs(z) <= 3) & (y >= 7) & (y <= 8)) | ((abs(z) <= 0.25) & (y >= 0) & (y < 7))
+
+    def ell(z, y):
+        return ((z >= 0) & (z <= 5) & (y >= 0) & (y <= 1)) | ((z >= 0) & (z <= 1) & (y > 1) & (y <= 8))
+
+    for shape, dims, inside, box in (("T", [6., 8., 1., .5], tee, (-3, 3, 0, 8)),
+                                     ("L", [5., 8., 1., 1.], ell, (0, 5, 0, 8))):
+        a, i1, i2, _ = section_properties(shape, dims)
+        na, ni1, ni2 = integrate(inside, box)
+        assert (a, i1, i2) == pytest.approx((na, ni1, ni2), rel=0.01)
