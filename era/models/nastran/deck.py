@@ -56,6 +56,12 @@ class Deck:
     path: str
     max_ids: dict
 
+    def __repr__(self) -> str:
+        sizes = ", ".join(counted(len(t), one, many) for one, many, t in (
+            ("grid", None, self.grids), ("line element", None, self.lines), ("shell", None, self.shells),
+            ("mass", "masses", self.masses), ("spring", None, self.springs), ("RBE2", "RBE2s", self.rigid)) if t)
+        return f"Deck({self.path!r}: {sizes})"
+
     def unmodelled_sentence(self) -> str:
         """The cards not modelled, by name and count, in one sentence ("" when every card was modelled)."""
         if not self.skipped:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from ...fem.mesh import AssembledMesh, assemble
 from ..matrix import MatrixModel
@@ -25,7 +25,7 @@ class NastranModel(MatrixModel):
     """
 
     notes: tuple = ()
-    deck: Deck | None = None
+    deck: Deck | None = field(default=None, repr=False)
     factors: dict | None = None
 
     def __init__(self, stiffness, mass, dofs, *, notes=(), deck=None, factors=None, **kwargs):
