@@ -249,3 +249,20 @@ def test_open_sections_inertia_by_numerical_integration():
         a, i1, i2, _ = section_properties(shape, dims)
         na, ni1, ni2 = integrate(inside, box)
         assert (a, i1, i2) == pytest.approx((na, ni1, ni2), rel=0.01)
+
+
+def test_cbush_to_ground_and_between_coincident_grids_in_its_frame(tmp_path):
+    # frame 4 turned 90° about z (its x = basic y): K1 = 100 acts along basic y, K2 = 7 along basic -x
+    cards = [("CORD2R", [4, 0, 0., 0., 0., 0., 0., 1., 0., 1., 0.]),
+             ("GRID", [1, None, 0., 0., 0.]), ("GRID", [2, None, 0., 0., 0.]),
+             ("CBUSH", [1, 9, 1, None, None, None, None, 4]), ("PBUSH", [9, "K", 100., 7., 0., 0., 0., 0.]),
+             ("CBUSH", [2, 8, 1, 2, None, None, None, 0]), ("PBUSH", [8, "K", 0., 0., 30., 0., 0., 0.]),
+             ("CONM2", [3, 1, 0, 1.]), ("CONM2", [4, 2, 0, 1.])]
+    m = _model(tmp_path, cards)
+    assert m.dofs == (("1", "x"), ("1", "y"), ("1", "z"), ("2", "z"))
+    assert m.stiffness.toarray() == pytest.approx(np.array([[7., 0, 0, 0], [0, 100., 0, 0], [0, 0, 30., -30.],
+                                                            [0, 0, -30., 30.]]))
+    assert m.unmodelled == ""
+    with pytest.raises(DataError, match="zero-length bush"):
+        _model(tmp_path, cards[:-1] + [("GRID", [5, None, 1., 0., 0.]), ("CBUSH", [6, 8, 1, 5, None, None, None, 0])],
+               name="e.bdf")

@@ -100,7 +100,17 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
             require(deck.grids, g, "GRID", r.card)
         rigid.append((str(r.independent), tuple(str(g) for g in r.dependent), r.components))
     touched = {str(m.node) for m in deck.masses.values()} | {str(s.g1) for s in deck.springs.values()} | {
-        str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])}
+        str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])} | {
+        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g}
+    for b in deck.bushes.values():
+        for g in (b.ga, b.gb):
+            if g:
+                require(deck.grids, g, "GRID", b.card)
+        if b.gb and np.linalg.norm(pos[b.gb] - pos[b.ga]) > 1e-9 * (1 + np.linalg.norm(pos[b.ga])):
+            raise b.card.error("GA and GB are apart: only a zero-length bush (GB blank or at GA) is read; model "
+                               "a bush with length as a CBAR or springs on coincident grids")
+        if b.cid not in axes:
+            raise b.card.error(f"its frame CID {b.cid} is not a CORD2R of the deck")
     for m in deck.masses.values():
         require(deck.grids, m.node, "GRID", m.card)
     for s in deck.springs.values():
