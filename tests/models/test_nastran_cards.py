@@ -266,3 +266,10 @@ def test_cbush_to_ground_and_between_coincident_grids_in_its_frame(tmp_path):
     with pytest.raises(DataError, match="zero-length bush"):
         _model(tmp_path, cards[:-1] + [("GRID", [5, None, 1., 0., 0.]), ("CBUSH", [6, 8, 1, 5, None, None, None, 0])],
                name="e.bdf")
+
+
+def test_a_composite_plate_is_refused_by_name(tmp_path):
+    cards = [("GRID", [k, None, float(k % 2), float(k // 2), 0.]) for k in range(4)]
+    cards += [("CQUAD4", [1, 5, 0, 1, 3, 2]), ("PCOMP", [5, None, None, None, None, None, None, None, 1, .001, 0.])]
+    with pytest.raises(DataError, match=r"CQUAD4 1: its property 5 is no PSHELL of the deck; PCOMP"):
+        _model(tmp_path, cards)

@@ -65,7 +65,11 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
     cd = displacement_axes(deck.grids, axes)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
     shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
+    composite = sorted({"PCOMP", "PCOMPG", "PSHEAR"} & set(deck.skipped))
     for e in deck.shells.values():
+        if e.pid not in deck.shell_sections and composite:
+            raise e.card.error(f"its property {e.pid} is no PSHELL of the deck; {' and '.join(composite)} "
+                               "(composites, shear panels) are not modelled: give an equivalent PSHELL")
         prop = require(deck.shell_sections, e.pid, "PSHELL", e.card)
         name = f"PSHELL {e.pid}"
         if name not in shell_props:
