@@ -317,8 +317,8 @@ class MatrixExplainModel:
 
     def _shape_change(self, n_modes: int, rows: int) -> tuple:
         """Shapes u (rows, n) and their changes du (n_parts, rows, n) per unit relative change of each part's
-        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968); rows 1: at
-        the sensors, 2: at the translations."""
+        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968);
+        rows 1: at the sensors, 2: at the translations."""
         lam, *shapes, cross = self._part_modal(n_modes)
         u = shapes[rows - 1]
         diff = lam[None, :] - lam[:, None]
