@@ -85,8 +85,9 @@ def matrix_effects(model) -> tuple:
     Priors (log-normal) scale with the structure, as frame_effects' do: a point mass at 5 % of the structure's
     moving mass (1σ a factor e^1.2 ≈ 3.3); a spring to ground, one candidate per direction
     (ground_spring_x ... ground_spring_rz, together weighed as one), centred at the median stiffness a spring
-    meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass
-    10 % of the structure's (a factor 3.3). Places: every node with a free translation (a mass), every free DOF
+    meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's
+    stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass 10 % of the structure's (a factor
+    3.3). Places: every node with a free translation (a mass), every free DOF
     (a spring), every part; a mesh with more than MAX_PLACES such nodes is thinned evenly over the structure
     (:func:`spread`).
     """

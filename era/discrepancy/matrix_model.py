@@ -198,9 +198,10 @@ class MatrixExplainModel:
             proj["parts"][key] = proj["t"].T @ (matrix @ proj["t"])
         return proj["parts"][key]
 
-    def _all_modes(self, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz of the elastic modes (rigid ones left out) and their mass-normalised shapes at
-        the sensors (p, n) and at the free translations (node_labels, n); cached."""
+    def _all_modes(self, n_modes: int) -> tuple:
+        """Frequencies (n,) Hz of the elastic modes (rigid ones left out), their mass-normalised shapes at the
+        sensors (p, n), and at the free translations as (basis rows (t, r), coefficients (r, n)) or as the shapes
+        (t, n) with None; cached. The translations are formed only when asked (:meth:`node_modes`)."""
         cache = self.__dict__.setdefault("_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
         if got is None:
@@ -209,12 +210,12 @@ class MatrixExplainModel:
             if red is None:
                 k, m = changed_matrices(self.model, self._params)
                 f, phi = sparse_modes(k, m, min(n_modes + r, self.model.n_dofs))
-                f, sensors, nodes = np.asarray(f), self._at_sensors(phi), phi[self._translation_rows]
+                f, sensors, nodes = np.asarray(f), self._at_sensors(phi), (phi[self._translation_rows][:, r:], None)
             else:
                 f = np.sqrt(np.clip(red[0], 0.0, None)) / (2 * np.pi)
-                sensors, nodes = red[2][0] @ red[1], red[2][1] @ red[1]
-            got = cache[n_modes] = (f[r:], sensors[:, r:], nodes[:, r:])
-        return got[0][:n_modes], got[1][:, :n_modes], got[2][:, :n_modes]
+                sensors, nodes = red[2][0] @ red[1], (red[2][1], red[1][:, r:])
+            got = cache[n_modes] = (f[r:], sensors[:, r:], nodes)
+        return got[0][:n_modes], got[1][:, :n_modes], got[2]
 
     # -- what explain asks ---------------------------------------------------------------------------------
     @property
@@ -238,8 +239,8 @@ class MatrixExplainModel:
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels)."""
-        f, _, nodes = self._all_modes(n_modes)
-        return f.copy(), nodes.copy()
+        f, _, (rows, y) = self._all_modes(n_modes)
+        return f.copy(), (rows[:, :n_modes].copy() if y is None else rows @ y[:, :n_modes])
 
     @property
     def node_labels(self) -> tuple:
@@ -258,7 +259,10 @@ class MatrixExplainModel:
             return None
         f = np.sqrt(np.clip(red[0][r:], 0.0, None)) / (2 * np.pi)
         y = red[1][:, r:]
-        return RitzModes(f, red[2][1] @ y, red[2][0] @ y)
+        # the translations only when explain compares modal constants (modal_rows was asked): the screening's
+        # largest product otherwise, for nothing
+        nodes = red[2][1] @ y if self._shared.get("node_rows") else np.zeros((0, y.shape[1]))
+        return RitzModes(f, nodes, red[2][0] @ y)
 
     def screening_ritz(self, reference: "MatrixExplainModel", n_modes: int) -> RitzModes | None:
         return self.ritz(reference, n_modes)
@@ -273,6 +277,7 @@ class MatrixExplainModel:
     def modal_rows(self, input_locations) -> tuple | None:
         """Rows of node_modes at the sensors and at the input points ((node, direction) each), or None when one
         of them is not a free translation of the model."""
+        self._shared["node_rows"] = True     # explain compares modal constants: the screening forms translations
         index = {(self.model.dofs[i][0], self.model.dofs[i][1]): k for k, i in enumerate(self._translation_rows)}
 
         def row(node, d):
@@ -312,8 +317,8 @@ class MatrixExplainModel:
 
     def _shape_change(self, n_modes: int, rows: int) -> tuple:
         """Shapes u (rows, n) and their changes du (n_parts, rows, n) per unit relative change of each part's
-        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968); rows 1: at
-        the sensors, 2: at the translations."""
+        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968);
+        rows 1: at the sensors, 2: at the translations."""
         lam, *shapes, cross = self._part_modal(n_modes)
         u = shapes[rows - 1]
         diff = lam[None, :] - lam[:, None]

@@ -133,6 +133,11 @@ class MatrixModel:
         return tuple(dict.fromkeys(n for n, _ in self.dofs))
 
     @property
+    def node_ids(self) -> tuple:
+        """The nodes with free DOFs (as era.Frame.node_ids)."""
+        return self.nodes
+
+    @property
     def dof_index(self) -> dict:
         """{(node, direction): row}."""
         cache = self.__dict__.get("_index")
@@ -173,7 +178,7 @@ class MatrixModel:
 
     def with_sensors(self, sensors) -> "MatrixModel":
         """The same model seen at the test's points ((node, direction) per output channel)."""
-        out = type(self).__new__(type(self))         # a subclass (a Nastran deck's model) stays one
+        out = type(self).__new__(type(self))       # a reader's subclass (a Nastran deck's model) stays one
         out.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
         self.at(points)
