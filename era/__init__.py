@@ -32,6 +32,10 @@ from .discrepancy import Explanation, explain
 from .structure import Frame, Section
 from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 
+# the engineer's own FE model: matrices from any FE program, CalculiX's and Nastran's files, the patch
+from .models import MatrixModel, load_model, save_model, save_patch
+from .discrepancy import MatrixExplainModel, matrix_effects
+
 __all__ = [
     "__version__",
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
@@ -42,4 +46,5 @@ __all__ = [
     "markov_from_frf", "markov_from_io", "markov_from_ambient", "markov_from_decay",
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
     "subspace_mac", "Frame", "Section", "FrameModel", "frame_effects", "compare_fe_modes",
+    "MatrixModel", "load_model", "save_model", "save_patch", "MatrixExplainModel", "matrix_effects",
 ]

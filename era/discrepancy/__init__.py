@@ -10,16 +10,18 @@ unless the named set fits within the measurement error (a χ² test, ranking.ade
 from .effects import EffectSpec, Param
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
+from .effects_matrix import matrix_effects
 from .explain import explain
 from .explanation import VERDICTS, Explanation, NamedEffect
 from .fitting import ErrorLevels, Fit
 from .fe_modes import ModeComparison, compare_fe_modes
 from .frame_model import FrameModel
+from .matrix_model import MatrixExplainModel
 from .measured import MeasuredModes, identify_modes, measured_modes, modes_from_arrays
 from .overlay import model_response, overlay
 from .ranking import RankedEffect
 
 __all__ = ["explain", "Explanation", "NamedEffect", "RankedEffect", "EffectSpec", "Param", "grid_effects",
-           "FrameModel", "frame_effects", "compare_fe_modes", "ModeComparison",
+           "FrameModel", "frame_effects", "MatrixExplainModel", "matrix_effects", "compare_fe_modes", "ModeComparison",
            "ErrorLevels", "Fit", "MeasuredModes", "identify_modes", "measured_modes", "modes_from_arrays", "VERDICTS",
            "model_response", "overlay"]

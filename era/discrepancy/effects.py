@@ -150,12 +150,26 @@ def as_json_location(loc):
     return [as_json_location(x) for x in loc] if isinstance(loc, (tuple, list)) else float(loc)
 
 
+#: The directions of a DOF place "node:direction" (a matrix model's spring to ground).
+_DOF_DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+def _text_place(loc: str, short: bool) -> str:
+    """A matrix model's place in words: "part:deck" (a part), "7:x" (a DOF) or a node label."""
+    if loc.startswith("part:"):
+        return f"{'' if short else 'on '}part {loc[5:]}"
+    node, _, d = loc.rpartition(":")
+    if node and d in _DOF_DIRECTIONS:
+        return f"{'' if short else 'at '}node {node} in {d}"
+    return f"{'' if short else 'at '}node {loc}"
+
+
 def place(loc) -> str:
     """Where, in words: "at node 7", "on member 3-4", "at joint (x = 2 ft, y = 7 ft)",
-    "on the member (4, 0)-(5, 0) ft"."""
+    "on the member (4, 0)-(5, 0) ft", "at node 7 in x" (a DOF), "on part deck"."""
     loc = as_location(loc)
     if isinstance(loc, str):
-        return f"at node {loc}"
+        return _text_place(loc, short=False)
     if loc == ("*",):
         return "on every member"
     if all(isinstance(v, str) for v in loc):
@@ -169,7 +183,7 @@ def short_place(loc) -> str:
     """Where, briefly, for lists of alternatives: "(2, 7) ft", "(4, 0)-(5, 0) ft", "node 7", "member 3-4"."""
     loc = as_location(loc)
     if isinstance(loc, str):
-        return f"node {loc}"
+        return _text_place(loc, short=True)
     if all(isinstance(v, str) for v in loc):
         return "every member" if loc == ("*",) else f"member {'-'.join(loc)}"
     if isinstance(loc[0], tuple):
@@ -182,6 +196,10 @@ def places_noun(spec: EffectSpec, loc) -> str:
     key = spec.location_keyword or ""
     if key == "member_at":
         return "members"
+    if key in ("part_at", "part_mass_at"):
+        return "parts"
+    if key == "spring_at":
+        return "DOFs"
     if key == "support_at":
         return "supports"
     if "joint" in key or not isinstance(as_location(loc), str):
@@ -227,7 +245,8 @@ def describe(spec: EffectSpec, parameters: dict, location, probability: float, u
     sf = parameters.get("stiffness_factor")
     where = f" {place(location)}" if location is not None else ""
     if len(places) > 1:
-        where = " " + ("on " if spec.location_keyword == "member_at" else "at ") + one_of(spec, places)
+        on = spec.location_keyword in ("member_at", "part_at", "part_mass_at")
+        where = " " + ("on " if on else "at ") + one_of(spec, places)
     size = f" ({', '.join(shown)})" if shown else ""
     extra = f"; global stiffness factor {sf:.3f}" if sf is not None else ""
     return (f"{lead} {spec.summary}{where}{size}{extra}; "

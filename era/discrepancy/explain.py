@@ -8,13 +8,16 @@ and after (explanation.py).
 
 from __future__ import annotations
 
+import contextlib
 import time
 
 import numpy as np
 
+from ..blas import single_threaded_blas
 from ..correlation import ModePairing, comac, gap, serep, subspace_mac
 from ..data import ResponseData
 from ..errors import DataError
+from ..models.matrix import MatrixModel
 from ..realization import Identification
 from ..structure import Frame
 from ..words import counted
@@ -23,8 +26,10 @@ from .effects_frame import frame_effects
 from .effects_grid import grid_effects
 from .explanation import PLACE_COVERAGE, VERDICTS, Explanation, NamedEffect
 from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
+from .effects_matrix import matrix_effects
 from .frame_model import FrameModel, refit_exact
-from .measured import MeasuredModes, identify_modes, measured_modes
+from .matrix_model import MatrixExplainModel
+from .measured import MeasuredModes, identify_modes, measured_modes, node_direction
 from .protocol import ExplainModel, as_explain_model
 from .ranking import credible_places, rank_effects
 from .search import Search, search_effects
@@ -32,6 +37,27 @@ from .verdict import message_for, modes_the_model_lacks, too_few_data, verdict_o
 from .weights import close_modes, node_rows, pair, struck_sensors, with_member_scatter
 
 __all__ = ["VERDICTS", "Explanation", "NamedEffect", "explain"]
+
+#: Models explained as frames are: every candidate fitted in its reduced model and solved steps (not Ritz), every
+#: model mode in the tested band paired, the named set re-fitted in the full model (refit_exact).
+SOLVED = (FrameModel, MatrixExplainModel)
+
+
+def _nominal(model, data) -> ExplainModel:
+    """The ExplainModel of what explain() was given: an era.Frame, a MatrixModel (seen at its ``sensors``, else
+    at the points the data's output labels name, "7x" or "7 x"), or a model of one's own."""
+    if isinstance(model, Frame):
+        return FrameModel.of(model)
+    if isinstance(model, MatrixModel):
+        sensors = model.sensors
+        labels = getattr(data, "outputs", None) or getattr(getattr(data, "data", None), "outputs", None)
+        if not sensors and labels:
+            sensors = tuple(node_direction(x) for x in labels)
+            if None in sensors:
+                raise DataError("explain: the matrix model has no sensors and the data's output labels do not all "
+                                "name a node and direction ('7x', '7 -z'); give MatrixModel(..., sensors=...).")
+        return MatrixExplainModel.of(model, sensors)
+    return as_explain_model(model)
 
 
 def _select_modes(nominal: ExplainModel, specs, measured: MeasuredModes, n_model: int) -> np.ndarray:
@@ -81,7 +107,7 @@ def _named_effects(model: ExplainModel, found: Search, fm: MeasuredModes, w: Mod
         for j in idx:
             try:
                 iv = profile_interval(model, fit, fm, w, n_model, index=j,     # frames: solved steps, as before
-                                      ritz_modes=0 if isinstance(model, FrameModel) else 30)
+                                      ritz_modes=0 if isinstance(model, SOLVED) else 30)
             except TRIAL_FAILURES:     # a step of the profile cannot be solved: no interval, the σ stands
                 iv = None
             if iv is not None:
@@ -164,10 +190,12 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         node and direction of the frame are sensors for the comparison too, after the outputs (their input-side
         shapes scaled through a driving point, a point both measured and struck); others are said and left out.
     model : the nominal model: an era.Frame (wrapped in :class:`FrameModel`, its mesh kept for every candidate),
-        ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n), .node_modes(n), .params,
+        an era.MatrixModel (wrapped in MatrixExplainModel, seen at its ``sensors`` or else at the points the
+        data's output labels name), ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n), .node_modes(n), .params,
         .with_params(**changes), .sensors and the candidate places of located effects (EffectSpec.locations, or
         .joints_ft).
     effects : candidate EffectSpecs, "none" first (default: :func:`frame_effects` for a Frame,
+        :func:`era.discrepancy.effects_matrix.matrix_effects` for a matrix model,
         :func:`era.discrepancy.effects_grid.grid_effects` otherwise).
     errors : error levels (model-form floors); ERA's spread across ``orders`` adds the measurement part.
     orders : the stabilization diagram's orders: era.choose_modes chooses the modes from it, and the modes are
@@ -188,7 +216,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     """
     t0 = time.perf_counter()
     timing = {}
-    nominal: ExplainModel = FrameModel.of(model) if isinstance(model, Frame) else as_explain_model(model)
+    nominal: ExplainModel = _nominal(model, data)
     model = nominal
     errors = errors.for_model(model)     # the model's own member scatter and model-form allowance where not given
     if kept is not None and not isinstance(data, Identification):
@@ -214,7 +242,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     if effects is not None:
         specs = tuple(effects)
     else:
-        specs = frame_effects(model) if isinstance(model, FrameModel) else grid_effects(model)
+        specs = (frame_effects(model) if isinstance(model, FrameModel) else
+                 matrix_effects(model) if isinstance(model, MatrixExplainModel) else grid_effects(model))
     n_model = measured.n_modes + extra_model_modes
     fit_modes = _select_modes(model, specs, measured, n_model)
     if fit_modes.size < 2:
@@ -223,7 +252,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     unpaired = tuple(int(i) for i in np.setdiff1d(np.arange(measured.n_modes), fit_modes))
     fm = measured.take(fit_modes)
     n_model = fm.n_modes + extra_model_modes
-    frames = isinstance(model, FrameModel)
+    frames = isinstance(model, SOLVED)
     if frames:   # a frame's sensors miss many modes (out of plane, torsion): every model mode in the tested band
         f_nominal = model.modes(n_model + 8)[0]
         n_model = max(n_model, int(np.searchsorted(f_nominal, 1.2 * fm.frequency_hz.max())) + 2)
@@ -231,13 +260,17 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     weights = with_member_scatter(errors.weights(fm, close, node_rows(model, fm)), errors, model, fm, n_model)
     t1 = time.perf_counter()
     joints = np.asarray(model.joints_ft, float)
-    ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints, refine=refine_locations,
-                           fine_scan=frames, test=adequacy_test)
-    found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,
-                           min_probability=min_probability, min_log_bayes=min_log_bayes, max_effects=max_effects,
-                           refine=refine_locations, fine_scan=frames, test=adequacy_test)
-    if frames:    # ranked and searched in the reduced model: the named set's parameters from the full model
-        found = refit_exact(model, found, nuisance(model), fm, weights, n_model)
+    # a matrix model's trials are small dense eigenproblems, which a threaded BLAS slows 10-50 times on a busy
+    # machine (0.6 ms against 30 ms for order 40 measured with the other core loaded)
+    with single_threaded_blas() if isinstance(model, MatrixExplainModel) else contextlib.nullcontext():
+        ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints,
+                               refine=refine_locations, fine_scan=frames, test=adequacy_test)
+        found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,
+                               min_probability=min_probability, min_log_bayes=min_log_bayes,
+                               max_effects=max_effects, refine=refine_locations, fine_scan=frames,
+                               test=adequacy_test)
+        if frames:    # ranked and searched in the reduced model: the named set's parameters from the full model
+            found = refit_exact(model, found, nuisance(model), fm, weights, n_model)
     timing["ranking_s"] = time.perf_counter() - t1
     verdict, why = verdict_of(ranking, found, min_probability, min_log_bayes)
     if verdict == "explained":

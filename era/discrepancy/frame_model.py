@@ -384,7 +384,7 @@ def refit_exact(model: FrameModel, found, nuisance: Param, measured, w, n_model:
     rest keep their reduced evidence, which the model-form allowance makes as good: 0.1 % against 1.3 %). The
     screening, the ranking of candidates and the search stay the reduced model's."""
     fit = found.fit
-    if fit is None or not isinstance(fit.model, FrameModel) or fit.model._shared is None:
+    if fit is None or fit.model.exact is fit.model:     # solved in full already: nothing to re-fit
         return found
     def refit(at):
         try:
