@@ -155,9 +155,13 @@ _DOF_DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
 
 
 def _text_place(loc: str, short: bool) -> str:
-    """A matrix model's place in words: "part:deck" (a part), "7:x" (a DOF) or a node label."""
+    """A matrix model's place in words: "part:deck" (a part), "7:x" (a DOF), "property:PSHELL 3 T" (a deck's
+    property: "in T of PSHELL 3") or a node label."""
     if loc.startswith("part:"):
         return f"{'' if short else 'on '}part {loc[5:]}"
+    if loc.startswith("property:") and len(loc[9:].split()) == 3:     # a deck's card: "PSHELL 3 T"
+        card, pid, what = loc[9:].split()
+        return f"{'' if short else 'in '}{what} of {card} {pid}"
     node, _, d = loc.rpartition(":")
     if node and d in _DOF_DIRECTIONS:
         return f"{'' if short else 'at '}node {node} in {d}"
@@ -198,6 +202,8 @@ def places_noun(spec: EffectSpec, loc) -> str:
         return "members"
     if key in ("part_at", "part_mass_at"):
         return "parts"
+    if key == "property_at":
+        return "properties"
     if key == "spring_at":
         return "DOFs"
     if key == "support_at":

@@ -18,6 +18,7 @@ from ..correlation import ModePairing, comac, gap, serep, subspace_mac
 from ..data import ResponseData
 from ..errors import DataError
 from ..models.matrix import MatrixModel
+from ..models.nastran.reader import NastranModel
 from ..realization import Identification
 from ..structure import Frame
 from ..words import counted
@@ -28,6 +29,8 @@ from .explanation import PLACE_COVERAGE, VERDICTS, Explanation, NamedEffect
 from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
 from .effects_matrix import matrix_effects
 from .frame_model import FrameModel, refit_exact
+from .deck_model import DeckExplainModel
+from .effects_deck import deck_effects
 from .matrix_model import MatrixExplainModel
 from .measured import MeasuredModes, identify_modes, measured_modes, node_direction
 from .protocol import ExplainModel, as_explain_model
@@ -40,7 +43,7 @@ __all__ = ["VERDICTS", "Explanation", "NamedEffect", "explain"]
 
 #: Models explained as frames are: every candidate fitted in its reduced model and solved steps (not Ritz), every
 #: model mode in the tested band paired, the named set re-fitted in the full model (refit_exact).
-SOLVED = (FrameModel, MatrixExplainModel)
+SOLVED = (FrameModel, MatrixExplainModel, DeckExplainModel)
 
 
 def _nominal(model, data) -> ExplainModel:
@@ -56,6 +59,8 @@ def _nominal(model, data) -> ExplainModel:
             if None in sensors:
                 raise DataError("explain: the matrix model has no sensors and the data's output labels do not all "
                                 "name a node and direction ('7x', '7 -z'); give MatrixModel(..., sensors=...).")
+        if isinstance(model, NastranModel) and model.deck is not None:   # a deck: its properties are candidates
+            return DeckExplainModel.of(model, sensors)
         return MatrixExplainModel.of(model, sensors)
     return as_explain_model(model)
 
@@ -243,6 +248,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         specs = tuple(effects)
     else:
         specs = (frame_effects(model) if isinstance(model, FrameModel) else
+                 deck_effects(model) if isinstance(model, DeckExplainModel) else
                  matrix_effects(model) if isinstance(model, MatrixExplainModel) else grid_effects(model))
     n_model = measured.n_modes + extra_model_modes
     fit_modes = _select_modes(model, specs, measured, n_model)
@@ -262,7 +268,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     joints = np.asarray(model.joints_ft, float)
     # a matrix model's trials are small dense eigenproblems, which a threaded BLAS slows 10-50 times on a busy
     # machine (0.6 ms against 30 ms for order 40 measured with the other core loaded)
-    with single_threaded_blas() if isinstance(model, MatrixExplainModel) else contextlib.nullcontext():
+    with single_threaded_blas() if isinstance(model, (MatrixExplainModel, DeckExplainModel)) else \
+            contextlib.nullcontext():
         ranking = rank_effects(model, specs, nuisance(model), fm, weights, n_model, joints,
                                refine=refine_locations, fine_scan=frames, test=adequacy_test)
         found = search_effects(model, specs, nuisance(model), fm, weights, n_model, joints, first=ranking,

@@ -1,0 +1,141 @@
+"""A deck's modelled cards gathered by id, its solution parameters and what it holds that is not modelled."""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+from ...errors import DataError
+from ...words import counted
+from . import cards as read
+from .fields import BulkData, read_bulk
+from .values import BulkCard
+
+#: cards that hold solution or output requests, never stiffness or mass: said apart in the notes
+SOLUTION_CARDS = {"EIGRL", "EIGR", "EIGB", "PARAM", "MDLPRM", "USET", "USET1", "DTI", "NLPARM", "TSTEP", "FREQ",
+                  "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA", "GRDSET"}
+_TABLES = {"GRID": "grids", "CORD2R": "frames", "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
+           "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
+           "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
+           "MAT1": "materials", "CONM2": "masses", "RBE2": "rigid"}
+_READERS = {"GRID": read.grid, "CORD2R": read.cord2r, "CBAR": read.line_element, "CBEAM": read.line_element,
+            "CROD": read.line_element, "CQUAD4": read.shell_element, "CTRIA3": read.shell_element,
+            "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
+            "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2}
+#: every card read into the model
+MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "SPC", "SPC1"}))
+
+
+@dataclass(frozen=True, eq=False)
+class Deck:
+    """The modelled cards of a deck, each table {id: record} (records.py), and what the rest of it says.
+
+    grids, frames (CORD2R), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4, CTRIA3), line_sections
+    (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials (MAT1), masses (CONM2),
+    springs (CELAS1, CELAS2), rigid (RBE2); constraints : the SPC/SPC1 records of the set the case control
+    selects (every set when it selects none) and the GRIDs' permanent constraints (PS); wtmass : PARAM WTMASS
+    (1.0 when absent), the factor on every mass; skipped : {card name: count} of the cards not modelled;
+    notes : sentences about how the deck was read; path : its main file; max_ids : {"element", "property",
+    "material", "grid", "set"} the largest id of each kind in the deck (a patch takes new ids above them).
+    """
+
+    grids: dict
+    frames: dict
+    lines: dict
+    shells: dict
+    line_sections: dict
+    shell_sections: dict
+    materials: dict
+    masses: dict
+    springs: dict
+    rigid: dict
+    constraints: tuple
+    wtmass: float
+    skipped: dict
+    notes: tuple[str, ...]
+    path: str
+    max_ids: dict
+
+    def unmodelled_sentence(self) -> str:
+        """The cards not modelled, by name and count, in one sentence ("" when every card was modelled)."""
+        if not self.skipped:
+            return ""
+        shown = ", ".join(f"{name} ({n})" for name, n in sorted(self.skipped.items()))
+        solution = sorted(set(self.skipped) & SOLUTION_CARDS)
+        other = sorted(set(self.skipped) - SOLUTION_CARDS)
+        why = []
+        if other:
+            why.append(f"{'it is' if len(other) == 1 else 'they are'} left out of the model "
+                       f"({', '.join(other)})")
+        if solution:
+            why.append(f"solution and output requests ({', '.join(solution)}) do not change the modes")
+        return (f"Not modelled: {counted(sum(self.skipped.values()), 'card')} of the deck, {shown}; "
+                f"{' and '.join(why)}.")
+
+
+def read_deck(path) -> Deck:
+    """Read a Nastran bulk-data deck (and its includes) into its modelled cards (:class:`Deck`)."""
+    return build_deck(read_bulk(path))
+
+
+def build_deck(bulk: BulkData) -> Deck:
+    """Gather the cards of ``bulk`` by id; DataError (naming file, line and card) on a duplicate id."""
+    tables: dict[str, dict] = {name: {} for name in set(_TABLES.values()) | {"springs"}}
+    skipped: Counter = Counter()
+    spcs, pelas, celas, notes = [], {}, [], list(bulk.notes)
+    wtmass = 1.0
+    for card in bulk.cards:
+        name = card.name
+        if name in _READERS:
+            record = _READERS[name](card)
+            _put(tables[_TABLES[name]], _key(record), record, card)
+            if name == "GRID":
+                spcs += read.grid_spc(card)
+        elif name in ("SPC", "SPC1"):
+            spcs += read.spc(card) if name == "SPC" else read.spc1(card)
+        elif name == "PELAS":
+            pelas.update(read.pelas(card))
+        elif name in ("CELAS1", "CELAS2"):
+            celas.append(card)
+        elif name == "PARAM" and card.text(0).upper() == "WTMASS":
+            wtmass = card.real(1, "WTMASS")
+        else:
+            skipped[name] += 1
+    for card in celas:
+        record = read.celas(card, pelas)
+        _put(tables["springs"], record.eid, record, card)
+    chosen = [s for s in spcs if s.sid == -1 or bulk.case_spc is None or s.sid == bulk.case_spc]
+    sets = sorted({s.sid for s in spcs if s.sid != -1})
+    if bulk.case_spc is None and len(sets) > 1:
+        notes.append(f"The case control selects no SPC set; every set is applied ({', '.join(map(str, sets))}).")
+    elif bulk.case_spc is not None and bulk.case_spc not in sets:
+        notes.append(f"The case control selects SPC set {bulk.case_spc}, which the deck does not define: "
+                     "the model is free.")
+    if wtmass != 1.0:
+        notes.append(f"PARAM WTMASS {wtmass:g} multiplies every mass.")
+    max_ids = {
+        "element": max([0, *tables["lines"], *tables["shells"], *tables["masses"], *tables["springs"],
+                        *tables["rigid"]]),
+        "property": max([0, *tables["line_sections"], *tables["shell_sections"], *pelas]),
+        "material": max([0, *tables["materials"]]),
+        "grid": max([0, *tables["grids"]]),
+        "set": max([0, *sets]),
+    }
+    return Deck(tables["grids"], tables["frames"], tables["lines"], tables["shells"], tables["line_sections"],
+                tables["shell_sections"], tables["materials"], tables["masses"], tables["springs"],
+                tables["rigid"], tuple(chosen), wtmass, dict(skipped), tuple(notes), bulk.path, max_ids)
+
+
+def _key(record) -> int:
+    for attr in ("id", "eid", "pid", "mid"):
+        if hasattr(record, attr):
+            return getattr(record, attr)
+    raise AttributeError(record)
+
+
+def _put(table: dict, key: int, record, card: BulkCard) -> None:
+    old = table.get(key)
+    if old is not None:
+        raise DataError(f"{card.where()}: id {key} is used twice (also {old.card.where()}). Give each "
+                        f"{card.name} its own id.")
+    table[key] = record

@@ -1,0 +1,71 @@
+"""read_bdf: a Nastran bulk-data deck as the engineer's FE model (an era.MatrixModel with the deck's notes)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ...fem.mesh import assemble
+from ..matrix import MatrixModel
+from .constraints import reduce
+from .coords import frame_axes
+from .deck import Deck, read_deck
+from .mesh import deck_mesh
+
+
+@dataclass(frozen=True, eq=False, init=False)
+class NastranModel(MatrixModel):
+    """A MatrixModel read from a Nastran deck: the same matrices, DOFs (grid id, direction in the grid's
+    displacement frame), coordinates (basic) and parts ("PSHELL 3", "PBAR 7": each property's stiffness and
+    mass), and
+
+    notes : sentences on how the deck was read: the cards not modelled by name and count (one sentence), the
+        SPC set, PARAM WTMASS, the DOFs AUTOSPC held;
+    deck : the deck's modelled cards (era.models.nastran.deck.Deck), for effects and patches;
+    factors : {"PSHELL 3 T": factor, ...} the property changes this model was built with ({} as read).
+    """
+
+    notes: tuple = ()
+    deck: Deck | None = None
+    factors: dict | None = None
+
+    def __init__(self, stiffness, mass, dofs, *, notes=(), deck=None, factors=None, **kwargs):
+        super().__init__(stiffness, mass, dofs, **kwargs)
+        object.__setattr__(self, "notes", tuple(notes))
+        object.__setattr__(self, "deck", deck)
+        object.__setattr__(self, "factors", dict(factors or {}))
+
+    @property
+    def unmodelled(self) -> str:
+        """The cards not modelled, by name and count, in one sentence ("" when every card is modelled)."""
+        return self.deck.unmodelled_sentence() if self.deck is not None else ""
+
+
+def deck_model(deck: Deck, factors: dict | None = None, units="SI") -> NastranModel:
+    """The model of a read deck, its properties multiplied by ``factors`` ({"PSHELL 3 T": 0.9, "MAT1 1 E": 1.1,
+    "PBAR 7 I": 0.5, ...}; see era.models.nastran.mesh.CHANGEABLE)."""
+    dm = deck_mesh(deck, factors)
+    red = reduce(deck, dm, assemble(dm.mesh), frame_axes(deck.frames))
+    coordinates = {label: xyz for label, xyz in dm.positions.items() if "@" not in label}
+    notes = [s for s in (deck.unmodelled_sentence(),) if s] + list(deck.notes) + list(red.notes)
+    name = deck.path.replace("\\", "/").rsplit("/", 1)[-1]
+    return NastranModel(red.stiffness, red.mass, red.dofs, coordinates=coordinates, parts=red.parts,
+                        part_masses=red.part_masses, name=name, units=units, notes=notes, deck=deck,
+                        factors=factors)
+
+
+def read_bdf(path, *, units="SI") -> NastranModel:
+    """A Nastran bulk-data deck (``.bdf``, ``.dat``, ``.nas``, with its INCLUDE files) as an FE model.
+
+    Parameters
+    ----------
+    path : the deck's main file.
+    units : the deck's unit system (a name of era.models.matrix.UNIT_SYSTEMS or {"mass", "force", "length"});
+        a deck does not say its units, frequencies are right in any consistent set (PARAM WTMASS applied).
+
+    Returns
+    -------
+    NastranModel (an era.MatrixModel): the free DOFs' stiffness and mass, DOFs (grid id, "x".."rz" in the grid's
+    displacement frame), coordinates in basic, parts {"PSHELL 3": stiffness}, ``notes`` (the cards not modelled
+    in one sentence, and how constraints were read). DataError names the file, line and card of a bad card.
+    """
+    return deck_model(read_deck(path), units=units)
