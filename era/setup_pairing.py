@@ -38,10 +38,12 @@ class DroppedMode:
 # ---- pairing ----------------------------------------------------------------------------------------------------
 def pair_modes(models, refs, tol, min_mac, min_level):
     """Groups: a list of (setups,) int arrays, one per distinct mode (its index in each setup, -1 where not seen),
-    built setup by setup by an optimal assignment (frequency and reference MAC); and the modes that cannot be
-    scaled (references near a node)."""
+    built setup by setup by an optimal assignment (frequency and reference MAC), then by frequency alone where the
+    reference MAC failed but the frequency leaves no doubt (:func:`by_frequency`); the modes that cannot be scaled
+    (references near a node); and the set of (setup, index) paired by frequency alone."""
     n_setups = len(models)
     dropped = []
+    frequency_only: set = set()
     groups: list[np.ndarray] = []
     for k, model in enumerate(models):
         r = model.shapes[refs[k]]
@@ -75,8 +77,28 @@ def pair_modes(models, refs, tol, min_mac, min_level):
             if ok[i, c]:
                 groups[i][k] = usable[c]
                 taken.add(c)
+        for i, c in by_frequency(near, taken, [g[k] >= 0 for g in groups]):
+            groups[i][k] = usable[c]
+            taken.add(c)
+            frequency_only.add((k, int(usable[c])))
         groups += [new_group(n_setups, k, usable[c]) for c in range(usable.size) if c not in taken]
-    return groups, dropped
+    return groups, dropped, frequency_only
+
+
+def by_frequency(near, taken, filled):
+    """[(group, column)] for the modes of a setup the assignment left alone whose reference MAC failed (references
+    near a node of the mode, so their components are small and noisy) but whose frequency leaves no doubt: exactly
+    one group within the window, which has no mode of this setup yet, and this mode the only one of the setup
+    within that group's window. near : (groups, modes) bool; taken : the columns already paired; filled : per
+    group, whether it has a mode of this setup."""
+    out = []
+    for c in range(near.shape[1]):
+        rows = np.flatnonzero(near[:, c])
+        if c in taken or rows.size != 1 or filled[rows[0]]:
+            continue
+        if np.flatnonzero(near[rows[0]]).size == 1:
+            out.append((int(rows[0]), c))
+    return out
 
 
 def without_twins(model, usable, min_mac):
@@ -122,7 +144,12 @@ def mean_frequency(models, g) -> float:
 
 
 def anchor_references(models, refs, g) -> np.ndarray:
-    k = int(np.flatnonzero(g >= 0)[0])
+    """The reference components of a group's mode in the setup where they move most (relative to the mode's largest
+    component): the other setups are scaled onto it, and near a node the least noisy ratio is the best anchor."""
+    seen = np.flatnonzero(g >= 0)
+    level = [np.linalg.norm(models[k].shapes[refs[k], g[k]]) / max(np.max(np.abs(models[k].shapes[:, g[k]])), 1e-300)
+             for k in seen]
+    k = int(seen[int(np.argmax(level))])
     return models[k].shapes[refs[k], g[k]]
 
 
