@@ -54,11 +54,11 @@ def pair_modes(models, refs, tol, min_mac, min_level):
                                        f"its reference components are at most {level[j]:.3f} of its largest: the "
                                        "references sit near a node of this mode, so this setup's part of it cannot be "
                                        "scaled to the others'; put a reference where it moves"))
-        usable, twins = without_twins(model, usable, min_mac)
+        usable, twins = without_twins(model, usable, min_mac, tol)
         dropped += [DroppedMode(k, j, float(model.frequency_hz[j]),
                                 f"a second pole of the {model.frequency_hz[i]:.4g} Hz mode in this setup (its shape at "
-                                "every sensor, within its half-power bandwidth): a split twin; the stronger pole is "
-                                "kept") for j, i in twins]
+                                "every sensor, within its half-power bandwidth or the pairing window): a split twin; "
+                                "the stronger pole is kept") for j, i in twins]
         if not groups:
             groups = [new_group(n_setups, k, j) for j in usable]
             continue
@@ -101,15 +101,17 @@ def by_frequency(near, taken, filled):
     return out
 
 
-def without_twins(model, usable, min_mac):
+def without_twins(model, usable, min_mac, tol: float = 0.0):
     """The usable modes of one setup without split twins: of two modes within the stronger one's half-power
-    bandwidth (2 ζ f, era.choice's twin rule) whose shapes (every sensor) have MAC ≥ ``min_mac``, the one with the
-    larger contribution stays. Also [(twin, kept)]."""
+    bandwidth (2 ζ f, era.choice's twin rule) or within the pairing window (``tol`` f) whose shapes (every sensor)
+    have MAC ≥ ``min_mac``, the one with the larger contribution stays: inside the window both would pair with
+    the other setups' mode, and a weaker pole with the same shape beside a mode is its noise (NExT with every
+    channel as a correlation reference leaves such poles in short records). Also [(twin, kept)]."""
     f, zeta = model.frequency_hz, np.abs(model.damping_ratio)
     order = sorted(usable.tolist(), key=lambda j: -model.contribution[j])
     keep, twins = [], []
     for j in order:
-        match = [i for i in keep if abs(f[i] - f[j]) <= 2 * zeta[i] * f[i]
+        match = [i for i in keep if abs(f[i] - f[j]) <= max(2 * zeta[i], tol) * f[i]
                  and indicators.mac(model.shapes[:, i], model.shapes[:, j])[0, 0] >= min_mac]
         if match:
             twins.append((int(j), int(match[0])))

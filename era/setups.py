@@ -124,8 +124,9 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
     references, and its shape would be unknown at most points).
 
-    Two poles of one setup within the stronger one's half-power bandwidth and with the same shape (MAC ≥
-    ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other dropped.
+    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) and with the same
+    shape (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other
+    dropped.
 
     Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
     alone and a wrong reference cannot be told.

@@ -25,12 +25,13 @@ async def create(request: Request,
                  dt: float | None = Form(None, gt=0, description="sampling interval, s, for files without a time "
                                                                  "column"),
                  name: str | None = Form(None, max_length=200, description="what to call the test")):
-    """Every file is read as one setup and kept; the answer proposes the references (the channel names in every
-    setup). Refusals (422) name the form control that fixes them in ``option``: file, kind or dt."""
+    """Every file is read as one setup, kept and analysed (era.analyse, era's defaults); the answer proposes the
+    references from the data (era.reference_evidence), else from the names when they are not generic. Refusals (422) name the form control that fixes them in ``option``: file, kind or dt."""
     files = await read_parts(file)
     settings = cache(request).settings
     return await jobs(request).heavy(setups.create, store(request), settings, files, kind, dt, name,
-                                     progress=progress_key(request), message=f"Reading {len(files)} setups")
+                                     progress=progress_key(request), 
+                                     message=f"Reading and analysing {len(files)} setups")
 
 
 @router.get("/api/setups/{test_id}", response_model=SetupsTest, summary="A multi-setup test and its last merge")
