@@ -32,6 +32,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import era
+import era.setup_geometry
 import era.setups
 from era.words import listed
 
@@ -57,7 +58,7 @@ OPTIONS = ("kind", "dt")
 
 
 class Refusal(era.DataError):
-    """A refusal said next to the page's control ``option`` ("file", "kind", "dt", "references")."""
+    """A refusal said next to the page's control ``option`` ("file", "kind", "dt", "references", "points")."""
 
     def __init__(self, message: str, option: str):
         super().__init__(message, option=option)
@@ -244,17 +245,27 @@ def analyse_setups(store, settings, test: dict) -> list:
     return results
 
 
-def merge(store, settings, test: dict, references) -> dict:
+def merge(store, settings, test: dict, references, points: str | None = None) -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
-    write and return schemas.SetupsMerged. Refusal (next to the picker) when era.merge_setups refuses."""
+    write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
+    then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
+    Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
     runs = analyse_setups(store, settings, test)
     try:
         result = era.setups.merge([a for a, _ in runs], refs)
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
-    geometry = era.setups.merged_geometry([g for _, g in runs], result)
-    merged = merged_json(test, refs, result, geometry)
+    if points and points.strip():
+        aliases = era.setup_geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
+                                                   [s["outputs"] for s in test["setups"]], refs)
+        try:
+            geometry = era.setup_geometry.points_geometry(era.setup_geometry.parse_points(points), aliases)
+        except era.DataError as exc:
+            raise Refusal(str(exc), "points") from None
+    else:
+        geometry = era.setups.merged_geometry([g for _, g in runs], result)
+    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "")
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 

@@ -115,13 +115,16 @@ def tower_file(k: int, n_samples: int = 24_000, seed: int = 0) -> tuple[str, byt
     return f"tower{k + 1}.csv", buf.getvalue().encode()
 
 
-def tower_geometry_csv() -> bytes:
-    """The test's points as the CSV an engineer gives (point,x,y,z,direction), in m: setup k's channel c is point
-    ``S<k>:ch<c>`` for roving channels and R1, R2 for the references; every sensor along +x."""
-    lines = ["point,x,y,z,direction"]
+def tower_geometry_csv() -> str:
+    """The test's points as the CSV an engineer types (point,x,y,z,direction, m), then the lines (from,to) up the
+    tower through every point by height: setup k's channel c is point ``S<k>:ch<c>`` (a reference as setup 1
+    names it, S1:ch5 and S1:ch6); every sensor along +x at the tower's axis."""
+    names = {}
     for k in range(4):
         for c, row in enumerate(TOWER_ROVING[k]):
-            lines.append(f"S{k + 1}:ch{c + 1},0,0,{60 * TOWER_HEIGHTS[row]:.4f},x")
-    for name, row in zip(("R1", "R2"), TOWER_REFERENCES):
-        lines.append(f"{name},0,0,{60 * TOWER_HEIGHTS[row]:.4f},x")
-    return ("\n".join(lines) + "\n").encode()
+            names[row] = f"S{k + 1}:ch{c + 1}"
+    names[TOWER_REFERENCES[0]], names[TOWER_REFERENCES[1]] = "S1:ch5", "S1:ch6"
+    lines = ["point,x,y,z,direction"] + [f"{names[row]},0,0,{60 * TOWER_HEIGHTS[row]:.4f},x" for row in names]
+    by_height = sorted(names, key=lambda row: TOWER_HEIGHTS[row])
+    lines += ["from,to"] + [f"{names[a]},{names[b]}" for a, b in zip(by_height, by_height[1:])]
+    return "\n".join(lines) + "\n"

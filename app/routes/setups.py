@@ -43,10 +43,11 @@ async def read(request: Request, test_id: str):
              summary="Analyse every setup (era.analyse) and merge them through the references (era.merge_setups)")
 async def merge(request: Request, test_id: str, body: SetupsRequest):
     """The test with its new merge. A refusal (422, ``option`` "references") says which setup's references do not
-    match; ``option`` "file" when a setup's records cannot be analysed or are no longer stored."""
+    match; ``option`` "points" when the points table is wrong; ``option`` "file" when a setup's records cannot be
+    analysed or are no longer stored."""
     test = await jobs(request).quick(setups.load, store(request), test_id)
     settings = cache(request).settings
-    merged = await jobs(request).heavy(setups.merge, store(request), settings, test, body.references,
+    merged = await jobs(request).heavy(setups.merge, store(request), settings, test, body.references, body.points,
                                        progress=progress_key(request),
                                        message=f"Analysing {len(test['setups'])} setups and merging them")
     return dict(test, merged=merged)

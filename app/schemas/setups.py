@@ -63,6 +63,8 @@ class SetupsMerged(Schema):
     geometry: ReportGeometry | None = Field(description="the setups' geometry with the merged points as its "
                                                         "channels, or null")
     uncertainty_source: str
+    points_table: str = Field(default="", description="the points table the merge was given (CSV point,x,y,z,"
+                                                      "direction, then from,to lines), or empty")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
@@ -107,6 +109,10 @@ class SetupsTest(Schema):
 class SetupsRequest(BaseModel):
     references: list[list[Index]] = Field(max_length=64, description="per setup (in order), the indices of its "
                                         "reference channels: the same sensors, in the same order, in every setup")
+    points: str | None = Field(None, max_length=200_000, description="where the points are: a CSV "
+                               "point,x,y,z,direction (direction x, -z, or \"dx dy dz\"; point named as the merged "
+                               "modes name it, or S<setup>:<channel>), optionally followed by from,to rows (the "
+                               "lines between points)")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 

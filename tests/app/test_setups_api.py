@@ -18,8 +18,8 @@ import era
 from apiclient import client
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from simulated_setups import (FREQUENCY_HZ, TOWER_HZ, TOWER_REFERENCES, TOWER_ROVING, setup_file,  # noqa: E402
-                              setup_npz, tower_file, tower_truth, truth_at)
+from simulated_setups import (FREQUENCY_HZ, TOWER_HEIGHTS, TOWER_HZ, TOWER_REFERENCES, TOWER_ROVING,  # noqa: E402
+                              setup_file, setup_npz, tower_file, tower_geometry_csv, tower_truth, truth_at)
 
 def upload(c, files, **form):
     return c.post("/api/setups", files=[("file", (n, b, "text/csv")) for n, b in files],
@@ -191,6 +191,35 @@ def test_the_page_and_the_library_give_one_answer_on_generic_names(tmp_path):
         assert len(test["shared_hz"]) == 5 and test["candidates"][0]["channels"][1] == ["ch7", "ch8"]
         assert test["candidates"][0]["score"] > 0.99 > test["candidates"][1]["score"]
         merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
+        assert merged["geometry"] is None
+        # the points table places every merged point on the tower: the same modes, now on its nodes
+        table = tower_geometry_csv()
+        placed = c.post(f"/api/setups/{test['id']}/merge",
+                        json={"references": test["proposed"], "points": table}).json()["merged"]
+        assert placed["modes"] == merged["modes"] and placed["points_table"] == table
+        g = placed["geometry"]
+        assert len(g["node_ids"]) == 24 and len(g["edges"]) == 23 and min(g["channel_nodes"]) >= 0
+        height = np.array(g["coordinates"])[g["channel_nodes"], 2] / 60
+        heights = TOWER_HEIGHTS[TOWER_REFERENCES + [i for rov in TOWER_ROVING for i in rov]]
+        np.testing.assert_allclose(height, heights, atol=1e-4)
+        assert all(d == [1.0, 0.0, 0.0] for d in g["channel_directions"])
+        # UFF 55 at those nodes: read back with pyuff, each node's x value is the merged shape at its point
+        path = tmp_path / "tower.uff"
+        path.write_bytes(c.get(f"/api/setups/{test['id']}/modes.uff").content)
+        sets = [s for s in pyuff.UFF(str(path)).read_sets() if s["type"] == 55]
+        assert len(sets) == 5
+        node_of = np.array(g["node_ids"])[g["channel_nodes"]]
+        for j, s in enumerate(sets):
+            at = dict(zip(np.asarray(s["node_nums"], int), s["r1"]))
+            np.testing.assert_allclose([at[n] for n in node_of], shapes_of(placed)[:, j], atol=1e-5)
+        # a table that misses points, or names one the test does not have, is refused next to it
+        short = "\n".join(table.splitlines()[:5])
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"], "points": short})
+        assert r.status_code == 422 and r.json()["option"] == "points"
+        assert "has no row for" in r.json()["error"]
+        r = c.post(f"/api/setups/{test['id']}/merge",
+                   json={"references": test["proposed"], "points": table.replace("S2:ch1", "S9:ch1")})
+        assert r.status_code == 422 and "S9:ch1" in r.json()["error"]
     runs = []
     for name, blob in files:
         (tmp_path / name).write_bytes(blob)
