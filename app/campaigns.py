@@ -152,7 +152,9 @@ def document(result, names: list[str], *, campaign_id: str, name: str, engine_te
         "records": [{"record": int(r), "name": names[int(r)], "time": tm} for r, tm in zip(records["record"], times)],
         "modes": [{"mode": m.mode, "reference_frequency_hz": _num(m.reference_frequency_hz),
                    "reference_damping_ratio": _num(m.reference_damping_ratio), "origin": m.origin,
-                   "first_record": m.first_record, "n_found": m.n_found} for m in result.modes],
+                   "first_record": m.first_record, "n_found": m.n_found,
+                   "n_held": m.n_held, "identification_rate": m.identification_rate if m.n_held else None}
+                  for m in result.modes],
         "series": series,
         "failed": [{"record": f.index, "name": names[f.index], "reason": f.reason} for f in result.failed],
     }

@@ -234,7 +234,8 @@ class Identification:
     def uncertainty_source(self, records=None) -> str:
         """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses."""
         used = self.records_used(records)
-        return source_label(0 if used is None else used.shape[0])
+        segments = records is None and self.data.meta.get("records_are") == "segments"
+        return source_label(0 if used is None else used.shape[0], segments=segments)
 
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:

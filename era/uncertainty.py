@@ -87,10 +87,13 @@ class PoleCovariance:
         return source_label(self.n_blocks if self.method == "records" else 0)
 
 
-def source_label(n_records: int) -> str:
-    """"σ from N records" when the scatter of n_records ≥ 2 records is used, else "σ from one record's
+def source_label(n_records: int, segments: bool = False) -> str:
+    """"σ from N records" when the scatter of n_records ≥ 2 records is used ("σ from N segments of the record"
+    when they are consecutive segments of one record, era.markov_from_ambient), else "σ from one record's
     residuals"."""
-    return f"σ from {n_records} records" if n_records >= 2 else "σ from one record's residuals"
+    if n_records < 2:
+        return "σ from one record's residuals"
+    return f"σ from {n_records} segments of the record" if segments else f"σ from {n_records} records"
 
 
 def pole_functionals(left: np.ndarray, right: np.ndarray, z: np.ndarray, row_shifts: np.ndarray,

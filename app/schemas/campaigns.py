@@ -28,6 +28,9 @@ class CampaignMode(Schema):
     origin: str = Field(description="reference (a mode of the first record) or new (appeared later and persisted)")
     first_record: int = Field(description="the record that defined it (-1 for a given reference)")
     n_found: int = Field(description="records that show it")
+    n_held: int = Field(0, description="records that hold it: every analysed record from the one that defined it on")
+    identification_rate: float | None = Field(None, description="n_found / n_held, the share of the records "
+                                                                "holding the mode in which it was identified")
 
 
 class CampaignSeries(Schema):

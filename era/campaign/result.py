@@ -46,10 +46,12 @@ class CampaignResult:
 
     def modes_frame(self):
         """pandas.DataFrame of the tracked modes (without shapes): mode, reference_frequency_hz,
-        reference_damping_ratio, origin, first_record, n_found."""
+        reference_damping_ratio, origin, first_record, n_found, n_held (records that hold it: from the one that
+        defined it on) and identification_rate (n_found / n_held)."""
         return pandas().DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
                               "reference_damping_ratio": m.reference_damping_ratio, "origin": m.origin,
-                              "first_record": m.first_record, "n_found": m.n_found} for m in self.modes])
+                              "first_record": m.first_record, "n_found": m.n_found, "n_held": m.n_held,
+                              "identification_rate": m.identification_rate} for m in self.modes])
 
 
 def pandas():

@@ -9,9 +9,15 @@ modes that cross in frequency keep their identities: the shape decides, not the 
   than ``max_freq_error`` (relative);
 - a tracked mode a record does not show is missing there (NaN in the table) and stays tracked: it is matched again
   whenever a later record shows it (it reappears);
-- a record's mode that no tracked mode takes is a candidate; candidates are matched across records the same way,
-  and one found in ``new_mode_records`` records, with gaps of at most ``new_mode_gap`` records between them,
-  becomes a new tracked mode (from the record where it was first seen); others are forgotten.
+- a record's mode that no tracked mode takes is a candidate, unless it is a twin of a tracked mode (its shape
+  with MAC ≥ ``min_mac`` and its frequency within ``max_freq_error`` of a tracked mode's: a mode split in two
+  by one record's noise, whose better half the tracked mode took); a new tracked mode is only ever a shape or
+  frequency no tracked mode has. Candidates are matched across records the same way, and one found in
+  ``new_mode_records`` records, with gaps of at most ``new_mode_gap`` records between them, becomes a new
+  tracked mode with its own identity from the record where it was first seen (its earlier records count as
+  found); others are forgotten;
+- each tracked mode's identification rate is the share of the records that hold it (every record from the one
+  that defined it on) in which it was found.
 
 Pure functions of the records' modes; no I/O.
 """
@@ -37,7 +43,8 @@ class TrackedMode:
         they were confirmed. reference_frequency_hz, reference_damping_ratio : where it was defined;
     shape : (p,) complex reference shape; origin : "reference" or "new"; first_record : the record (its
     position in the campaign's sources, the table's ``record``) that defined it, -1 for a given reference;
-    n_found : how many records found it.
+    n_found : how many records found it; n_held : how many records hold it (the tracked records from the one
+    that defined it on).
     """
 
     mode: int
@@ -47,6 +54,13 @@ class TrackedMode:
     origin: str
     first_record: int
     n_found: int
+    n_held: int = 0
+
+    @property
+    def identification_rate(self) -> float:
+        """n_found / n_held: the share of the records holding this mode in which it was identified (NaN when
+        no record holds it)."""
+        return self.n_found / self.n_held if self.n_held else float("nan")
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,6 +120,17 @@ def _assign(f, shapes, tracks, *, freq_scale, min_mac, max_freq_error) -> list:
     return [(int(i), int(j)) for i, j in zip(rows[keep], cols[keep])]
 
 
+def twins(f, shapes, tracks, *, min_mac, max_freq_error) -> np.ndarray:
+    """(len(f),) bool: the record's modes that repeat a tracked mode (MAC ≥ min_mac with its reference shape and
+    frequency within max_freq_error of its latest one)."""
+    if not len(f) or not tracks:
+        return np.zeros(len(f), dtype=bool)
+    ft = np.array([t.frequency_hz for t in tracks])
+    st = np.stack([t.shape for t in tracks], axis=1)
+    rel = np.abs(ft[None, :] - np.asarray(f)[:, None]) / np.maximum(np.abs(np.asarray(f)[:, None]), 1e-12)
+    return np.any((mac(shapes, st) >= min_mac) & (rel <= max_freq_error), axis=1)
+
+
 def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: float = 0.8,
                 max_freq_error: float = 0.05, new_mode_records: int = 3, new_mode_gap: int = 3) -> Tracking:
     """Follow the modes of ``records`` (RecordModes, in time order) from a reference.
@@ -158,6 +183,8 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
             tracks[j].frequency_hz = float(f[i])
             taken.add(i)
         free = [i for i in range(rec.n_modes) if i not in taken]
+        twin = twins(f[free], shapes[:, free], tracks, min_mac=min_mac, max_freq_error=max_freq_error)
+        free = [i for i, t in zip(free, twin) if not t]  # a twin of a tracked mode is never a new mode
         candidates = [c for c in candidates if pos - c.hits[-1][0] <= new_mode_gap + 1]
         matched = set()
         for a, j in _assign(f[free], shapes[:, free], candidates, **gates):
@@ -171,7 +198,9 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
                                          (float(f[i]), float(rec.damping_ratio[i]), pos)))
         for c in [c for c in candidates if len(c.hits) >= new_mode_records]:
             candidates.remove(c)
-            tracks.append(c)
+            if not twins(np.array([c.frequency_hz]), c.shape[:, None], tracks, min_mac=min_mac,
+                         max_freq_error=max_freq_error)[0]:  # a tracked mode drifted onto it meanwhile
+                tracks.append(c)
     return _tracking(kept, tracks, refused)
 
 
@@ -190,6 +219,6 @@ def _tracking(records, tracks, refused) -> Tracking:
         modes.append(TrackedMode(mode=col, reference_frequency_hz=t.reference[0],
                                  reference_damping_ratio=t.reference[1], shape=t.shape, origin=t.origin,
                                  first_record=records[t.reference[2]].index if t.reference[2] >= 0 else -1,
-                                 n_found=len(t.hits)))
+                                 n_found=len(t.hits), n_held=n - max(t.reference[2], 0)))
     return Tracking(records=tuple(records), modes=tuple(modes), assignment=assignment, mac_to_reference=mac_ref,
                     refused=tuple(refused))

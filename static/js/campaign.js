@@ -152,7 +152,8 @@
       const cells = [String(m.mode), m.reference_frequency_hz === null ? "–" : m.reference_frequency_hz.toFixed(4),
         m.reference_damping_ratio === null ? "–" : (100 * m.reference_damping_ratio).toFixed(2), m.origin,
         m.first_record < 0 ? "given reference" : (nameOf[m.first_record] || `record ${m.first_record}`),
-        `${m.n_found} of ${analysed} records`];
+        `${m.n_found} of ${m.n_held || analysed} records`,
+        m.identification_rate === null || m.identification_rate === undefined ? "–" : `${(100 * m.identification_rate).toFixed(1)} %`];
       for (const text of cells) tr.append(el("td", text));
       body.append(tr);
     }

@@ -152,3 +152,48 @@ def test_an_interrupted_campaign_resumes_from_its_cache(tmp_path):
     result = run_campaign(paths, kind="ambient", workers=0, cache_dir=tmp_path / "cache",
                           progress=lambda done, total: calls.append(done))
     assert calls == [1, 2, 3] and len(result.records) == 3
+
+
+def test_a_twin_in_one_record_never_becomes_a_mode_nor_takes_the_modes_records():
+    """Record 4 shows mode 1 twice (4.427 and 4.387 Hz, the same shape, as in a noisy record): mode 1 takes one,
+    the other is a twin, not a candidate. Three such records in a row still make no new mode, and mode 1 keeps
+    every record (identification rate 1)."""
+    recs = [record(r, [2.0, 4.43], [0, 1], noise=0.02) for r in range(12)]
+    for r in (4, 7, 8, 9):
+        recs[r] = record(r, [2.0, 4.427, 4.387], [0, 1, 1], noise=0.02)
+    trk = track_modes(recs)
+    assert len(trk.modes) == 2
+    assert np.all(trk.assignment >= 0)
+    assert [m.identification_rate for m in trk.modes] == [1.0, 1.0]
+
+
+def test_a_mode_appearing_mid_way_has_its_own_identity_and_rate_from_its_first_record():
+    """A local mode (another shape) appears in record 5 and stays, missed once (record 9): it is new from record 5,
+    found in 6 of the 7 records that hold it; the reference modes are found in all 12, crossing meanwhile."""
+    recs = []
+    for r in range(12):
+        freqs, which = [2.0, 4.0 - 0.05 * r, 3.6 + 0.05 * r], [0, 1, 2]  # modes 1 and 2 cross at r = 4
+        if r >= 5 and r != 9:
+            freqs, which = freqs + [5.5], which + [3]
+        recs.append(record(r, freqs, which, noise=0.05))
+    trk = track_modes(recs)
+    assert [m.origin for m in trk.modes] == ["reference"] * 3 + ["new"]
+    new = trk.modes[3]
+    assert new.first_record == 5 and (new.n_found, new.n_held) == (6, 7)
+    assert new.identification_rate == pytest.approx(6 / 7)
+    f = frequencies(trk, 3)
+    assert np.all(f[[5, 6, 7, 8, 10, 11]] == 5.5) and np.isnan(f[[0, 1, 2, 3, 4, 9]]).all()
+    falling, rising = (1, 2) if trk.modes[1].reference_frequency_hz > 3.8 else (2, 1)
+    np.testing.assert_allclose(frequencies(trk, falling), 4.0 - 0.05 * np.arange(12))
+    np.testing.assert_allclose(frequencies(trk, rising), 3.6 + 0.05 * np.arange(12))
+    assert [m.identification_rate for m in trk.modes[:3]] == [1.0, 1.0, 1.0]
+
+
+def test_a_weak_mode_missed_in_some_records_stays_one_mode_with_its_rate():
+    """A weak mode whose shape is noisy (MAC ≈ 0.85-0.95) and that two records miss: one tracked mode, rate 10/12,
+    never a second identity."""
+    recs = [record(r, [2.0, 3.1] if r not in (3, 8) else [2.0], [0, 2] if r not in (3, 8) else [0], noise=0.12)
+            for r in range(12)]
+    trk = track_modes(recs)
+    assert len(trk.modes) == 2 and trk.modes[1].n_found == 10 and trk.modes[1].n_held == 12
+    assert trk.modes[1].identification_rate == pytest.approx(10 / 12)
