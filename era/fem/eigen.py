@@ -149,7 +149,8 @@ def _sparse(K, M, n_modes: int, sigma: float) -> tuple[np.ndarray, np.ndarray]:
                         "below the lowest frequency you expect.") from None
     if not np.all(np.isfinite(lam)) or np.any(lam > 1e250):
         raise _singular_error()
-    lam = np.sort(lam)
+    order = np.argsort(lam)
+    lam, phi = lam[order], phi[:, order]
     # Lanczos from one start vector may miss members of a repeated eigenvalue (a free-free model's six rigid
     # modes): count the eigenvalues below the highest one found and fetch the missing ones from a deflated run.
     # One factorisation at a time: the count's replaces the solver's, which is made again only if needed.
@@ -164,8 +165,6 @@ def _sparse(K, M, n_modes: int, sigma: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _finish_pass(K, M, sigma, lu, lam, phi, missing):
-    order = np.argsort(lam)
-    lam, phi = lam[order], phi[:, order]
     phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))[None, :]
     more_lam, more_phi = _lanczos(K, M, missing, sigma, lu, found=phi, found_mu=1.0 / (lam - sigma))
     lam = np.concatenate([lam, more_lam])

@@ -1,6 +1,7 @@
 """A stiffened panel (an aluminium plate with two stiffeners, clamped on one short edge) as an era.fem FEMesh:
-stiffeners as beams on the plate's nodes or as shell webs standing on them; and the beam version built in OpenSees
-(ShellMITC4 and elasticBeamColumn, lumped masses), an independent solver."""
+stiffeners as beams on the plate's nodes, as eccentric beams held to them by RBE2s, or as shell webs standing on
+them; and the beam versions built in OpenSees (ShellMITC4 or ShellDKGT and elasticBeamColumn, an RBE2 as the
+beam's rigid joint offset, the elements' own masses), an independent solver."""
 
 from __future__ import annotations
 
@@ -38,6 +39,21 @@ def with_beams(nx: int, ny: int, triangles: bool = False) -> FEMesh:
     return FEMesh(nodes, shells, beams, {"plate": PLATE}, {"stiffener": stiffener()}, fixed=clamped(nodes))
 
 
+def with_eccentric_beams(nx: int, ny: int) -> FEMesh:
+    """The stiffeners as beams on their own centroid line, HEIGHT/2 + t/2 above the plate's mid-plane, each node
+    held to the plate node below by an RBE2 (all six DOFs): the usual model of an eccentric stiffener."""
+    nodes, shells = grid(nx, ny, A, B)
+    fixed = clamped(nodes)                  # the plate's edge; the stiffeners' end nodes follow through the RBE2
+    offset = 0.5 * HEIGHT
+    nodes = dict(nodes)
+    nodes.update({f"s{label(i, j)}": (A * i / nx, B * j / ny, offset) for j in rows(ny) for i in range(nx + 1)})
+    beams = tuple(("stiffener", f"s{label(i, j)}", f"s{label(i + 1, j)}", (0.0, 0.0, 1.0))
+                  for j in rows(ny) for i in range(nx))
+    rigid = tuple((label(i, j), (f"s{label(i, j)}",), ("x", "y", "z", "rx", "ry", "rz"))
+                  for j in rows(ny) for i in range(nx + 1))
+    return FEMesh(nodes, shells, beams, {"plate": PLATE}, {"stiffener": stiffener()}, fixed=fixed, rigid=rigid)
+
+
 def with_webs(nx: int, ny: int, nz: int = 2, triangles: bool = False) -> FEMesh:
     """The stiffeners as shell webs HEIGHT tall (nz elements), standing on the plate's nodes (a T-junction: the
     plate's bending meets the web's membrane through the drilling and rotation DOFs)."""
@@ -62,11 +78,13 @@ def opensees_hz(mesh: FEMesh, n_modes: int) -> np.ndarray:
 
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
-    tag = {n: t + 1 for t, n in enumerate(mesh.nodes)}
-    for n, x in mesh.nodes.items():
-        ops.node(tag[n], *map(float, x))
+    # an RBE2 that carries a beam's end (all six DOFs) becomes the beam's rigid joint offset
+    follows = {dep: ind for ind, deps, _ in mesh.rigid for dep in deps}
+    tag = {n: t + 1 for t, n in enumerate(n for n in mesh.nodes if n not in follows)}
+    for n in tag:
+        ops.node(tag[n], *map(float, mesh.nodes[n]))
     held: dict = {}
-    for n, d in mesh.fixed:
+    for n, d in (f for f in mesh.fixed if f[0] in tag):
         held.setdefault(n, [0] * 6)["x y z rx ry rz".split().index(d)] = 1
     for n, flags in held.items():
         ops.fix(tag[n], *flags)
@@ -78,9 +96,11 @@ def opensees_hz(mesh: FEMesh, n_modes: int) -> np.ndarray:
         ops.element("ShellMITC4" if len(conn) == 4 else "ShellDKGT", eid, *[tag[n] for n in conn], 1)
     for t, (name, n1, n2, v) in enumerate(mesh.beams):
         p = mesh.beam_properties[name]
-        ops.geomTransf("Linear", 100 + t, *map(float, v))
+        ends = [follows.get(n1, n1), follows.get(n2, n2)]
+        offsets = [np.subtract(mesh.nodes[n], mesh.nodes[e]) for n, e in zip((n1, n2), ends)]
+        ops.geomTransf("Linear", 100 + t, *map(float, v), "-jntOffset", *map(float, np.concatenate(offsets)))
         eid += 1
-        ops.element("elasticBeamColumn", eid, tag[n1], tag[n2], p.area, p.e, p.g, p.j, p.iy, p.iz, 100 + t,
+        ops.element("elasticBeamColumn", eid, tag[ends[0]], tag[ends[1]], p.area, p.e, p.g, p.j, p.iy, p.iz, 100 + t,
                     "-mass", p.rho * p.area)
     ops.constraints("Transformation")
     ops.numberer("RCM")

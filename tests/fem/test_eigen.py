@@ -34,6 +34,8 @@ def test_fixed_free_chain_matches_closed_form(n):
     f, phi = sparse_modes(K, M, 8)
     np.testing.assert_allclose(f, fixed_free_hz(n, np.arange(1, 9)), rtol=1e-9)
     np.testing.assert_allclose(phi.T @ (M @ phi), np.eye(8), atol=1e-9)
+    lam = (2 * np.pi * f) ** 2                                               # each shape is its frequency's
+    assert np.abs(K @ phi - (M @ phi) * lam).max() < 1e-6 * np.abs(K @ phi).max()
     assert np.all(np.abs(phi).max(axis=0) == phi.max(axis=0))               # largest entry positive
 
 
@@ -53,6 +55,8 @@ def test_repeated_eigenvalues_are_all_found():
     assert f[0] < 1e-6 * f[2] and f[1] < 1e-6 * f[2]
     np.testing.assert_allclose(f[2:], np.repeat(free_free_hz(2000, np.arange(1, 3)), 2), rtol=1e-8)
     assert np.linalg.matrix_rank(phi, tol=1e-6 * np.abs(phi).max()) == 6
+    K2, M2 = scipy.sparse.block_diag([K, K]), scipy.sparse.block_diag([M, M])
+    assert np.abs(K2 @ phi - (M2 @ phi) * (2 * np.pi * f) ** 2).max() < 1e-6 * np.abs(K2 @ phi).max()
 
 
 @pytest.mark.parametrize("n", [60, 900])
