@@ -18,15 +18,16 @@ MAX_PLACES = 400
 
 
 def spread(model: MatrixExplainModel, nodes: tuple, max_places: int = MAX_PLACES) -> tuple:
-    """``nodes`` if there are at most ``max_places``, else about that many spread over the structure: with
-    coordinates, the node nearest each occupied cell's centre of a box grid with cells about as many as
-    ``max_places``; without, every k-th node in the model's order."""
+    """(places, words): ``nodes`` if there are at most ``max_places`` (words ""), else about that many spread
+    over the structure, and a sentence saying so: with coordinates, the node nearest each occupied cell's centre
+    of a box grid with cells about as many as ``max_places``; without, every k-th node in the model's order."""
     if len(nodes) <= max_places:
-        return nodes
+        return nodes, ""
     xyz = model.model.coordinates
     if xyz is None:
         step = int(np.ceil(len(nodes) / max_places))
-        return nodes[::step]
+        return nodes[::step], (f" The candidate places were every {step}th node of {len(nodes)} (the model has no "
+                               "coordinates to spread them by): the effect may sit at a node between them.")
     p = np.array([xyz[n] for n in nodes])
     lo, hi = p.min(axis=0), p.max(axis=0)
     span = np.where(hi - lo > 1e-9 * max(float(np.max(hi - lo)), 1e-300), hi - lo, 0.0)
@@ -39,7 +40,9 @@ def spread(model: MatrixExplainModel, nodes: tuple, max_places: int = MAX_PLACES
     for i, k in enumerate(map(tuple, key)):
         if k not in best or dist[i] < dist[best[k]]:
             best[k] = i
-    return tuple(nodes[i] for i in sorted(best.values()))
+    words = (f" The candidate places were {len(best)} of the {len(nodes)} nodes, one per cell of "
+             f"{cell:.3g} {model.model.units['length']}: the effect is within about that distance of the node named.")
+    return tuple(nodes[i] for i in sorted(best.values())), words
 
 
 def _static_stiffness(model: MatrixExplainModel, rows) -> np.ndarray:
@@ -51,7 +54,8 @@ def _static_stiffness(model: MatrixExplainModel, rows) -> np.ndarray:
     return 1.0 / np.maximum(flex, 1e-300)
 
 
-def _springs(model: MatrixExplainModel, nodes: tuple, directions: tuple, unit: str, what: str) -> list:
+def _springs(model: MatrixExplainModel, nodes: tuple, directions: tuple, unit: str, what: str,
+             thinned: str) -> list:
     """One ground-spring candidate per direction (their stiffness scales differ by orders: a plate is 1000 times
     stiffer in its plane than across it), each with its prior centred at the median stiffness a spring meets
     there; together they weigh as one candidate (prior odds 1/n each)."""
@@ -70,7 +74,7 @@ def _springs(model: MatrixExplainModel, nodes: tuple, directions: tuple, unit: s
             f"ground_spring_{d}", (Param("spring_stiffness", True, np.log(k), 2.0, unit),),
             location_keyword="spring_at", locations=places, trial={"spring_stiffness": trial}, trial_power=1.0,
             summary=f"a {what} spring to ground in {d} holds the structure (a support or attachment the model "
-                    "leaves free)", caveat="The spring is the equivalent grounded spring on that DOF."))
+                    "leaves free)", caveat="The spring is the equivalent grounded spring on that DOF." + thinned))
     return [dataclasses.replace(s, prior_log_odds=-float(np.log(len(out)))) for s in out]
 
 
@@ -81,8 +85,9 @@ def matrix_effects(model) -> tuple:
     Priors (log-normal) scale with the structure, as frame_effects' do: a point mass at 5 % of the structure's
     moving mass (1σ a factor e^1.2 ≈ 3.3); a spring to ground, one candidate per direction
     (ground_spring_x ... ground_spring_rz, together weighed as one), centred at the median stiffness a spring
-    meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass
-    10 % of the structure's (a factor 3.3). Places: every node with a free translation (a mass), every free DOF
+    meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's
+    stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass 10 % of the structure's (a factor
+    3.3). Places: every node with a free translation (a mass), every free DOF
     (a spring), every part; a mesh with more than MAX_PLACES such nodes is thinned evenly over the structure
     (:func:`spread`).
     """
@@ -91,15 +96,15 @@ def matrix_effects(model) -> tuple:
     m = model.model
     total = m.total_mass()
     u = m.units
-    moving = spread(model, tuple(n for n in m.nodes if any((n, d) in m.dof_index for d in TRANSLATIONS)))
+    moving, thinned = spread(model, tuple(n for n in m.nodes if any((n, d) in m.dof_index for d in TRANSLATIONS)))
     out = [EffectSpec("none", summary="the nominal model is right up to a global stiffness factor"),
            EffectSpec("point_mass", (Param("point_mass", True, np.log(0.05 * total), 1.2, u["mass"]),),
                       location_keyword="point_mass_at", locations=moving, trial={"point_mass": 0.05 * total},
                       summary="a concentrated mass is attached",
-                      caveat="The mass is the equivalent point mass on the node's translations.")]
-    out += _springs(model, moving, TRANSLATIONS, f"{u['force']}/{u['length']}", "translational")
-    out += _springs(model, spread(model, m.nodes), ("rx", "ry", "rz"), f"{u['force']}·{u['length']}/rad",
-                    "rotational")
+                      caveat="The mass is the equivalent point mass on the node's translations." + thinned)]
+    out += _springs(model, moving, TRANSLATIONS, f"{u['force']}/{u['length']}", "translational", thinned)
+    every, thinned_all = spread(model, m.nodes)
+    out += _springs(model, every, ("rx", "ry", "rz"), f"{u['force']}·{u['length']}/rad", "rotational", thinned_all)
     if m.parts:
         out.append(EffectSpec(
             "part_stiffness", (Param("part_factor", True, 0.0, 0.5, ""),), location_keyword="part_at",

@@ -196,9 +196,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         shapes scaled through a driving point, a point both measured and struck); others are said and left out.
     model : the nominal model: an era.Frame (wrapped in :class:`FrameModel`, its mesh kept for every candidate),
         an era.MatrixModel (wrapped in MatrixExplainModel, seen at its ``sensors`` or else at the points the
-        data's output labels name), ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n), .node_modes(n), .params,
-        .with_params(**changes), .sensors and the candidate places of located effects (EffectSpec.locations, or
-        .joints_ft).
+        data's output labels name), ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n),
+        .node_modes(n), .params, .with_params(**changes), .sensors and the candidate places of located effects
+        (EffectSpec.locations, or .joints_ft).
     effects : candidate EffectSpecs, "none" first (default: :func:`frame_effects` for a Frame,
         :func:`era.discrepancy.effects_matrix.matrix_effects` for a matrix model,
         :func:`era.discrepancy.effects_grid.grid_effects` otherwise).

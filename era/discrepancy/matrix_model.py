@@ -198,9 +198,10 @@ class MatrixExplainModel:
             proj["parts"][key] = proj["t"].T @ (matrix @ proj["t"])
         return proj["parts"][key]
 
-    def _all_modes(self, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz of the elastic modes (rigid ones left out) and their mass-normalised shapes at
-        the sensors (p, n) and at the free translations (node_labels, n); cached."""
+    def _all_modes(self, n_modes: int) -> tuple:
+        """Frequencies (n,) Hz of the elastic modes (rigid ones left out), their mass-normalised shapes at the
+        sensors (p, n), and at the free translations as (basis rows (t, r), coefficients (r, n)) or as the shapes
+        (t, n) with None; cached. The translations are formed only when asked (:meth:`node_modes`)."""
         cache = self.__dict__.setdefault("_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
         if got is None:
@@ -209,12 +210,12 @@ class MatrixExplainModel:
             if red is None:
                 k, m = changed_matrices(self.model, self._params)
                 f, phi = sparse_modes(k, m, min(n_modes + r, self.model.n_dofs))
-                f, sensors, nodes = np.asarray(f), self._at_sensors(phi), phi[self._translation_rows]
+                f, sensors, nodes = np.asarray(f), self._at_sensors(phi), (phi[self._translation_rows][:, r:], None)
             else:
                 f = np.sqrt(np.clip(red[0], 0.0, None)) / (2 * np.pi)
-                sensors, nodes = red[2][0] @ red[1], red[2][1] @ red[1]
-            got = cache[n_modes] = (f[r:], sensors[:, r:], nodes[:, r:])
-        return got[0][:n_modes], got[1][:, :n_modes], got[2][:, :n_modes]
+                sensors, nodes = red[2][0] @ red[1], (red[2][1], red[1][:, r:])
+            got = cache[n_modes] = (f[r:], sensors[:, r:], nodes)
+        return got[0][:n_modes], got[1][:, :n_modes], got[2]
 
     # -- what explain asks ---------------------------------------------------------------------------------
     @property
@@ -238,8 +239,8 @@ class MatrixExplainModel:
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels)."""
-        f, _, nodes = self._all_modes(n_modes)
-        return f.copy(), nodes.copy()
+        f, _, (rows, y) = self._all_modes(n_modes)
+        return f.copy(), (rows[:, :n_modes].copy() if y is None else rows @ y[:, :n_modes])
 
     @property
     def node_labels(self) -> tuple:
@@ -258,7 +259,10 @@ class MatrixExplainModel:
             return None
         f = np.sqrt(np.clip(red[0][r:], 0.0, None)) / (2 * np.pi)
         y = red[1][:, r:]
-        return RitzModes(f, red[2][1] @ y, red[2][0] @ y)
+        # the translations only when explain compares modal constants (modal_rows was asked): the screening's
+        # largest product otherwise, for nothing
+        nodes = red[2][1] @ y if self._shared.get("node_rows") else np.zeros((0, y.shape[1]))
+        return RitzModes(f, nodes, red[2][0] @ y)
 
     def screening_ritz(self, reference: "MatrixExplainModel", n_modes: int) -> RitzModes | None:
         return self.ritz(reference, n_modes)
@@ -273,6 +277,7 @@ class MatrixExplainModel:
     def modal_rows(self, input_locations) -> tuple | None:
         """Rows of node_modes at the sensors and at the input points ((node, direction) each), or None when one
         of them is not a free translation of the model."""
+        self._shared["node_rows"] = True     # explain compares modal constants: the screening forms translations
         index = {(self.model.dofs[i][0], self.model.dofs[i][1]): k for k, i in enumerate(self._translation_rows)}
 
         def row(node, d):
@@ -291,20 +296,60 @@ class MatrixExplainModel:
         """0.02 (the parts' stiffness known to ±2 %, 1σ, as a frame's members) when the model has parts, else 0."""
         return 0.02 if self.model.parts else 0.0
 
+    def _part_modal(self, n_modes: int) -> tuple:
+        """The nominal's elastic basis: λ (r,), its shapes at the sensors (p, r) and the translations (t, r), and
+        Φᵀ K_part Φ (n_parts, r, r) of each part (cached); r ≥ n_modes."""
+        got = self._shared.get("part_modal")
+        if got is None or got[0].size < n_modes:
+            self._basis(n_modes)
+            lam, phi = self.nominal_basis()
+            cross = np.array([phi.T @ (p @ phi) for p in self.model.parts.values()])
+            got = self._shared["part_modal"] = (lam, self._at_sensors(phi), phi[self._translation_rows], cross)
+        return got
+
     def member_energy_fractions(self, n_modes: int = 10) -> np.ndarray | None:
-        """(n_parts, n) each part's share of each mode's strain energy (φᵀ K_part φ / φᵀ K φ), None without parts."""
+        """(n_parts, n) each part's share of each nominal mode's strain energy (φᵀ K_part φ / φᵀ K φ), None
+        without parts."""
         if not self.model.parts:
             return None
-        lam, phi = self.nominal_basis()     # the nominal's modes: the scatter is the nominal's
-        phi = phi[:, :n_modes]
-        total = np.maximum(np.einsum("ij,ij->j", phi, self.model.stiffness @ phi), 1e-300)
-        return np.array([np.einsum("ij,ij->j", phi, p @ phi) / total for p in self.model.parts.values()])
+        lam, _, _, cross = self._part_modal(n_modes)
+        return np.einsum("ejj->ej", cross)[:, :n_modes] / np.maximum(lam[:n_modes], 1e-300)
+
+    def _shape_change(self, n_modes: int, rows: int) -> tuple:
+        """Shapes u (rows, n) and their changes du (n_parts, rows, n) per unit relative change of each part's
+        stiffness, dφ_j = Σ_{k≠j} φ_k (φ_kᵀ K_e φ_j)/(λ_j − λ_k) over the basis (Fox & Kapoor 1968);
+        rows 1: at the sensors, 2: at the translations."""
+        lam, *shapes, cross = self._part_modal(n_modes)
+        u = shapes[rows - 1]
+        diff = lam[None, :] - lam[:, None]
+        apart = np.abs(diff) > 1e-9 * lam.max()
+        inv = np.where(apart, 1.0 / np.where(apart, diff, 1.0), 0.0)
+        return u[:, :n_modes], np.einsum("rk,ekj,kj->erj", u, cross, inv)[:, :, :n_modes]
 
     def member_shape_sensitivity(self, n_modes: int = 10) -> np.ndarray | None:
-        return None
+        """(n_parts, p, n) d ψ_j / d a_e of the unit-norm sensor shapes per unit relative change of part e's
+        stiffness (as FrameModel.member_shape_sensitivity for members); None without parts."""
+        if not self.model.parts:
+            return None
+        s, ds = self._shape_change(n_modes, 1)
+        norm = np.linalg.norm(s, axis=0)
+        seen = norm > 1e-9 * max(norm.max(), 1e-300)
+        psi = s / np.where(seen, norm, 1.0)
+        dpsi = (ds - psi[None] * np.einsum("pj,epj->ej", psi, ds)[:, None, :]) / np.where(seen, norm, 1.0)
+        return np.where(seen[None, None, :], dpsi, 0.0)
 
     def member_scale_sensitivity(self, node_rows, n_modes: int = 10) -> np.ndarray | None:
-        return None
+        """(n_parts, n) d ln‖P_j‖ / d a_e of the modal constants' size at ``node_rows`` (rows of node_modes) per
+        unit relative change of part e's stiffness; None without parts."""
+        if not self.model.parts:
+            return None
+        u, du = self._shape_change(n_modes, 2)
+        out = np.zeros((du.shape[0], n_modes))
+        for rows in node_rows:
+            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
+            nn = np.sum(a**2, axis=0)
+            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
+        return out
 
     def part_place(self, place) -> str:
         """A part's place, "part:name", checked against the model's parts."""

@@ -6,7 +6,8 @@ each of its free translations); spring_at ("node:direction") + spring_stiffness 
 DOF); part_at ("part:name") + part_factor θ (that part's stiffness); part_mass_at ("part:name") +
 part_mass_factor θ_m (that part's mass); distributed_mass d (the mass scaled by 1 + d / total mass):
 
-    K' = s (K + (θ − 1) K_part) + k e eᵀ,    M' = (1 + d / m_total) M + (θ_m − 1) M_part + m Σ_translations e eᵀ
+    K' = s (K + (θ − 1) K_part) + k e eᵀ
+    M' = (1 + d / m_total) M + (θ_m − 1) M_part + m Σ_translations e eᵀ
 """
 
 from __future__ import annotations

@@ -73,7 +73,11 @@ def load_model(path, *, max_bytes: int | None = MAX_BYTES) -> MatrixModel:
                         "job.sti, or a Nastran deck.")
     suffix = path.suffix.lower()
     if suffix in NASTRAN:
-        from .nastran import read_bdf      # the bulk-data reader is large: loaded when a deck is read
+        try:
+            from .nastran import read_bdf      # the bulk-data reader is large: loaded when a deck is read
+        except ImportError:
+            raise DataError(f"{path.name}: this installation has no Nastran reader (era.models.nastran); export "
+                            "the model's matrices instead (docs/fe-models.md).") from None
         return read_bdf(path)
     budget = Budget(max_bytes)
     if suffix in CALCULIX:

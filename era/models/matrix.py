@@ -173,7 +173,7 @@ class MatrixModel:
 
     def with_sensors(self, sensors) -> "MatrixModel":
         """The same model seen at the test's points ((node, direction) per output channel)."""
-        out = type(self).__new__(type(self))         # a subclass (a Nastran deck's model) stays one
+        out = type(self).__new__(type(self))       # a reader's subclass (a Nastran deck's model) stays one
         out.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
         self.at(points)

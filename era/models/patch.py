@@ -3,7 +3,7 @@ explain named put in, as Matrix Market files over the same DOFs (dofs.csv beside
 the program the matrices came from (a DMIG/direct matrix input, an ANSYS superelement, an Abaqus *MATRIX INPUT)
 or into era.load_model.
 
-    files = patch_files(model, explanation.updated_model.params)   # {"K.mtx": b"...", "dofs.csv": ..., "README.txt": ...}
+    files = patch_files(model, explanation.updated_model.params)   # {"K.mtx": ..., "dofs.csv": ..., ...}
     save_patch(model, explanation.updated_model.params, "fix.zip")
 """
 

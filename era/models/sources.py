@@ -33,7 +33,14 @@ class Files:
         self.path, self.budget = path, budget
         self.zip: zipfile.ZipFile | None = None
         if path.is_dir():
-            self.names = {p.relative_to(path).as_posix(): p for p in sorted(path.rglob("*")) if p.is_file()}
+            self.names = {}
+            for p in path.rglob("*"):       # a model's folder, not a disk: stop counting past the limit
+                if p.is_file():
+                    self.names[p.relative_to(path).as_posix()] = p
+                    if len(self.names) > MAX_MEMBERS:
+                        raise TooLargeError(f"{path.name} holds more than {MAX_MEMBERS:,} files; give the folder "
+                                            "that holds the model's files only.")
+            self.names = dict(sorted(self.names.items()))
         else:
             try:
                 self.zip = zipfile.ZipFile(path)

@@ -4,12 +4,15 @@ with a MASS or SPRING2 element hidden in the deck, E 2 % high on the root half a
 frequency noise, 1 % sensor gains and shape noise). It names the hidden mass and the hidden spring to ground, their
 places and sizes, as it does on an era.Frame; the patch it writes brings the matrices to the truth."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import ccx_plate
 import era
 from era.discrepancy import modes_from_arrays
+from era.examples.synthetic import modal_response
 
 N_MODES = 7
 SENSORS = [(str(ccx_plate.node(i, j, 1)), "z") for i in range(2, ccx_plate.NX + 1, 2)
@@ -72,9 +75,16 @@ def test_a_hidden_spring_to_ground_is_named_with_the_places_the_data_cannot_tell
     assert r.after.max_abs_freq_error_pct < 1.5 and r.before.max_abs_freq_error_pct > 5
 
 
-def test_the_plate_as_modelled_raises_no_alarm(plate):
+def test_the_plate_as_modelled_raises_no_alarm_and_its_points_come_from_the_channel_labels(plate):
+    """Pulse responses of the truth's modes (ERA identifies them) whose channels are labelled "117z": the model
+    has no sensors of its own, and explain reads them from the labels."""
     folder, model = plate
-    data, _ = measured(folder, "none", 3)
-    r = era.explain(data, model)
-    assert r.verdict != "explained" or r.effect is None
-    assert r.ranking[0].name in ("none", "distributed_mass") or r.verdict != "explained"
+    f, s = ccx_plate.modes(folder, "none", N_MODES, SENSORS, e_scale=FORM)
+    data, _ = modal_response(f, 0.01, len(SENSORS), 1, 1500, 1 / 5000, snr_db=50, seed=3, shapes=s)
+    data = dataclasses.replace(data, outputs=tuple(f"{n}{d}" for n, d in SENSORS))
+    bare = model.with_sensors(())
+    r = era.explain(data, bare)
+    assert r.nominal_model.sensors == tuple(SENSORS)
+    assert r.verdict != "explained" and r.effect is None
+    with pytest.raises(era.DataError, match="output labels do not all name a node and direction"):
+        era.explain(dataclasses.replace(data, outputs=("A1",) * len(SENSORS)), bare)

@@ -1,6 +1,6 @@
 """The model protocol explain relies on (era.discrepancy.protocol.ExplainModel), checked statically: mypy on
-era/discrepancy is clean (its config in pyproject.toml [tool.mypy]), and the NASA grid's model and an era.Frame's
-model satisfy the protocol, while a model that lacks part of it is caught."""
+era/discrepancy is clean (its config in pyproject.toml [tool.mypy]), and the NASA grid's model, an era.Frame's
+model and a matrix model's satisfy the protocol, while a model that lacks part of it is caught."""
 
 import subprocess
 import sys
@@ -10,12 +10,15 @@ ROOT = Path(__file__).resolve().parents[2]
 
 CONFORMS = '''
 from era.discrepancy.frame_model import FrameModel
+from era.discrepancy.matrix_model import MatrixExplainModel
 from era.discrepancy.protocol import ExplainModel, Modes, RitzModes
 from era.examples.frames import portal
 from era.examples.grid import nasa_grid
+from era.models import MatrixModel
 
 grid: ExplainModel = nasa_grid()
 frame: ExplainModel = FrameModel.of(portal())
+matrices: ExplainModel = MatrixExplainModel.of(MatrixModel([[1.0]], [[1.0]], [("1", "x")]), [("1", "x")])
 approx: Modes = RitzModes(*(3 * [None]))  # type: ignore[arg-type]
 '''
 

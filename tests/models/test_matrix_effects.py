@@ -64,3 +64,32 @@ def test_a_part_factor_scales_its_share_and_a_ground_spring_adds_to_one_dof():
         explain_model.with_params(part_at="part:deck", part_factor=0.5).modes(1)
     with pytest.raises(DataError, match="node 2 has no free translation|no free z DOF"):
         explain_model.with_params(spring_at="2:z", spring_stiffness=1.0).modes(1)
+
+
+def test_the_parts_scatter_enters_as_a_frames_members_does():
+    """Each part's share of the strain energy adds up to 1 where the parts make the whole stiffness, and the
+    shapes' sensitivity to a part's stiffness (modal superposition) is the full solves' central difference."""
+    def chain_k(ks):
+        a = np.zeros((4, 4))
+        for i, kk in enumerate(ks):
+            a[i, i] += kk
+            if i:
+                a[i - 1, i - 1] += kk
+                a[i - 1, i] -= kk
+                a[i, i - 1] -= kk
+        return a
+    parts = {"low": chain_k([100, 150, 0, 0]), "high": chain_k([0, 0, 120, 80])}
+    model = era.MatrixModel(chain_k([100, 150, 120, 80]), np.diag([1.0, 1.2, 0.9, 1.1]),
+                            [(i, "x") for i in range(1, 5)], parts=parts, sensors=[(i, "x") for i in range(1, 5)])
+    em = MatrixExplainModel.of(model, model.sensors, reduced=False)
+    assert em.default_member_scatter == 0.02
+    np.testing.assert_allclose(em.member_energy_fractions(3).sum(axis=0), 1.0, rtol=1e-10)
+    _, s0 = em.modes(3)
+    p0 = s0 / np.linalg.norm(s0, axis=0)
+
+    def unit(theta):
+        s = em.with_params(part_at="part:low", part_factor=theta).modes(3)[1]
+        s = s / np.linalg.norm(s, axis=0)
+        return s * np.sign(np.sum(s * p0, axis=0))
+
+    np.testing.assert_allclose(em.member_shape_sensitivity(3)[0], (unit(1.0001) - unit(0.9999)) / 0.0002, atol=1e-6)
