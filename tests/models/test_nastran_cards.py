@@ -203,3 +203,73 @@ def test_pynastran_free_field_channel_deck():
     assert s.i1 == pytest.approx((10 * 30 ** 3 - 8 * 18 ** 3) / 12)
     assert deck.materials[1000].g == pytest.approx(3e7 / 2.6)
     assert sorted(deck.lines) == [10, 11] and deck.skipped == {}
+
+
+def test_grdset_gives_the_grids_blank_frames_and_constraints(tmp_path):
+    cards = [("GRDSET", [None, 7, None, None, None, 7, 456]),
+             ("CORD2R", [7, 0, 0., 0., 0., 0., 0., 1., 0., 1., 0.]),      # x = basic y, y = basic -x
+             ("GRID", [1, 0, 0., 0., 0., 0, 123456]), ("GRID", [2, None, 1., 0., 0.]),
+             ("CROD", [1, 1, 1, 2]), ("PROD", [1, 1, 1.]), ("MAT1", [1, 10., None, 0.3, 1.])]
+    m = _model(tmp_path, cards)
+    assert m.coordinates["2"] == pytest.approx((0., 1., 0.))    # CP 7 from the GRDSET
+    assert m.dofs == (("2", "x"),)                                  # the rod runs along grid 2's CD x; PS 456
+    assert m.stiffness.toarray()[0, 0] == pytest.approx(10.0)
+    assert m.unmodelled == ""
+
+
+@pytest.mark.parametrize("shape, dims, area", [
+    # areas by pyNastran's documented MSC formulas (pyNastran/bdf/cards/properties/bars.py docstring)
+    ("T", [6., 8., 1., .5], 6 * 1 + (8 - 1) * .5),
+    ("H", [4., 2., 6., .5], 2 * (0.5 * 2) * 6 + 4 * .5),
+    ("CROSS", [4., .5, 6., .5], .5 * 6 + 2 * (0.5 * 4) * .5),
+    ("I", [10., 6., 4., .5, 1., .8], 4 * .8 + 6 * 1 + (10 - 1.8) * .5),
+])
+def test_pbarl_areas_follow_msc(shape, dims, area):
+    assert section_properties(shape, dims)[0] == pytest.approx(area)
+
+
+def test_open_sections_inertia_by_numerical_integration():
+    # a T (flange 6 × 1 on top of a web 0.5 × 7) and an L (legs 5 × 1 and 1 × 7) sampled on a fine grid: ∫y² dA
+    # and ∫z² dA about the centroid
+    def integrate(inside, box, n=1500):
+        z, y = np.meshgrid(np.linspace(box[0], box[1], n), np.linspace(box[2], box[3], n))
+        w = inside(z, y) * ((box[1] - box[0]) / (n - 1)) * ((box[3] - box[2]) / (n - 1))
+        a = w.sum()
+        yc, zc = (w * y).sum() / a, (w * z).sum() / a
+        return a, (w * (y - yc) ** 2).sum(), (w * (z - zc) ** 2).sum()
+
+    def tee(z, y):
+        return ((abs(z) <= 3) & (y >= 7) & (y <= 8)) | ((abs(z) <= 0.25) & (y >= 0) & (y < 7))
+
+    def ell(z, y):
+        return ((z >= 0) & (z <= 5) & (y >= 0) & (y <= 1)) | ((z >= 0) & (z <= 1) & (y > 1) & (y <= 8))
+
+    for shape, dims, inside, box in (("T", [6., 8., 1., .5], tee, (-3, 3, 0, 8)),
+                                     ("L", [5., 8., 1., 1.], ell, (0, 5, 0, 8))):
+        a, i1, i2, _ = section_properties(shape, dims)
+        na, ni1, ni2 = integrate(inside, box)
+        assert (a, i1, i2) == pytest.approx((na, ni1, ni2), rel=0.01)
+
+
+def test_cbush_to_ground_and_between_coincident_grids_in_its_frame(tmp_path):
+    # frame 4 turned 90° about z (its x = basic y): K1 = 100 acts along basic y, K2 = 7 along basic -x
+    cards = [("CORD2R", [4, 0, 0., 0., 0., 0., 0., 1., 0., 1., 0.]),
+             ("GRID", [1, None, 0., 0., 0.]), ("GRID", [2, None, 0., 0., 0.]),
+             ("CBUSH", [1, 9, 1, None, None, None, None, 4]), ("PBUSH", [9, "K", 100., 7., 0., 0., 0., 0.]),
+             ("CBUSH", [2, 8, 1, 2, None, None, None, 0]), ("PBUSH", [8, "K", 0., 0., 30., 0., 0., 0.]),
+             ("CONM2", [3, 1, 0, 1.]), ("CONM2", [4, 2, 0, 1.])]
+    m = _model(tmp_path, cards)
+    assert m.dofs == (("1", "x"), ("1", "y"), ("1", "z"), ("2", "z"))
+    assert m.stiffness.toarray() == pytest.approx(np.array([[7., 0, 0, 0], [0, 100., 0, 0], [0, 0, 30., -30.],
+                                                            [0, 0, -30., 30.]]))
+    assert m.unmodelled == ""
+    with pytest.raises(DataError, match="zero-length bush"):
+        _model(tmp_path, cards[:-1] + [("GRID", [5, None, 1., 0., 0.]), ("CBUSH", [6, 8, 1, 5, None, None, None, 0])],
+               name="e.bdf")
+
+
+def test_a_composite_plate_is_refused_by_name(tmp_path):
+    cards = [("GRID", [k, None, float(k % 2), float(k // 2), 0.]) for k in range(4)]
+    cards += [("CQUAD4", [1, 5, 0, 1, 3, 2]), ("PCOMP", [5, None, None, None, None, None, None, None, 1, .001, 0.])]
+    with pytest.raises(DataError, match=r"CQUAD4 1: its property 5 is no PSHELL of the deck; PCOMP"):
+        _model(tmp_path, cards)

@@ -93,3 +93,42 @@ def test_a_stiffened_panel_deck_against_calculix(tmp_path):
                   fixed=tuple((n, d) for n in s["clamped"] for d in ("x", "y", "z", "rx", "ry", "rz")))
     truth = frequencies(run(frequency_inp(mesh, 6), tmp_path / "ccx"))
     np.testing.assert_allclose(f, truth, rtol=0.015)
+
+
+def test_pshell_12i_over_t3_scales_the_bending_stiffness(tmp_path):
+    # a simply supported plate whose PSHELL says 12I/T³ = 2: D doubled, Kirchhoff's frequencies √2 higher than
+    # the same mesh's with 12I/T³ = 1 (the transverse shear, not scaled, and the rotary inertia take 0.1 % off)
+    a, b, t, e, nu, rho = 0.6, 0.4, 0.004, 7e10, 0.3, 2700.0
+    f = []
+    for ratio in (1.0, 2.0):
+        cards = [c if c[0] != "PSHELL" else ("PSHELL", [1, 1, t, 1, ratio])
+                 for c in plate_cards(24, 16, a, b, t, e, nu, rho)]
+        path = tmp_path / f"plate{ratio}.bdf"
+        path.write_text(deck_text(cards, "free"))
+        f.append(read_bdf(path).modes(3)[0])
+    assert f[1] / f[0] == pytest.approx(np.full(3, np.sqrt(2)), rel=2e-3)
+    assert f[1] == pytest.approx(np.sqrt(2) * plate_frequencies(a, b, t, e, nu, rho, 3), rel=0.02)
+
+
+def test_a_femap_deck_of_a_free_plate_against_calculix(tmp_path):
+    """pyNastran's models/plate_py/plate_py.dat (BSD), written by Femap for NX Nastran: a free 2 × 1 in steel plate,
+    1/8 in, 200 CQUAD4; cylindrical and spherical frames and a thermal material it never uses. Its rigid-body mass
+    is ρ t A, six rigid modes come first, and the elastic ones match CalculiX's S8R on the same mesh."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fem"))
+    from calculix import frequencies, frequency_inp, run
+
+    from era.fem.mesh import FEMesh
+    from era.models.nastran.mesh import deck_mesh
+
+    m = read_bdf(DATA / "plate_py.dat")
+    assert m.unmodelled == ("Not modelled: 10 cards of the deck, CORD2C (1), CORD2S (1), EIGRL (1), MAT4 (1), "
+                            "PARAM (6); they are left out of the model (CORD2C, CORD2S, MAT4) and solution and "
+                            "output requests (EIGRL, PARAM) do not change the modes.")
+    assert m.total_mass() == pytest.approx(7.3315e-4 * 0.125 * 2.0 * 1.0, rel=1e-12)
+    f, _ = m.modes(10)
+    assert np.all(f[:6] < 1e-4 * f[6])
+    dm = deck_mesh(m.deck)
+    mesh = FEMesh(dm.mesh.nodes, dm.mesh.shells, (), dm.mesh.shell_properties)
+    truth = frequencies(run(frequency_inp(mesh, 10), tmp_path / "ccx"))
+    np.testing.assert_allclose(f[6:], truth[6:], rtol=0.015)

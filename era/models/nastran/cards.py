@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 
-from .records import (CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard,
+from .records import (BushCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard,
                       ShellSection, SpcCard, SpringCard)
 from .sections import DIMENSIONS, section_properties
 from .values import BulkCard, nastran_real
@@ -17,14 +17,24 @@ def _xyz(c: BulkCard, i: int, what: str, default: float | None = 0.0) -> np.ndar
     return np.array([c.real(i + k, f"{what}{k + 1}", default) for k in range(3)])
 
 
-def grid(c: BulkCard) -> GridCard:
-    """GRID ID CP X1 X2 X3 CD PS (PS, the permanent constraints, is read by :func:`grid_spc`)."""
-    return GridCard(c.integer(0, "ID"), c.integer(1, "CP", 0), _xyz(c, 2, "X"), c.integer(5, "CD", 0), c)
+def grdset(c: BulkCard) -> dict:
+    """GRDSET (blank) CP (3 blanks) CD PS: the defaults of the GRIDs' blank CP, CD and PS fields."""
+    return {"cp": c.integer(1, "CP", 0), "cd": c.integer(5, "CD", 0), "ps": c.text(6)}
 
 
-def grid_spc(c: BulkCard) -> list[SpcCard]:
-    """The permanent single-point constraints of a GRID (its PS field), as an SPC that every set includes."""
-    return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS"), c)] if not c.blank(6) else []
+def grid(c: BulkCard, defaults: dict | None = None) -> GridCard:
+    """GRID ID CP X1 X2 X3 CD PS (PS, the permanent constraints, is read by :func:`grid_spc`); blank CP and CD
+    take the GRDSET's ``defaults``."""
+    d = defaults or {}
+    return GridCard(c.integer(0, "ID"), c.integer(1, "CP", d.get("cp", 0)), _xyz(c, 2, "X"),
+                    c.integer(5, "CD", d.get("cd", 0)), c)
+
+
+def grid_spc(c: BulkCard, defaults: dict | None = None) -> list[SpcCard]:
+    """The permanent single-point constraints of a GRID (its PS field, or the GRDSET's), as an SPC that every set
+    includes."""
+    ps = c.text(6) or (defaults or {}).get("ps", "")
+    return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS", ps), c)] if ps else []
 
 
 def cord2r(c: BulkCard) -> CoordCard:
@@ -216,3 +226,25 @@ def _ids(c: BulkCard, start: int, stop_at_real: bool = False) -> list[int]:
             break
         out.append(c.integer(start + k, "G"))
     return out
+
+
+def pbush(c: BulkCard) -> tuple[int, np.ndarray]:
+    """PBUSH PID "K" K1 ... K6 (the damping and other lines are not used): (pid, k (6,))."""
+    texts = [t.strip().upper() for t in c.fields]
+    if "K" not in texts:
+        raise c.error("no K line; give the stiffness K1 ... K6")
+    at = texts.index("K") + 1
+    return c.integer(0, "PID"), np.array([c.real(at + i, f"K{i + 1}", 0.0) for i in range(6)])
+
+
+def cbush(c: BulkCard, pbushes: dict) -> BushCard:
+    """CBUSH EID PID GA GB GO/X1 X2 X3 CID: a zero-length bush (GB blank or at GA's place) in frame CID."""
+    eid = c.integer(0, "EID")
+    pid = c.integer(1, "PID", eid)
+    if pid not in pbushes:
+        raise c.error(f"PBUSH {pid} is not in the deck")
+    if c.blank(7):
+        raise c.error("CID is blank: only a bush whose stiffness axes are a frame (CID 0 for basic, or a CORD2R) "
+                      "is read; give CID")
+    gb = c.integer(3, "GB", 0) or None
+    return BushCard(eid, pbushes[pid], c.integer(2, "GA"), gb, c.integer(7, "CID"), c)

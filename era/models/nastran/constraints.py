@@ -96,6 +96,25 @@ def _springs(deck: Deck, index: dict, n: int):
     return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
 
+def _bushes(deck: Deck, index: dict, cd_axes: dict, frames: dict, n: int):
+    """The CBUSH stiffness (n, n) in the grids' displacement frames: diag(K1..K6) along the bush's frame CID,
+    between GA and GB or from GA to ground."""
+    out = scipy.sparse.lil_matrix((n, n))
+    for b in deck.bushes.values():
+        axes = frames[b.cid][1]
+        k6 = np.zeros((6, 6))
+        k6[:3, :3] = axes @ np.diag(b.k[:3]) @ axes.T
+        k6[3:, 3:] = axes @ np.diag(b.k[3:]) @ axes.T
+        ends = [str(b.ga)] + ([str(b.gb)] if b.gb else [])
+        for i, gi in enumerate(ends):
+            for j, gj in enumerate(ends):
+                sign = 1.0 if i == j else -1.0
+                block = _block(gi, cd_axes).T @ (sign * k6) @ _block(gj, cd_axes)
+                a, c = 6 * index[gi], 6 * index[gj]
+                out[a:a + 6, c:c + 6] += block
+    return out.tocsr()
+
+
 def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
     """C (6N, n_free) with u_cd = C u_free, and the kept DOFs (n_free,) in the full numbering."""
     n = 6 * len(labels)
@@ -166,7 +185,7 @@ def reduce(deck: Deck, dm, assembled, frames: dict) -> Reduced:
     extra_m = _conm2(deck, index, dm.positions, dm.cd_axes, frames, n) * deck.wtmass
     k_parts = {name: reduced(to_cd(k)) for name, k in assembled.part_stiffness.items()}
     m_parts = {name: reduced(to_cd(m)) for name, m in assembled.part_mass.items()}
-    K = reduced(to_cd(assembled.stiffness) + _springs(deck, index, n))
+    K = reduced(to_cd(assembled.stiffness) + _springs(deck, index, n) + _bushes(deck, index, dm.cd_axes, frames, n))
     M = reduced(to_cd(assembled.mass) + extra_m)
     diag = K.diagonal()
     live = diag > 1e-12 * max(float(np.abs(diag).max()) if diag.size else 0.0, 1e-300)

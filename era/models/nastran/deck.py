@@ -13,7 +13,7 @@ from .values import BulkCard
 
 #: cards that hold solution or output requests, never stiffness or mass: said apart in the notes
 SOLUTION_CARDS = {"EIGRL", "EIGR", "EIGB", "PARAM", "MDLPRM", "USET", "USET1", "DTI", "NLPARM", "TSTEP", "FREQ",
-                  "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA", "GRDSET"}
+                  "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA"}
 _TABLES = {"GRID": "grids", "CORD2R": "frames", "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
            "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
            "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
@@ -23,7 +23,8 @@ _READERS = {"GRID": read.grid, "CORD2R": read.cord2r, "CBAR": read.line_element,
             "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
             "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2}
 #: every card read into the model
-MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "SPC", "SPC1"}))
+MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "CBUSH", "PBUSH", "SPC", "SPC1", "GRDSET",
+                                         "PARAM WTMASS"}))
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,7 +33,8 @@ class Deck:
 
     grids, frames (CORD2R), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4, CTRIA3), line_sections
     (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials (MAT1), masses (CONM2),
-    springs (CELAS1, CELAS2), rigid (RBE2); constraints : the SPC/SPC1 records of the set the case control
+    springs (CELAS1, CELAS2), bushes (CBUSH with its PBUSH), rigid (RBE2); constraints : the SPC/SPC1 records
+    of the set the case control
     selects (every set when it selects none) and the GRIDs' permanent constraints (PS); wtmass : PARAM WTMASS
     (1.0 when absent), the factor on every mass; skipped : {card name: count} of the cards not modelled;
     notes : sentences about how the deck was read; path : its main file; max_ids : {"element", "property",
@@ -48,6 +50,7 @@ class Deck:
     materials: dict
     masses: dict
     springs: dict
+    bushes: dict
     rigid: dict
     constraints: tuple
     wtmass: float
@@ -55,6 +58,13 @@ class Deck:
     notes: tuple[str, ...]
     path: str
     max_ids: dict
+
+    def __repr__(self) -> str:
+        sizes = ", ".join(counted(len(t), one, many) for one, many, t in (
+            ("grid", None, self.grids), ("line element", None, self.lines), ("shell", None, self.shells),
+            ("mass", "masses", self.masses), ("spring", None, self.springs), ("bush", "bushes", self.bushes),
+            ("RBE2", "RBE2s", self.rigid)) if t)
+        return f"Deck({self.path!r}: {sizes})"
 
     def unmodelled_sentence(self) -> str:
         """The cards not modelled, by name and count, in one sentence ("" when every card was modelled)."""
@@ -80,30 +90,44 @@ def read_deck(path) -> Deck:
 
 def build_deck(bulk: BulkData) -> Deck:
     """Gather the cards of ``bulk`` by id; DataError (naming file, line and card) on a duplicate id."""
-    tables: dict[str, dict] = {name: {} for name in set(_TABLES.values()) | {"springs"}}
+    tables: dict[str, dict] = {name: {} for name in set(_TABLES.values()) | {"springs", "bushes"}}
     skipped: Counter = Counter()
     spcs, pelas, celas, notes = [], {}, [], list(bulk.notes)
+    pbush, cbush = {}, []
     wtmass = 1.0
+    defaults = next((read.grdset(c) for c in bulk.cards if c.name == "GRDSET"), {})
     for card in bulk.cards:
         name = card.name
-        if name in _READERS:
+        if name == "GRID":
+            record = read.grid(card, defaults)
+            _put(tables["grids"], record.id, record, card)
+            spcs += read.grid_spc(card, defaults)
+        elif name in _READERS:
             record = _READERS[name](card)
             _put(tables[_TABLES[name]], _key(record), record, card)
-            if name == "GRID":
-                spcs += read.grid_spc(card)
         elif name in ("SPC", "SPC1"):
             spcs += read.spc(card) if name == "SPC" else read.spc1(card)
         elif name == "PELAS":
             pelas.update(read.pelas(card))
         elif name in ("CELAS1", "CELAS2"):
             celas.append(card)
+        elif name == "PBUSH":
+            key, k = read.pbush(card)
+            pbush[key] = k
+        elif name == "CBUSH":
+            cbush.append(card)
         elif name == "PARAM" and card.text(0).upper() == "WTMASS":
             wtmass = card.real(1, "WTMASS")
+        elif name == "GRDSET":
+            continue
         else:
             skipped[name] += 1
     for card in celas:
         record = read.celas(card, pelas)
         _put(tables["springs"], record.eid, record, card)
+    for card in cbush:
+        bush = read.cbush(card, pbush)
+        _put(tables["bushes"], bush.eid, bush, card)
     chosen = [s for s in spcs if s.sid == -1 or bulk.case_spc is None or s.sid == bulk.case_spc]
     sets = sorted({s.sid for s in spcs if s.sid != -1})
     if bulk.case_spc is None and len(sets) > 1:
@@ -115,15 +139,16 @@ def build_deck(bulk: BulkData) -> Deck:
         notes.append(f"PARAM WTMASS {wtmass:g} multiplies every mass.")
     max_ids = {
         "element": max([0, *tables["lines"], *tables["shells"], *tables["masses"], *tables["springs"],
-                        *tables["rigid"]]),
-        "property": max([0, *tables["line_sections"], *tables["shell_sections"], *pelas]),
+                        *tables["bushes"], *tables["rigid"]]),
+        "property": max([0, *tables["line_sections"], *tables["shell_sections"], *pelas, *pbush]),
         "material": max([0, *tables["materials"]]),
         "grid": max([0, *tables["grids"]]),
         "set": max([0, *sets]),
     }
     return Deck(tables["grids"], tables["frames"], tables["lines"], tables["shells"], tables["line_sections"],
                 tables["shell_sections"], tables["materials"], tables["masses"], tables["springs"],
-                tables["rigid"], tuple(chosen), wtmass, dict(skipped), tuple(notes), bulk.path, max_ids)
+                tables["bushes"], tables["rigid"], tuple(chosen), wtmass, dict(skipped), tuple(notes), bulk.path,
+                max_ids)
 
 
 def _key(record) -> int:

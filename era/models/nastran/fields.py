@@ -95,6 +95,8 @@ def _expand(lines, path: Path, root: Path, depth: int):
             continue
         if _ENDDATA.match(body):
             return True
+        if _BEGIN_BULK.match(body):      # in an included file that starts the bulk data itself
+            continue
         m = _INCLUDE.match(body)
         if m is None:
             yield shown, number, body

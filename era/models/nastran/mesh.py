@@ -52,11 +52,12 @@ def property_keys(deck: Deck) -> tuple[str, ...]:
     return tuple(keys)
 
 
-def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
-    """The deck's elements as a FEMesh, each property multiplied by ``factors`` {change_key: factor}.
+def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> DeckMesh:
+    """The deck's elements as a FEMesh, each property multiplied by ``factors`` {change_key: factor}; the
+    PSHELLs whose ids are in ``thicker`` twice as thick (reader.py takes their bending part from the difference).
 
     Raises DataError (naming the card) for a reference to a missing grid, property or material, or a property
-    this reader does not model (a PSHELL without bending, or with 12I/T³ other than 1)."""
+    this reader does not model (a PSHELL without bending)."""
     factors = dict(factors or {})
     _check_factors(deck, factors)
     axes = frame_axes(deck.frames)
@@ -64,11 +65,15 @@ def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
     cd = displacement_axes(deck.grids, axes)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
     shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
+    composite = sorted({"PCOMP", "PCOMPG", "PSHEAR"} & set(deck.skipped))
     for e in deck.shells.values():
+        if e.pid not in deck.shell_sections and composite:
+            raise e.card.error(f"its property {e.pid} is no PSHELL of the deck; {' and '.join(composite)} "
+                               "(composites, shear panels) are not modelled: give an equivalent PSHELL")
         prop = require(deck.shell_sections, e.pid, "PSHELL", e.card)
         name = f"PSHELL {e.pid}"
         if name not in shell_props:
-            shell_props[name] = _shell_property(deck, prop, factors)
+            shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
         for g in e.nodes:
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))
@@ -99,7 +104,17 @@ def deck_mesh(deck: Deck, factors: dict | None = None) -> DeckMesh:
             require(deck.grids, g, "GRID", r.card)
         rigid.append((str(r.independent), tuple(str(g) for g in r.dependent), r.components))
     touched = {str(m.node) for m in deck.masses.values()} | {str(s.g1) for s in deck.springs.values()} | {
-        str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])}
+        str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])} | {
+        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g}
+    for b in deck.bushes.values():
+        for g in (b.ga, b.gb):
+            if g:
+                require(deck.grids, g, "GRID", b.card)
+        if b.gb and np.linalg.norm(pos[b.gb] - pos[b.ga]) > 1e-9 * (1 + np.linalg.norm(pos[b.ga])):
+            raise b.card.error("GA and GB are apart: only a zero-length bush (GB blank or at GA) is read; model "
+                               "a bush with length as a CBAR or springs on coincident grids")
+        if b.cid not in axes:
+            raise b.card.error(f"its frame CID {b.cid} is not a CORD2R of the deck")
     for m in deck.masses.values():
         require(deck.grids, m.node, "GRID", m.card)
     for s in deck.springs.values():
@@ -131,15 +146,14 @@ def _material(deck: Deck, mid: int, card, factors: dict) -> tuple[float, float, 
     return m.e * fe, m.g * fe, m.nu, m.rho * factors.get(change_key("MAT1", mid, "RHO"), 1.0)
 
 
-def _shell_property(deck: Deck, p, factors: dict) -> ShellProperty:
+def _shell_property(deck: Deck, p, factors: dict, scale: float = 1.0) -> ShellProperty:
     if p.mid1 is None or p.mid2 is None:
         raise p.card.error("a membrane-only or bending-only PSHELL (MID1 or MID2 blank) is not modelled; give "
                            "the same MAT1 as MID1 and MID2")
-    if abs(p.bending_ratio - 1.0) > 1e-9:
-        raise p.card.error(f"12I/T**3 = {p.bending_ratio:g} (a sandwich or a smeared stiffener) is not modelled; "
-                           "only a solid plate (1.0) is")
+    if p.bending_ratio <= 0:
+        raise p.card.error(f"12I/T**3 = {p.bending_ratio:g}; give a positive ratio (1.0 for a solid plate)")
     e, _, nu, rho = _material(deck, p.mid1, p.card, factors)
-    t = p.t * factors.get(change_key("PSHELL", p.pid, "T"), 1.0)
+    t = p.t * factors.get(change_key("PSHELL", p.pid, "T"), 1.0) * scale
     return ShellProperty(t, e, nu, rho * deck.wtmass, p.nsm * deck.wtmass)
 
 

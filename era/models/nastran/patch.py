@@ -237,6 +237,6 @@ def write_patched_deck(deck: Deck, patch: DeckPatch, folder) -> Path:
 def _included(deck: Deck) -> set:
     """The deck's files other than the main one (every file a modelled card came from)."""
     tables = (deck.grids, deck.frames, deck.lines, deck.shells, deck.line_sections, deck.shell_sections,
-              deck.materials, deck.masses, deck.springs, deck.rigid)
+              deck.materials, deck.masses, deck.springs, deck.bushes, deck.rigid)
     out = {r.card.file for t in tables for r in t.values()} | {s.card.file for s in deck.constraints}
     return {f for f in out if not Path(f).is_absolute() and ".." not in Path(f).parts}

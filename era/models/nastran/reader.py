@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
-from ...fem.mesh import assemble
+from ...fem.mesh import AssembledMesh, assemble
 from ..matrix import MatrixModel
 from .constraints import reduce
 from .coords import frame_axes
@@ -25,7 +25,7 @@ class NastranModel(MatrixModel):
     """
 
     notes: tuple = ()
-    deck: Deck | None = None
+    deck: Deck | None = field(default=None, repr=False)
     factors: dict | None = None
 
     def __init__(self, stiffness, mass, dofs, *, notes=(), deck=None, factors=None, **kwargs):
@@ -44,13 +44,32 @@ def deck_model(deck: Deck, factors: dict | None = None, units="SI") -> NastranMo
     """The model of a read deck, its properties multiplied by ``factors`` ({"PSHELL 3 T": 0.9, "MAT1 1 E": 1.1,
     "PBAR 7 I": 0.5, ...}; see era.models.nastran.mesh.CHANGEABLE)."""
     dm = deck_mesh(deck, factors)
-    red = reduce(deck, dm, assemble(dm.mesh), frame_axes(deck.frames))
+    assembled = assemble(dm.mesh)
+    ratios = {p.pid: p.bending_ratio for p in deck.shell_sections.values() if abs(p.bending_ratio - 1) > 1e-12}
+    if ratios:
+        assembled = _bending_ratios(deck, factors, assembled, ratios)
+    red = reduce(deck, dm, assembled, frame_axes(deck.frames))
     coordinates = {label: xyz for label, xyz in dm.positions.items() if "@" not in label}
     notes = [s for s in (deck.unmodelled_sentence(),) if s] + list(deck.notes) + list(red.notes)
     name = deck.path.replace("\\", "/").rsplit("/", 1)[-1]
     return NastranModel(red.stiffness, red.mass, red.dofs, coordinates=coordinates, parts=red.parts,
                         part_masses=red.part_masses, name=name, units=units, notes=notes, deck=deck,
                         factors=factors)
+
+
+def _bending_ratios(deck: Deck, factors, assembled: AssembledMesh, ratios: dict) -> AssembledMesh:
+    """The assembled mesh with each listed PSHELL's bending stiffness times its 12I/T³ (``ratios`` {pid: ratio}).
+    A plate's stiffness is a t + b t³ (membrane, transverse shear and drilling; bending): assembled again twice
+    as thick, the bending part is (K(2t) − 2 K(t)) / 6 (exact for quadrilaterals; the triangles' shear
+    stabilisation makes it close for them). The mass stays the plate's of thickness T."""
+    doubled = assemble(deck_mesh(deck, factors, thicker=tuple(ratios)).mesh)
+    k, parts = assembled.stiffness, dict(assembled.part_stiffness)
+    for pid, ratio in ratios.items():
+        name = f"PSHELL {pid}"
+        bending = (doubled.part_stiffness[name] - 2 * parts[name]) / 6
+        parts[name] = (parts[name] + (ratio - 1) * bending).tocsr()
+        k = k + (ratio - 1) * bending
+    return replace(assembled, stiffness=k.tocsr(), part_stiffness=parts)
 
 
 def read_bdf(path, *, units="SI") -> NastranModel:

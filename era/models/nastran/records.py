@@ -160,3 +160,17 @@ class RigidCard:
     components: str
     dependent: tuple[int, ...]
     card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class BushCard:
+    """CBUSH with its PBUSH: stiffness k (6,) along the axes of frame ``cid`` (K1-K3 translations, K4-K6
+    rotations) between grids ga and gb (gb None: to ground); only zero-length bushes (gb blank or at ga) with a
+    CID are read."""
+
+    eid: int
+    k: np.ndarray
+    ga: int
+    gb: int | None
+    cid: int
+    card: BulkCard
