@@ -31,6 +31,9 @@ def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
 def explain_scene(summary: dict, which: str) -> tuple:
     """(geometry of every grid joint or frame node, frequency_hz, shapes (rows, k), labels) of an explanation's
     measured shapes expanded by SEREP (``which`` = "measured") or the updated model's ("model")."""
+    if summary.get("fe_model"):
+        raise era.DataError("The 3-D viewer does not draw an FE model's mesh yet: see the shapes in the panel's "
+                            "tables and the MAC beside the test's.")
     shapes = np.asarray(summary["expanded_measured" if which == "measured" else "expanded_model"], dtype=float)
     f = np.asarray(summary["measured_hz"] if which == "measured" else
                    [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
