@@ -26,6 +26,7 @@ N_MODES = 10
 RIGID = 1e-4
 #: Test point labels: "12Z", "12z", "12:z", "12 +Z", "12-z", "E -y" (node, optional separator, sign, axis).
 _POINT = re.compile(r"^(\S+?)\s*[:.\s]?\s*([+-]?)\s*(rx|ry|rz|x|y|z)$", re.IGNORECASE)
+_INCLUDE = re.compile(rb"^[ \t]*include\b", re.IGNORECASE | re.MULTILINE)
 _WHAT_TO_DO = ("Upload a Nastran bulk-data deck (.bdf, .dat or .nas) or a .zip with K.mtx, M.mtx and dofs.csv "
                "(docs/fe-models.md says how each FE program writes them).")
 
@@ -43,6 +44,9 @@ def read_upload(name: str, blob: bytes, path: Path, max_bytes: int) -> era.Matri
                                 f"{max_bytes:,} (ERA_MAX_UPLOAD_MB).")
     if not blob.strip():
         raise era.DataError(f"{name} is empty. {_WHAT_TO_DO}")
+    if path.suffix != ".zip" and _INCLUDE.search(blob):     # it would read a file of the server's
+        raise era.DataError(f"{name} INCLUDEs other files, which an upload cannot bring: paste the included "
+                            "bulk data into the deck (or load it with era.load_model on your machine).")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_bytes(blob)
     try:

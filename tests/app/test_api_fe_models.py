@@ -62,6 +62,7 @@ def test_bad_model_files_are_refused_with_what_to_do_and_the_stored_model_is_kep
                 z.writestr(n, src.read(n))
     refused("plate.zip", buf.getvalue(), "M.mtx")
     refused("empty.nas", b"", "empty", ".bdf")
+    refused("plate.dat", b"BEGIN BULK\ninclude '/etc/passwd'\nENDDATA\n", "INCLUDEs", "paste")   # no server file read
     files = sorted(p.name for p in (c.app.state.store.root / "models").iterdir())
     assert len(files) == 2, files                     # the JSON and the one deck kept, nothing left behind
 
