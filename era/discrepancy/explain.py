@@ -193,7 +193,8 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only. With an
         era.Frame, the struck points of data.meta["input_points"] (era.points' labels, "4Z" or "E x") that name a
         node and direction of the frame are sensors for the comparison too, after the outputs (their input-side
-        shapes scaled through a driving point, a point both measured and struck); others are said and left out.
+        shapes scaled through a driving point, a point both measured and struck); others are said and left out. So
+        are they with a matrix model, where a point is compared when it names a free DOF.
     model : the nominal model: an era.Frame (wrapped in :class:`FrameModel`, its mesh kept for every candidate),
         an era.MatrixModel (wrapped in MatrixExplainModel, seen at its ``sensors`` or else at the points the
         data's output labels name), ``era.examples.grid.nasa_grid(...)``, or anything with .modes(n),
@@ -243,6 +244,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     if isinstance(model, FrameModel) and measured.struck_points:   # struck points: sensors for the comparison too
         frame, measured, struck_words = struck_sensors(model.frame, measured)
         model = nominal = model if frame is model.frame else FrameModel.of(frame)
+    elif isinstance(model, MatrixExplainModel) and measured.struck_points:
+        matrices, measured, struck_words = struck_sensors(model.model.with_sensors(model.sensors), measured)
+        model = nominal = MatrixExplainModel.of(matrices, matrices.sensors)
     timing["era_s"] = time.perf_counter() - t0
     if effects is not None:
         specs = tuple(effects)

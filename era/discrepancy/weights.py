@@ -38,9 +38,10 @@ def frame_point(label: str, node_ids) -> tuple | None:
 
 
 def struck_sensors(frame, measured: MeasuredModes) -> tuple:
-    """(frame, measured, words): the struck points that name a node and direction of ``frame`` (an era.Frame)
-    added after its sensors, and their shapes after the outputs' (MeasuredModes.with_struck); the points that
-    do not map, or the reason none is compared, in one sentence ("" when all are). Unchanged without struck points."""
+    """(frame, measured, words): the struck points that name a node and direction of ``frame`` (an era.Frame, or
+    an era.MatrixModel: a free DOF of it) added after its sensors, and their shapes after the outputs'
+    (MeasuredModes.with_struck); the points that do not map, or the reason none is compared, in one sentence
+    ("" when all are). Unchanged without struck points."""
     labels = measured.struck_points
     if not labels:
         return frame, measured, ""
@@ -48,9 +49,12 @@ def struck_sensors(frame, measured: MeasuredModes) -> tuple:
         return frame, measured, (f"The {len(labels)} struck points are not compared: none of the struck points is "
                                  "also measured (a driving point), so their shapes cannot be scaled to the sensors'.")
     have = {(str(n), d.lstrip("-")) for n, d in frame.sensors if isinstance(d, str)}
+    free = getattr(frame, "dof_index", None)       # a matrix model: only its free DOFs
     keep, sensors, missing = [], [], []
     for i, label in enumerate(labels):
         at = frame_point(label, frame.node_ids)
+        if at is not None and free is not None and (at[0], at[1].lstrip("-")) not in free:
+            at = None
         if at is None:
             missing.append(str(label))
         elif (at[0], at[1].lstrip("-")) not in have:
@@ -63,7 +67,8 @@ def struck_sensors(frame, measured: MeasuredModes) -> tuple:
              f"and direction of the model and {'are' if many else 'is'} left out of the shape comparison.")
     if not keep:
         return frame, measured, words
-    frame = dataclasses.replace(frame, sensors=tuple(frame.sensors) + tuple(sensors))
+    points = tuple(frame.sensors) + tuple(sensors)
+    frame = frame.with_sensors(points) if free is not None else dataclasses.replace(frame, sensors=points)
     return frame, measured.with_struck(keep), words
 
 

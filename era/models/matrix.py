@@ -133,6 +133,11 @@ class MatrixModel:
         return tuple(dict.fromkeys(n for n, _ in self.dofs))
 
     @property
+    def node_ids(self) -> tuple:
+        """The nodes with free DOFs (as era.Frame.node_ids)."""
+        return self.nodes
+
+    @property
     def dof_index(self) -> dict:
         """{(node, direction): row}."""
         cache = self.__dict__.get("_index")

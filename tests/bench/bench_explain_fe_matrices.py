@@ -4,10 +4,10 @@ node, "measured" at 30 points from the model itself with the mass in (era's own 
 size, the truths of accuracy are CalculiX's in tests/discrepancy/test_explain_matrix.py).
 
 Measured (2 cores shared with five other engineers' jobs, load average 10-11), 2026-11-27: 19,152 DOFs; the
-panel assembled in 2.8 s, its 10 lowest modes in 5.3-5.4 s, explain in 79-96 s (ranking 68-71 s), the mass named
-at the candidate node next to the truth (one of about 400 spread over the panel, 3 cm from the truth): over the
-issue's targets (5 s, 60 s) at that load, which this bench asserts. A 3,600-DOF panel (25 × 25 nodes): explain
-23-41 s at the same load. The trials' 37 × 37 eigenproblems took 3-7 ms each at that load against 0.3-0.6 ms
+panel assembled in 2.8-3.1 s, its 10 lowest modes in 5.3-7.3 s (era.fem.eigen.sparse_modes), explain in 53 s
+(79-96 s before the screening stopped forming every translation's shape), the mass named at the candidate node
+next to the truth (one of about 400 spread over the panel, 3 cm from the truth); the modes over the issue's 5 s
+at that load, which this bench asserts. A 3,600-DOF panel (25 × 25 nodes): explain 19 s at the same load. The trials' 37 × 37 eigenproblems took 3-7 ms each at that load against 0.3-0.6 ms
 alone; the re-fit of the named effect in the full model (a few Gauss-Newton steps, a sparse eigensolve of
 1-5 s each at this size) is the other large share.
 """

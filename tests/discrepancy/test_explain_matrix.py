@@ -88,3 +88,23 @@ def test_the_plate_as_modelled_raises_no_alarm_and_its_points_come_from_the_chan
     assert r.verdict != "explained" and r.effect is None
     with pytest.raises(era.DataError, match="output labels do not all name a node and direction"):
         era.explain(dataclasses.replace(data, outputs=("A1",) * len(SENSORS)), bare)
+
+
+def test_struck_points_on_free_dofs_join_the_sensors_and_the_others_are_said(plate):
+    """A roving-hammer test: ten accelerometers, the other ten points struck (their shapes scaled through a
+    driving point). The struck points that name a free DOF of the matrices are compared as sensors; a point
+    on the clamped edge (no DOF in the matrices) and a label that names no node are left out, in words."""
+    folder, model = plate
+    at, kg = str(ccx_plate.node(6, 3, 1)), 0.8
+    f, s = ccx_plate.modes(folder, "mass", N_MODES, SENSORS, e_scale=FORM, mass=(at, kg))
+    rng = np.random.default_rng(4)
+    s = s / np.linalg.norm(s, axis=0) + 0.005 * rng.standard_normal(s.shape)
+    clamped = f"{ccx_plate.node(0, 3, 1)}z"
+    struck_shapes = np.vstack([s, np.zeros((2, s.shape[1]))])      # the two points that map nowhere
+    data = dataclasses.replace(modes_from_arrays(f, s[:10], 0.002 * f),
+                               struck_points=tuple(f"{n}{d}" for n, d in SENSORS[10:]) + (clamped, "A7z"),
+                               struck_shapes=struck_shapes, struck_shape_std=np.full(f.size, 0.005))
+    r = era.explain(data, model.with_sensors(SENSORS[:10]))
+    assert r.nominal_model.sensors == tuple(SENSORS)
+    assert f"2 struck points ({clamped}, A7z) name no node and direction of the model" in r.message
+    assert r.verdict == "explained" and r.effect.name == "point_mass" and r.effect.location == at
