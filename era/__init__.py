@@ -36,6 +36,7 @@ from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 # the engineer's own FE model: matrices from any FE program, CalculiX's and Nastran's files, the patch
 from .models import MatrixModel, load_model, save_model, save_patch
 from .discrepancy import MatrixExplainModel, matrix_effects
+from .discrepancy import DeckExplainModel, deck_effects
 
 __all__ = [
     "__version__",
@@ -49,4 +50,5 @@ __all__ = [
     "explain", "Explanation", "pair_modes", "ModePairing", "comac", "serep", "gap", "Gap", "real_shapes",
     "subspace_mac", "Frame", "Section", "FrameModel", "frame_effects", "compare_fe_modes",
     "MatrixModel", "load_model", "save_model", "save_patch", "MatrixExplainModel", "matrix_effects",
+    "DeckExplainModel", "deck_effects",
 ]

@@ -7,7 +7,9 @@ misses the test, a further effect is sought on top of them (search.py, at most t
 unless the named set fits within the measurement error (a χ² test, ranking.adequacy).
 """
 
+from .deck_model import DeckExplainModel
 from .effects import EffectSpec, Param
+from .effects_deck import deck_effects
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
 from .effects_matrix import matrix_effects
@@ -22,6 +24,7 @@ from .overlay import model_response, overlay
 from .ranking import RankedEffect
 
 __all__ = ["explain", "Explanation", "NamedEffect", "RankedEffect", "EffectSpec", "Param", "grid_effects",
-           "FrameModel", "frame_effects", "MatrixExplainModel", "matrix_effects", "compare_fe_modes", "ModeComparison",
+           "FrameModel", "frame_effects", "MatrixExplainModel", "matrix_effects", "DeckExplainModel",
+           "deck_effects", "compare_fe_modes", "ModeComparison",
            "ErrorLevels", "Fit", "MeasuredModes", "identify_modes", "measured_modes", "modes_from_arrays", "VERDICTS",
            "model_response", "overlay"]

@@ -247,6 +247,9 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
     elif isinstance(model, MatrixExplainModel) and measured.struck_points:
         matrices, measured, struck_words = struck_sensors(model.model.with_sensors(model.sensors), measured)
         model = nominal = MatrixExplainModel.of(matrices, matrices.sensors)
+    elif isinstance(model, DeckExplainModel) and measured.struck_points:
+        deck, measured, struck_words = struck_sensors(model.deck_model.with_sensors(model.sensors), measured)
+        model = nominal = DeckExplainModel.of(deck, deck.sensors)
     timing["era_s"] = time.perf_counter() - t0
     if effects is not None:
         specs = tuple(effects)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
+from ..errors import DataError
 from .changes import EFFECT_DEFAULTS, changed_matrices, split_dof
 from .matrix import MatrixModel
 from .write import mtx_bytes
@@ -63,21 +64,50 @@ def patch_files(model: MatrixModel, params, *, stiffness_factor: bool = False) -
     changes = _effects(params)
     factor = float(params.get("stiffness_factor", 1.0))
     applied = {**changes, "stiffness_factor": factor if stiffness_factor else 1.0}
-    k, m = changed_matrices(model, applied)
     lines = describe_patch(model, params)
+    base, deck_text = _deck_parts(model, params, lines)
+    k, m = changed_matrices(base, applied)
     files: dict[str, bytes] = {}
-    if any(key in changes for key in STIFFNESS_KEYS) or (stiffness_factor and factor != 1.0):
+    changed_deck = base is not model
+    if any(key in changes for key in STIFFNESS_KEYS) or (stiffness_factor and factor != 1.0) or changed_deck:
         files["K.mtx"] = mtx_bytes(k, f"stiffness of {model.name} with: " + "; ".join(lines))
-    if any(key in changes for key in MASS_KEYS):
+    if any(key in changes for key in MASS_KEYS) or changed_deck:
         files["M.mtx"] = mtx_bytes(m, f"mass of {model.name} with: " + "; ".join(lines))
+    if deck_text is not None:
+        files["era_patch.bdf"] = deck_text.encode("latin-1")
     files["dofs.csv"] = ("node,direction\n" + "".join(f"{n},{d}\n" for n, d in model.dofs)).encode()
     note = [f"The matrices of {model.name} with the effects explain named put in, over the same DOFs in the same "
             "order (dofs.csv). Replace the model's own matrices by these to run it updated."]
     note += [f"- {x}" for x in lines] or ["- no effect was named: the nominal matrices stand"]
     note.append(f"Global stiffness factor fitted with them: {factor:.4f} "
                 + ("(applied to K.mtx)." if stiffness_factor else "(not applied; the nuisance of every fit)."))
+    if deck_text is not None:
+        note.append("era_patch.bdf: the same effects as Nastran bulk data: INCLUDE it in the deck and comment out "
+                    "the cards it lists as replaced (era.models.nastran.write_patched_deck writes such a copy).")
     files["README.txt"] = ("\n".join(note) + "\n").encode()
     return files
+
+
+def _deck_parts(model: MatrixModel, params: dict, lines: list) -> tuple:
+    """For a model read from a Nastran deck: (the model with a property factor put in by assembling the deck
+    again, or ``model``; the bulk-data patch's text, or None when it cannot be written); ``lines`` gets the
+    property's line. (model, None) for any other model."""
+    deck = getattr(model, "deck", None)
+    if deck is None:
+        return model, None
+    from .nastran.patch import deck_patch_for      # the bulk-data writer: loaded for a deck's model only
+    from .nastran.reader import deck_model
+    base = model
+    factor = float(params.get("property_factor", 1.0))
+    if params.get("property_at") is not None and factor != 1.0:
+        key = str(params["property_at"]).removeprefix("property:")
+        base = deck_model(deck, {key: factor}, units=model.units)
+        lines.append(f"{key} × {factor:.6g} (the deck assembled again)")
+    try:
+        text = deck_patch_for(deck, params, title="; ".join(lines)).text
+    except DataError:         # spread mass, or two changes of one card: the matrices still carry them
+        text = None
+    return base, text
 
 
 def save_patch(model: MatrixModel, params, path, **kw) -> Path:

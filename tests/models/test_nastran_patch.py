@@ -117,3 +117,16 @@ def test_explains_parameters_become_the_patch(tmp_path):
     with pytest.raises(DataError, match="changed twice"):
         deck_patch_for(deck, {"property_at": "property:PSHELL 1 T", "property_factor": 0.9,
                               "part_at": "part:PSHELL 1", "part_factor": 1.1})
+
+
+def test_save_patch_of_a_deck_model_writes_bulk_data_and_matrices(tmp_path):
+    from era.models.patch import patch_files
+    deck = _deck(tmp_path)
+    model = deck_model(deck)
+    params = {"property_at": "property:PSHELL 1 T", "property_factor": 0.9, "point_mass_at": "122",
+              "point_mass": 0.05, "stiffness_factor": 1.0}
+    files = patch_files(model, params)
+    assert {"K.mtx", "M.mtx", "era_patch.bdf", "dofs.csv", "README.txt"} <= set(files)
+    text = files["era_patch.bdf"].decode()
+    assert "CONM2*" in text and "PSHELL*" in text and "$ replaces PSHELL 1" in text
+    assert b"era_patch.bdf" in files["README.txt"]

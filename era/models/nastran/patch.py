@@ -140,6 +140,7 @@ def deck_patch(deck: Deck, *, masses=(), springs=(), factors=None, parts=None, t
     title : a comment line at the top (what the effect is, e.g. the explanation's sentence).
     """
     eid, pid, mid = deck.max_ids["element"], deck.max_ids["property"], deck.max_ids["material"]
+    title = title.replace("×", "x").replace("·", "*").encode("ascii", "replace").decode()   # decks are ASCII
     head = [f"$ era patch for {Path(deck.path).name}" + (f": {title}" if title else "")]
     body, replaces = [], []
     for item in masses:
