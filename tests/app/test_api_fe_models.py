@@ -119,5 +119,17 @@ def test_explain_on_the_deck_names_the_hidden_mass_after_the_mapping_is_complete
     assert s.effect.location in near, (s.effect.location, s.effect.places)
     low, high = s.effect.interval["point_mass"]
     assert low <= HIDDEN_KG <= high and s.effect.parameters["point_mass"] == pytest.approx(HIDDEN_KG, rel=0.15)
+    again = exact(schemas.Explanation, c.get(f"/api/analyses/{a['id']}/explain").json())
+    assert again.effect.location == "28" and again.stale is None
+    made = c.post("/api/reports", json={"analysis_id": a["id"], "order": order, "modes": keep[:2]})
+    assert made.status_code == 200, made.text
+    report = c.get(f"/api/reports/{made.json()['token']}").json()
+    assert "Nastran deck plate.bdf" in report["structure_model"]["text"]
+    assert report["explanation"]["effect"]["location"] == "28"
+    # a changed mapping changes the model: the explanation is then stale, and says so
+    moved = c.put(f"{url}/mapping", json={"sensors": [[n, "z"] for _, n in POINTS[:-1]] + [["34", "z"]]})
+    assert moved.status_code == 200
+    later = c.get(f"/api/analyses/{a['id']}/explain").json()
+    assert later["stale"] and "earlier model" in later["stale"]
     v = c.post(f"/api/analyses/{a['id']}/explain/viewer", json={"which": "model"})
     assert v.status_code in (422, 503)                 # the viewer does not draw an FE mesh yet: said, not a 500
