@@ -43,6 +43,6 @@ __all__ = [
     "FrozenModel", "OfflineReport", "Report", "ReportCreated", "ReportDocument", "ReportGeometry", "ReportPair",
     "ReportReconstruction", "ReportRequest", "Campaign", "CampaignAnalysis", "CampaignFailure", "CampaignFolder",
     "CampaignFolders", "CampaignMode", "CampaignRecord", "CampaignResult", "CampaignSeries", "BestPartner",
-    "ModelComparison", "MappingRequest", "PointMatch", "ModelDraft", "ModelRequest", "ModelView", "ModelViewLink", "StructureModel", "Progress",
-    "Health", "StoreUsage"
+    "ModelComparison", "MappingRequest", "PointMatch", "ModelDraft", "ModelRequest", "ModelView", "ModelViewLink",
+    "StructureModel", "Progress", "Health", "StoreUsage"
 ]
