@@ -168,7 +168,8 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         seconds=seconds)
     if is_fe:
         from . import modeling
-        summary.update(model_text=modeling.describe(described), fe_model=True)
+        summary.update(model_text=modeling.describe(described), fe_model=True,
+                       mesh=femodel.mesh(model, result.node_labels))
     if is_frame:
         # the compared sensors: the frame's, then the struck points explain compared too (era.explain)
         summary.update(frame=frame_json(getattr(result.nominal_model, "frame", model), result.node_labels),

@@ -189,6 +189,28 @@ def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> d
             "mac": [[float(v) for v in row] for row in p.mac_matrix], "best": best}
 
 
+def mesh(model: era.MatrixModel, node_labels) -> dict | None:
+    """What the 3-D viewer draws an FE model's shapes on, in era.Frame's drawing format: {nodes: {node: [x, y, z]}
+    (the model's length unit), members: [[i, j], ...] (a deck's bars and its shells' edges, as lines), node_labels:
+    "node:x" per row of the expanded shapes}; None without node coordinates."""
+    if not model.coordinates:
+        return None
+    labels = [str(x) for x in node_labels]
+    seen = dict.fromkeys(x.rsplit(":", 1)[0] for x in labels)
+    nodes = {n: [float(v) for v in model.coordinates[n]] for n in seen}
+    deck = getattr(model, "deck", None)
+    edges: dict[tuple, None] = {}
+    if deck is not None:
+        for e in deck.lines.values():
+            edges[tuple(sorted((str(e.ga), str(e.gb))))] = None
+        for e in deck.shells.values():
+            ring = [str(g) for g in e.nodes]
+            for a, b in zip(ring, ring[1:] + ring[:1]):
+                edges[tuple(sorted((a, b)))] = None
+    members = [[a, b] for a, b in edges if a in nodes and b in nodes and a != b]
+    return {"nodes": nodes, "members": members, "node_labels": labels}
+
+
 def summary(stored: dict, f_hz, fingerprint: str) -> dict:
     """The answer for a stored FE model (schemas.StructureModel)."""
     fe, rows = stored["model"]["fe"], stored["model"]["mapping"]

@@ -307,10 +307,12 @@
     else redraw();
 
     if (fe) {
-      root.append(el("p", "The mode shapes over the FE model's mesh are not drawn yet: the MAC matrices above compare them at the sensors.", { class: "note", id: `${id}-fe-shapes` }));
+      const box = el("div", null, { id: `${id}-viewers` });
+      root.append(el("p", s.mesh ? "Mode shapes over the FE model's mesh (its bars and shell edges as lines), measured (SEREP-expanded) and updated model, in the 3-D viewer:"
+                                 : "This FE model has no node coordinates: its shapes are compared at the sensors by the MAC matrices above.", { class: "note", id: `${id}-fe-shapes` }), box);
       macPlots(s, macB, "before");
       macPlots(s, macA, "after");
-      return { viewers: el("div", null, { id: `${id}-viewers` }) };
+      return { viewers: box };
     }
     // Shapes: measured (expanded to all joints) and the updated model, side by side.
     const shapeRow = el("div", null, { class: "row" });

@@ -27,7 +27,7 @@ def plate(tmp_path_factory):
     (folder / "plate.bdf").write_text(deck())
     model = era.load_model(folder / "plate.bdf")
     era.save_model(model, folder / "plate.zip")
-    with client(folder / "data") as c:
+    with client(folder / "data", viewer=True) as c:
         ds = upload(c, npz_bytes(simulated(model)), "plate.npz")
         assert ds.status_code == 200, ds.text
         yield c, ds.json(), deck().encode(), (folder / "plate.zip").read_bytes(), model
@@ -131,5 +131,8 @@ def test_explain_on_the_deck_names_the_hidden_mass_after_the_mapping_is_complete
     assert moved.status_code == 200
     later = c.get(f"/api/analyses/{a['id']}/explain").json()
     assert later["stale"] and "earlier model" in later["stale"]
+    # the 3-D viewer draws the shapes on the deck's mesh: its 30 free nodes, the shells' edges between them
+    assert len(s.mesh["nodes"]) == 30 and len(s.mesh["node_labels"]) == 90 == len(s.expanded_measured)
+    assert ["2", "3"] in s.mesh["members"] and ["2", "9"] in s.mesh["members"] and ["1", "2"] not in s.mesh["members"]
     v = c.post(f"/api/analyses/{a['id']}/explain/viewer", json={"which": "model"})
-    assert v.status_code in (422, 503)                 # the viewer does not draw an FE mesh yet: said, not a 500
+    assert v.status_code == 200 and v.json()["n_modes"] == len(s.modes), v.text

@@ -52,6 +52,8 @@ def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_m
         verdict = page.text_content("#explain-verdict")
         assert "node 28" in verdict, verdict
         assert "Nastran deck plate.bdf" in page.text_content("#explain-model")
+        assert "over the FE model's mesh" in page.text_content("#explain-fe-shapes")
+        page.wait_for_selector("#explain-viewers iframe, #explain-viewers .note", timeout=60000)
         assert not errors, errors
     finally:
         server.stop()
