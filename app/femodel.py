@@ -18,6 +18,8 @@ import era
 from era.points import axis_and_sign, channel_points
 from era.words import counted, listed
 
+from .store.files import write_atomic
+
 #: File suffixes read as an FE model (the others are era.Frame JSON or TOML).
 SUFFIXES = (".bdf", ".dat", ".nas", ".zip")
 #: Frequencies shown beside the test's.
@@ -47,8 +49,7 @@ def read_upload(name: str, blob: bytes, path: Path, max_bytes: int) -> era.Matri
     if path.suffix != ".zip" and _INCLUDE.search(blob):     # it would read a file of the server's
         raise era.DataError(f"{name} INCLUDEs other files, which an upload cannot bring: paste the included "
                             "bulk data into the deck (or load it with era.load_model on your machine).")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(blob)
+    write_atomic(path, blob)      # complete or absent, as the store's other files
     try:
         model = load(str(path), max_bytes)
     except era.TooLargeError:
