@@ -137,8 +137,12 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
     from era.discrepancy import overlay
 
     data = ident.data
-    is_frame = described is not None
-    if is_frame:
+    is_fe = described is not None and "fe" in described
+    is_frame = described is not None and not is_fe
+    if is_fe:       # the engineer's FE model (app/femodel.py), seen at the outputs its mapping matches
+        from . import femodel
+        model = femodel.load(described["path"]).with_sensors(femodel.sensors_of(described["mapping"]))
+    elif is_frame:
         from . import modeling
         model = modeling.frame(described)
         modeling.check_channels(model, data.outputs, geometry)
@@ -156,12 +160,16 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         model_hz_before=result.nominal_model.modes(n_model)[0] if n_model else [],
         model_hz_after=result.updated_model.modes(n_model)[0] if n_model else [],
         measured_hz=result.measured.take(result.fit_modes).frequency_hz,
-        grid_shape=None if is_frame else [int(np.unique(result.node_xy_ft[:, 0]).size),
+        grid_shape=None if described is not None else [int(np.unique(result.node_xy_ft[:, 0]).size),
                                           int(np.unique(result.node_xy_ft[:, 1]).size)],
-        sensors_ft=None if is_frame else [list(s) for s in model.sensors],
+        sensors_ft=None if described is not None else [list(s) for s in model.sensors],
         outputs=list(data.outputs), inputs=list(data.inputs),
         overlay_fit_percent={k: payloads.fit_percent(responses[f"fit_error_{k}"]) for k in ("nominal", "updated")},
         seconds=seconds)
+    if is_fe:
+        from . import modeling
+        summary.update(model_text=modeling.describe(described), fe_model=True,
+                       mesh=femodel.mesh(model, result.node_labels))
     if is_frame:
         # the compared sensors: the frame's, then the struck points explain compared too (era.explain)
         summary.update(frame=frame_json(getattr(result.nominal_model, "frame", model), result.node_labels),

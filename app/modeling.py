@@ -270,7 +270,12 @@ def summary(stored: dict, fr: era.Frame, f_hz) -> dict:
 
 
 def describe(model: dict) -> str:
-    """The model in one line, for the panel and the report: counts, sections, supports, masses."""
+    """The model in one line, for the panel and the report: counts, sections, supports, masses; an FE model's
+    file and counts, and how many outputs its mapping matches."""
+    if "fe" in model:
+        rows = model.get("mapping", [])
+        return (f"{model['fe']['text']}; {sum(r['matched'] for r in rows)} of {len(rows)} outputs matched to its "
+                "nodes")
     nodes, members = model.get("nodes", {}), model.get("members", [])
     secs = []
     for name, s in model.get("sections", {}).items():

@@ -7,7 +7,10 @@ A test is files only (no table), in the store's ``setups/{id}/``: the uploaded f
 (``setup1.bin`` ...), ``test.json`` (schemas.SetupsTest without ``merged``: the setups' channels and the proposed
 references), written once after the files, and ``merged.json`` (schemas.SetupsMerged), written again at every
 merge. The merged document holds everything the page draws, so the test's link (/s/{id}) reopens the result.
-Ambient records are converted (NExT) at the merge, with the picked references as the correlation references.
+Every setup is read and analysed as era.load and era.analyse do by default (ambient records through NExT with every
+channel as a correlation reference): the library's path, so the page and a script give one answer. The upload
+analyses the setups at once to propose the references from the data (era.reference_evidence); the names propose them
+only when the data cannot and the names are not generic.
 
 A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
 frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see
@@ -29,6 +32,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import era
+import era.setup_geometry
 import era.setups
 from era.words import listed
 
@@ -47,12 +51,14 @@ MAX_SETUPS = 32
 _ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
 #: References a merge needs at least: with one, every pair of modes has reference MAC 1, so a wrong pick passes.
 MIN_REFERENCES = 2
+#: A setup's scale whose relative σ exceeds this is said in its mode's note.
+SCALE_STD_SAID = 0.05
 #: The options a setups upload takes (the controls of the page's form), as era.load names them.
 OPTIONS = ("kind", "dt")
 
 
 class Refusal(era.DataError):
-    """A refusal said next to the page's control ``option`` ("file", "kind", "dt", "references")."""
+    """A refusal said next to the page's control ``option`` ("file", "kind", "dt", "references", "points")."""
 
     def __init__(self, message: str, option: str):
         super().__init__(message, option=option)
@@ -77,23 +83,27 @@ def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", 
         setups.append({"file": file_name, "outputs": list(data.outputs), "n_samples": int(data.n_samples),
                        "dt": float(data.dt), "has_geometry": geometry is not None, "ambient": "NExT" in conversions})
     outputs = [s["outputs"] for s in setups]
-    names, proposed = propose(outputs)
     test = {"id": new_token(), "name": name or f"{files[0][0]} + {len(files) - 1} more", "created": time.time(),
-            "kind": kind, "dt": dt, "setups": setups, "proposed": proposed, "proposed_names": names,
-            "unmatched": unmatched(outputs)}
+            "kind": kind, "dt": dt, "setups": setups, "unmatched": unmatched(outputs)}
     folder = _folder(store, test["id"])
     for k, (_, blob) in enumerate(files):
         write_atomic(folder / f"setup{k + 1}.bin", blob)
+    try:
+        runs = analyse_setups(store, settings, test)
+        evidence = era.reference_evidence([a for a, _ in runs])
+    except Refusal as exc:  # a setup that cannot be analysed: said at the merge, next to its file
+        evidence = era.ReferenceProposal(None, np.zeros(0), np.zeros((len(files), 0), int), (),
+                                         f"the setups could not all be analysed ({exc}), so the data propose nothing")
+    test.update(proposal(outputs, evidence))
     write_atomic(folder / "test.json", json.dumps(test).encode())  # last: the commit point
     return dict(test, merged=None)
 
 
-def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | None, references=None):
+def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | None):
     """(data, geometry, source) of setup k's file through era.load (app.loading.load_upload); the refusal in the
     page's words, prefixed with the setup, next to the control that fixes it."""
     try:
-        data, geometry, source = load_upload([(file_name, blob)], kind, settings.max_upload_bytes, dt=dt,
-                                             references=references)
+        data, geometry, source = load_upload([(file_name, blob)], kind, settings.max_upload_bytes, dt=dt)
         check_stored(data, settings.max_upload_bytes)
     except era.TooLargeError:
         raise
@@ -105,10 +115,37 @@ def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | 
 
 
 def propose(outputs: list[list[str]]) -> tuple[list[str], list[list[int]]]:
-    """The proposed references: the channel names in every setup, in the first setup's order; (names, their
-    index in each setup). Empty when no name is in every setup (the person picks them)."""
+    """The references the names propose: the channel names in every setup, in the first setup's order; (names,
+    their index in each setup). Empty when no name is in every setup, or when every channel of a setup is among
+    them (generic names such as ch1..ch8 repeat in every setup and say nothing of where the sensors are)."""
     common = [name for name in outputs[0] if all(name in out for out in outputs[1:])]
+    if any(len(common) >= len(out) for out in outputs):
+        return [], [[] for _ in outputs]
     return common, [[out.index(name) for name in common] for out in outputs]
+
+
+#: How many of era.reference_evidence's candidate pairs the page shows (best first).
+SHOWN_CANDIDATES = 4
+
+
+def proposal(outputs: list[list[str]], evidence) -> dict:
+    """The fields of schemas.SetupsTest that propose the references: from the data (era.reference_evidence) when
+    they tell, else from the names (:func:`propose`) when those are not generic, else none; with the evidence."""
+    names, by_name = propose(outputs)
+    if evidence.references is not None:
+        refs, source = evidence.references, "data"
+    elif names:
+        refs, source = by_name, "names"
+    else:
+        refs, source = [[] for _ in outputs], ""
+    shown = []
+    for c in evidence.candidates[:SHOWN_CANDIDATES]:
+        shown.append({"channels": [[outputs[k][i] for i in ch] for k, ch in enumerate(c.channels)],
+                      "indices": [list(ch) for ch in c.channels], "score": float(c.score),
+                      "runner_up": _num(c.runner_up), "mac": floats(c.mac)})
+    return {"proposed": [list(r) for r in refs], "proposed_names": [outputs[0][i] for i in refs[0]],
+            "proposed_from": source, "data_proposal": evidence.reason,
+            "shared_hz": floats(evidence.shared_hz), "candidates": shown}
 
 
 def unmatched(outputs: list[list[str]]) -> list[dict]:
@@ -181,34 +218,54 @@ def _in_page_words(text: str) -> str:
     return text
 
 
-def analyse_setups(store, settings, test: dict, refs: list[list[int]]) -> list:
-    """[(era.analyse result, geometry or None)] of every setup, read again from its kept file: ambient records
-    through NExT with that setup's references as the correlation references (the sensors that see every setup's
-    modes alike: fewer spurious poles than with every channel as a reference), other records as uploaded."""
+#: The analyses of the last few tests (their id -> [(era.analyse result, geometry)]): the upload analyses every
+#: setup to propose the references, the merge takes the same analyses (they do not depend on the references).
+_ANALYSES: dict = {}
+_KEPT_ANALYSES = 4
+
+
+def analyse_setups(store, settings, test: dict) -> list:
+    """[(era.analyse result, geometry or None)] of every setup, read from its kept file as era.load reads it
+    (ambient records through NExT with every channel as a correlation reference, era's default) and analysed by
+    era.analyse: the library's path with the library's defaults, so the page and a script give one answer."""
+    if test["id"] in _ANALYSES:
+        return _ANALYSES[test["id"]]
     folder = _folder(store, test["id"])
     results = []
     for k, s in enumerate(test["setups"]):
         blob = (folder / f"setup{k + 1}.bin").read_bytes()
-        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"),
-                                  refs[k] if s.get("ambient") else None)
+        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"))
         try:
             results.append((era.analyse(data), geometry))
         except era.EraError as exc:
             raise Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file") from None
+    while len(_ANALYSES) >= _KEPT_ANALYSES:
+        _ANALYSES.pop(next(iter(_ANALYSES)))
+    _ANALYSES[test["id"]] = results
     return results
 
 
-def merge(store, settings, test: dict, references) -> dict:
+def merge(store, settings, test: dict, references, points: str | None = None) -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
-    write and return schemas.SetupsMerged. Refusal (next to the picker) when era.merge_setups refuses."""
+    write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
+    then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
+    Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
-    runs = analyse_setups(store, settings, test, refs)
+    runs = analyse_setups(store, settings, test)
     try:
         result = era.setups.merge([a for a, _ in runs], refs)
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
-    geometry = era.setups.merged_geometry([g for _, g in runs], result)
-    merged = merged_json(test, refs, result, geometry)
+    if points and points.strip():
+        aliases = era.setup_geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
+                                                   [s["outputs"] for s in test["setups"]], refs)
+        try:
+            geometry = era.setup_geometry.points_geometry(era.setup_geometry.parse_points(points), aliases)
+        except era.DataError as exc:
+            raise Refusal(str(exc), "points") from None
+    else:
+        geometry = era.setups.merged_geometry([g for _, g in runs], result)
+    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "")
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 
@@ -229,10 +286,21 @@ def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
                 f"{listed(k + 1 for k in missing)} ({', '.join(unknown_at)})"] if missing else []
         note += [f"setup {k + 1}'s part from a weak cluster its analysis had left out, confirmed by the others"
                  for k in np.flatnonzero(result.recovered[j])]
+        by_f = [k + 1 for k in np.flatnonzero(result.by_frequency[j])]
+        if by_f:
+            note.append(f"setup{'s' if len(by_f) > 1 else ''} {listed(by_f)} paired by frequency alone (the only "
+                        "mode there within the window; the references barely move in this mode, so their "
+                        "components did not agree)")
+        sd = result.scale_std[j]
+        if np.any(np.isfinite(sd)) and np.nanmax(sd) > SCALE_STD_SAID:
+            worst = int(np.nanargmax(sd))
+            note.append(f"scale of setup {worst + 1}'s part uncertain by ±{100 * sd[worst]:.0f} %")
         modes.append({"frequency_hz": float(model.frequency_hz[j]), "damping_ratio": float(model.damping_ratio[j]),
                       "frequency_std_hz": _num(model.frequency_std_hz[j]), "damping_std": _num(model.damping_std[j]),
                       "mpc": _num(model.mpc[j]), "seen_in": n_seen, "seen": f"seen in {n_seen} of {n_setups} setups",
                       "complete": bool(not missing), "missing_setups": [k + 1 for k in missing],
+                      "paired_by_frequency": [k + 1 for k in np.flatnonzero(result.by_frequency[j])],
+                      "scale_std": [_num(x) for x in result.scale_std[j]],
                       "note": "; ".join(note)})
     s = np.asarray(model.eigenvalues, dtype=complex)
     return {

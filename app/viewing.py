@@ -31,10 +31,14 @@ def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
 def explain_scene(summary: dict, which: str) -> tuple:
     """(geometry of every grid joint or frame node, frequency_hz, shapes (rows, k), labels) of an explanation's
     measured shapes expanded by SEREP (``which`` = "measured") or the updated model's ("model")."""
+    if summary.get("fe_model") and not summary.get("mesh"):
+        raise era.DataError("This FE model has no node coordinates, so the 3-D viewer cannot draw it: add "
+                            "coordinates.csv (node,x,y,z) to the matrices' zip, or compare the shapes by the MAC.")
     shapes = np.asarray(summary["expanded_measured" if which == "measured" else "expanded_model"], dtype=float)
     f = np.asarray(summary["measured_hz"] if which == "measured" else
                    [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
-    every_joint = _frame_geometry(summary["frame"]) if summary.get("frame") else _grid_geometry()
+    drawn = summary.get("mesh") or summary.get("frame")     # an FE model's mesh, a frame, else the grid
+    every_joint = _frame_geometry(drawn) if drawn else _grid_geometry()
     n = every_joint.channel_nodes.size
     if shapes.shape[0] != n:
         raise era.DataError(f"The stored shapes have {shapes.shape[0]} rows, the structure {n} node translations.")

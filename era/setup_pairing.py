@@ -38,10 +38,12 @@ class DroppedMode:
 # ---- pairing ----------------------------------------------------------------------------------------------------
 def pair_modes(models, refs, tol, min_mac, min_level):
     """Groups: a list of (setups,) int arrays, one per distinct mode (its index in each setup, -1 where not seen),
-    built setup by setup by an optimal assignment (frequency and reference MAC); and the modes that cannot be
-    scaled (references near a node)."""
+    built setup by setup by an optimal assignment (frequency and reference MAC), then by frequency alone where the
+    reference MAC failed but the frequency leaves no doubt (:func:`by_frequency`); the modes that cannot be scaled
+    (references near a node); and the set of (setup, index) paired by frequency alone."""
     n_setups = len(models)
     dropped = []
+    frequency_only: set = set()
     groups: list[np.ndarray] = []
     for k, model in enumerate(models):
         r = model.shapes[refs[k]]
@@ -52,11 +54,11 @@ def pair_modes(models, refs, tol, min_mac, min_level):
                                        f"its reference components are at most {level[j]:.3f} of its largest: the "
                                        "references sit near a node of this mode, so this setup's part of it cannot be "
                                        "scaled to the others'; put a reference where it moves"))
-        usable, twins = without_twins(model, usable, min_mac)
+        usable, twins = without_twins(model, usable, min_mac, tol)
         dropped += [DroppedMode(k, j, float(model.frequency_hz[j]),
                                 f"a second pole of the {model.frequency_hz[i]:.4g} Hz mode in this setup (its shape at "
-                                "every sensor, within its half-power bandwidth): a split twin; the stronger pole is "
-                                "kept") for j, i in twins]
+                                "every sensor, within its half-power bandwidth or the pairing window): a split twin; "
+                                "the stronger pole is kept") for j, i in twins]
         if not groups:
             groups = [new_group(n_setups, k, j) for j in usable]
             continue
@@ -75,19 +77,41 @@ def pair_modes(models, refs, tol, min_mac, min_level):
             if ok[i, c]:
                 groups[i][k] = usable[c]
                 taken.add(c)
+        for i, c in by_frequency(near, taken, [g[k] >= 0 for g in groups]):
+            groups[i][k] = usable[c]
+            taken.add(c)
+            frequency_only.add((k, int(usable[c])))
         groups += [new_group(n_setups, k, usable[c]) for c in range(usable.size) if c not in taken]
-    return groups, dropped
+    return groups, dropped, frequency_only
 
 
-def without_twins(model, usable, min_mac):
+def by_frequency(near, taken, filled):
+    """[(group, column)] for the modes of a setup the assignment left alone whose reference MAC failed (references
+    near a node of the mode, so their components are small and noisy) but whose frequency leaves no doubt: exactly
+    one group within the window, which has no mode of this setup yet, and this mode the only one of the setup
+    within that group's window. near : (groups, modes) bool; taken : the columns already paired; filled : per
+    group, whether it has a mode of this setup."""
+    out = []
+    for c in range(near.shape[1]):
+        rows = np.flatnonzero(near[:, c])
+        if c in taken or rows.size != 1 or filled[rows[0]]:
+            continue
+        if np.flatnonzero(near[rows[0]]).size == 1:
+            out.append((int(rows[0]), c))
+    return out
+
+
+def without_twins(model, usable, min_mac, tol: float = 0.0):
     """The usable modes of one setup without split twins: of two modes within the stronger one's half-power
-    bandwidth (2 ζ f, era.choice's twin rule) whose shapes (every sensor) have MAC ≥ ``min_mac``, the one with the
-    larger contribution stays. Also [(twin, kept)]."""
+    bandwidth (2 ζ f, era.choice's twin rule) or within the pairing window (``tol`` f) whose shapes (every sensor)
+    have MAC ≥ ``min_mac``, the one with the larger contribution stays: inside the window both would pair with
+    the other setups' mode, and a weaker pole with the same shape beside a mode is its noise (NExT with every
+    channel as a correlation reference leaves such poles in short records). Also [(twin, kept)]."""
     f, zeta = model.frequency_hz, np.abs(model.damping_ratio)
     order = sorted(usable.tolist(), key=lambda j: -model.contribution[j])
     keep, twins = [], []
     for j in order:
-        match = [i for i in keep if abs(f[i] - f[j]) <= 2 * zeta[i] * f[i]
+        match = [i for i in keep if abs(f[i] - f[j]) <= max(2 * zeta[i], tol) * f[i]
                  and indicators.mac(model.shapes[:, i], model.shapes[:, j])[0, 0] >= min_mac]
         if match:
             twins.append((int(j), int(match[0])))
@@ -122,7 +146,12 @@ def mean_frequency(models, g) -> float:
 
 
 def anchor_references(models, refs, g) -> np.ndarray:
-    k = int(np.flatnonzero(g >= 0)[0])
+    """The reference components of a group's mode in the setup where they move most (relative to the mode's largest
+    component): the other setups are scaled onto it, and near a node the least noisy ratio is the best anchor."""
+    seen = np.flatnonzero(g >= 0)
+    level = [np.linalg.norm(models[k].shapes[refs[k], g[k]]) / max(np.max(np.abs(models[k].shapes[:, g[k]])), 1e-300)
+             for k in seen]
+    k = int(seen[int(np.argmax(level))])
     return models[k].shapes[refs[k], g[k]]
 
 

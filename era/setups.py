@@ -44,6 +44,11 @@ class SetupMerge:
         normalisation), NaN where not seen.
     reference_mac : (modes, setups), MAC of each setup's reference components with the merged ones, NaN where not seen.
     reference_residual : (modes, setups), |r̄ - α r_k| / |r̄| after the scale α: how far the references disagree.
+    scale_std : (modes, setups), the relative standard deviation of each scale |σ_α / α|, estimated from the
+        references' misfit (reference_residual / sqrt(references - 1)); NaN where not seen.
+    by_frequency : (modes, setups) bool, True where a setup's mode was paired by frequency alone: its reference MAC
+        failed (references near a node of the mode: small, noisy components) but it was the only mode of that setup
+        within the window of the only merged mode there.
     point_setup : (n_points,) int, the setup each point was measured in, -1 for the references (every setup).
     point_channel : (n_points,) int, the point's channel (output index) in that setup; a reference's in setup 1.
     dropped : every setup mode left out, with its reason.
@@ -56,6 +61,8 @@ class SetupMerge:
     scales: np.ndarray
     reference_mac: np.ndarray
     reference_residual: np.ndarray
+    scale_std: np.ndarray
+    by_frequency: np.ndarray
     point_setup: np.ndarray
     point_channel: np.ndarray
     dropped: tuple
@@ -117,8 +124,9 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
     references, and its shape would be unknown at most points).
 
-    Two poles of one setup within the stronger one's half-power bandwidth and with the same shape (MAC ≥
-    ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other dropped.
+    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) and with the same
+    shape (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other
+    dropped.
 
     Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
     alone and a wrong reference cannot be told.
@@ -141,7 +149,8 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     models, refs = _checked(analyses, references)
     n_setups = len(models)
     min_setups = max(1, min(int(min_setups), n_setups))
-    groups, dropped = pair_modes(models, refs, frequency_tolerance, min_reference_mac, min_reference_level)
+    groups, dropped, frequency_only = pair_modes(models, refs, frequency_tolerance, min_reference_mac,
+                                                 min_reference_level)
 
     kept = []
     for g in groups:
@@ -151,8 +160,7 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
             continue
         for k in seen:
             dropped.append(DroppedMode(k, int(g[k]), float(models[k].frequency_hz[g[k]]),
-                                       f"seen in {len(seen)} of {n_setups} setups (at least {min_setups} needed): no "
-                                       "other setup confirms it through the references"))
+                                       _unconfirmed(models, k, int(g[k]), frequency_tolerance, min_setups)))
     members = np.array(kept, dtype=int).reshape(-1, n_setups)
     order = np.argsort([mean_frequency(models, m) for m in members], kind="stable")
     members = members[order]
@@ -161,6 +169,8 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     if recover:
         found = recover_clusters(analyses, models, refs, members, frequency_tolerance, min_reference_mac,
                                  min_reference_level)
+    by_frequency = np.array([[(k, j) in frequency_only for k, j in enumerate(g)] for g in members],
+                            dtype=bool).reshape(members.shape)
     recovered = np.zeros(members.shape, bool)
     recovered_from = np.full(members.shape, -1)
     for (m, k), (i, _) in found.items():
@@ -169,13 +179,29 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     labels, point_setup, point_channel = _points(models, refs)
     shapes, scales, rmac, resid = _scaled_shapes(models, refs, members, len(labels), found)
     model = _merged_model(models, members, shapes, labels)
+    scale_std = resid / np.sqrt(max(len(refs[0]) - 1, 1))
     return SetupMerge(model=model, members=members, scales=scales, reference_mac=rmac, reference_residual=resid,
+                      scale_std=scale_std, by_frequency=by_frequency,
                       point_setup=point_setup, point_channel=point_channel,
                       dropped=tuple(sorted(dropped, key=lambda d: (d.setup, d.index))),
                       recovered=recovered, recovered_from=recovered_from)
 
 
 # ---- checks -----------------------------------------------------------------------------------------------------
+def _unconfirmed(models, k: int, j: int, tol: float, min_setups: int) -> str:
+    """Why setup k's mode j is left out when no other setup was paired with it: in how many setups it was seen,
+    or, when other setups have a mode at that frequency, which ones and that the references did not agree."""
+    f = models[k].frequency_hz[j]
+    others = [q + 1 for q, m in enumerate(models) if q != k and np.any(np.abs(m.frequency_hz - f) <= tol * f)]
+    if not others:
+        return (f"seen in 1 of {len(models)} setups (at least {min_setups} needed): no other setup confirms it "
+                "through the references")
+    return (f"setup{'s' if len(others) > 1 else ''} {', '.join(map(str, others))} also "
+            f"{'have' if len(others) > 1 else 'has'} a mode within {tol:.0%} of {f:.4g} Hz, but neither its "
+            "reference components nor its frequency pair it with one of theirs alone (several modes in the window, "
+            "or theirs taken by another mode of this setup)")
+
+
 def _checked(analyses, references) -> tuple[list[ModalModel], list[np.ndarray]]:
     analyses = list(analyses)
     references = list(references)

@@ -68,3 +68,63 @@ def setup_npz(k: int) -> tuple[str, bytes]:
                             shapes=TRUE_SHAPES[rows])
     data = era.markov_from_ambient(LEVELS[k] * y, DT, references=[0, 1], names=[f"P{i + 1}" for i in rows])
     return f"setup{k + 1}.npz", npz_bytes(data, beam_geometry(k))
+
+
+# ---- a tower in four setups, as the engineer of issue 36 met it -----------------------------------------------------
+# A uniform shear cantilever (a tall building's sway, continuous): φ_j(h) = sin((2j - 1) π h / 2),
+# f_j = (2j - 1) f_1, exact for the continuum. Twenty-two roving floors at h = i/22 and two reference sensors at
+# h = 0.385 and 0.795, both near a node of the third mode (h = 0.4, 0.8: its reference components are 0.08 and 0.04
+# of its largest), none on a roving floor. Setup 1 has 4 roving channels, setups 2-4 have 6; the references are the
+# last two channels of every setup (ch5, ch6 in setup 1, ch7, ch8 in the others): the channel names say nothing.
+TOWER_HEIGHTS = np.concatenate([np.arange(1, 23) / 22, [0.385, 0.795]])
+TOWER_HZ = 0.9 * (2 * np.arange(1, 6) - 1)
+TOWER_DAMPING = np.array([0.012, 0.01, 0.012, 0.01, 0.011])
+TOWER_SHAPES = np.sin(np.outer(TOWER_HEIGHTS, (2 * np.arange(1, 6) - 1) * np.pi / 2))
+TOWER_REFERENCES = [22, 23]
+TOWER_ROVING = [list(range(0, 4)), list(range(4, 10)), list(range(10, 16)), list(range(16, 22))]
+TOWER_LEVELS = [1.0, 2.0, 0.7, 1.5]
+
+
+def tower_rows(k: int) -> list[int]:
+    """Setup k's points (rows of TOWER_SHAPES) in its channel order: its roving floors, then the two references."""
+    return TOWER_ROVING[k] + TOWER_REFERENCES
+
+
+def tower_records(k: int, n_samples: int = 24_000, snr_db: float = 10.0, seed: int = 0) -> np.ndarray:
+    """(n_samples, channels) setup k's ambient record at 40 Hz (600 s by default), 10 dB of sensor noise."""
+    rows = tower_rows(k)
+    y, _ = ambient_response(TOWER_HZ, TOWER_DAMPING, len(rows), n_samples, DT, snr_db=snr_db, seed=100 + k + 7 * seed,
+                            shapes=TOWER_SHAPES[rows])
+    return TOWER_LEVELS[k] * y
+
+
+def tower_truth(points_rows) -> np.ndarray:
+    """(points, 5) the true shapes at rows of TOWER_SHAPES."""
+    return TOWER_SHAPES[list(points_rows)]
+
+
+@lru_cache(maxsize=None)
+def tower_file(k: int, n_samples: int = 24_000, seed: int = 0) -> tuple[str, bytes]:
+    """Setup k as the file of issue 36: no time column (40 Hz to be typed), channels ch1..ch<n>."""
+    y = tower_records(k, n_samples, seed=seed)
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow([f"ch{i + 1}" for i in range(y.shape[1])])
+    for row in y:
+        w.writerow([f"{v:.6g}" for v in row])
+    return f"tower{k + 1}.csv", buf.getvalue().encode()
+
+
+def tower_geometry_csv() -> str:
+    """The test's points as the CSV an engineer types (point,x,y,z,direction, m), then the lines (from,to) up the
+    tower through every point by height: setup k's channel c is point ``S<k>:ch<c>`` (a reference as setup 1
+    names it, S1:ch5 and S1:ch6); every sensor along +x at the tower's axis."""
+    names = {}
+    for k in range(4):
+        for c, row in enumerate(TOWER_ROVING[k]):
+            names[row] = f"S{k + 1}:ch{c + 1}"
+    names[TOWER_REFERENCES[0]], names[TOWER_REFERENCES[1]] = "S1:ch5", "S1:ch6"
+    lines = ["point,x,y,z,direction"] + [f"{names[row]},0,0,{60 * TOWER_HEIGHTS[row]:.4f},x" for row in names]
+    by_height = sorted(names, key=lambda row: TOWER_HEIGHTS[row])
+    lines += ["from,to"] + [f"{names[a]},{names[b]}" for a, b in zip(by_height, by_height[1:])]
+    return "\n".join(lines) + "\n"

@@ -9,7 +9,7 @@ from fastapi import APIRouter, Depends, HTTPException, Query, Request
 
 import era
 
-from .. import compute, explaining, modeling, schemas, viewing
+from .. import compute, explaining, femodel, modeling, schemas, viewing
 from ..cache import Analysis
 from ..errors import NotFound
 from ..schemas import ExplainRequest, ExplainViewerRequest
@@ -44,8 +44,15 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
     (then the dataset must have the grid's nine sensors in order). Stores the result with the analysis; ``basis``
     in the answer says what was used."""
     stored = store(request).model(a.dataset_id)     # the dataset's own structure model, else the grid's
+    described = None if stored is None else stored["model"]
     if stored is None:
         model = explaining.nominal_model(body.nominal)  # bad parameters: 422 now, not after the queue
+    elif stored.get("source") == "fe":                  # an FE model: every output matched, else 422 now
+        model = None
+        femodel.sensors_of(stored["model"]["mapping"])
+        fe = stored["model"]["fe"]
+        described = dict(stored["model"], path=str(store(request).model_file(a.dataset_id, fe["sha256"],
+                                                                             fe["suffix"])))
     else:
         model = None                                     # built from stored["model"] in the worker
         await jobs(request).quick(modeling.check_channels_of, stored["model"], a.data.outputs, a.geometry)
@@ -64,7 +71,7 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
 
     def work():
         compared = (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
-        nominal, described = (body.nominal, None) if stored is None else ({}, stored["model"])
+        nominal = body.nominal if stored is None else {}
         summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=tracked,
                                          kept=compared, chosen=body.modes == "stable", described=described,
                                          workers=c.settings.heavy_workers)

@@ -25,12 +25,13 @@ async def create(request: Request,
                  dt: float | None = Form(None, gt=0, description="sampling interval, s, for files without a time "
                                                                  "column"),
                  name: str | None = Form(None, max_length=200, description="what to call the test")):
-    """Every file is read as one setup and kept; the answer proposes the references (the channel names in every
-    setup). Refusals (422) name the form control that fixes them in ``option``: file, kind or dt."""
+    """Every file is read as one setup, kept and analysed (era.analyse, era's defaults); the answer proposes the
+    references from the data (era.reference_evidence), else from the names when they are not generic. Refusals (422) name the form control that fixes them in ``option``: file, kind or dt."""
     files = await read_parts(file)
     settings = cache(request).settings
     return await jobs(request).heavy(setups.create, store(request), settings, files, kind, dt, name,
-                                     progress=progress_key(request), message=f"Reading {len(files)} setups")
+                                     progress=progress_key(request), 
+                                     message=f"Reading and analysing {len(files)} setups")
 
 
 @router.get("/api/setups/{test_id}", response_model=SetupsTest, summary="A multi-setup test and its last merge")
@@ -42,10 +43,11 @@ async def read(request: Request, test_id: str):
              summary="Analyse every setup (era.analyse) and merge them through the references (era.merge_setups)")
 async def merge(request: Request, test_id: str, body: SetupsRequest):
     """The test with its new merge. A refusal (422, ``option`` "references") says which setup's references do not
-    match; ``option`` "file" when a setup's records cannot be analysed or are no longer stored."""
+    match; ``option`` "points" when the points table is wrong; ``option`` "file" when a setup's records cannot be
+    analysed or are no longer stored."""
     test = await jobs(request).quick(setups.load, store(request), test_id)
     settings = cache(request).settings
-    merged = await jobs(request).heavy(setups.merge, store(request), settings, test, body.references,
+    merged = await jobs(request).heavy(setups.merge, store(request), settings, test, body.references, body.points,
                                        progress=progress_key(request),
                                        message=f"Analysing {len(test['setups'])} setups and merging them")
     return dict(test, merged=merged)

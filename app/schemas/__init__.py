@@ -28,7 +28,8 @@ from .campaigns import (
     Campaign, CampaignAnalysis, CampaignFailure, CampaignFolder, CampaignFolders, CampaignMode, CampaignRecord,
     CampaignResult, CampaignSeries,
 )
-from .models import BestPartner, ModelComparison, ModelDraft, ModelRequest, ModelView, ModelViewLink, StructureModel
+from .models import (BestPartner, MappingRequest, ModelComparison, ModelDraft, ModelRequest, ModelView, ModelViewLink,
+                     PointMatch, StructureModel)
 from .jobs import Progress
 from .health import Health, StoreUsage
 
@@ -42,6 +43,6 @@ __all__ = [
     "FrozenModel", "OfflineReport", "Report", "ReportCreated", "ReportDocument", "ReportGeometry", "ReportPair",
     "ReportReconstruction", "ReportRequest", "Campaign", "CampaignAnalysis", "CampaignFailure", "CampaignFolder",
     "CampaignFolders", "CampaignMode", "CampaignRecord", "CampaignResult", "CampaignSeries", "BestPartner",
-    "ModelComparison", "ModelDraft", "ModelRequest", "ModelView", "ModelViewLink", "StructureModel", "Progress",
-    "Health", "StoreUsage"
+    "ModelComparison", "MappingRequest", "PointMatch", "ModelDraft", "ModelRequest", "ModelView", "ModelViewLink",
+    "StructureModel", "Progress", "Health", "StoreUsage"
 ]

@@ -124,8 +124,9 @@ class ExplainBasis(Schema):
 class UsedModel(Schema):
     """The nominal model an explanation was made with, as it was then (issue 9)."""
 
-    source: Literal["grid", "geometry", "file"] = Field(description="the NASA grid's built-in model, a model described "
-                                                                    "in the panel, or a model file")
+    source: Literal["grid", "geometry", "file", "fe"] = Field(description="the NASA grid's built-in model, a model "
+                                                                          "described in the panel, a model file, or "
+                                                                          "an FE model (a deck or matrices)")
     name: str | None = Field(description="the model file's name, or null")
     saved: float | None = Field(description="when that model was saved, Unix s (null for the grid)")
     fingerprint: str | None = Field(description="the model's fingerprint (StructureModel.fingerprint); null for "
@@ -174,7 +175,11 @@ class Explanation(Explained):
     frame: dict[str, Any] | None = Field(None, description="on a frame: {nodes: {id: [x, y, z] m}, members: "
                                                            "[[i, j]], sensors: [[node, direction]], node_labels: "
                                                            "rows of the expanded shapes (\"7:x\", ...)}")
-    model_text: str | None = Field(None, description="on a frame: the model compared, in one line")
+    model_text: str | None = Field(None, description="on a frame or an FE model: the model compared, in one line")
+    fe_model: bool = Field(False, description="compared with the engineer's FE model (a Nastran deck or matrices)")
+    mesh: dict[str, Any] | None = Field(None, description="on an FE model with node coordinates: {nodes: {id: [x, y, "
+                                                          "z]}, members: [[i, j]] (bars and shell edges), node_labels: "
+                                                          "the expanded shapes' rows} for the 3-D viewer")
     model_used: UsedModel | None = Field(None, description="the model this result was made with (null for results "
                                                            "stored before it was recorded)")
     stale: str | None = Field(None, description="why this result no longer matches the dataset's model (it changed "

@@ -23,11 +23,24 @@ class ModelDraft(Schema):
     shapes: list[str] = Field(description="section shapes: rectangle, tube, square_tube, circle")
 
 
+class PointMatch(Schema):
+    """One output of the test matched to a DOF of an FE model."""
+
+    output: str = Field(description="the output's label")
+    point: str | None = Field(description="the test point it measures (node and signed direction), or null")
+    node: str | None = Field(description="the model node matched, or null")
+    direction: str | None = Field(description="x, y, z, rx, ry or rz, with a sign when the channel reads -axis")
+    matched: bool = Field(description="whether the output is matched to a free DOF of the model")
+
+
 class StructureModel(Schema):
     """A dataset's stored structure model (GET/PUT /api/datasets/{id}/model, POST .../model/file)."""
 
-    model: dict[str, Any] = Field(description="the model in era.Frame's file format (SI units), as described")
-    source: Literal["geometry", "file"] = Field(description="built from the geometry in the panel, or uploaded")
+    model: dict[str, Any] = Field(description="the model in era.Frame's file format (SI units), as described; for "
+                                              "an FE model {fe: the file's description, mapping}")
+    source: Literal["geometry", "file", "fe"] = Field(description="built from the geometry in the panel, an "
+                                                                  "uploaded era.Frame file, or an uploaded FE model "
+                                                                  "(a Nastran deck or a .zip of matrices)")
     name: str | None = Field(description="the uploaded file's name, or null")
     saved: float | None = Field(description="when it was saved, Unix s")
     fingerprint: str = Field(description="a hash of the model as described: an explanation made with another "
@@ -35,9 +48,17 @@ class StructureModel(Schema):
     n_nodes: int
     n_members: int
     n_sensors: int
-    total_mass_kg: float = Field(description="members plus lumped masses, kg")
+    total_mass_kg: float = Field(description="members plus lumped masses, kg (an FE model: the mass moving with a "
+                                             "rigid translation, in the model's mass unit)")
     frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
     text: str = Field(description="the model in one line")
+    mapping: list[PointMatch] | None = Field(None, description="an FE model: each output's test point and the "
+                                                               "model node and direction it is matched to")
+    unmatched: str | None = Field(None, description="an FE model: the outputs that match no model DOF, in one "
+                                                    "sentence; null when every one does")
+    notes: list[str] | None = Field(None, description="an FE model: how the file was read (a deck's cards not "
+                                                      "modelled, by name and count)")
+    n_dofs: int | None = Field(None, description="an FE model: its free DOFs")
 
 
 class ModelViewLink(Schema):
@@ -73,6 +94,12 @@ class ModelRequest(BaseModel):
                                     "(one per output, in order), gravity")
     source: Literal["geometry", "file"] = Field("geometry", description="built in the panel, or from a file")
     name: str | None = Field(None, max_length=200, description="the model file's name")
+
+
+class MappingRequest(BaseModel):
+    sensors: list[list[str] | None] = Field(description="one [node, direction] per output, in the outputs' order "
+                                                        "(direction x..rz, '-z' for a channel reading -z), or null "
+                                                        "for an output the model does not see", max_length=100000)
 
 
 class ModelView(BaseModel):

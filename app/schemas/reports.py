@@ -42,8 +42,9 @@ class ReportGeometry(Schema):
 class FrozenModel(Schema):
     """A dataset's structure model as a report keeps it."""
 
-    model: dict[str, Any] = Field(description="era.Frame's file format, SI units, as described")
-    source: str = Field(description="geometry (described in the panel) or file")
+    model: dict[str, Any] = Field(description="era.Frame's file format, SI units, as described; an FE model's "
+                                              "{fe, mapping}")
+    source: str = Field(description="geometry (described in the panel), file, or fe (an FE model: a deck or matrices)")
     name: str | None = Field(description="the uploaded file's name, or null")
     saved: float | None = Field(description="when it was saved, Unix s")
     text: str = Field(description="the model in one line")

@@ -29,7 +29,13 @@ class MergedMode(Schema):
     seen: str = Field(description='the same in words: "seen in 3 of 4 setups"')
     complete: bool = Field(description="its shape is known at every point (so it is in the UFF 55 export)")
     missing_setups: list[int] = Field(description="setups (1-based) at whose points the shape is unknown")
-    note: str = Field(description="what the page says about it: where its shape is unknown, what was recovered")
+    paired_by_frequency: list[int] = Field(default=[], description="setups (1-based) whose part was paired by "
+                                           "frequency alone (its reference MAC failed: references near a node)")
+    scale_std: list[float | None] = Field(default=[], description="(setups,) the relative σ of the factor each "
+                                          "setup's part was scaled by (from the references' misfit), null where "
+                                          "not seen")
+    note: str = Field(description="what the page says about it: where its shape is unknown, what was recovered, "
+                                  "what was paired by frequency, an uncertain scale")
 
 
 class DroppedSetupMode(Schema):
@@ -57,12 +63,25 @@ class SetupsMerged(Schema):
     geometry: ReportGeometry | None = Field(description="the setups' geometry with the merged points as its "
                                                         "channels, or null")
     uncertainty_source: str
+    points_table: str = Field(default="", description="the points table the merge was given (CSV point,x,y,z,"
+                                                      "direction, then from,to lines), or empty")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
 class SetupsUnmatched(Schema):
     name: str = Field(description="a channel name of setup 1")
     missing_in: list[int] = Field(description="the setups (1-based) without a channel of that name")
+
+
+class ReferencePairEvidence(Schema):
+    channels: list[list[str]] = Field(description="per setup, the pair's channel names (setup 1's pair, then the "
+                                                  "pair of each setup that best keeps its ratio)")
+    indices: list[list[int]] = Field(description="the same as channel indices")
+    score: float = Field(description="the smallest over the setups of its MAC over the shared modes (each "
+                                     "weighted by how much the pair moves)")
+    runner_up: float | None = Field(description="the same for the next best pair of some setup (ambiguous when "
+                                                "it passes too)")
+    mac: Matrix = Field(description="(setups, shared modes) its MAC with setup 1's pair, mode by mode")
 
 
 class SetupsTest(Schema):
@@ -73,8 +92,15 @@ class SetupsTest(Schema):
     dt: float | None = Field(description="the sampling interval given for files without a time column, s, or null")
     setups: list[SetupChannels]
     proposed: list[list[int]] = Field(description="the proposed references: per setup, the indices of the "
-                                                  "channels whose names are in every setup (setup 1's order)")
-    proposed_names: list[str] = Field(description="their names")
+                                                  "proposed channels (setup 1's order); empty lists when none")
+    proposed_names: list[str] = Field(description="their names in setup 1")
+    proposed_from: str = Field(default="names", description='"data" (era.propose_references: the channels whose '
+                               'components keep their ratios in every setup), "names" (the same names in every '
+                               'setup, when the data cannot tell and the names are not generic) or "" (none)')
+    data_proposal: str = Field(default="", description="what the data said about the references, in words")
+    shared_hz: Floats = Field(default=[], description="the frequencies of the modes every setup found, Hz (the "
+                                                      "evidence's columns)")
+    candidates: list[ReferencePairEvidence] = Field(default=[], description="the best pairs of channels, best first")
     unmatched: list[SetupsUnmatched] = Field(description="setup 1's channel names that some setups lack (a "
                                                          "reference renamed or missing there)")
     merged: SetupsMerged | None = Field(description="the last merge, or null")
@@ -83,9 +109,13 @@ class SetupsTest(Schema):
 class SetupsRequest(BaseModel):
     references: list[list[Index]] = Field(max_length=64, description="per setup (in order), the indices of its "
                                         "reference channels: the same sensors, in the same order, in every setup")
+    points: str | None = Field(None, max_length=200_000, description="where the points are: a CSV "
+                               "point,x,y,z,direction (direction x, -z, or \"dx dy dz\"; point named as the merged "
+                               "modes name it, or S<setup>:<channel>), optionally followed by from,to rows (the "
+                               "lines between points)")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 
 
-__all__ = ["SetupChannels", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
+__all__ = ["SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
            "SetupsUnmatched"]

@@ -136,6 +136,22 @@ class Store:
             raise ValueError(f"{dataset_id!r} is not a dataset id.")
         write_atomic(path, json.dumps(stored, separators=(",", ":")).encode())
 
+    def model_file(self, dataset_id: str, sha256: str, suffix: str) -> Path:
+        """Where a dataset's uploaded FE model file is kept (app/femodel.py: its name carries its hash, so a file
+        being replaced is never read half-written under the old name)."""
+        if not _ID.fullmatch(dataset_id):
+            raise ValueError(f"{dataset_id!r} is not a dataset id.")
+        if not re.fullmatch(r"[0-9a-f]{16,64}", sha256) or not re.fullmatch(r"\.[a-z]{1,4}", suffix):
+            raise ValueError("a model file's hash and suffix")
+        return self.root / "models" / f"{dataset_id}.{sha256[:16]}{suffix}"
+
+    def drop_model_files(self, dataset_id: str, keep: Path | None = None) -> None:
+        """Remove a dataset's uploaded FE model files, but ``keep``."""
+        if _ID.fullmatch(dataset_id):
+            for path in (self.root / "models").glob(f"{dataset_id}.*"):
+                if path.suffix != ".json" and path != keep:
+                    path.unlink(missing_ok=True)
+
     def has_model(self, dataset_id: str) -> bool:
         """Whether the dataset has a stored structure model (without reading it)."""
         path = self._model_path(dataset_id)
@@ -318,6 +334,7 @@ class Store:
         for dataset_id in dropped:
             self.dataset_path(dataset_id).unlink(missing_ok=True)
             self._model_path(dataset_id).unlink(missing_ok=True)
+            self.drop_model_files(dataset_id)
         return {"analyses": len(gone), "datasets": len(dropped)}
 
     def sweep_orphans(self, before: float) -> int:

@@ -82,10 +82,12 @@ def stand_in_note(geometry: Geometry) -> str | None:
     """What the viewer says under a `default_geometry` stand-in (the data came without geometry), else None."""
     if geometry.units != "channel":
         return None
+    give = ("; to see the structure, give each point's coordinates and direction (a geometry file, or a "
+            "multi-setup test's points table)")
     if geometry.n_nodes == 1:
-        return "No geometry in the file: the one sensor drawn as a point moving up and down"
+        return "No geometry in the file: the one sensor drawn as a point moving up and down" + give
     return (f"No geometry in the file: the {geometry.n_nodes} sensors in a row, in channel order, "
-            "each moving up and down")
+            "each moving up and down" + give)
 
 
 def geometry_for(geometry: Geometry | None, n_channels: int) -> Geometry:

@@ -72,7 +72,7 @@ function draw(summary) {
   markStale(summary.stale || null);
   shown = state.analysis.id;
   $("explain-status").textContent = `Done in ${summary.seconds.toFixed(1)} s (ERA ${summary.timing_s.era_s.toFixed(1)} s, ranking ${summary.timing_s.ranking_s.toFixed(1)} s). Stored with this analysis: a report created now includes it.`;
-  showViewers(box, 0);
+  if (!summary.fe_model || summary.mesh) showViewers(box, 0);   // an FE model without coordinates is not drawn
 }
 
 // What the comparison would use: this dataset's model, else the NASA grid's for the grid's nine sensors, else none.

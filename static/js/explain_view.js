@@ -274,6 +274,7 @@
     if (s.basis) root.append(el("p", `Compared: ${s.basis.text}`, { class: "note", id: `${id}-basis` }));
     const made = s.model_used && s.model_used.saved ? `, saved ${new Date(1000 * s.model_used.saved).toLocaleString()}` : "";
     const from = s.model_used && s.model_used.source === "file" ? `the file ${s.model_used.name}: ` : "";
+    const fe = !!s.fe_model;   // the engineer's FE model: its shapes over the mesh are not drawn here yet
     if (s.model_text) root.append(el("p", `Nominal model: this dataset's structure model (${from}${s.model_text}${made}).`, { class: "note", id: `${id}-model` }));
     if (s.nominal_params && Object.keys(s.nominal_params).length) {
       root.append(el("p", `Nominal model: nasa_grid(${Object.entries(s.nominal_params).map(([k, v]) => `${k}=${JSON.stringify(v)}`).join(", ")})`, { class: "note" }));
@@ -305,6 +306,14 @@
     if (s.overlay) { output = s.overlay.output_index; input = s.overlay.input_index; selO.value = String(output); selI.value = String(input); drawOverlay(s, ov, fitBox, s.overlay); }
     else redraw();
 
+    if (fe) {
+      const box = el("div", null, { id: `${id}-viewers` });
+      root.append(el("p", s.mesh ? "Mode shapes over the FE model's mesh (its bars and shell edges as lines), measured (SEREP-expanded) and updated model, in the 3-D viewer:"
+                                 : "This FE model has no node coordinates: its shapes are compared at the sensors by the MAC matrices above.", { class: "note", id: `${id}-fe-shapes` }), box);
+      macPlots(s, macB, "before");
+      macPlots(s, macA, "after");
+      return { viewers: box };
+    }
     // Shapes: measured (expanded to all joints) and the updated model, side by side.
     const shapeRow = el("div", null, { class: "row" });
     const [labM] = select(`${id}-mode`, "Mode", s.modes.map((m, k) => [k, `${m.mode}: ${num(m.measured_hz, 3)} Hz`]), (x) => {

@@ -2,7 +2,8 @@
 // here from the dataset's geometry (one member per trace line segment, grouped by named trace line; a section and
 // material per group; supports, springs and lumped masses set by clicking nodes in the drawing, in the 3-D view or in
 // the node table; members added, removed or turned in the member table (model_edit.js); the sensors are the
-// dataset's channels) or uploaded as a model file (era.Frame JSON/TOML). The server checks and keeps it with the
+// dataset's channels) or uploaded as a model file (era.Frame JSON/TOML, or the engineer's FE model: a Nastran deck or
+// a .zip of matrices, its outputs matched to model nodes in model_fe.js's table). The server checks and keeps it with the
 // dataset (PUT /api/datasets/{id}/model): a reload or the analysis link shows it again, a report freezes it.
 // Sizes are typed in mm and sent in m (era.structure's SI file format).
 import { api, upload } from "./api.js";
@@ -10,6 +11,7 @@ import { state, on, emit, el, showError, plotConfig, plain } from "./state.js";
 import { drawNodes as nodeTable, drawMembers as memberTable, drawAdd, usedNodes, supportOf as supportIn, placeRefusal,
          clearRefusals, head, select } from "./model_edit.js";
 import { View3D } from "./model_view3d.js";
+import { drawMapping, feRows } from "./model_fe.js";
 
 const $ = (id) => document.getElementById(id);
 const SIZES = { rectangle: ["width", "depth"], tube: ["diameter", "wall"], square_tube: ["width", "wall"], circle: ["diameter"] };
@@ -203,7 +205,8 @@ function show(summary) {
     if ($("model-download").href.startsWith("blob:")) URL.revokeObjectURL($("model-download").href);
     $("model-download").href = URL.createObjectURL(blob);
   }
-  $("model-download").hidden = !summary;
+  $("model-download").hidden = !summary || summary.source === "fe";   // an FE model stays the engineer's file
+  drawMapping(summary, datasetUrl(), (r) => show(r));
   emit("model", summary);
 }
 
@@ -214,7 +217,8 @@ function render() {
   dl.replaceChildren();
   dl.hidden = !summary;
   if (!summary) return;
-  const rows = [["Model", summary.source === "file" ? `from the file ${summary.name}` : "described from the test geometry"],
+  const rows = summary.source === "fe" ? feRows(summary) : [
+    ["Model", summary.source === "file" ? `from the file ${summary.name}` : "described from the test geometry"],
     ["Structure", summary.text], ["Mass", `${summary.total_mass_kg.toPrecision(4)} kg`],
     ["Model's lowest modes (Hz)", summary.frequency_hz.filter((f) => f !== null && f > 1e-6).map((f) => f.toPrecision(4)).join(", ")]];
   if (state.modes && state.modes.n_modes) {
@@ -310,7 +314,7 @@ async function load(ds) {
   $("model-mac").hidden = true;
   $("model-compare-note").textContent = "";
   $("model-status").textContent = "";
-  for (const id of ["model-error", "model-file-error", "model-compare-error"]) showError(id, null);
+  for (const id of ["model-error", "model-file-error", "model-compare-error", "model-mapping-error"]) showError(id, null);
   const button = $("model-from-geometry");
   button.disabled = !(ds.geometry && ds.geometry.n_edges > 0);
   button.title = button.disabled ? NO_TRACE_LINES : "";

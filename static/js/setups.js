@@ -1,11 +1,12 @@
 // The multi-setup page: /setups uploads one file per setup (POST /api/setups), /s/{id} reopens a test. The
-// reference picker proposes the channels named alike in every setup; the merge (POST /api/setups/{id}/merge)
+// reference picker proposes the channels found from the data (their components keep the same ratios in every
+// setup; the evidence shown), else those named alike; the merge (POST /api/setups/{id}/merge)
 // analyses every setup and joins them through the references; the merged modes are shown at every point.
 import { api } from "./api.js";
 import { el, plain, plotConfig, showError } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
-const CONTROLS = ["file", "kind", "dt", "references"];  // a refusal's `option` -> the box next to its control
+const CONTROLS = ["file", "kind", "dt", "references", "points"];  // a refusal's `option` -> the box next to its control
 let test = null;       // schemas.SetupsTest
 let selected = 0;
 
@@ -83,13 +84,15 @@ async function merge() {
   $("setups-merge-status").textContent = `Analysing ${test.setups.length} setups and merging them…`;
   try {
     const t = await api(`/api/setups/${test.id}/merge`, {
-      method: "POST", body: { references: picked() },
+      method: "POST", body: { references: picked(), points: $("setups-points").value || null },
       progress: (text) => { $("setups-merge-status").textContent = text; } });
     show(t);
     $("setups-merge-status").textContent = `Merged: ${t.merged.modes.length} modes at ${t.merged.points.length} points.`;
   } catch (err) {
     $("setups-merge-status").textContent = "";
-    showError(`setups-${err.option === "file" ? "file" : "references"}-error`, err);
+    const box = ["file", "points"].includes(err.option) ? err.option : "references";
+    if (box === "points") $("setups-points-box").open = true;
+    showError(`setups-${box}-error`, err);
   } finally {
     $("setups-merge").disabled = false;
   }
@@ -101,19 +104,45 @@ function show(t) {
   $("setups-title").textContent = `ERA multi-setup test: ${t.name}`;
   $("setups-refs").hidden = false;
   const names = t.proposed_names;
-  $("setups-proposal").textContent = names.length
-    ? `Proposed: ${names.join(", ")}: the channels with the same names in every setup.`
-    : "No channel name is in every setup: pick each setup's reference channels below (at least two).";
+  const perSetup = t.proposed.map((refs, k) => `${refs.map((i) => t.setups[k].outputs[i]).join(", ")} in setup ${k + 1}`);
+  const said = t.data_proposal ? ` The data: ${t.data_proposal}.` : "";
+  $("setups-proposal").textContent = t.proposed_from === "data"
+    ? `Proposed from the data: ${perSetup.join("; ")}. ${t.data_proposal.replace(/^./, (c) => c.toUpperCase())}.`
+    : names.length
+      ? `Proposed from the names: ${names.join(", ")}: the channels with the same names in every setup.${said}`
+      : `No proposal: pick each setup's reference channels below (at least two).${said}`;
+  evidence(t);
   const missing = t.unmatched.map((u) => `${u.name} is not in setup ${u.missing_in.join(", ")}`);
   $("setups-unmatched").hidden = !missing.length;
   $("setups-unmatched").textContent = missing.length
     ? `${missing.join("; ")}: if it is a reference there under another name, add it below.` : "";
   picker(t.merged ? t.merged.references : (t.proposed[0].length ? t.proposed : t.setups.map(() => [0, 1])));
+  if (t.merged && t.merged.points_table && !$("setups-points").value) {
+    $("setups-points").value = t.merged.points_table;
+  }
   $("setups-result").hidden = !t.merged;
   if (t.merged) result(t.merged);
 }
 
+// The reference evidence: the best pairs of channels and their MAC over the modes every setup found.
+function evidence(t) {
+  const table = $("setups-evidence");
+  table.hidden = !(t.candidates && t.candidates.length);
+  if (table.hidden) return;
+  table.tHead.replaceChildren(el("tr", {}, el("th", { text: "channels (setup 1 / 2 / …)" }), el("th", { text: "MAC" }),
+    el("th", { text: "next best" }), ...t.shared_hz.map((f) => el("th", { text: `${f.toFixed(3)} Hz` }))));
+  table.tBodies[0].replaceChildren(...t.candidates.map((c) => el("tr", {},
+    el("td", { text: c.channels.map((pair) => pair.join("+")).join(" / ") }), el("td", { text: c.score.toFixed(4) }),
+    el("td", { text: c.runner_up === null ? "–" : c.runner_up.toFixed(4) }),
+    ...t.shared_hz.map((_, m) => el("td", { text: Math.min(...c.mac.slice(1).map((row) => row[m])).toFixed(3) })))));
+}
+
 const pct = (x) => (x === null || x === undefined ? "–" : (100 * x).toFixed(3));
+// The largest relative σ of the factors the setups' parts were scaled by, in %.
+const scaleStd = (mode) => {
+  const sd = (mode.scale_std || []).filter((x) => x !== null);
+  return sd.length ? `±${(100 * Math.max(...sd)).toFixed(1)}` : "–";
+};
 const num = (x, d) => (x === null || x === undefined ? "–" : x.toFixed(d));
 
 function result(m) {
@@ -131,7 +160,8 @@ function result(m) {
   body.replaceChildren(...m.modes.map((mode, j) => {
     const cells = [["mode", String(j + 1)], ["frequency_hz", num(mode.frequency_hz, 4)],
                    ["frequency_std_hz", num(mode.frequency_std_hz, 4)], ["damping", pct(mode.damping_ratio)],
-                   ["damping_std", pct(mode.damping_std)], ["mpc", num(mode.mpc, 3)], ["seen", mode.seen],
+                   ["damping_std", pct(mode.damping_std)], ["mpc", num(mode.mpc, 3)],
+                   ["scale_std", scaleStd(mode)], ["seen", mode.seen],
                    ["note", mode.note]];
     const tr = el("tr", { "data-mode": j, class: mode.complete ? "" : "incomplete" },
       ...cells.map(([key, text]) => el("td", { "data-key": key, text })));
@@ -167,6 +197,11 @@ function shape() {
 function drawing(m, j) {
   const re = m.shapes_re[j];
   const g = m.geometry;
+  $("setups-drawing-note").textContent = g
+    ? `The shape on the ${g.node_ids.length} nodes given, each point moving along its direction.`
+    : "No geometry: the points are drawn in a row. To see the shape on the structure, give each point's coordinates "
+      + "and direction (a CSV point,x,y,z,direction, and the lines between points) under \"Where the points are\" "
+      + "in step 2, then merge again.";
   if (!g) {  // the points in a row, in the order of their names (P1, P2, …, P10: numbers as numbers)
     const order = m.points.map((_, q) => q).sort((a, b) => m.points[a].localeCompare(m.points[b], undefined, { numeric: true }));
     const x = order.map((q) => plain(m.points[q]));
@@ -225,6 +260,10 @@ $("setups-form").addEventListener("submit", upload);
 $("setups-add-ref").addEventListener("click", () => addRow(null));
 $("setups-remove-ref").addEventListener("click", () => $("setups-ref-table").tBodies[0].lastElementChild?.remove());
 $("setups-merge").addEventListener("click", merge);
+$("setups-points-file").addEventListener("change", async (ev) => {
+  const f = ev.target.files[0];
+  if (f) $("setups-points").value = await f.text();
+});
 $("setups-modes").addEventListener("click", sendMode);
 const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)$/);
 if (opened) reopen(opened[1]);

@@ -16,7 +16,8 @@ import era
 from test_app_e2e import Server, browser, shots, table_rows  # noqa: F401  (fixtures)
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from simulated_setups import FREQUENCY_HZ, setup_file, setup_npz, truth_at  # noqa: E402
+from simulated_setups import (FREQUENCY_HZ, TOWER_HZ, setup_file, setup_npz, tower_file,  # noqa: E402
+                              tower_geometry_csv, truth_at)
 
 pytestmark = pytest.mark.e2e
 
@@ -144,6 +145,60 @@ def test_setups_with_a_geometry_draw_the_merged_shape_on_it(tmp_path, browser): 
         # the second bending shape: the two halves move against each other, as sin(2 π x)
         assert era.mac(z, truth_at([f"P{i}" for i in range(1, 13)])[:, 1])[0, 0] >= 0.99
         page.wait_for_selector("#setups-viewer iframe", state="attached", timeout=60000)
+        assert not errors, errors
+    finally:
+        server.stop()
+
+
+def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(tmp_path, browser, shots):  # noqa: F811
+    """The files of issue 36 (no time column, channels ch1..ch8, the references the last two): the page proposes
+    ch5, ch6 / ch7, ch8 from the data with its evidence; with the points file (point,x,y,z,direction and the lines
+    up the tower) the merged modes are drawn on the tower in 3-D, each its exact shear-cantilever shape, and the
+    viewer shows them."""
+    files = []
+    for k in range(4):
+        name, blob = tower_file(k)
+        (tmp_path / name).write_bytes(blob)
+        files.append(str(tmp_path / name))
+    (tmp_path / "points.csv").write_text(tower_geometry_csv())
+    server = Server(tmp_path / "data", tmp_path / "server.log")
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1100})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.base + "/setups")
+        page.set_input_files("#setups-files", files)
+        page.fill("#setups-rate", "40")
+        page.click("#setups-upload")
+        page.wait_for_selector("#setups-refs:not([hidden]) #setups-ref-table tbody tr", timeout=180000)
+        assert page.text_content("#setups-proposal").startswith("Proposed from the data: ch5, ch6 in setup 1; ch7, ch8")
+        picks = page.eval_on_selector_all("#setups-ref-table select", "s => s.map(x => x.selectedOptions[0].text)")
+        assert picks == ["ch5", "ch7", "ch7", "ch7", "ch6", "ch8", "ch8", "ch8"]
+        evidence = table_rows(page, "#setups-evidence")
+        assert len(evidence) >= 2 and len(page.eval_on_selector_all("#setups-evidence thead th", "t => t")) == 3 + 5
+        page.click("#setups-points-box summary")
+        page.set_input_files("#setups-points-file", str(tmp_path / "points.csv"))
+        page.wait_for_function("document.getElementById('setups-points').value.startsWith('point,x,y,z')")
+        page.click("#setups-merge")
+        page.wait_for_selector("#setups-result:not([hidden]) #setups-modes tbody tr", timeout=180000)
+        rows = table_rows(page, "#setups-modes")
+        np.testing.assert_allclose([float(r["cells"]["frequency_hz"]) for r in rows], TOWER_HZ, rtol=0.01)
+        assert all(r["cells"]["seen"] == "seen in 4 of 4 setups" for r in rows)
+        assert "on the 24 nodes given" in page.text_content("#setups-drawing-note")
+        macs = []
+        for j in range(5):
+            page.click(f"#setups-modes tbody tr[data-mode='{j}'] td[data-key=frequency_hz]")
+            page.wait_for_function("document.getElementById('setups-shape-title').textContent"
+                                   f".startsWith('mode {j + 1}:')")
+            drawn = page.evaluate("""() => { const d = document.getElementById('setups-drawing').data;
+                                             return { types: d.map(t => t.type), x: d[2].x, z: d[2].z }; }""")
+            assert drawn["types"] == ["scatter3d"] * 3 and len(drawn["z"]) == 24
+            sway, height = np.array(drawn["x"], float), np.array(drawn["z"], float) / 60
+            macs.append(era.mac(sway, np.sin((2 * j + 1) * np.pi / 2 * height))[0, 0])
+        print("tower as drawn on its points, MAC with the exact shapes:", np.round(macs, 5))
+        assert min(macs) >= 0.99
+        page.wait_for_selector("#setups-viewer iframe", state="attached", timeout=60000)
+        page.screenshot(path=str(shots / "setups-tower.png"), full_page=True)
         assert not errors, errors
     finally:
         server.stop()

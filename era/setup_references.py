@@ -1,0 +1,193 @@
+"""propose_references(): which channels of a multi-setup test are the reference sensors, found from the identified
+modes, not from the channel names (generic names such as ch1..ch8 say nothing).
+
+The references stay in place, so the reference part of every mode is the same vector in every setup, up to the
+complex factor each setup's shape carries. A roving channel measures another point in every setup, so its
+components do not keep that proportion over several modes. The proposal therefore:
+
+1. pairs the setups' modes by frequency alone where that is unambiguous (one mode of the other setup within the
+   window, and that mode has one of the first setup's modes within its window): the shared modes;
+2. scores every pair of channels of setup 1 against every ordered pair of each other setup: the MAC of their two
+   components, mode by mode, over the shared modes (1 when the two channels keep the same ratio in both setups);
+3. keeps the pairs whose MAC over the shared modes (each mode weighted by how much the pair moves in it) passes in every setup, and proposes their channels only when they form one
+   consistent set (each channel of setup 1 the same channel in a given setup, whichever pair it is in, and every
+   two of them a passing pair). Anything else (no passing pair, a channel that would map to two channels, a pair
+   that passes in its swapped order as well: a symmetric structure with references at mirror points) is no
+   proposal: a wrong proposal is worse than none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations, permutations
+
+import numpy as np
+
+from .modal import ModalModel
+
+#: Two setups' modes are one shared mode when their frequencies differ by at most this fraction (and uniquely).
+FREQUENCY_TOLERANCE = 0.03
+#: A pair of channels is the references' when its MAC over the shared modes (weighted by how much the pair moves in
+#: each, see _score) is at least this in every setup.
+MIN_MAC = 0.99
+#: The pair is ambiguous when its runner-up (another ordered pair of some setup) passes too and misfits less than
+#: this many times as much (1 - MAC): a roving sensor beside a reference, or references at mirror points.
+MIN_MARGIN = 3.0
+#: ... over at least this many shared modes (with fewer, a roving pair can keep a ratio by chance).
+MIN_SHARED_MODES = 3
+
+
+@dataclass(frozen=True)
+class ReferenceCandidate:
+    """A pair of channels of setup 1 and, per setup, the ordered pair of channels that best keeps their ratio.
+
+    channels : (setups,) tuples of 2 int, the pair's indices in each setup (setup 1's first).
+    mac : (setups, shared modes) MAC of the pair's components with setup 1's, mode by mode (row 0: ones).
+    score : the smallest over the other setups of the weighted mean MAC over the shared modes (_score).
+    runner_up : the same score of the second best ordered pair in the setup where it comes closest (NaN with one
+        setup): a runner-up that passes too makes the pair ambiguous.
+    """
+
+    channels: tuple
+    mac: np.ndarray
+    score: float
+    runner_up: float
+
+
+@dataclass(frozen=True)
+class ReferenceProposal:
+    """What :func:`reference_evidence` found.
+
+    references : per setup, the indices of the proposed reference channels (setup 1's order), or None.
+    shared_hz : (shared modes,) the frequencies of the modes every setup saw (setup 1's), Hz.
+    shared : (setups, shared modes) int, each shared mode's index in each setup's model.
+    candidates : every pair of setup 1's channels, best score first.
+    reason : why this proposal (or none), in words.
+    """
+
+    references: list | None
+    shared_hz: np.ndarray
+    shared: np.ndarray
+    candidates: tuple
+    reason: str
+
+
+def propose_references(analyses, *, min_mac: float = MIN_MAC,
+                       frequency_tolerance: float = FREQUENCY_TOLERANCE) -> list | None:
+    """Per setup, the indices of the proposed reference channels (the same sensors in the same order in every
+    setup, setup 1's order), or None when no proposal passes its check. See :func:`reference_evidence`."""
+    return reference_evidence(analyses, min_mac=min_mac, frequency_tolerance=frequency_tolerance).references
+
+
+def reference_evidence(analyses, *, min_mac: float = MIN_MAC,
+                       frequency_tolerance: float = FREQUENCY_TOLERANCE) -> ReferenceProposal:
+    """The reference channels of a multi-setup test, found from its modes, with the evidence.
+
+    Parameters
+    ----------
+    analyses : list of era.AnalysisResult (or era.ModalModel), one per setup.
+    min_mac : a pair of channels is the references' when the MAC of its two components with setup 1's, averaged
+        over the shared modes (each weighted by how much the pair moves in it), is at least this in every setup.
+    frequency_tolerance : the relative frequency window in which two setups' modes are one shared mode.
+
+    Returns
+    -------
+    ReferenceProposal (``references`` None when no proposal passes; ``reason`` says why).
+    """
+    models = [getattr(a, "model", a) for a in analyses]
+    if len(models) < 2 or not all(isinstance(m, ModalModel) for m in models):
+        return ReferenceProposal(None, np.zeros(0), np.zeros((len(models), 0), int), (),
+                                 "references are proposed for two setups or more (era.analyse results)")
+    shared = shared_modes(models, frequency_tolerance)
+    f = models[0].frequency_hz[shared[0]] if shared.size else np.zeros(0)
+    if shared.shape[1] < MIN_SHARED_MODES:
+        return ReferenceProposal(None, f, shared, (), f"only {shared.shape[1]} modes are found in every setup at one "
+                                 f"frequency: {MIN_SHARED_MODES} or more are needed to tell the references by their "
+                                 "components; pick them by hand")
+    phis = [m.shapes[:, shared[k]] for k, m in enumerate(models)]  # (channels, shared) per setup
+    candidates = sorted((_candidate(phis, pair) for pair in combinations(range(phis[0].shape[0]), 2)),
+                        key=lambda c: -c.score)
+    passing = [c for c in candidates if c.score >= min_mac]
+    refs, reason = _consistent(passing, len(models), min_mac)
+    return ReferenceProposal(refs, f, shared, tuple(candidates), reason)
+
+
+def shared_modes(models, tol: float) -> np.ndarray:
+    """(setups, shared) int: setup 1's modes with exactly one mode of every other setup within ``tol`` (and that
+    mode with exactly one of setup 1's within its window), their index in every setup."""
+    f0 = models[0].frequency_hz
+    cols = []
+    for j, fj in enumerate(f0):
+        col = [j]
+        for m in models[1:]:
+            near = np.flatnonzero(np.abs(m.frequency_hz - fj) <= tol * fj)
+            back = near.size == 1 and np.sum(np.abs(f0 - m.frequency_hz[near[0]]) <= tol * m.frequency_hz[near[0]])
+            if near.size != 1 or back != 1:
+                break
+            col.append(int(near[0]))
+        if len(col) == len(models):
+            cols.append(col)
+    return np.array(cols, dtype=int).T.reshape(len(models), -1)
+
+
+def pair_mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(modes,) the MAC of two-component vectors a[:, m] and b[:, m] (each (2, modes) complex)."""
+    num = np.abs(np.sum(np.conj(a) * b, axis=0)) ** 2
+    den = np.sum(np.abs(a) ** 2, axis=0) * np.sum(np.abs(b) ** 2, axis=0)
+    return num / np.maximum(den, 1e-300)
+
+
+def _candidate(phis, pair) -> ReferenceCandidate:
+    a = phis[0][list(pair)]
+    peak0 = np.max(np.abs(phis[0]), axis=0)
+    channels, rows, score, runner = [tuple(pair)], [np.ones(a.shape[1])], np.inf, -np.inf
+    for phi in phis[1:]:
+        options = sorted(((_score(a, phi[list(b)], peak0, np.max(np.abs(phi), axis=0)), b)
+                          for b in permutations(range(phi.shape[0]), 2)), key=lambda t: -t[0])
+        best, b = options[0]
+        channels.append(tuple(int(i) for i in b))
+        rows.append(pair_mac(a, phi[list(b)]))
+        score = min(score, float(best))
+        runner = max(runner, float(options[1][0]) if len(options) > 1 else -np.inf)
+    return ReferenceCandidate(tuple(channels), np.array(rows), score, runner if np.isfinite(runner) else np.nan)
+
+
+def _score(a, b, peak_a, peak_b) -> float:
+    """1 - the mean of 1 - MAC over the shared modes, each weighted by how much the two channels move in it (the
+    smaller of the pair's energy over the mode's largest component², in either setup): a mode whose references sit
+    near its node has a noisy ratio and says little."""
+    w = np.minimum(np.sum(np.abs(a) ** 2, axis=0) / peak_a**2, np.sum(np.abs(b) ** 2, axis=0) / peak_b**2)
+    return float(1 - np.sum(w * (1 - pair_mac(a, b))) / max(np.sum(w), 1e-300))
+
+
+def _consistent(passing, n_setups: int, min_mac: float):
+    """(references or None, reason) from the passing pairs: one set of channels, each mapped to one channel per
+    setup, every two of them a passing pair, no runner-up passing."""
+    if not passing:
+        return None, (f"no two channels keep the same ratio in every setup (MAC ≥ {min_mac} over the shared modes)"
+                      ": no reference sensors are found in the data; pick them by hand")
+    maps: dict = {}
+    for c in passing:
+        if c.runner_up >= min_mac and 1 - c.runner_up < MIN_MARGIN * max(1 - c.score, 1e-12):
+            return None, (f"channels {c.channels[0][0] + 1} and {c.channels[0][1] + 1} of setup 1 match two "
+                          f"different pairs in another setup equally well (MAC {c.score:.3f} and "
+                          f"{c.runner_up:.3f}; a symmetric structure with references at mirror points): the data "
+                          "cannot tell which is which; pick them by hand")
+        for i in range(2):
+            got = maps.setdefault(c.channels[0][i], [ch[i] for ch in c.channels])
+            if got != [ch[i] for ch in c.channels]:
+                return None, (f"channel {c.channels[0][i] + 1} of setup 1 matches different channels of another "
+                              "setup in different pairs: the data do not tell one set of references; pick them by "
+                              "hand")
+    members = sorted(maps)
+    pairs = {c.channels[0] for c in passing}
+    if any((a, b) not in pairs for a, b in combinations(members, 2)):
+        return None, ("the channels that keep their ratios do not all agree with each other: the data do not tell "
+                      "one set of references; pick them by hand")
+    refs = [[int(maps[a][k]) for a in members] for k in range(n_setups)]
+    for k in range(n_setups):
+        if len(set(refs[k])) != len(refs[k]):
+            return None, f"two reference channels of setup 1 match one channel of setup {k + 1}; pick them by hand"
+    worst = min(c.score for c in passing)
+    return refs, (f"{len(members)} channels keep the same ratios in every setup over the shared modes (MAC "
+                  f"≥ {worst:.3f}); no other channel does")

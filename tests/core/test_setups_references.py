@@ -1,0 +1,96 @@
+"""A tower in four ambient setups (tests/simulated_setups.py): channels named ch1..ch8, the two references the last
+channels of every setup and near a node of the third mode. The references are found from the modes, the merge
+is complete and matches the exact shear-cantilever shapes; a symmetric beam with references at mirror points gets
+no proposal (the data cannot tell them apart)."""
+
+from functools import lru_cache
+
+import numpy as np
+
+import era
+from era.examples.synthetic import ambient_response
+from era.setups import merge
+from tests.simulated_setups import DT, TOWER_HZ, TOWER_REFERENCES, TOWER_ROVING, tower_records, tower_truth
+
+TRUE_REFERENCES = [[4, 5], [6, 7], [6, 7], [6, 7]]  # ch5, ch6 in setup 1; ch7, ch8 in setups 2-4
+
+
+@lru_cache(maxsize=None)
+def tower(n_samples: int = 24_000, seed: int = 0) -> tuple:
+    """The four setups through NExT (every channel a correlation reference, era's default) and era.analyse."""
+    out = []
+    for k in range(4):
+        y = tower_records(k, n_samples, seed=seed)
+        data = era.markov_from_ambient(y, DT, names=[f"ch{i + 1}" for i in range(y.shape[1])])
+        out.append(era.analyse(data))
+    return tuple(out)
+
+
+def merged_truth():
+    return tower_truth(TOWER_REFERENCES + [i for rov in TOWER_ROVING for i in rov])
+
+
+def test_the_references_are_found_from_the_modes_not_the_names():
+    evidence = era.reference_evidence(tower())
+    assert era.propose_references(tower()) == TRUE_REFERENCES == evidence.references
+    np.testing.assert_allclose(evidence.shared_hz, TOWER_HZ, rtol=0.01)  # all five modes shared
+    best = evidence.candidates[0]
+    assert best.channels == tuple(tuple(r) for r in TRUE_REFERENCES)
+    assert best.mac.shape == (4, 5) and best.score > 0.99
+    assert all(c.score < 0.99 for c in evidence.candidates[1:])  # no roving pair passes
+    print("proposal:", evidence.reason, "| best", round(best.score, 5), "next", round(evidence.candidates[1].score, 4))
+
+
+def test_the_merge_through_the_proposed_references_is_complete_and_exact():
+    result = merge(tower(), era.propose_references(tower()))
+    model = result.model
+    assert model.n_modes == 5 and np.all(result.complete)
+    np.testing.assert_allclose(model.frequency_hz, TOWER_HZ, rtol=0.01)
+    macs = np.diag(era.mac(model.point_shapes, merged_truth()))
+    print("tower merged MAC with the exact shapes:", macs.round(5))
+    assert np.all(macs >= 0.99)
+    # the third mode's references are near its nodes: its scales are the least certain
+    assert np.nanmean(result.scale_std[2]) > 3 * np.nanmean(np.delete(result.scale_std, 2, axis=0))
+
+
+def test_references_near_a_node_pair_by_frequency_and_say_so():
+    """A shorter test (300 s): the third mode's reference MAC fails in three setups; each is the only mode there
+    within the window, so it is paired by frequency, and the merge stays complete."""
+    runs = tower(12_000, 1)
+    assert era.propose_references(runs) == TRUE_REFERENCES
+    result = merge(runs, TRUE_REFERENCES)
+    assert result.model.n_modes == 5 and np.all(result.complete)
+    third = int(np.argmin(np.abs(result.model.frequency_hz - TOWER_HZ[2])))
+    assert result.by_frequency[third].sum() >= 1 and result.by_frequency.sum() == result.by_frequency[third].sum()
+    assert np.all(result.scale_std[third] > 0.03)
+    assert not any("seen in 1 of" in d.reason for d in result.dropped)
+    macs = np.diag(era.mac(result.model.point_shapes, merged_truth()))
+    print("300 s tower MAC:", macs.round(4), "scale σ of the third mode:", result.scale_std[third].round(3))
+    assert np.all(np.delete(macs, third) >= 0.99) and macs[third] >= 0.95
+
+
+def test_references_at_mirror_points_of_a_symmetric_beam_get_no_proposal():
+    """A simply supported beam (sin jπx, exact) with the references at x = 3/13 and 10/13: φ_j(1 - x) = ±φ_j(x),
+    so the pair and its swap keep the same ratios in every mode; a proposal would be a guess."""
+    x = np.arange(1, 13) / 13
+    shapes = np.sin(np.pi * np.outer(x, np.arange(1, 5)))
+    refs, roving = [2, 9], [[0, 1, 3], [4, 5, 6], [7, 8], [10, 11]]
+    runs = []
+    for k in range(4):
+        rows = roving[k] + refs
+        y, _ = ambient_response([2.0, 5.5, 9.0, 14.0], 0.01, len(rows), 8000, DT, snr_db=20, seed=k,
+                                shapes=shapes[rows])
+        runs.append(era.analyse(era.markov_from_ambient(y, DT)))
+    evidence = era.reference_evidence(runs)
+    assert evidence.references is None and era.propose_references(runs) is None
+    assert "cannot tell" in evidence.reason
+    # the true pair is there, and passes; it is its swapped twin that makes it ambiguous
+    best = evidence.candidates[0]
+    assert best.score > 0.99 and best.runner_up > 0.99
+
+
+def test_too_few_shared_modes_get_no_proposal():
+    runs = tower(12_000, 1)
+    few = [a.model.select([0, 1]) for a in runs]
+    evidence = era.reference_evidence(few)
+    assert evidence.references is None and "3 or more" in evidence.reason
