@@ -247,3 +247,16 @@ def test_one_file_and_unreadable_files_are_refused_next_to_the_file_control(tmp_
         r = c.post("/api/setups", files=[("file", setup_file(0)), ("file", setup_file(1))], data={"kind": "modal"})
         assert r.status_code == 422 and r.json()["option"] == "kind"
         assert c.get("/api/setups/no-such-test").status_code == 404
+
+
+def test_names_propose_only_when_the_data_cannot_and_the_names_are_not_generic():
+    from app.setups import proposal
+
+    none = era.ReferenceProposal(None, np.zeros(0), np.zeros((2, 0), int), (), "too few shared modes")
+    generic = [["ch1", "ch2", "ch3", "ch4"], ["ch1", "ch2", "ch3", "ch4", "ch5", "ch6"]]
+    said = proposal(generic, none)
+    assert said["proposed_from"] == "" and said["proposed"] == [[], []] and said["data_proposal"] == "too few shared modes"
+    named = [["P2", "P5", "P1"], ["P7", "P5", "P2"]]
+    said = proposal(named, none)
+    assert said["proposed_from"] == "names" and said["proposed"] == [[0, 1], [2, 1]]
+    assert said["proposed_names"] == ["P2", "P5"]
