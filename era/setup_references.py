@@ -190,4 +190,4 @@ def _consistent(passing, n_setups: int, min_mac: float):
             return None, f"two reference channels of setup 1 match one channel of setup {k + 1}; pick them by hand"
     worst = min(c.score for c in passing)
     return refs, (f"{len(members)} channels keep the same ratios in every setup over the shared modes (MAC "
-                  f"≥ {worst:.3f}); no other channel does")
+                  f"≥ {worst:.4f}); no other channel does")
