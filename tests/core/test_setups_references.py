@@ -94,3 +94,41 @@ def test_too_few_shared_modes_get_no_proposal():
     few = [a.model.select([0, 1]) for a in runs]
     evidence = era.reference_evidence(few)
     assert evidence.references is None and "3 or more" in evidence.reason
+
+
+def with_third_reference(runs, height_per_setup, position_per_setup):
+    """The setups' models with one more channel: a sensor at the given height (h, 0-1) of each setup, its shape
+    the exact one on each setup's own scale (per mode, the least-squares factor of the true references)."""
+    from dataclasses import replace
+
+    from tests.simulated_setups import TOWER_HEIGHTS, TOWER_SHAPES
+
+    out = []
+    for k, (a, h) in enumerate(zip(runs, height_per_setup)):
+        m = a.model
+        phi = m.shapes
+        f = m.frequency_hz
+        order = [int(np.argmin(np.abs(TOWER_HZ - x))) for x in f]
+        truth_refs = TOWER_SHAPES[TOWER_REFERENCES][:, order]  # (2, modes)
+        measured = phi[TRUE_REFERENCES[k]]
+        scale = np.sum(np.conj(truth_refs) * measured, axis=0) / np.sum(np.abs(truth_refs) ** 2, axis=0)
+        row = scale * np.sin((2 * np.array(order) + 1) * np.pi / 2 * h)
+        at = position_per_setup[k]
+        shapes = np.insert(phi, at, row, axis=0)
+        outputs = list(m.outputs)
+        outputs.insert(at, "extra")
+        assert 0.2 < h < 1 and h not in TOWER_HEIGHTS
+        out.append(replace(m, shapes=shapes, outputs=tuple(outputs), points=(), point_shapes=None))
+    return out
+
+
+def test_a_third_reference_is_found_in_its_place_in_every_setup():
+    models = with_third_reference(tower(12_000, 1), [0.615] * 4, [1, 8, 0, 3])
+    # setup 1: ch1 the new one, so the true references move to ch6, ch7; setup 3: the new one first
+    expected = [[1, 5, 6], [8, 6, 7], [0, 7, 8], [3, 7, 8]]
+    assert era.propose_references(models) == expected
+
+
+def test_a_sensor_that_moved_in_one_setup_is_not_proposed():
+    models = with_third_reference(tower(12_000, 1), [0.615, 0.615, 0.93, 0.615], [1, 8, 0, 3])
+    assert era.propose_references(models) == [[5, 6], [6, 7], [7, 8], [7, 8]]
