@@ -60,6 +60,17 @@ def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
             if any(abs(d["frequency_hz"] - f) < 0.03 * f for f in FREQUENCY_HZ):
                 assert "seen in 1 of" not in d["reason"], d
 
+        # the picked references only as NExT references (era.load's references=): the same four modes
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"],
+                                                            "next_references": "references"})
+        assert r.status_code == 200, r.text
+        only = r.json()["merged"]
+        assert only["next_references"] == "references" and len(only["modes"]) == 4
+        np.testing.assert_allclose([m["frequency_hz"] for m in only["modes"]], FREQUENCY_HZ, rtol=0.01)
+        assert np.all(np.diag(era.mac(shapes_of(only), truth_at(only["points"]))) >= 0.99)
+        merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
+        assert merged["next_references"] == "every"
+
         # the link reopens it: the same merge, read back
         again = c.get(f"/api/setups/{test['id']}").json()
         assert again["merged"]["points"] == merged["points"] and again["merged"]["shapes_re"] == merged["shapes_re"]
