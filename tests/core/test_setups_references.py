@@ -54,19 +54,32 @@ def test_the_merge_through_the_proposed_references_is_complete_and_exact():
 
 
 def test_references_near_a_node_pair_by_frequency_and_say_so():
-    """A shorter test (300 s): the third mode's reference MAC fails in three setups; each is the only mode there
-    within the window, so it is paired by frequency, and the merge stays complete."""
-    runs = tower(12_000, 1)
-    assert era.propose_references(runs) == TRUE_REFERENCES
-    result = merge(runs, TRUE_REFERENCES)
+    """The third mode's references sit near its nodes, so their components are small and noisy: here, in setups 1
+    and 3, one of them has the wrong sign (a ratio noise can give). Its reference MAC fails there; each is the only
+    mode of its setup within the window, so it is paired by frequency, said, and the merge stays complete."""
+    from dataclasses import replace
+
+    runs = list(tower(12_000, 1))
+    third = [int(np.argmin(np.abs(a.model.frequency_hz - TOWER_HZ[2]))) for a in runs]
+    models = []
+    for k, a in enumerate(runs):
+        shapes = a.model.shapes.copy()
+        if k in (0, 2):
+            shapes[TRUE_REFERENCES[k][1], third[k]] *= -1
+        models.append(replace(a.model, shapes=shapes, points=(), point_shapes=None))
+    result = merge(models, TRUE_REFERENCES)
     assert result.model.n_modes == 5 and np.all(result.complete)
-    third = int(np.argmin(np.abs(result.model.frequency_hz - TOWER_HZ[2])))
-    assert result.by_frequency[third].sum() >= 1 and result.by_frequency.sum() == result.by_frequency[third].sum()
-    assert np.all(result.scale_std[third] > 0.03)
+    m = int(np.argmin(np.abs(result.model.frequency_hz - TOWER_HZ[2])))
+    assert result.by_frequency[m].sum() >= 1 and result.by_frequency.sum() == result.by_frequency[m].sum()
+    assert np.nanmax(result.scale_std[m]) > 3 * np.nanmax(np.delete(result.scale_std, m, axis=0))
     assert not any("seen in 1 of" in d.reason for d in result.dropped)
     macs = np.diag(era.mac(result.model.point_shapes, merged_truth()))
-    print("300 s tower MAC:", macs.round(4), "scale σ of the third mode:", result.scale_std[third].round(3))
-    assert np.all(np.delete(macs, third) >= 0.99) and macs[third] >= 0.95
+    print("flipped references: paired by frequency in setups", np.flatnonzero(result.by_frequency[m]) + 1,
+          "scale σ", result.scale_std[m].round(3), "MAC", macs.round(4))
+    assert np.all(np.delete(macs, m) >= 0.99)
+    # the same test unflipped: complete too, every mode MAC ≥ 0.95 (0.978 for the third at 300 s)
+    plain = merge(runs, TRUE_REFERENCES)
+    assert np.all(plain.complete) and np.all(np.diag(era.mac(plain.model.point_shapes, merged_truth())) >= 0.95)
 
 
 def test_references_at_mirror_points_of_a_symmetric_beam_get_no_proposal():
