@@ -99,11 +99,12 @@ def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", 
     return dict(test, merged=None)
 
 
-def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | None):
+def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | None, references=None):
     """(data, geometry, source) of setup k's file through era.load (app.loading.load_upload); the refusal in the
     page's words, prefixed with the setup, next to the control that fixes it."""
     try:
-        data, geometry, source = load_upload([(file_name, blob)], kind, settings.max_upload_bytes, dt=dt)
+        data, geometry, source = load_upload([(file_name, blob)], kind, settings.max_upload_bytes, dt=dt,
+                                             references=references)
         check_stored(data, settings.max_upload_bytes)
     except era.TooLargeError:
         raise
@@ -224,34 +225,44 @@ _ANALYSES: dict = {}
 _KEPT_ANALYSES = 4
 
 
-def analyse_setups(store, settings, test: dict) -> list:
-    """[(era.analyse result, geometry or None)] of every setup, read from its kept file as era.load reads it
-    (ambient records through NExT with every channel as a correlation reference, era's default) and analysed by
-    era.analyse: the library's path with the library's defaults, so the page and a script give one answer."""
-    if test["id"] in _ANALYSES:
-        return _ANALYSES[test["id"]]
+def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = None) -> list:
+    """[(era.analyse result, geometry or None)] of every setup, read from its kept file as era.load reads it and
+    analysed by era.analyse: the library's path with the library's defaults, so the page and a script give one
+    answer. Ambient records go through NExT with every channel as a correlation reference (era.load's default), or,
+    with ``refs`` (per setup, its reference indices), with those references only: era.load(..., references=...)."""
+    key = (test["id"], None if refs is None else tuple(map(tuple, refs)))
+    if key in _ANALYSES:
+        return _ANALYSES[key]
     folder = _folder(store, test["id"])
     results = []
     for k, s in enumerate(test["setups"]):
         blob = (folder / f"setup{k + 1}.bin").read_bytes()
-        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"))
+        picked = refs[k] if refs is not None and s.get("ambient") else None
+        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"), picked)
         try:
             results.append((era.analyse(data), geometry))
         except era.EraError as exc:
             raise Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file") from None
     while len(_ANALYSES) >= _KEPT_ANALYSES:
         _ANALYSES.pop(next(iter(_ANALYSES)))
-    _ANALYSES[test["id"]] = results
+    _ANALYSES[key] = results
     return results
 
 
-def merge(store, settings, test: dict, references, points: str | None = None) -> dict:
+#: How ambient records are correlated (NExT) at a merge: every channel a reference (era.load's default), or the
+#: picked references only (era.load's ``references``; better when the roving channels are noisy).
+NEXT_REFERENCES = ("every", "references")
+
+
+def merge(store, settings, test: dict, references, points: str | None = None,
+          next_references: str = "every") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
     then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
+    ``next_references``: "every" (every channel a NExT reference) or "references" (the picked ones only).
     Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
-    runs = analyse_setups(store, settings, test)
+    runs = analyse_setups(store, settings, test, refs if next_references == "references" else None)
     try:
         result = era.setups.merge([a for a, _ in runs], refs)
     except era.DataError as exc:
@@ -265,7 +276,8 @@ def merge(store, settings, test: dict, references, points: str | None = None) ->
             raise Refusal(str(exc), "points") from None
     else:
         geometry = era.setups.merged_geometry([g for _, g in runs], result)
-    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "")
+    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "",
+                  next_references=next_references)
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 

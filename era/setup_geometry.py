@@ -121,7 +121,8 @@ def points_geometry(table: PointTable, aliases: list) -> Geometry:
             row_of[x] = q
     unknown = [x for x in table.names if x not in row_of]
     if unknown:
-        raise DataError(f"The points table names {', '.join(unknown[:5])}, which are not points of this test: name "
+        what = "which is not a point" if len(unknown) == 1 else "which are not points"
+        raise DataError(f"The points table names {', '.join(unknown[:5])}, {what} of this test: name "
                         "each point as the merged modes do, or as S<setup>:<channel> (e.g. S2:ch3).")
     placed = {row_of[x] for x in table.names}
     missing = [min(aliases[q]) for q in range(len(aliases)) if q not in placed]

@@ -33,6 +33,9 @@ MIN_MAC = 0.99
 #: The pair is ambiguous when its runner-up (another ordered pair of some setup) passes too and misfits less than
 #: this many times as much (1 - MAC): a roving sensor beside a reference, or references at mirror points.
 MIN_MARGIN = 3.0
+#: A channel is a candidate when it moves by at least this fraction of each mode's largest component in half the
+#: shared modes or more.
+MIN_LEVEL = 0.1
 #: ... over at least this many shared modes (with fewer, a roving pair can keep a ratio by chance).
 MIN_SHARED_MODES = 3
 
@@ -105,7 +108,8 @@ def reference_evidence(analyses, *, min_mac: float = MIN_MAC,
                                  f"frequency: {MIN_SHARED_MODES} or more are needed to tell the references by their "
                                  "components; pick them by hand")
     phis = [m.shapes[:, shared[k]] for k, m in enumerate(models)]  # (channels, shared) per setup
-    candidates = sorted((_candidate(phis, pair) for pair in combinations(range(phis[0].shape[0]), 2)),
+    moving = [np.flatnonzero(_moves(phi)) for phi in phis]
+    candidates = sorted((_candidate(phis, pair, moving) for pair in combinations(moving[0].tolist(), 2)),
                         key=lambda c: -c.score)
     passing = [c for c in candidates if c.score >= min_mac]
     refs, reason = _consistent(passing, len(models), min_mac)
@@ -137,13 +141,24 @@ def pair_mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return num / np.maximum(den, 1e-300)
 
 
-def _candidate(phis, pair) -> ReferenceCandidate:
+def _moves(phi: np.ndarray) -> np.ndarray:
+    """(channels,) bool: the channel moves in at least half the shared modes (|φ| ≥ MIN_LEVEL of the mode's
+    largest). A channel that barely moves (a vertical sensor on a swaying frame) keeps a "ratio" near 0 with
+    anything, so its ratios tell nothing."""
+    level = np.abs(phi) / np.maximum(np.max(np.abs(phi), axis=0), 1e-300)
+    return np.mean(level >= MIN_LEVEL, axis=1) >= 0.5
+
+
+def _candidate(phis, pair, moving) -> ReferenceCandidate:
     a = phis[0][list(pair)]
     peak0 = np.max(np.abs(phis[0]), axis=0)
     channels, rows, score, runner = [tuple(pair)], [np.ones(a.shape[1])], np.inf, -np.inf
-    for phi in phis[1:]:
+    for k, phi in enumerate(phis[1:], start=1):
+        if moving[k].size < 2:
+            return ReferenceCandidate(tuple([tuple(pair)] + [(-1, -1)] * (len(phis) - 1)), np.zeros((len(phis), 0)),
+                                      0.0, np.nan)
         options = sorted(((_score(a, phi[list(b)], peak0, np.max(np.abs(phi), axis=0)), b)
-                          for b in permutations(range(phi.shape[0]), 2)), key=lambda t: -t[0])
+                          for b in permutations(moving[k].tolist(), 2)), key=lambda t: -t[0])
         best, b = options[0]
         channels.append(tuple(int(i) for i in b))
         rows.append(pair_mac(a, phi[list(b)]))
@@ -190,4 +205,4 @@ def _consistent(passing, n_setups: int, min_mac: float):
             return None, f"two reference channels of setup 1 match one channel of setup {k + 1}; pick them by hand"
     worst = min(c.score for c in passing)
     return refs, (f"{len(members)} channels keep the same ratios in every setup over the shared modes (MAC "
-                  f"≥ {worst:.3f}); no other channel does")
+                  f"≥ {worst:.4f}); no other channel does")

@@ -4,6 +4,8 @@ channels)."""
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import BaseModel, Field
 
 from .common import Floats, Index, Matrix, Schema
@@ -65,6 +67,8 @@ class SetupsMerged(Schema):
     uncertainty_source: str
     points_table: str = Field(default="", description="the points table the merge was given (CSV point,x,y,z,"
                                                       "direction, then from,to lines), or empty")
+    next_references: str = Field(default="every", description="how ambient records were correlated: every channel "
+                                 "a NExT reference (era.load's default) or the picked references only")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
@@ -113,6 +117,10 @@ class SetupsRequest(BaseModel):
                                "point,x,y,z,direction (direction x, -z, or \"dx dy dz\"; point named as the merged "
                                "modes name it, or S<setup>:<channel>), optionally followed by from,to rows (the "
                                "lines between points)")
+    next_references: Literal["every", "references"] = Field("every", description="ambient records: every channel "
+                                                             "a NExT correlation reference (era.load's default), or "
+                                                             "the picked references only (better when the roving "
+                                                             "channels are noisy)")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 

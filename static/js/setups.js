@@ -84,7 +84,8 @@ async function merge() {
   $("setups-merge-status").textContent = `Analysing ${test.setups.length} setups and merging them…`;
   try {
     const t = await api(`/api/setups/${test.id}/merge`, {
-      method: "POST", body: { references: picked(), points: $("setups-points").value || null },
+      method: "POST", body: { references: picked(), points: $("setups-points").value || null,
+                              next_references: $("setups-next").value },
       progress: (text) => { $("setups-merge-status").textContent = text; } });
     show(t);
     $("setups-merge-status").textContent = `Merged: ${t.merged.modes.length} modes at ${t.merged.points.length} points.`;
@@ -117,6 +118,7 @@ function show(t) {
   $("setups-unmatched").textContent = missing.length
     ? `${missing.join("; ")}: if it is a reference there under another name, add it below.` : "";
   picker(t.merged ? t.merged.references : (t.proposed[0].length ? t.proposed : t.setups.map(() => [0, 1])));
+  if (t.merged && t.merged.next_references) $("setups-next").value = t.merged.next_references;
   if (t.merged && t.merged.points_table && !$("setups-points").value) {
     $("setups-points").value = t.merged.points_table;
   }

@@ -60,6 +60,17 @@ def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
             if any(abs(d["frequency_hz"] - f) < 0.03 * f for f in FREQUENCY_HZ):
                 assert "seen in 1 of" not in d["reason"], d
 
+        # the picked references only as NExT references (era.load's references=): the same four modes
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"],
+                                                            "next_references": "references"})
+        assert r.status_code == 200, r.text
+        only = r.json()["merged"]
+        assert only["next_references"] == "references" and len(only["modes"]) == 4
+        np.testing.assert_allclose([m["frequency_hz"] for m in only["modes"]], FREQUENCY_HZ, rtol=0.01)
+        assert np.all(np.diag(era.mac(shapes_of(only), truth_at(only["points"]))) >= 0.99)
+        merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
+        assert merged["next_references"] == "every"
+
         # the link reopens it: the same merge, read back
         again = c.get(f"/api/setups/{test['id']}").json()
         assert again["merged"]["points"] == merged["points"] and again["merged"]["shapes_re"] == merged["shapes_re"]
@@ -247,3 +258,16 @@ def test_one_file_and_unreadable_files_are_refused_next_to_the_file_control(tmp_
         r = c.post("/api/setups", files=[("file", setup_file(0)), ("file", setup_file(1))], data={"kind": "modal"})
         assert r.status_code == 422 and r.json()["option"] == "kind"
         assert c.get("/api/setups/no-such-test").status_code == 404
+
+
+def test_names_propose_only_when_the_data_cannot_and_the_names_are_not_generic():
+    from app.setups import proposal
+
+    none = era.ReferenceProposal(None, np.zeros(0), np.zeros((2, 0), int), (), "too few shared modes")
+    generic = [["ch1", "ch2", "ch3", "ch4"], ["ch1", "ch2", "ch3", "ch4", "ch5", "ch6"]]
+    said = proposal(generic, none)
+    assert said["proposed_from"] == "" and said["proposed"] == [[], []] and said["data_proposal"] == "too few shared modes"
+    named = [["P2", "P5", "P1"], ["P7", "P5", "P2"]]
+    said = proposal(named, none)
+    assert said["proposed_from"] == "names" and said["proposed"] == [[0, 1], [2, 1]]
+    assert said["proposed_names"] == ["P2", "P5"]

@@ -150,7 +150,8 @@ def test_default_geometry_puts_the_sensors_in_a_row_measuring_z():
     one = scene.frame(scene.default_geometry(1), np.array([[0, 0, 1j]]), phase=0.0, amplitude=0.2)
     assert one.segments.shape == (0, 2, 3) and one.sensor_points.shape == (1, 3)
     # the stand-in is said under it (a lone dot says nothing by itself); a real geometry is not annotated
-    assert scene.stand_in_note(scene.default_geometry(1)).endswith("the one sensor drawn as a point moving up and down")
+    assert "the one sensor drawn as a point moving up and down" in scene.stand_in_note(scene.default_geometry(1))
+    assert "give each point's coordinates and direction" in scene.stand_in_note(g)  # and says what to give
     assert "the 4 sensors in a row, in channel order" in scene.stand_in_note(g)
     assert scene.stand_in_note(grid()) is None
 

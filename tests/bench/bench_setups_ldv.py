@@ -32,22 +32,32 @@ from era.setups import merge
 POGER_HZ = np.array([1.229, 1.436, 2.100, 4.017, 4.769, 6.683, 7.616, 9.664])
 POGER_DAMPING = np.array([0.232, 0.147, 0.130, 0.162, 0.161, 0.190, 0.165, 0.174]) / 100
 DT = 9 / 256
+#: "defaults" on the command line: NExT with its own segments and lags instead of 4 segments and 600 lags.
+DEFAULTS = "defaults" in sys.argv[2:]
 
 
-def setup(root: Path, n: int) -> era.AnalysisResult:
+def setup(root: Path, n: int, every_channel: bool = False) -> era.AnalysisResult:
     folder = root / f"measurement_{n}"
     y = np.load(folder / f"measurement_{n}.npy")[:, :5]
     y = decimate(decimate(y, 3, axis=0), 3, axis=0)
     rows = (folder / "channel_dofs.txt").read_text().splitlines()[1:6]
     names = [f"n{r.split()[1]}_{r.split()[4]}" if i < 3 else r.split()[4] for i, r in enumerate(rows)]
-    data = era.markov_from_ambient(np.array_split(y, 4), DT, references=[3, 4], n_lags=600, names=names)
+    # every_channel: every channel a correlation reference (era's default, what era.load and the app do), the
+    # segments and lags as with the two references
+    if DEFAULTS:  # era.markov_from_ambient's own segments and lags (what era.load does)
+        data = era.markov_from_ambient(y, DT, references=None if every_channel else [3, 4], names=names)
+    else:
+        data = era.markov_from_ambient(np.array_split(y, 4), DT, references=None if every_channel else [3, 4],
+                                       n_lags=600, names=names)
     return era.analyse(data)
 
 
-def main(root: Path) -> None:
+def main(root: Path, every_channel: bool = False) -> None:
     t0 = time.perf_counter()
-    runs = [setup(root, n) for n in range(1, 16)]
+    runs = [setup(root, n, every_channel) for n in range(1, 16)]
     t1 = time.perf_counter()
+    evidence = era.reference_evidence(runs)
+    print(f"proposed references: {evidence.references} ({evidence.reason}; {evidence.shared_hz.size} shared modes)")
     result = merge(runs, [[3, 4]] * 15)
     t2 = time.perf_counter()
     model = result.model
@@ -70,7 +80,9 @@ def main(root: Path) -> None:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or not (Path(sys.argv[1]) / "measurement_1").is_dir():
-        sys.exit("usage: python3 tests/bench/bench_setups_ldv.py PYOMA_TESTS_FILES (the folder holding "
-                 "measurement_1 … measurement_15 of pyOMA-dev/pyOMA's tests/files)")
-    main(Path(sys.argv[1]))
+    if len(sys.argv) not in (2, 3, 4) or not (Path(sys.argv[1]) / "measurement_1").is_dir():
+        sys.exit("usage: python3 tests/bench/bench_setups_ldv.py PYOMA_TESTS_FILES [every] (the folder holding "
+                 "measurement_1 … measurement_15 of pyOMA-dev/pyOMA's tests/files; 'every': NExT with every "
+                 "channel as a correlation reference, era's default, instead of the two references; 'defaults': NExT's "
+                 "own segments and lags)")
+    main(Path(sys.argv[1]), "every" in sys.argv[2:])

@@ -1,0 +1,60 @@
+"""The points table of a multi-setup test (era.setup_geometry): parsed as typed, placed on the merged points by
+their names, refused with the row that is wrong."""
+
+import numpy as np
+import pytest
+
+import era
+from era.setup_geometry import parse_points, point_aliases, points_geometry
+
+TABLE = """point,x,y,z,direction
+S1:ch1, 0, 0, 1, x
+S1:ch2, 0, 0, 1, -y
+S2:ch1, 0, 0, 2, 0 1 1
+S1:ch3, 0, 0, 3, z
+from,to
+S1:ch1,S2:ch1
+S2:ch1,S1:ch3
+"""
+
+
+def aliases():
+    # two setups: channels ch1 (roving), ch2 (roving, setup 1 only), ch3 the reference (setup 2: ch2)
+    outputs = [["ch1", "ch2", "ch3"], ["ch1", "ch2"]]
+    points = ("ch3", "S1:ch1", "S1:ch2", "S2:ch1")
+    return point_aliases(points, np.array([-1, 0, 0, 1]), np.array([2, 0, 1, 0]), outputs, [[2], [1]])
+
+
+def test_a_typed_table_places_every_merged_point_on_its_node():
+    g = points_geometry(parse_points(TABLE), aliases())
+    assert g.node_ids.tolist() == [1, 2, 3]  # S1:ch1 and S1:ch2 share the point at z = 1
+    np.testing.assert_allclose(g.coordinates[:, 2], [1, 2, 3])
+    assert g.channel_nodes.tolist() == [2, 0, 0, 1]  # the reference (ch3) at z = 3
+    np.testing.assert_allclose(g.channel_directions[1:3], [[1, 0, 0], [0, -1, 0]])
+    np.testing.assert_allclose(g.channel_directions[3], [0, 2 ** -0.5, 2 ** -0.5])
+    assert g.edges.tolist() == [[0, 1], [1, 2]]
+
+
+def test_a_reference_may_be_named_as_any_setup_names_it():
+    table = TABLE.replace("S1:ch3, 0, 0, 3, z", "S2:ch2, 0, 0, 3, z").replace("S2:ch1,S1:ch3", "S2:ch1,S2:ch2")
+    assert points_geometry(parse_points(table), aliases()).channel_nodes.tolist() == [2, 0, 0, 1]
+
+
+@pytest.mark.parametrize("table, words", [
+    ("x,y,z\n1,2,3\n", "must start with the header point,x,y,z,direction"),
+    ("point,x,y,z,direction\nP1,0,0,one,x\n", "Row 2 of the points table: x, y, z must be numbers"),
+    ("point,x,y,z,direction\nP1,0,0,1,w\n", "the direction is an axis"),
+    ("point,x,y,z,direction\nP1,0,0,1,x\nP1,0,0,2,x\n", "Point P1 is in the points table twice"),
+    ("point,x,y,z,direction\nP1,0,0,1,x\nfrom,to\nP1,P9\n", "names point P9, which the points table does not have"),
+])
+def test_a_wrong_table_is_refused_with_its_row(table, words):
+    with pytest.raises(era.DataError, match=words):
+        parse_points(table)
+
+
+def test_a_table_that_misses_a_point_or_names_a_stranger_is_refused():
+    with pytest.raises(era.DataError, match="has no row for S2:ch1"):
+        points_geometry(parse_points("point,x,y,z,direction\nS1:ch1,0,0,1,x\nS1:ch2,0,0,1,y\nch3,0,0,3,z\n"),
+                        aliases())
+    with pytest.raises(era.DataError, match="names S7:ch1, which is not a point of this test"):
+        points_geometry(parse_points(TABLE.replace("S2:ch1", "S7:ch1")), aliases())
