@@ -4,9 +4,9 @@ The app's threads share one GIL: a stabilization loop in a heavy thread would ho
 threads. Worker processes have their own interpreter, run at low CPU priority (nice +10) with one BLAS thread,
 so on a 2-core server the slider keeps its cores and its GIL while identifications run. The pool is one per Python
 process, started with the server (:func:`start`: its workers import era while the server answers, so the first
-upload does not wait for them) or else on first use (spawned: safe next to threads), and shared by every app
-instance in it; functions and arguments must be picklable (era's dataclasses are). ``run`` blocks: call it from a
-heavy-pool thread.
+upload does not wait for them) or else on first use (spawned: safe next to threads), by one thread that lives as
+long as the process, and shared by every app instance in it; functions and arguments must be picklable (era's
+dataclasses are). ``run`` blocks: call it from a heavy-pool thread.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, TypeVar
 
@@ -59,12 +59,27 @@ def _die_with(parent: int) -> None:
     threading.Thread(target=watch, name="parent-watch", daemon=True).start()
 
 
+#: The thread that starts the worker processes, alive as long as this process: a worker ends with the thread that
+#: started it (the parent-death signal is the thread's), so workers started by an app's lifespan or a request's
+#: thread would end with it, and the next app in the process (tests run hundreds) would start new ones.
+_starter = ThreadPoolExecutor(max_workers=1, thread_name_prefix="era-worker-starter")
+
+
+def _new_pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes, each started now (by the first submits: spawned pools start one process per
+    submit until full) and importing era."""
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(os.getpid(),),
+                               mp_context=multiprocessing.get_context("spawn"))
+    for _ in range(workers):
+        pool.submit(_ready)
+    return pool
+
+
 def _executor(workers: int) -> ProcessPoolExecutor:
     global _pool
     with _lock:
         if _pool is None:
-            _pool = ProcessPoolExecutor(max_workers=max(1, workers), initializer=_init_worker,
-                                        initargs=(os.getpid(),), mp_context=multiprocessing.get_context("spawn"))
+            _pool = _starter.submit(_new_pool, max(1, workers)).result()
         return _pool
 
 
@@ -77,18 +92,13 @@ def _ready() -> int:
 
 
 def start(workers: int = 2) -> None:
-    """Start the pool's ``workers`` processes now and have each import era, without waiting for them.
-
-    A pool whose workers died (they end with the thread that started them: an earlier app's lifespan in the same
-    process, as in tests) is replaced."""
-    for _ in range(2):
-        try:
-            pool = _executor(workers)
-            for _ in range(max(1, workers)):
-                pool.submit(_ready)
-            return
-        except BrokenProcessPool:
-            _reset()
+    """Start the pool's ``workers`` processes now (they import era at once), without waiting for them; a pool
+    already running is kept, a broken one (a worker was killed) replaced."""
+    with _lock:
+        broken = _pool is not None and getattr(_pool, "_broken", False)
+    if broken:
+        _reset()
+    _executor(workers)
 
 
 def _reset() -> None:

@@ -18,6 +18,7 @@ import era
 from era.points import axis_and_sign, channel_points
 from era.words import counted, listed
 
+from . import modeling
 from .store.files import write_atomic
 
 #: File suffixes read as an FE model (the others are era.Frame JSON or TOML).
@@ -170,7 +171,7 @@ def elastic_modes(model: era.MatrixModel, n: int) -> tuple[np.ndarray, np.ndarra
 
 def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> dict:
     """The model's modes beside the test's (schemas.ModelComparison), at the outputs the mapping matches."""
-    from era.correlation import pair_modes, real_shapes
+    from era.correlation import real_shapes
 
     use = [k for k, r in enumerate(rows) if r["matched"]]
     if len(use) < 2:
@@ -180,14 +181,7 @@ def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> d
     f_model, phi = elastic_modes(model, max(N_MODES, f_test.size + 6))
     dof, sign = model.at([(rows[k]["node"], rows[k]["direction"]) for k in use])
     s_model = phi[dof] * sign[:, None]
-    p = pair_modes(f_test, test, f_model, s_model)
-    partner = {int(i): k for k, i in enumerate(p.measured_index)}
-    best = [None if i not in partner else {"model_mode": int(p.model_index[partner[i]]),
-                                           "mac": float(p.mac[partner[i]]),
-                                           "frequency_error_pct": float(p.frequency_error_pct[partner[i]])}
-            for i in range(f_test.size)]
-    return {"test_hz": [float(f) for f in f_test], "model_hz": [float(f) for f in f_model],
-            "mac": [[float(v) for v in row] for row in p.mac_matrix], "best": best}
+    return modeling.comparison(f_test, test, f_model, s_model)
 
 
 def mesh(model: era.MatrixModel, node_labels) -> dict | None:

@@ -27,7 +27,7 @@ from ..structure import Frame, Section
 from ..words import listed
 from .effects import Param
 from .fitting import TRIAL_FAILURES, fit_effect
-from .protocol import RitzModes
+from .protocol import RitzModes, scale_sensitivity
 
 DEFAULTS = dict(stiffness_factor=1.0, gravity=True, support_at=None, support_rotation_stiffness=None,
                 support_vertical_stiffness=None, joint_at=None, joint_stiffness=None, point_mass_at=None,
@@ -336,12 +336,7 @@ class FrameModel:
         e's E and G (mass-normalised φ: the mass does not change, the share of the mode's motion at those points
         does). By the same modal superposition as :meth:`member_shape_sensitivity`."""
         u, du = self._node_mode_sensitivity(n_modes, n_basis)
-        out = np.zeros((du.shape[0], n_modes))
-        for rows in node_rows:
-            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
-            nn = np.sum(a**2, axis=0)
-            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
-        return out
+        return scale_sensitivity(u, du, node_rows)
 
     def _node_mode_sensitivity(self, n_modes: int, n_basis: int) -> tuple:
         """Node translations u (3·n_nodes, n) and their changes du (n_members, 3·n_nodes, n) per unit relative

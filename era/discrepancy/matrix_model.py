@@ -23,7 +23,7 @@ from ..models.changes import EFFECT_DEFAULTS, changed_matrices, part_name, piece
 from ..models.matrix import TRANSLATIONS, MatrixModel
 from ..words import listed
 from .frame_model import MODEL_FORM
-from .protocol import RitzModes
+from .protocol import RitzModes, scale_sensitivity
 
 #: A mode of the nominal is rigid when its frequency is below this fraction of the highest basis mode's.
 RIGID = 1e-4
@@ -344,12 +344,7 @@ class MatrixExplainModel:
         if not self.model.parts:
             return None
         u, du = self._shape_change(n_modes, 2)
-        out = np.zeros((du.shape[0], n_modes))
-        for rows in node_rows:
-            a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
-            nn = np.sum(a**2, axis=0)
-            out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
-        return out
+        return scale_sensitivity(u, du, node_rows)
 
     def part_place(self, place) -> str:
         """A part's place, "part:name", checked against the model's parts."""

@@ -214,3 +214,15 @@ def as_explain_model(model: Any) -> ExplainModel:
         return model
     joints = getattr(model, "joints_ft", None)     # the one optional attribute a model of one's own may give
     return PlainModel(model, np.zeros((0, 2)) if joints is None else np.asarray(joints, float))
+
+
+def scale_sensitivity(u: np.ndarray, du: np.ndarray, node_rows) -> np.ndarray:
+    """(n_e, n) d ln‖P_j‖ / d a_e: how the size of mode j's modal constants moves per unit relative change of
+    parameter e, from node-row shapes ``u`` (rows, n) and their changes ``du`` (n_e, rows, n); ``node_rows``: per
+    constant, its rows of ``u`` (ModeWeights.node_rows). Rows where a mode does not move add nothing."""
+    out = np.zeros((du.shape[0], u.shape[1]))
+    for rows in node_rows:
+        a, da = u[np.asarray(rows, int)], du[:, np.asarray(rows, int)]
+        nn = np.sum(a**2, axis=0)
+        out += np.where(nn > 1e-300, np.einsum("rj,erj->ej", a, da) / np.where(nn > 1e-300, nn, 1.0), 0.0)
+    return out
