@@ -58,7 +58,7 @@ MAINS_MULTIPLES = 10
 #: (a noise-free FRF cut to a band) about once. A value that far above round-off is computed to 1e-4 or better,
 #: so BLAS cannot move it across the threshold.
 EXACT_RANK_MARGIN = 1e4
-#: Singular values below this fraction of the largest realize round-off in the default diagram (diagram_max_order).
+#: Singular values below this fraction of the largest are round-off for exact rank (exact_rank's default tol).
 ROUNDOFF_RANK = 1e-10
 
 #: Reason codes of a rejected candidate, in the order they are tested.
@@ -281,15 +281,10 @@ def exact_rank(ident, tol: float = ROUNDOFF_RANK, margin: float = EXACT_RANK_MAR
 
 
 def diagram_max_order(ident) -> int:
-    """The highest order worth a diagram: the identification's max_order, but not past the singular values below
-    ROUNDOFF_RANK × the largest unless H(0) has an exact rank (:func:`exact_rank`). Orders past them realize
-    round-off, and how many values lie between there and the floor changes with the BLAS (era.analysis uses it
-    for the default orders)."""
-    k = int(ident.max_order)
-    if exact_rank(ident):
-        return k
-    d = np.asarray(ident.singular_values)
-    return int(min(k, np.count_nonzero(d > ROUNDOFF_RANK * d[0]))) if d.size and d[0] > 0 else k
+    """The highest order of the default diagram: the identification's max_order (era.analysis, the app and explain
+    use it). Cutting it at ROUNDOFF_RANK left noise-free OKID and rounded free-decay records with three orders and
+    no mode, so the count kept stays the identification's; :func:`exact_rank` no longer hangs on it."""
+    return int(ident.max_order)
 
 
 def _choose_exact(ident, stab, lo, hi, edge, record_s) -> ModeChoice:
