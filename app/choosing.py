@@ -16,7 +16,6 @@ import numpy as np
 
 import era
 from era.analysis import DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER, diagram_orders
-from era.choice import diagram_max_order
 from era.suggest import HankelChoice, hankel_size, order_cap, order_from_singular_values
 
 from . import limits
@@ -57,10 +56,10 @@ def named_hankel(rows: int, cols: int, n_outputs: int, n_inputs: int, settings: 
                         max_order=order_cap(rows, cols, n_outputs, n_inputs, min(DEFAULT_MAX_ORDER, settings.max_order)))
 
 
-def orders(ident: era.Identification, settings: Settings) -> range:
-    """The diagram's orders (era.analysis.diagram_orders) up to era.choice.diagram_max_order (the identification's
-    max_order, not past round-off), at most min(era's DIAGRAM_MAX_ORDER, the server's max_stabilization_order)."""
-    return diagram_orders(diagram_max_order(ident), min(DIAGRAM_MAX_ORDER, settings.max_stabilization_order))
+def orders(max_order: int, settings: Settings) -> range:
+    """The diagram's orders (era.analysis.diagram_orders) up to the identification's max_order, at most
+    min(era's DIAGRAM_MAX_ORDER, the server's max_stabilization_order)."""
+    return diagram_orders(max_order, min(DIAGRAM_MAX_ORDER, settings.max_stabilization_order))
 
 
 def band_of(data: era.ResponseData) -> tuple[float, float] | None:
@@ -72,7 +71,7 @@ def band_of(data: era.ResponseData) -> tuple[float, float] | None:
 def diagram(ident: era.Identification, band_hz: tuple[float, float] | None, settings: Settings) -> Diagram:
     """The stabilization diagram of ``ident`` (with the data's standard deviations) and era's choice of modes in
     ``band_hz``. Blocking: run it in a worker process."""
-    stab = era.stabilization(ident, orders(ident, settings), uncertainty=True)
+    stab = era.stabilization(ident, orders(ident.max_order, settings), uncertainty=True)
     picked = era.choose_modes(ident, stab, band_hz=band_hz)
     return Diagram(stabilization=stab, choice=picked, band_hz=band_hz or (0.0, 0.5 / float(ident.dt)),
                    order=opening_order(ident, stab, picked))

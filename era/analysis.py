@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .choice import ModeChoice, choose_modes, diagram_max_order
+from .choice import ModeChoice, choose_modes
 from .data import ResponseData
 from .errors import DataError, EraError
 from .hankel import MAX_HANKEL_ELEMENTS
@@ -99,7 +99,7 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     if ident.max_order == 0:
         raise DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is nothing to "
                         "identify. Check the file's channels and scaling.")
-    orders = diagram_orders(diagram_max_order(ident)) if orders is None else orders
+    orders = diagram_orders(ident.max_order) if orders is None else orders
     stab = stabilization(ident, orders, uncertainty=True, workers=workers)
     if band_hz is None and data.meta.get("band_hz") is not None:
         band_hz = tuple(float(x) for x in data.meta["band_hz"])

@@ -280,13 +280,6 @@ def exact_rank(ident, tol: float = ROUNDOFF_RANK, margin: float = EXACT_RANK_MAR
     return bool(d[k] <= tol * d[0] and d[k - 1] >= margin * floor)
 
 
-def diagram_max_order(ident) -> int:
-    """The highest order of the default diagram: the identification's max_order (era.analysis, the app and explain
-    use it). Cutting it at ROUNDOFF_RANK left noise-free OKID and rounded free-decay records with three orders and
-    no mode, so the count kept stays the identification's; :func:`exact_rank` no longer hangs on it."""
-    return int(ident.max_order)
-
-
 def _choose_exact(ident, stab, lo, hi, edge, record_s) -> ModeChoice:
     """Noise-free data: the decaying modes of the exact realization (order = rank) with γ·μ ≥ COHERENT_MIN."""
     order = int(ident.max_order)

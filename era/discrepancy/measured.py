@@ -11,7 +11,7 @@ import numpy as np
 
 from ..analysis import analyse, diagram_orders
 from ..blas import single_threaded_blas
-from ..choice import ModeChoice, choose_modes, diagram_max_order
+from ..choice import ModeChoice, choose_modes
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
@@ -215,7 +215,7 @@ def measured_modes(ident: Identification, orders=None, *, kept: tuple | None = N
     modal constants. Modal constants are computed when the data are impulse responses of known size at known
     points (see :func:`modal_constants`).
     """
-    orders = {int(o) for o in (diagram_orders(diagram_max_order(ident)) if orders is None else orders)}
+    orders = {int(o) for o in (diagram_orders(ident.max_order) if orders is None else orders)}
     if kept is None:
         stab = stabilization(ident, sorted(orders), uncertainty=True)   # the choice's twin test uses the σ
         return _from_choice(ident, stab, choose_modes(ident, stab, band_hz=_band(ident.data)), input_weights)
