@@ -47,7 +47,7 @@ class Server:
         self.port = free_port()
         self.base = f"http://127.0.0.1:{self.port}"
         env = dict(os.environ, ERA_DATA_DIR=str(data_dir), ERA_VIEWER=os.environ.get("ERA_VIEWER", "1"))
-        self._log = open(log, "ab")
+        self._log, self._log_path = open(log, "ab"), log
         self.proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1",
                                       "--port", str(self.port)], cwd=REPO, env=env, stdout=self._log,
                                      stderr=subprocess.STDOUT)
@@ -73,6 +73,8 @@ class Server:
                 self.proc.kill()
                 self.proc.wait(5)
         self._log.close()
+        # the server's last words, in the test's captured output (pytest shows it when the test fails)
+        print("server log, last lines:", *self._log_path.read_text(errors="replace").splitlines()[-30:], sep="\n")
 
 
 @pytest.fixture()

@@ -41,8 +41,13 @@ def opened(page) -> dict:
     what the page shows: the order, the diagram's orders (from its status line), the ticked rows' frequencies, the
     sentence above the table."""
     page.wait_for_selector("#summary:not([hidden])")
-    page.wait_for_function("document.getElementById('table-rule').textContent.length > 0 && "
-                           "document.getElementById('stab-status').textContent.includes('orders (')", timeout=240000)
+    try:
+        page.wait_for_function("document.getElementById('table-rule').textContent.length > 0 && "
+                               "document.getElementById('stab-status').textContent.includes('orders (')",
+                               timeout=240000)
+    except Exception as e:  # say what the page shows instead (an error in the plot's place, a progress line)
+        seen = {s: page.text_content(s) for s in ("#stab-status", "#stab-plot", "#table-rule", "#table-note")}
+        raise AssertionError(f"the diagram and the table did not open: the page shows {seen}") from e
     order = int(page.text_content("#order-value"))
     page.wait_for_function(f"document.getElementById('table-note').textContent.endsWith('at order {order}')")
     first, last = map(int, re.search(r"orders \((\d+)–(\d+)\)", page.text_content("#stab-status")).groups())
