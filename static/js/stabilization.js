@@ -3,7 +3,7 @@
 // noise-free data): the chosen modes (green, numbered, with a line down the diagram) and every other candidate
 // (grey), whose hover says why it was left out. The page applies no rule of its own.
 import { api } from "./api.js";
-import { state, emit, on, plotConfig } from "./state.js";
+import { state, emit, on, plotConfig, plain as esc } from "./state.js";
 
 const PLOT = "stab-plot";
 
@@ -23,7 +23,6 @@ const { pm } = window.EraFormat;  // value ± 1.96 σ (95 % interval from the da
 const sd = (values, i, scale = 1) => (values && values[i] !== null && values[i] !== undefined ? scale * values[i] : null);
 
 // Plotly reads a few HTML tags in hover text: the server's sentences are shown as written.
-const esc = (t) => String(t).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
 
 // The verdict on a candidate in words: "chosen automatically: mode 2" or why it was left out.
 function verdict(c) {

@@ -6,10 +6,10 @@ from __future__ import annotations
 import glob
 import os
 import shutil
-import socket
 import subprocess
 from contextlib import contextmanager
 from pathlib import Path
+from ports import free_port
 
 
 def _bindir() -> Path:
@@ -20,16 +20,10 @@ def _bindir() -> Path:
     return Path(found[-1]).parent
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @contextmanager
 def postgres_server(folder: Path):
     """Start a throw-away cluster in ``folder``; yields the SQLAlchemy URL of its database `era_test`."""
-    bindir, port = _bindir(), _free_port()
+    bindir, port = _bindir(), free_port()
     data, sockets = folder / "pgdata", folder / "sockets"
     sockets.mkdir(parents=True)
     as_user: list[str] = []

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import os
-import socket
 import subprocess
 import sys
 import time
@@ -17,6 +16,7 @@ from pathlib import Path
 import pytest
 
 import era
+from ports import free_port
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -40,12 +40,6 @@ def test_the_wheel_carries_the_page_and_every_package(wheel):
     assert wheel.name.startswith(f"era_modal-{era.__version__}-")
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def test_the_installed_server_runs_from_any_folder(wheel, tmp_path):
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True, timeout=120)
@@ -62,7 +56,7 @@ def test_the_installed_server_runs_from_any_folder(wheel, tmp_path):
     helped = subprocess.run([str(venv / "bin" / "era-app"), "--help"], cwd=elsewhere, env=env, capture_output=True,
                             text=True, timeout=60)
     assert helped.returncode == 0 and "--data-dir" in helped.stdout and "--port" in helped.stdout
-    port = _free_port()
+    port = free_port()
     server = subprocess.Popen([str(venv / "bin" / "era-app"), "--port", str(port), "--data-dir", "store"],
                               cwd=elsewhere, env=dict(env, ERA_VIEWER="0"), stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT)

@@ -14,22 +14,16 @@ from pathlib import Path
 
 import httpx
 import pytest
+from ports import free_port
 
 REPO = Path(__file__).resolve().parents[2]
 KILLS = 4
 
 
-def _free_port() -> int:
-    import socket
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 class Server:
     def __init__(self, data_dir: Path, database_url: str | None):
         self.data_dir, self.database_url = data_dir, database_url
-        self.port = _free_port()
+        self.port = free_port()
         self.base = f"http://127.0.0.1:{self.port}"
         self.proc = None
 

@@ -17,19 +17,13 @@ from app.store import Store
 from app.viewer import ModeViewer
 from app.viewing import SharedStates
 from era.examples.paper_cases import case_2
+from ports import free_port
 
 REPO = Path(__file__).resolve().parents[2]
 
 
-def _free_port() -> int:
-    import socket
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _serve(data_dir: Path, url: str) -> tuple[subprocess.Popen, str]:
-    port = _free_port()
+    port = free_port()
     env = dict(os.environ, ERA_DATA_DIR=str(data_dir), ERA_DATABASE_URL=url, ERA_VIEWER="1")
     proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--host", "127.0.0.1", "--port",
                              str(port), "--log-level", "warning"], cwd=REPO, env=env, start_new_session=True)

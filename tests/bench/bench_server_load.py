@@ -29,8 +29,8 @@ import httpx
 import era
 from era.examples.synthetic import modal_response
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "e2e"))
-from test_app_e2e import free_port  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from ports import free_port  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[2]
 STEPS = 15

@@ -13,13 +13,13 @@ import urllib.request
 import pytest
 
 from era.campaign.simulated import monitoring_truth, write_campaign
-from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
+from app_server import Server, open_page
 
 pytestmark = pytest.mark.e2e
 CORRUPT = "rec_2026-03-02T12-00.csv"
 
 
-def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(tmp_path, browser, shots,  # noqa: F811
+def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(tmp_path, browser, shots,
                                                                                  monkeypatch):
     paths = write_campaign(tmp_path / "records", monitoring_truth(4, hours_between=3.0, damage_from=2,
                                                                   duration_s=300.0), seed=3)

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import pytest
 
-from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
+from app_server import Server, open_page
 
 pytestmark = pytest.mark.e2e
 
 
-def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, browser, shots):  # noqa: F811
+def test_grid_example_panel_names_its_verdict_and_the_report_keeps_it(tmp_path, browser, shots):
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
         page, errors = open_page(server, browser)

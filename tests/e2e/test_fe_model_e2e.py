@@ -12,12 +12,12 @@ import pytest
 from fe_test_files import deck, simulated
 
 import era
-from test_app_e2e import Server, browser, open_page, shots, sync_api  # noqa: F401  (fixtures)
+from app_server import Server, open_page
 
 pytestmark = pytest.mark.e2e
 
 
-def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_mass(tmp_path, browser):  # noqa: F811
+def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_mass(tmp_path, browser):
     (tmp_path / "plate.bdf").write_text(deck())
     era.save_npz(str(tmp_path / "plate test.npz"), simulated(era.load_model(tmp_path / "plate.bdf")))
     server = Server(tmp_path / "data", tmp_path / "server.log")

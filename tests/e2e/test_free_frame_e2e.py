@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import pytest
 
-from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
+from app_server import Server, open_page
 
 pytestmark = pytest.mark.e2e
 
 
-def test_the_free_free_grid_from_its_test_geometry_is_explained_in_words(tmp_path, browser, shots):  # noqa: F811
+def test_the_free_free_grid_from_its_test_geometry_is_explained_in_words(tmp_path, browser, shots):
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:
         page, errors = open_page(server, browser)

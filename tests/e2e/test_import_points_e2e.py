@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from test_app_e2e import Server, browser, open_page, table_rows  # noqa: F401  (fixtures)
+from app_server import Server, open_page, table_rows
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "app"))
 from test_api_import_points import shaker_csv  # noqa: E402
@@ -18,7 +18,7 @@ from test_api_import_points import shaker_csv  # noqa: E402
 pytestmark = pytest.mark.e2e
 
 
-def test_points_typed_for_the_channels_put_the_shape_at_every_mass(tmp_path, browser):  # noqa: F811
+def test_points_typed_for_the_channels_put_the_shape_at_every_mass(tmp_path, browser):
     path = tmp_path / "shakers.csv"
     path.write_bytes(shaker_csv())
     server = Server(tmp_path / "data", tmp_path / "server.log")

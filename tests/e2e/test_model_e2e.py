@@ -19,7 +19,8 @@ import pytest
 from frame_test_file import write_uff
 
 from era.examples.frames import portal
-from test_app_e2e import Server, browser, open_page, shots, sync_api  # noqa: F401  (fixtures)
+from app_server import Server, open_page
+from playwright import sync_api
 
 pytestmark = pytest.mark.e2e
 
@@ -34,7 +35,7 @@ def node_position(page, node: str):
     }""", node)
 
 
-def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path, browser, shots):  # noqa: F811
+def test_describe_a_portal_from_its_geometry_and_explain_names_the_mass(tmp_path, browser, shots):
     uff = write_uff(tmp_path / "portal frame.uff", portal(), dict(point_mass_at="E", point_mass_kg=200.0),
                     inputs=(1, 4))
     server = Server(tmp_path / "data", tmp_path / "server.log")

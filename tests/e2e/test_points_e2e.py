@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from test_app_e2e import Server, browser, open_page, shots, table_rows  # noqa: F401  (fixtures)
+from app_server import Server, open_page, table_rows
 from test_choice_e2e import MODELAB_HZ, opened
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -21,7 +21,7 @@ pytestmark = pytest.mark.e2e
 MODELAB = SHARED_DATASETS / "modelab_beam_frf" / "SignalCalc"
 
 
-def test_the_modelab_beam_with_its_setup_shows_the_shape_at_nine_points(tmp_path, browser, shots):  # noqa: F811
+def test_the_modelab_beam_with_its_setup_shows_the_shape_at_nine_points(tmp_path, browser, shots):
     folder = require_shared(MODELAB)
     files = [str(folder / f"ASCII0000{k}" / f"Hxysv0000{k}.txt") for k in range(1, 10)] + [str(folder / "setup.csv")]
     server = Server(tmp_path / "data", tmp_path / "server.log")

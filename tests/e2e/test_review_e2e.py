@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pytest
 
-from test_app_e2e import Server, browser, open_page, shots  # noqa: F401  (fixtures)
+from app_server import Server, open_page
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
@@ -65,7 +65,7 @@ LEGEND_AND_PLOT = """() => {
 }"""
 
 
-def test_the_viewer_shows_the_whole_structure_and_the_model_file_input_is_whole(tmp_path, browser, shots):  # noqa: F811
+def test_the_viewer_shows_the_whole_structure_and_the_model_file_input_is_whole(tmp_path, browser, shots):
     lvm = require_shared(USC)
     server = Server(tmp_path / "data", tmp_path / "server.log")
     try:

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import era
-from test_app_e2e import Server, browser, shots, table_rows  # noqa: F401  (fixtures)
+from app_server import Server, table_rows
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from simulated_setups import (FREQUENCY_HZ, TOWER_HZ, setup_file, setup_npz, tower_file,  # noqa: E402
@@ -30,7 +30,7 @@ def shown_shape(page) -> tuple[list, np.ndarray]:
     return bars["x"], np.array(bars["re"], dtype=float) + 1j * np.array(bars["im"], dtype=float)
 
 
-def test_four_setups_uploaded_picked_merged_and_reopened(tmp_path, browser, shots):  # noqa: F811
+def test_four_setups_uploaded_picked_merged_and_reopened(tmp_path, browser, shots):
     files = []
     for k in range(4):
         name, blob = setup_file(k)
@@ -115,7 +115,7 @@ def test_four_setups_uploaded_picked_merged_and_reopened(tmp_path, browser, shot
         server.stop()
 
 
-def test_setups_with_a_geometry_draw_the_merged_shape_on_it(tmp_path, browser):  # noqa: F811
+def test_setups_with_a_geometry_draw_the_merged_shape_on_it(tmp_path, browser):
     """Each setup's NPZ places its channels on the beam's nodes: the drawing is the beam in 3-D with all twelve
     nodes moved by the merged shape, and the viewer shows it."""
     files = []
@@ -150,7 +150,7 @@ def test_setups_with_a_geometry_draw_the_merged_shape_on_it(tmp_path, browser): 
         server.stop()
 
 
-def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(tmp_path, browser, shots):  # noqa: F811
+def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(tmp_path, browser, shots):
     """The files of issue 36 (no time column, channels ch1..ch8, the references the last two): the page proposes
     ch5, ch6 / ch7, ch8 from the data with its evidence; with the points file (point,x,y,z,direction and the lines
     up the tower) the merged modes are drawn on the tower in 3-D, each its exact shear-cantilever shape, and the
