@@ -32,6 +32,7 @@ def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_m
         page.wait_for_selector("#model-mapping:not([hidden])", timeout=60000)
         assert "Nastran deck plate.bdf" in page.text_content("#model-summary")
         assert "EIGRL" in page.text_content("#model-summary")           # the card not modelled, said
+        assert "in the model's own mass unit" in page.text_content("#model-summary")   # a deck says no unit
         unmatched = page.text_content("#model-unmatched")
         assert unmatched.startswith("1 output of 8 matches no free DOF") and "TIP z" in unmatched
         assert page.input_value("#model-map-node-0") == "4" and page.input_value("#model-map-dir-0") == "z"
