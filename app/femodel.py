@@ -216,15 +216,17 @@ def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> d
 
 def mesh(model: era.MatrixModel, node_labels) -> dict | None:
     """What the 3-D viewer draws an FE model's shapes on, in era.Frame's drawing format: {nodes: {node: [x, y, z]}
-    (the model's length unit), members: [[i, j], ...] (a deck's bars and its shells' edges, as lines), node_labels:
-    "node:x" per row of the expanded shapes}; None without node coordinates."""
+    (the model's length unit; the nodes of the expanded shapes, and a deck's element nodes held still, a clamped
+    edge's), members: [[i, j], ...] (a deck's bars and its shells' edges, as lines), faces: [[i, j, k], ...] (its
+    shells as triangles, a quad cut along its diagonal 1-3), node_labels: "node:x" per row of the expanded shapes};
+    None without node coordinates."""
     if not model.coordinates:
         return None
     labels = [str(x) for x in node_labels]
     seen = dict.fromkeys(x.rsplit(":", 1)[0] for x in labels)
-    nodes = {n: [float(v) for v in model.coordinates[n]] for n in seen}
     deck = getattr(model, "deck", None)
     edges: dict[tuple, None] = {}
+    faces: list[list[str]] = []
     if deck is not None:
         for e in deck.lines.values():
             edges[tuple(sorted((str(e.ga), str(e.gb))))] = None
@@ -232,8 +234,13 @@ def mesh(model: era.MatrixModel, node_labels) -> dict | None:
             ring = [str(g) for g in e.nodes]
             for a, b in zip(ring, ring[1:] + ring[:1]):
                 edges[tuple(sorted((a, b)))] = None
+            faces += [ring[:3]] + ([[ring[0], ring[2], ring[3]]] if len(ring) == 4 else [])
+    drawn = dict(seen)
+    drawn.update((n, None) for pair in edges for n in pair if n in model.coordinates)
+    nodes = {n: [float(v) for v in model.coordinates[n]] for n in drawn}
     members = [[a, b] for a, b in edges if a in nodes and b in nodes and a != b]
-    return {"nodes": nodes, "members": members, "node_labels": labels}
+    faces = [f for f in faces if all(n in nodes for n in f) and len(set(f)) == 3]
+    return {"nodes": nodes, "members": members, "faces": faces, "node_labels": labels}
 
 
 def masses(stored: dict) -> dict:

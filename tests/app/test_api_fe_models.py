@@ -149,8 +149,16 @@ def test_explain_on_the_deck_names_the_hidden_mass_after_the_mapping_is_complete
     assert moved.status_code == 200
     later = c.get(f"/api/analyses/{a['id']}/explain").json()
     assert later["stale"] and "earlier model" in later["stale"]
-    # the 3-D viewer draws the shapes on the deck's mesh: its 30 free nodes, the shells' edges between them
-    assert len(s.mesh["nodes"]) == 30 and len(s.mesh["node_labels"]) == 90 == len(s.expanded_measured)
-    assert ["2", "3"] in s.mesh["members"] and ["2", "9"] in s.mesh["members"] and ["1", "2"] not in s.mesh["members"]
+    # the 3-D viewer draws the shapes on the deck's mesh: its 35 nodes (the 5 clamped ones held still), the
+    # shells' edges and the 24 quads as 48 triangles, two per quad along its diagonal
+    assert len(s.mesh["nodes"]) == 35 and len(s.mesh["node_labels"]) == 90 == len(s.expanded_measured)
+    assert ["2", "3"] in s.mesh["members"] and ["2", "9"] in s.mesh["members"] and ["1", "2"] in s.mesh["members"]
+    assert len(s.mesh["faces"]) == 48 and ["1", "2", "9"] in s.mesh["faces"] and ["1", "9", "8"] in s.mesh["faces"]
     v = c.post(f"/api/analyses/{a['id']}/explain/viewer", json={"which": "model"})
     assert v.status_code == 200 and v.json()["n_modes"] == len(s.modes), v.text
+    # the viewer gets the faces as a surface over all 35 nodes, and the clamped edge stays still in every mode
+    drawn = c.app.state.viewer.registry.get(v.json()["key"])
+    assert drawn.geometry.faces.shape == (48, 3) and drawn.geometry.n_nodes == 35
+    clamped = [k for k, xyz in enumerate(drawn.geometry.coordinates) if xyz[0] == 0.0]
+    assert len(clamped) == 5 and all(np.abs(v[clamped]).max() == 0 for v in drawn.spline_vectors)
+    assert all(np.abs(v).max() > 0 for v in drawn.spline_vectors)
