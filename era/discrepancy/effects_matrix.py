@@ -54,12 +54,12 @@ def spread(model: MatrixExplainModel, nodes: tuple, max_places: int = MAX_PLACES
     xyz = model.model.coordinates
     if xyz is None:
         step = int(np.ceil(len(nodes) / max_places))
-        kept = range(0, len(nodes), step)
+        every = range(0, len(nodes), step)
         near = {nodes[i]: tuple(nodes[j] for d in range(1, step) for j in (i + d, i - d) if 0 <= j < len(nodes))
-                for i in kept}
-        return Places(tuple(nodes[i] for i in kept), near,
-                      f" The candidate places were every {step}th node of {len(nodes)} (the model has no "
-                      "coordinates to spread them by), then the nodes between the best of them.")
+                for i in every}
+        return Places(tuple(nodes[i] for i in every), near,
+                      f" The candidate places were one node in {step} of {len(nodes)}, in the model's order (it has "
+                      "no coordinates to spread them by), then the nodes beside the best of them in that order.")
     p = np.array([xyz[n] for n in nodes], float)
     lo, hi = p.min(axis=0), p.max(axis=0)
     span = hi - lo

@@ -147,3 +147,31 @@ def test_on_a_mesh_larger_than_the_screen_the_mass_is_named_at_its_own_node(tmp_
     assert r.verdict == "explained" and r.effect.name == "point_mass" and r.effect.location == at
     assert _in_interval(kg, r.effect.size_interval)
     assert "then every node within 0.0283 m of the best of them" in r.effect.description
+
+
+def test_the_thinned_places_and_the_nodes_near_each_cover_the_whole_mesh():
+    """spread: without coordinates every k-th node, the k − 1 on each side near it; with the coordinates of a
+    plate of bricks (two layers 1 cm apart), cells over its plane only (the thickness is thinner than a cell),
+    both layers' nodes near the kept ones, and every node near at least one kept node."""
+    import scipy.sparse
+
+    from era.discrepancy.effects_matrix import spread
+
+    def model(nodes, coordinates=None):
+        n = len(nodes)
+        k = scipy.sparse.diags([2.0] * n) - scipy.sparse.diags([1.0] * (n - 1), 1) - scipy.sparse.diags(
+            [1.0] * (n - 1), -1)
+        m = era.MatrixModel(k, scipy.sparse.identity(n), [(x, "z") for x in nodes], coordinates=coordinates)
+        return era.discrepancy.MatrixExplainModel.of(m, [(nodes[0], "z"), (nodes[-1], "z")])
+
+    chain = tuple(str(i) for i in range(900))
+    places = spread(model(chain), chain)
+    assert places.nodes == chain[::3] and places.nearby["3"] == ("4", "2", "5", "1")
+    assert "one node in 3 of 900, in the model's order" in places.words
+    xyz = {f"{i}_{j}_{k}": (0.02 * i, 0.02 * j, 0.01 * k) for k in (0, 1) for j in range(21) for i in range(31)}
+    bricks = tuple(xyz)
+    places = spread(model(bricks, xyz), bricks)
+    assert 350 <= len(places.nodes) <= 450
+    near = set(places.nodes) | {n for v in places.nearby.values() for n in v}
+    assert near == set(bricks)
+    assert "one per cell of 0.0" in places.words and " m, then every node within " in places.words
