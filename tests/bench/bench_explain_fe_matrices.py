@@ -11,8 +11,9 @@ at that load, which this bench asserts. A 3,600-DOF panel (25 × 25 nodes): expl
 alone; the re-fit of the named effect in the full model (a few Gauss-Newton steps, a sparse eigensolve of
 1-5 s each at this size) is the other large share.
 
-2026-11-28, with the second screening around the best places (`nice -n 5`, load average 5-7): explain 41-44 s
-(26 s for the one-pass screening at load 3.5), 10 nominal modes 1.3 s; the mass named at its own node 40_28
+2026-11-28, with the second screening around the best places (`nice -n 5`, load average 5-10): explain 38-44 s
+(26 s for the one-pass screening at load 3.5), 10 nominal modes 1.3 s at load 6, 4.6 s at load 10 (the eigen
+solve alone, profiled at load 9: LU 0.3 s, Lanczos 0.7-0.9 s, Sturm count 0.35-0.5 s); the mass named at its own node 40_28
 (55 %; its four neighbours 4-17 %, noise-free data under the model-form allowance). Of the 44 s: the screening
 13 s (3,300 Ritz trials), the full fits 7 s, the named mass re-fitted in the full model 16 s (10 sparse
 eigensolves).
