@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import re
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -81,6 +82,35 @@ def describe(model: era.MatrixModel, name: str, sha256: str) -> dict:
     return {"file": name, "suffix": Path(name).suffix.lower(), "n_nodes": len(model.nodes),
             "n_dofs": model.n_dofs, "units": dict(model.units), "notes": notes, "text": text,
             "sha256": sha256}
+
+
+#: kg per unit of each mass unit era.models.matrix.UNIT_SYSTEMS names (and the slug of lbf-ft-s decks).
+KG_PER = {"kg": 1.0, "t": 1000.0, "lbf·s²/in": 175.126835, "kip·s²/in": 175126.835, "slug": 14.5939029}
+#: PARAM WTMASS values that say a deck's unit system: 1/g turns the weights entered into masses.
+_WTMASS_UNITS = ((386.08858, "lbf·s²/in", "the deck's masses are weights in lbf over g in in/s² (kip·s²/in if "
+                  "they are in kip)"),
+                 (32.174049, "slug", "the deck's masses are weights in lbf over g in ft/s²"),
+                 (9.80665, "kg", "the deck's masses are weights in N over g in m/s²"),
+                 (9806.65, "t", "the deck's masses are weights in N over g in mm/s²"))
+
+
+def mass_unit(model: era.MatrixModel, path: Path) -> dict:
+    """The unit of the model's masses, as far as the file says it: {unit: a mass unit, or None when the file
+    does not say; note: a sentence on how it is known}. A .zip of matrices says it in units.txt; a Nastran deck
+    carries no units, but a PARAM WTMASS of 1/g (g in in/s², ft/s², m/s² or mm/s²) tells its system."""
+    if path.suffix.lower() == ".zip":
+        with zipfile.ZipFile(path) as z:
+            declared = any(n.rsplit("/", 1)[-1].lower() == "units.txt" for n in z.namelist())
+        if declared:
+            return {"unit": model.units["mass"], "note": "the mass unit its units.txt gives"}
+        return {"unit": None, "note": "the matrices' own mass unit: the .zip has no units.txt saying it (kg if "
+                                      "they are in N, m and s)"}
+    wtmass = getattr(getattr(model, "deck", None), "wtmass", 1.0)
+    for g, unit, why in _WTMASS_UNITS:
+        if abs(wtmass * g - 1.0) < 2e-3:
+            return {"unit": unit, "note": f"PARAM WTMASS {wtmass:.6g} = 1/{g:g}: {why}"}
+    return {"unit": None, "note": "the deck's own mass unit: a Nastran deck does not say its units (kg if it is "
+                                  "in N, m and s; t in N, mm and s)"}
 
 
 def test_points(outputs: tuple, geometry: era.Geometry | None, meta: dict | None) -> list[tuple[str, str] | None]:
@@ -186,15 +216,17 @@ def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> d
 
 def mesh(model: era.MatrixModel, node_labels) -> dict | None:
     """What the 3-D viewer draws an FE model's shapes on, in era.Frame's drawing format: {nodes: {node: [x, y, z]}
-    (the model's length unit), members: [[i, j], ...] (a deck's bars and its shells' edges, as lines), node_labels:
-    "node:x" per row of the expanded shapes}; None without node coordinates."""
+    (the model's length unit; the nodes of the expanded shapes, and a deck's element nodes held still, a clamped
+    edge's), members: [[i, j], ...] (a deck's bars and its shells' edges, as lines), faces: [[i, j, k], ...] (its
+    shells as triangles, a quad cut along its diagonal 1-3), node_labels: "node:x" per row of the expanded shapes};
+    None without node coordinates."""
     if not model.coordinates:
         return None
     labels = [str(x) for x in node_labels]
     seen = dict.fromkeys(x.rsplit(":", 1)[0] for x in labels)
-    nodes = {n: [float(v) for v in model.coordinates[n]] for n in seen}
     deck = getattr(model, "deck", None)
     edges: dict[tuple, None] = {}
+    faces: list[list[str]] = []
     if deck is not None:
         for e in deck.lines.values():
             edges[tuple(sorted((str(e.ga), str(e.gb))))] = None
@@ -202,8 +234,24 @@ def mesh(model: era.MatrixModel, node_labels) -> dict | None:
             ring = [str(g) for g in e.nodes]
             for a, b in zip(ring, ring[1:] + ring[:1]):
                 edges[tuple(sorted((a, b)))] = None
+            faces += [ring[:3]] + ([[ring[0], ring[2], ring[3]]] if len(ring) == 4 else [])
+    drawn = dict(seen)
+    drawn.update((n, None) for pair in edges for n in pair if n in model.coordinates)
+    nodes = {n: [float(v) for v in model.coordinates[n]] for n in drawn}
     members = [[a, b] for a, b in edges if a in nodes and b in nodes and a != b]
-    return {"nodes": nodes, "members": members, "node_labels": labels}
+    faces = [f for f in faces if all(n in nodes for n in f) and len(set(f)) == 3]
+    return {"nodes": nodes, "members": members, "faces": faces, "node_labels": labels}
+
+
+def masses(stored: dict) -> dict:
+    """The summary's mass fields of a stored FE model: total_mass in the model's own unit, mass_unit (None when
+    the file does not say it), mass_unit_note, and total_mass_kg: in kg when the unit is known, else the model's
+    own number (kg only if the model is in SI units, as era reads a file that does not say)."""
+    total = float(stored.get("total_mass", 0.0))
+    unit = stored.get("mass_unit") or {"unit": None, "note": "the model's own mass unit (stored before the unit "
+                                                             "was looked for)"}
+    kg = total * KG_PER.get(unit["unit"], 1.0)
+    return {"total_mass_kg": kg, "total_mass": total, "mass_unit": unit["unit"], "mass_unit_note": unit["note"]}
 
 
 def summary(stored: dict, f_hz, fingerprint: str) -> dict:
@@ -211,6 +259,6 @@ def summary(stored: dict, f_hz, fingerprint: str) -> dict:
     fe, rows = stored["model"]["fe"], stored["model"]["mapping"]
     return {"model": stored["model"], "source": "fe", "name": stored.get("name"), "saved": stored.get("saved"),
             "fingerprint": fingerprint, "n_nodes": fe["n_nodes"], "n_members": 0,
-            "n_sensors": sum(r["matched"] for r in rows), "total_mass_kg": float(stored.get("total_mass", 0.0)),
+            "n_sensors": sum(r["matched"] for r in rows), **masses(stored),
             "frequency_hz": [float(f) for f in f_hz], "text": fe["text"], "mapping": rows,
             "unmatched": unmatched(rows), "notes": fe["notes"], "n_dofs": fe["n_dofs"]}

@@ -265,7 +265,8 @@ def summary(stored: dict, fr: era.Frame, f_hz) -> dict:
     return {"model": stored["model"], "source": stored["source"], "name": stored.get("name"),
             "saved": stored.get("saved"), "fingerprint": fingerprint(stored["model"]),
             "n_nodes": len(fr.nodes), "n_members": len(fr.members),
-            "n_sensors": len(fr.sensors), "total_mass_kg": fr.total_mass_kg,
+            "n_sensors": len(fr.sensors), "total_mass_kg": fr.total_mass_kg, "total_mass": fr.total_mass_kg,
+            "mass_unit": "kg", "mass_unit_note": "era.Frame models are in SI units",
             "frequency_hz": [float(f) for f in f_hz], "text": describe(stored["model"])}
 
 

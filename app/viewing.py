@@ -12,6 +12,7 @@ import era.points
 
 from .cache import Analysis, Cache
 from .errors import NotFound
+from .viewer.scene import SurfaceGeometry
 
 
 def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
@@ -39,9 +40,11 @@ def explain_scene(summary: dict, which: str) -> tuple:
                    [r["updated_hz"] or 0.0 for r in summary["modes"]], dtype=float)
     drawn = summary.get("mesh") or summary.get("frame")     # an FE model's mesh, a frame, else the grid
     every_joint = _frame_geometry(drawn) if drawn else _grid_geometry()
-    n = every_joint.channel_nodes.size
+    n = len(drawn["node_labels"]) if drawn else every_joint.channel_nodes.size
     if shapes.shape[0] != n:
         raise era.DataError(f"The stored shapes have {shapes.shape[0]} rows, the structure {n} node translations.")
+    # the mesh's nodes without a row (an FE model's held nodes) carry a channel each that stays at zero
+    shapes = np.vstack([shapes, np.zeros((every_joint.channel_nodes.size - n, shapes.shape[1]))])
     paired = [which == "measured" or r["updated_hz"] is not None for r in summary["modes"]]
     labels = [f"mode {k + 1}: {'measured (SEREP)' if which == 'measured' else 'updated model'} {fk:.3f} Hz"
               if ok else f"mode {k + 1}: no model partner" for k, (fk, ok) in enumerate(zip(f, paired))]
@@ -60,14 +63,21 @@ def _grid_geometry() -> era.Geometry:
 
 
 def _frame_geometry(frame: dict) -> era.Geometry:
-    """A frame's nodes (m) and members, with a channel per row of its expanded shapes ("node:x", ...)."""
+    """A frame's nodes (m) and members (an FE model's mesh: also its shells' faces, scene.SurfaceGeometry), with a
+    channel per row of its expanded shapes ("node:x", ...), then one (z, held at zero by explain_scene) per node
+    that has no row, so the viewer keeps it still rather than moving it by the spline through the others."""
     ids = list(frame["nodes"])
     index = {n: k for k, n in enumerate(ids)}
     rows = [label.rsplit(":", 1) for label in frame["node_labels"]]
-    return era.Geometry(node_ids=np.arange(1, len(ids) + 1), coordinates=[frame["nodes"][n] for n in ids],
-                        edges=[[index[i], index[j]] for i, j in frame["members"]],
-                        channel_nodes=[index[n] for n, _ in rows],
-                        channel_directions=[np.eye(3)["xyz".index(a)] for _, a in rows], units="m")
+    moving = {n for n, _ in rows}
+    rows += [(n, "z") for n in ids if n not in moving]
+    common = dict(node_ids=np.arange(1, len(ids) + 1), coordinates=[frame["nodes"][n] for n in ids],
+                  edges=[[index[i], index[j]] for i, j in frame["members"]],
+                  channel_nodes=[index[n] for n, _ in rows],
+                  channel_directions=[np.eye(3)["xyz".index(a)] for _, a in rows], units="m")
+    if frame.get("faces"):
+        return SurfaceGeometry(**common, faces=[[index[n] for n in f] for f in frame["faces"]])
+    return era.Geometry(**common)
 
 
 def resolver(cache: Cache):

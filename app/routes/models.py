@@ -103,7 +103,8 @@ async def _save_fe(request: Request, ds: CachedDataset, name: str, file: UploadF
         stored = {"model": {"fe": femodel.describe(model, name, sha),
                             "mapping": femodel.match(model, ds.data.outputs, points)},
                   "source": "fe", "name": name, "saved": time.time(),
-                  "frequency_hz": [float(f) for f in f_hz], "total_mass": float(model.total_mass())}
+                  "frequency_hz": [float(f) for f in f_hz], "total_mass": float(model.total_mass()),
+                  "mass_unit": femodel.mass_unit(model, path)}
         files.set_model(ds.id, stored)
         files.drop_model_files(ds.id, keep=path)
         return femodel.summary(stored, f_hz, modeling.fingerprint(stored["model"]))

@@ -178,8 +178,10 @@ class Explanation(Explained):
     model_text: str | None = Field(None, description="on a frame or an FE model: the model compared, in one line")
     fe_model: bool = Field(False, description="compared with the engineer's FE model (a Nastran deck or matrices)")
     mesh: dict[str, Any] | None = Field(None, description="on an FE model with node coordinates: {nodes: {id: [x, y, "
-                                                          "z]}, members: [[i, j]] (bars and shell edges), node_labels: "
-                                                          "the expanded shapes' rows} for the 3-D viewer")
+                                                          "z]} (the shapes' nodes, and element nodes held still), "
+                                                          "members: [[i, j]] (bars and shell edges), faces: [[i, j, "
+                                                          "k]] (the shells as triangles), node_labels: the expanded "
+                                                          "shapes' rows} for the 3-D viewer")
     model_used: UsedModel | None = Field(None, description="the model this result was made with (null for results "
                                                            "stored before it was recorded)")
     stale: str | None = Field(None, description="why this result no longer matches the dataset's model (it changed "

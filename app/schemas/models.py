@@ -48,8 +48,15 @@ class StructureModel(Schema):
     n_nodes: int
     n_members: int
     n_sensors: int
-    total_mass_kg: float = Field(description="members plus lumped masses, kg (an FE model: the mass moving with a "
-                                             "rigid translation, in the model's mass unit)")
+    total_mass_kg: float = Field(description="members plus lumped masses, kg; an FE model: the mass moving with a "
+                                             "rigid translation, in kg when its mass unit is known (mass_unit), "
+                                             "else total_mass as it is (kg only if the model is in SI units)")
+    total_mass: float | None = Field(None, description="the same mass in the model's own mass unit (mass_unit)")
+    mass_unit: str | None = Field(None, description="the model's mass unit (kg, t, lbf·s²/in, kip·s²/in, slug) "
+                                                    "when known: an era.Frame's kg, a zip's units.txt, a deck's "
+                                                    "PARAM WTMASS of 1/g; null when the file does not say")
+    mass_unit_note: str | None = Field(None, description="how the mass unit is known, or that it is not, in one "
+                                                         "sentence")
     frequency_hz: Floats = Field(description="the model's lowest frequencies, Hz")
     text: str = Field(description="the model in one line")
     mapping: list[PointMatch] | None = Field(None, description="an FE model: each output's test point and the "

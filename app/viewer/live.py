@@ -61,7 +61,7 @@ class Session:
         first = scene.frame(geometry, entry.vectors(state), state.phase, state.amplitude)
         undeformed = scene.frame(geometry, entry.vectors(state), 0.0, 0.0)
         with client.atomic():
-            self.lines, self.points = add_mode_nodes(client.scene, geometry, first, undeformed)
+            self.lines, self.points, self.surface = add_mode_nodes(client.scene, geometry, first, undeformed)
         note = scene.stand_in_note(geometry)
         if note is not None:  # a lone dot or a row of them says nothing by itself
             below = look_at - (0.0, 0.0, 0.3 * scene.structure_size(geometry))
@@ -115,7 +115,7 @@ class Session:
             return False
         f = scene.frame(self.entry.geometry, self.entry.vectors(state), state.phase, state.amplitude)
         with self.client.atomic():
-            update_mode_nodes(self.lines, self.points, f)
+            update_mode_nodes(self.lines, self.points, f, self.surface)
         self.drawn = now
         return True
 

@@ -34,9 +34,16 @@ def quiet():
 
 def add_mode_nodes(target: viser.SceneApi, geometry: Geometry, first: scene.SceneFrame,
                    undeformed: scene.SceneFrame):
-    """Add the undeformed trace lines, the moving lines and the sensor points to a scene; return the handles
-    (lines or None when the geometry has no trace lines, points) that each frame updates."""
+    """Add the surfaces (an FE model's shells, scene.SurfaceGeometry), the undeformed trace lines, the moving lines
+    and the sensor points to a scene; return the handles that each frame updates: (lines, or None when the geometry
+    has no trace lines; points; surface, or None without faces)."""
     size = scene.structure_size(geometry)
+    faces = scene.faces_of(geometry)
+    surface = None
+    if faces.shape[0]:
+        surface = target.add_mesh_simple("/mode/surface", first.positions.astype(np.float32),
+                                         faces.astype(np.uint32), color=scene.SURFACE_RGB, side="double",
+                                         opacity=0.75, cast_shadow=False, receive_shadow=False)
     lines = None
     if geometry.edges.shape[0]:
         target.add_line_segments("/undeformed", undeformed.segments, scene.UNDEFORMED_RGB,
@@ -45,11 +52,13 @@ def add_mode_nodes(target: viser.SceneApi, geometry: Geometry, first: scene.Scen
                                          thickness=4.0, thickness_units="screen")
     points = target.add_point_cloud("/mode/sensors", first.sensor_points, first.sensor_colours,
                                     point_size=0.025 * size, point_shape="circle", precision="float32")
-    return lines, points
+    return lines, points, surface
 
 
-def update_mode_nodes(lines, points, f: scene.SceneFrame) -> None:
+def update_mode_nodes(lines, points, f: scene.SceneFrame, surface=None) -> None:
     """Move the handles from `add_mode_nodes` to frame `f` (call inside `atomic()` so a frame lands at once)."""
+    if surface is not None:
+        surface.vertices = f.positions.astype(np.float32)
     if lines is not None:
         lines.points = f.segments
         lines.colors = f.segment_colours
@@ -90,8 +99,8 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
         position, look_at = scene.camera_pose(geometry, [vectors], amplitude)
         server.initial_camera.position = position
         server.initial_camera.look_at = look_at
-        lines, points = add_mode_nodes(server.scene, geometry, scene.frame(geometry, vectors, 0.0, amplitude),
-                                       undeformed)
+        lines, points, surface = add_mode_nodes(server.scene, geometry,
+                                                scene.frame(geometry, vectors, 0.0, amplitude), undeformed)
         top = geometry.coordinates[:, 2].max() + amplitude * scene.structure_size(geometry)
         server.scene.add_label("/title", f"Mode {mode_index + 1} · {f[mode_index]:.4g} Hz",
                                position=(look_at[0], look_at[1], top), anchor="bottom-center")
@@ -104,7 +113,7 @@ def record_mode(geometry: Geometry | None, frequency_hz, shapes, mode_index: int
         for k in range(1, frames):
             serializer.insert_sleep(dt)
             with server.atomic():
-                update_mode_nodes(lines, points, scene.frame(geometry, vectors, k / frames, amplitude))
+                update_mode_nodes(lines, points, scene.frame(geometry, vectors, k / frames, amplitude), surface)
         serializer.insert_sleep(dt)
         return serializer.serialize()
     finally:

@@ -21,6 +21,7 @@ Conventions
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,6 +39,30 @@ COLOUR_STOPS = np.array([
 ], dtype=float)
 
 UNDEFORMED_RGB = (185, 185, 185)
+#: The shells' surface: a blue-grey under the coloured edges (at 0.75 opacity, the grey rest lines show through),
+#: seen from both sides.
+SURFACE_RGB = (110, 140, 185)
+
+
+@dataclass(frozen=True)
+class SurfaceGeometry(Geometry):
+    """An era.Geometry with surfaces: ``faces`` (n_faces, 3) int, triangles as row indices into ``node_ids`` (an
+    FE model's shells), drawn as a mesh that moves with the nodes."""
+
+    faces: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3), dtype=int))
+
+    def __post_init__(self):
+        super().__post_init__()
+        faces = np.asarray(self.faces, dtype=int).reshape(-1, 3)
+        if faces.size and (faces.min() < 0 or faces.max() >= self.n_nodes):
+            raise DataError("Geometry: a face refers to a node that does not exist.")
+        faces.setflags(write=False)
+        object.__setattr__(self, "faces", faces)
+
+
+def faces_of(geometry: Geometry) -> np.ndarray:
+    """(n_faces, 3) the geometry's surface triangles; (0, 3) for trace lines only."""
+    return geometry.faces if isinstance(geometry, SurfaceGeometry) else np.zeros((0, 3), dtype=int)
 
 
 @dataclass(frozen=True)
@@ -100,8 +125,7 @@ def geometry_for(geometry: Geometry | None, n_channels: int) -> Geometry:
         return geometry
     directions = geometry.channel_directions.copy()
     directions[unknown] = (0.0, 0.0, 1.0)
-    return Geometry(node_ids=geometry.node_ids, coordinates=geometry.coordinates, edges=geometry.edges,
-                    channel_nodes=geometry.channel_nodes, channel_directions=directions, units=geometry.units)
+    return dataclasses.replace(geometry, channel_directions=directions)
 
 
 def check_modes(geometry: Geometry, frequency_hz, shapes) -> tuple[np.ndarray, np.ndarray]:

@@ -63,6 +63,9 @@ class EffectSpec:
         candidate idealises the truth's form (a crack is not one member's E and G scaled together), whose
         misfit then shifts between neighbouring places by a few nats; T = 2 is the error variance doubled for
         comparing places. The effect's evidence (summed over places) is not tempered.
+    nearby : for places thinned from a larger set (a big mesh's nodes), {place: (the places of the full set near
+        it that ``locations`` leaves out)}: the ranking screens those near the best screened places too, so the
+        place named is the set's own, not only the nearest thinned one. None: ``locations`` is every place.
     """
 
     name: str
@@ -77,6 +80,7 @@ class EffectSpec:
     start: tuple = ()
     prior_log_odds: float = 0.0
     place_temperature: float = 1.0
+    nearby: dict | None = None
 
     @property
     def located(self) -> bool:
@@ -101,7 +105,7 @@ def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
     fixed.update(spec.fixed)
     return EffectSpec(spec.name, tuple(params) + tuple(spec.params), fixed, spec.location_keyword, spec.locations,
                       spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds,
-                      spec.place_temperature)
+                      spec.place_temperature, spec.nearby)
 
 
 def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,

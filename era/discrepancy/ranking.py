@@ -241,6 +241,27 @@ def credible_places(locations: tuple, coverage: float = 0.9) -> tuple:
     return tuple(out)
 
 
+def _near_best(spec: EffectSpec, places, chi2: np.ndarray, n_best: int) -> tuple:
+    """The places of spec.nearby around the ``n_best`` best screened ``places`` (those the full fits would
+    consider: within the fits' misfit margin of the best), not among ``places``, each once, nearest the best
+    first; () when the places are not thinned."""
+    if not spec.nearby:
+        return ()
+    best = np.argsort(chi2, kind="stable")[:n_best]
+    best = best[np.isfinite(chi2[best])]
+    if not best.size:
+        return ()
+    best = best[chi2[best] - chi2[best[0]] <= max(25.0, 0.5 * chi2[best[0]])]
+    seen = set(places)
+    out = []
+    for i in best:
+        for p in spec.nearby.get(places[i], ()):
+            if p not in seen:
+                seen.add(p)
+                out.append(p)
+    return tuple(out)
+
+
 def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured: MeasuredModes, w: ModeWeights,
                  n_model: int, locations: np.ndarray, refine: int = 4, test: dict | None = None,
                  fine_scan: bool = False, ritz_modes: int = 30, base: Fit | None = None,
@@ -256,6 +277,9 @@ def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured:
     base : the fit of specs[0] when the caller has it (the search's last step), else it is fitted here.
     screens : {effect name: (n_places, n_r) changes} of an earlier step's screening (RankedEffect.screen):
         they pre-screen the places, and only the best dozen are screened again against this step's reference.
+    A located effect whose places were thinned (EffectSpec.nearby) is screened a second time at the places of
+    the full set near its ``refine`` best screened ones; the full fits then go to the best of both passes, and
+    its evidence is averaged over every place screened.
     fine_scan : (frames) start every fit from a finer scan of its parameter (located: about the screened size),
         and screen with the stiffness factor's prior as a residual; False keeps the grid's path as it was.
     The first spec must be "none", the reference (the nominal plus the nuisance, or the :func:`combined` effects
@@ -295,6 +319,16 @@ def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured:
                                                         places, with_prior=fine_scan, ritz_modes=ritz_modes,
                                                         prior=(screens or {}).get(spec.name))
             rejected = [(spec.name, loc, why) for loc, why in bad]
+            screened = int(np.isfinite(chi2).sum())
+            screen = changes if screened == len(places) else None
+            finer = _near_best(spec, places, chi2, refine)
+            if finer:     # a thinned mesh: the places left out near the best screened ones, screened as well
+                more = screen_locations(nominal, spec, nuisance, base, measured, w, n_model, finer,
+                                        with_prior=fine_scan, ritz_modes=ritz_modes)
+                places = tuple(places) + finer
+                chi2, size = np.r_[chi2, more[0]], np.r_[size, more[1]]
+                screened += int(np.isfinite(more[0]).sum())
+                rejected += [(spec.name, loc, why) for loc, why in more[3]]
             top = np.argsort(chi2, kind="stable")[:refine]
             # places the linearised misfit puts far behind the best are not worth a full fit: their evidence
             # is below the best's by more than e^{-12}, well within the marginal's rounding
@@ -315,10 +349,8 @@ def rank_effects(nominal: ExplainModel, specs: tuple, nuisance: Param, measured:
             les = np.array([f.log_evidence for f in fits])
             log_ev = float(logsumexp(les) - np.log(len(places)))
             locs = place_posterior(spec, fitted_at, places, chi2)
-            screened = int(np.isfinite(chi2).sum())
             rows.append((spec, log_ev, fits[0], locs, time.perf_counter() - t,
-                         screened + 2 + sum(f.n_evals for f in fits), changes if screened == len(places) else None,
-                         tuple(rejected)))
+                         screened + 2 + sum(f.n_evals for f in fits), screen, tuple(rejected)))
     rows[0] = rows[0][:7] + (tuple(dropped),)
     log_post = np.array([r[1] + r[0].prior_log_odds for r in rows])
     prob = np.exp(log_post - logsumexp(log_post))

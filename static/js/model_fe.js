@@ -11,6 +11,13 @@ const DIRECTIONS = ["x", "y", "z", "rx", "ry", "rz", "-x", "-y", "-z", "-rx", "-
 export function feRows(summary) {
   const rows = [["Model", `your FE model, from the file ${summary.name}`], ["Structure", summary.text],
     ["Model's lowest modes (Hz)", summary.frequency_hz.filter((f) => f !== null && f > 1e-6).map((f) => f.toPrecision(4)).join(", ")]];
+  const mass = summary.total_mass ?? summary.total_mass_kg;
+  if (mass !== null && mass !== undefined) {
+    // in the model's own unit, and in kg where that unit is known and is not kg already
+    const kg = summary.mass_unit && summary.mass_unit !== "kg" ? ` = ${summary.total_mass_kg.toPrecision(4)} kg` : "";
+    const text = summary.mass_unit ? `${mass.toPrecision(4)} ${summary.mass_unit}${kg}` : `${mass.toPrecision(4)} in the model's own mass unit`;
+    rows.push(["Mass", summary.mass_unit_note ? `${text} (${summary.mass_unit_note})` : text]);
+  }
   for (const note of summary.notes || []) rows.push(["Read", note]);
   return rows;
 }

@@ -92,6 +92,24 @@ def test_the_deck_and_its_matrices_give_the_same_modes_and_the_points_are_matche
     assert c.get(f"/api/datasets/{ds['id']}").json()["has_model"] is True
 
 
+def test_the_model_mass_is_given_in_its_own_unit_and_in_kg_where_the_file_says_the_unit(plate):
+    """The plate's mass (ρ t times the area that moves: the clamped edge's nodes hold none of it) in the model's
+    own unit: a .zip with units.txt says kg; a deck says nothing, unless its PARAM WTMASS is 1/g (here in in/s²:
+    an inch-pound deck whose masses are weights in lbf), which gives lbf·s²/in and the kg from it."""
+    c, ds, deck_bytes, matrices, model = plate
+    z = exact(schemas.StructureModel, send(c, ds, "plate.zip", matrices).json())
+    assert z.mass_unit == "kg" and "units.txt" in z.mass_unit_note
+    assert z.total_mass == z.total_mass_kg == pytest.approx(model.total_mass(), rel=1e-12)
+    s = exact(schemas.StructureModel, send(c, ds, "plate.bdf", deck_bytes).json())
+    assert s.mass_unit is None and "does not say its units" in s.mass_unit_note
+    assert s.total_mass == pytest.approx(z.total_mass, rel=1e-9)
+    inch = deck_bytes.replace(b"ENDDATA", b"PARAM,WTMASS,0.00259008\nENDDATA")
+    w = exact(schemas.StructureModel, send(c, ds, "plate.bdf", inch).json())
+    assert w.mass_unit == "lbf·s²/in" and "PARAM WTMASS 0.00259008 = 1/386.089" in w.mass_unit_note
+    assert w.total_mass == pytest.approx(0.00259008 * s.total_mass, rel=1e-9)
+    assert w.total_mass_kg == pytest.approx(w.total_mass * 4.4482216152605 / 0.0254, rel=1e-6)   # lbf·s²/in in kg
+
+
 def test_explain_on_the_deck_names_the_hidden_mass_after_the_mapping_is_completed(plate):
     c, ds, deck_bytes, _, _ = plate
     url = f"/api/datasets/{ds['id']}/model"
@@ -131,8 +149,16 @@ def test_explain_on_the_deck_names_the_hidden_mass_after_the_mapping_is_complete
     assert moved.status_code == 200
     later = c.get(f"/api/analyses/{a['id']}/explain").json()
     assert later["stale"] and "earlier model" in later["stale"]
-    # the 3-D viewer draws the shapes on the deck's mesh: its 30 free nodes, the shells' edges between them
-    assert len(s.mesh["nodes"]) == 30 and len(s.mesh["node_labels"]) == 90 == len(s.expanded_measured)
-    assert ["2", "3"] in s.mesh["members"] and ["2", "9"] in s.mesh["members"] and ["1", "2"] not in s.mesh["members"]
+    # the 3-D viewer draws the shapes on the deck's mesh: its 35 nodes (the 5 clamped ones held still), the
+    # shells' edges and the 24 quads as 48 triangles, two per quad along its diagonal
+    assert len(s.mesh["nodes"]) == 35 and len(s.mesh["node_labels"]) == 90 == len(s.expanded_measured)
+    assert ["2", "3"] in s.mesh["members"] and ["2", "9"] in s.mesh["members"] and ["1", "2"] in s.mesh["members"]
+    assert len(s.mesh["faces"]) == 48 and ["1", "2", "9"] in s.mesh["faces"] and ["1", "9", "8"] in s.mesh["faces"]
     v = c.post(f"/api/analyses/{a['id']}/explain/viewer", json={"which": "model"})
     assert v.status_code == 200 and v.json()["n_modes"] == len(s.modes), v.text
+    # the viewer gets the faces as a surface over all 35 nodes, and the clamped edge stays still in every mode
+    drawn = c.app.state.viewer.registry.get(v.json()["key"])
+    assert drawn.geometry.faces.shape == (48, 3) and drawn.geometry.n_nodes == 35
+    clamped = [k for k, xyz in enumerate(drawn.geometry.coordinates) if xyz[0] == 0.0]
+    assert len(clamped) == 5 and all(np.abs(v[clamped]).max() == 0 for v in drawn.spline_vectors)
+    assert all(np.abs(v).max() > 0 for v in drawn.spline_vectors)

@@ -307,6 +307,31 @@ def test_record_is_one_cycle_in_the_viser_format():
     assert len(said) == 2 and any("No geometry in the file: the one sensor" in t for t in said)
 
 
+def test_shells_are_recorded_as_a_surface_that_moves_with_the_nodes():
+    """A plate of 2 × 1 quads as four triangles (scene.SurfaceGeometry): a mesh message with its faces, then
+    each frame moves its vertices with the nodes (the left edge held, the right one bending)."""
+    xyz = np.array([(x, y, 0.0) for y in (0, 1) for x in (0, 1, 2)], dtype=float)
+    faces = [[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]]
+    geometry = scene.SurfaceGeometry(node_ids=np.arange(1, 7), coordinates=xyz, edges=[[0, 1], [1, 2]],
+                                     channel_nodes=np.arange(6), channel_directions=np.tile([0, 0, 1.0], (6, 1)),
+                                     faces=faces)
+    with pytest.raises(DataError, match="face refers to a node"):
+        scene.SurfaceGeometry(node_ids=[1, 2, 3], coordinates=xyz[:3], edges=[], channel_nodes=[],
+                              channel_directions=np.zeros((0, 3)), faces=[[0, 1, 3]])
+    shape = np.array([0.0, 0.4, 1.0, 0.0, 0.4, 1.0])
+    assert scene.faces_of(geometry).tolist() == faces and scene.faces_of(grid()).shape == (0, 3)
+    drawn = scene.frame(geometry, scene.node_modal_vectors(geometry, shape), 0.0, 0.25)
+    np.testing.assert_allclose(drawn.positions[:, 2], 0.25 * 2.0 * shape)       # amplitude × size × shape
+    rec = decode_viser(ModeViewer().record(geometry, [5.0], shape[:, None], 0, frames=4, amplitude=0.25))
+    meshes = [m for _, m in rec["messages"] if m["type"] == "MeshMessage"]
+    assert [m["name"] for m in meshes] == ["/mode/surface"] and meshes[0]["props"]["side"] == "double"
+    moved = [t for t, m in rec["messages"] if m["type"] == "SceneNodeUpdateMessage"
+             and m["name"] == "/mode/surface" and "vertices" in m["updates"]]
+    assert len(moved) == 3 and moved == sorted(moved) and moved[0] > 0       # one per later frame
+    assert not [m for _, m in decode_viser(ModeViewer().record(grid(), [10.0], bending()[:, None], 0, frames=2))[
+        "messages"] if m["type"] == "MeshMessage"]                             # trace lines only: no surface
+
+
 def test_standalone_html_inlines_the_recording_into_the_client():
     data = ModeViewer().record(grid(), [10.0], bending()[:, None], 0, frames=4)
     html = ModeViewer.standalone_html(data)

@@ -10,6 +10,13 @@ next to the truth (one of about 400 spread over the panel, 3 cm from the truth);
 at that load, which this bench asserts. A 3,600-DOF panel (25 × 25 nodes): explain 19 s at the same load. The trials' 37 × 37 eigenproblems took 3-7 ms each at that load against 0.3-0.6 ms
 alone; the re-fit of the named effect in the full model (a few Gauss-Newton steps, a sparse eigensolve of
 1-5 s each at this size) is the other large share.
+
+2026-11-28, with the second screening around the best places (`nice -n 5`, load average 5-10): explain 38-44 s
+(26 s for the one-pass screening at load 3.5), 10 nominal modes 1.3 s at load 6, 4.6 s at load 10 (the eigen
+solve alone, profiled at load 9: LU 0.3 s, Lanczos 0.7-0.9 s, Sturm count 0.35-0.5 s); the mass named at its own node 40_28
+(55 %; its four neighbours 4-17 %, noise-free data under the model-form allowance). Of the 44 s: the screening
+13 s (3,300 Ritz trials), the full fits 7 s, the named mass re-fitted in the full model 16 s (10 sparse
+eigensolves).
 """
 
 import time
@@ -59,8 +66,7 @@ def test_explain_names_a_point_mass_on_a_20000_dof_panel_within_a_minute():
           f"{r.verdict} {r.effect and (r.effect.name, r.effect.location, r.effect.places[:3])}; {r.timing_s}")
     assert model.n_dofs > 18000 and t_modes < 5.0 and t_explain < 60.0
     assert r.verdict == "explained" and r.effect.name == "point_mass"
-    # the places are thinned to about 400 of the 3,249 nodes (one per cell of 6 cm): the named node is the
-    # candidate nearest the truth, within a cell, and the description says so
-    named = np.array(model.coordinates[r.effect.location])
-    assert np.linalg.norm(named - np.array(model.coordinates["40_28"])) < 0.06
-    assert "within about that distance" in r.effect.description
+    # the places are thinned to about 400 of the 3,249 nodes (one per cell of 6 cm), then every node within a
+    # cell of the best screened ones is screened too: the named node is the truth's own
+    assert r.effect.location == "40_28"
+    assert "then every node within" in r.effect.description

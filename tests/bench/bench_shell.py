@@ -7,6 +7,8 @@ Measured on the project's 2-core machine (BLAS on one thread, as the bench conft
 memory 0.26 GB; 199,836 DOFs: assemble 15 s, 20 modes 64 s, total 79 s, peak memory 1.8 GB. The modes are one
 symmetric LU of K - σM, ARPACK's shift-invert Lanczos, and the Sturm count's LU (one factorisation in memory at a
 time).
+2026-11-28 (`nice -n 5`, load average 9): 20,532 DOFs in 3.0-3.8 s (assemble 1.2-1.5 s, 20 modes 1.7-2.6 s) in
+three runs, under the 5 s target; neither share dominates enough to be worth a rewrite.
 Also the mesh convergence the CI tests only sample: the simply supported plate's first six modes against Navier
 for quads and triangles from 8 to 64 elements a side.
 """

@@ -8,7 +8,11 @@ Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downl
 
 from __future__ import annotations
 
+import io
+
+import numpy as np
 import pytest
+from PIL import Image
 from fe_test_files import deck, simulated
 
 import era
@@ -32,6 +36,7 @@ def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_m
         page.wait_for_selector("#model-mapping:not([hidden])", timeout=60000)
         assert "Nastran deck plate.bdf" in page.text_content("#model-summary")
         assert "EIGRL" in page.text_content("#model-summary")           # the card not modelled, said
+        assert "in the model's own mass unit" in page.text_content("#model-summary")   # a deck says no unit
         unmatched = page.text_content("#model-unmatched")
         assert unmatched.startswith("1 output of 8 matches no free DOF") and "TIP z" in unmatched
         assert page.input_value("#model-map-node-0") == "4" and page.input_value("#model-map-dir-0") == "z"
@@ -53,7 +58,19 @@ def test_a_deck_uploaded_in_the_model_panel_is_matched_mapped_and_explains_the_m
         assert "node 28" in verdict, verdict
         assert "Nastran deck plate.bdf" in page.text_content("#explain-model")
         assert "over the FE model's mesh" in page.text_content("#explain-fe-shapes")
-        page.wait_for_selector("#explain-viewers iframe, #explain-viewers .note", timeout=60000)
+        page.wait_for_selector("#explain-viewers iframe", timeout=60000)
+        # the plate's shells are drawn as a surface (pale blue-grey, shaded): a large area of unsaturated bluish
+        # pixels, where trace lines alone leave the white background with thin coloured and grey lines
+        frame = page.frame_locator("#explain-viewers iframe >> nth=0")
+        frame.get_by_text("Connected").wait_for(timeout=60000)
+        iframe = page.locator("#explain-viewers iframe >> nth=0")
+        iframe.scroll_into_view_if_needed()
+        page.wait_for_timeout(3000)
+        box = iframe.bounding_box()
+        png = page.screenshot(path=str(tmp_path / "surface.png"), clip=box)
+        img = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+        surface = (img[..., 2] - img[..., 0] > 15) & (img.max(axis=-1) - img.min(axis=-1) < 60)
+        assert surface.sum() > 0.03 * surface.size, (surface.sum(), surface.size)   # 7 % measured, lines alone 1 %
         assert not errors, errors
     finally:
         server.stop()

@@ -57,7 +57,32 @@ def frequencies(dat: str) -> np.ndarray:
     return np.array(out)
 
 
-def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: bool = True) -> str:
+def node_ids(mesh) -> dict:
+    """{label: ccx node number} as frequency_inp numbers an era.fem FEMesh's nodes."""
+    return {label: i + 1 for i, label in enumerate(mesh.nodes)}
+
+
+def displacements(dat: str, points) -> np.ndarray:
+    """The mode shapes (p, n) at ``points`` ((ccx node number, "x" | "y" | "z") each) from a ``.dat`` text whose
+    deck asked ``*NODE PRINT ... U`` (frequency_inp's ``printed``): one "displacements (vx,vy,vz)" table per mode,
+    rows ``node, ux, uy, uz`` (for a shell's node ccx prints its reference node's translation)."""
+    blocks = dat.split("displacements (vx,vy,vz)")[1:]
+    out = np.zeros((len(points), len(blocks)))
+    for j, block in enumerate(blocks):
+        u = {}
+        for line in block.splitlines()[1:]:
+            parts = line.split()
+            if len(parts) == 4 and parts[0].isdigit():
+                u[int(parts[0])] = [float(x) for x in parts[1:]]
+            elif u and not line.strip():
+                break
+        for p, (n, d) in enumerate(points):
+            out[p, j] = u[int(n)]["xyz".index(d)]
+    return out
+
+
+def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: bool = True,
+                  printed: tuple = ()) -> str:
     """A ccx deck of an era.fem FEMesh's lowest ``n_modes`` modes: shells per ShellProperty, beams with a
     rectangular section per BeamProperty (``beam_rect`` {name: (depth along the beam's orientation vector, width)};
     ccx's own torsion and inertias of that rectangle are used, not the property's), MASS elements for point
@@ -65,10 +90,11 @@ def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: 
 
     quadratic : S8R/S6 shells and B32 beams on mid-edge nodes added at the edges' mid-points (held where both
         ends are held), far more accurate than ccx's linear S4/S3/B31 on the same mesh; else the linear ones.
+    printed : node labels whose translations ccx prints for every mode (read them with :func:`displacements`).
     """
     if mesh.springs or mesh.rigid or any(p.nsm for p in mesh.shell_properties.values()):
         raise ValueError("frequency_inp writes no springs, RBE2 or non-structural mass")
-    ids = {label: i + 1 for i, label in enumerate(mesh.nodes)}
+    ids = node_ids(mesh)
     xyz = {label: np.asarray(x, float) for label, x in mesh.nodes.items()}
     held = {}
     for n, d in mesh.fixed:
@@ -125,7 +151,11 @@ def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: 
     bc = [(ids.get(n, n), _DOF[d]) for n, ds in held.items() for d in sorted(ds, key=_DOF.get)]
     if bc:
         lines += ["*BOUNDARY"] + [f"{n}, {d}, {d}" for n, d in bc]
-    lines += ["*STEP", "*FREQUENCY", f"{int(n_modes)}", "*END STEP"]
+    if printed:
+        lines += ["*NSET, NSET=PRINTED"] + [str(ids[n]) for n in printed]
+    lines += ["*STEP", "*FREQUENCY", f"{int(n_modes)}"]
+    lines += ["*NODE PRINT, NSET=PRINTED", "U"] if printed else []
+    lines += ["*END STEP"]
     return "\n".join(lines) + "\n"
 
 
