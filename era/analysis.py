@@ -92,6 +92,8 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     """
     if not isinstance(data, ResponseData):
         raise EraError(f"analyse needs an era.ResponseData (era.load(...).data), got {type(data).__name__}.")
+    if pole_std not in ("choice", "all"):
+        raise EraError(f"`pole_std` must be \"choice\" or \"all\", got {pole_std!r}.")
     n, p, m = data.markov.shape
     if rows is None or cols is None:
         choice = hankel_size(n, p, m, max_side=DEFAULT_MAX_SIDE, max_elements=min(max_elements, MAX_HANKEL_ELEMENTS),
@@ -104,8 +106,6 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     if ident.max_order == 0:
         raise DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is nothing to "
                         "identify. Check the file's channels and scaling.")
-    if pole_std not in ("choice", "all"):
-        raise EraError(f"`pole_std` must be \"choice\" or \"all\", got {pole_std!r}.")
     orders = diagram_orders(ident.max_order) if orders is None else orders
     stab = stabilization(ident, orders, uncertainty=True if pole_std == "all" else "choice", workers=workers)
     if band_hz is None and data.meta.get("band_hz") is not None:
