@@ -128,9 +128,10 @@ def _analyse_ratios(data, rows, cols, repeat=REPEAT):
     return h0.shape, wall, cpu
 
 
-#: era.analyse over one dense SVD with one BLAS thread, wall-clock, guarding against regressions (the issue's
-#: target is 0.5; what was reached is in docs/performance.md).
-ANALYSE_LIMIT = {"900x2392 p=9 m=8": 1.2, "1280x2000 p=32 m=4": 0.8}
+#: era.analyse over one dense SVD with one BLAS thread, wall-clock: at most what it was with every stable pole's σ
+#: on a quiet machine (2.53 and 1.65), a guard against regressions that holds at a load of 8-9 on 2 cores; the
+#: issue's target is 0.5, what was reached is in docs/performance.md#analyse.
+ANALYSE_LIMIT = {"900x2392 p=9 m=8": 2.5, "1280x2000 p=32 m=4": 1.65}
 
 
 def test_the_default_analysis_against_one_dense_svd_with_one_blas_thread(case):
