@@ -64,7 +64,8 @@ def diagram_orders(max_order: int, top: int = DIAGRAM_MAX_ORDER) -> range:
 
 def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = None, max_order: int | None = None,
             orders=None, band_hz: tuple[float, float] | None = None,
-            max_elements: int = DEFAULT_MAX_ELEMENTS, workers: int | None = None) -> AnalysisResult:
+            max_elements: int = DEFAULT_MAX_ELEMENTS, workers: int | None = None,
+            pole_std: str = "choice") -> AnalysisResult:
     """The structure's modes from a ResponseData, chosen for you, with the evidence for and against every pole.
 
     Parameters
@@ -77,6 +78,10 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     band_hz : (low, high) Hz, the band the data hold; default ``data.meta["band_hz"]`` (FRF data), else
         (0, Nyquist).
     workers : threads for the diagram's orders (era.stabilization).
+    pole_std : "choice" (default) or "all": the diagram's poles whose standard deviations from the data are
+        computed (``stabilization.frequency_std_hz``): those the choice reads (``era.stabilization(...,
+        uncertainty="choice")``, a third of the work) or every stable pole. The choice, and the chosen modes and
+        their σ (``model``), are the same with both.
 
     Returns
     -------
@@ -87,6 +92,8 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     """
     if not isinstance(data, ResponseData):
         raise EraError(f"analyse needs an era.ResponseData (era.load(...).data), got {type(data).__name__}.")
+    if pole_std not in ("choice", "all"):
+        raise EraError(f"`pole_std` must be \"choice\" or \"all\", got {pole_std!r}.")
     n, p, m = data.markov.shape
     if rows is None or cols is None:
         choice = hankel_size(n, p, m, max_side=DEFAULT_MAX_SIDE, max_elements=min(max_elements, MAX_HANKEL_ELEMENTS),
@@ -100,7 +107,7 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
         raise DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is nothing to "
                         "identify. Check the file's channels and scaling.")
     orders = diagram_orders(ident.max_order) if orders is None else orders
-    stab = stabilization(ident, orders, uncertainty=True, workers=workers)
+    stab = stabilization(ident, orders, uncertainty=True if pole_std == "all" else "choice", workers=workers)
     if band_hz is None and data.meta.get("band_hz") is not None:
         band_hz = tuple(float(x) for x in data.meta["band_hz"])
     picked = choose_modes(ident, stab, band_hz=band_hz)

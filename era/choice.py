@@ -34,7 +34,7 @@ import numpy as np
 
 from .evidence import fold_shadows, pole_amplitudes, weigh
 from .indicators import mac
-from .stabilization import COHERENT_MIN
+from .stabilization import COHERENT_MIN, UNCERTAIN_FRACTION
 
 #: Shapes of two tracks with at least this MAC may be one mode split in two (with different shapes: two modes).
 TWIN_MAC = 0.9
@@ -181,7 +181,7 @@ def _physics(c: Candidate, lo: float, hi: float, edge: float, record_s: float,
     if z > MAX_DAMPING:
         return "damping", f"implausible damping (ζ {100 * z:.3g} %)"
     sf = c.frequency_std_hz if typical_std_hz is None else typical_std_hz
-    if np.isfinite(sf) and sf >= 0.5 * f:
+    if np.isfinite(sf) and sf >= UNCERTAIN_FRACTION * f:
         return "uncertain", f"uncertainty as large as the value (σ {sf:.3g} Hz at {_fmt_hz(f)})"
     return None
 

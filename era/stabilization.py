@@ -14,6 +14,9 @@ from .sweep import in_parallel, order_indicators, realize_orders
 
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9
+#: A cluster whose poles' median frequency σ from the data reaches this fraction of its frequency is too uncertain to
+#: be a mode (era.choice); ``stabilization(..., uncertainty="choice")`` computes enough of the σ to tell.
+UNCERTAIN_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -54,7 +57,8 @@ class Stabilization:
     orders : (n_orders,) the orders computed (requested orders above ident.max_order are left out).
     order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
     frequency_std_hz, damping_std : each stable pole's standard deviations from the data (ModalModel's; NaN
-        for the other poles, and for all unless ``stabilization(..., uncertainty=True)``).
+        for the other poles, and for all unless ``stabilization(..., uncertainty=True)``; with
+        ``uncertainty="choice"`` only for the poles era.choice reads, see :func:`stabilization`).
     uncertainty_source : which scatter they come from ("σ from N records" / "σ from one record's residuals",
         as ModalModel.uncertainty_source); "" without them.
     mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
@@ -181,7 +185,7 @@ def _merge_fragments(clusters, order, freq, freq_tol) -> list[list[int]]:
 
 def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: float = 0.01,
                   damping_tol: float = 0.05, mac_min: float = 0.98, min_orders: int = 3,
-                  uncertainty: bool = False, workers: int | None = None) -> Stabilization:
+                  uncertainty: bool | str = False, workers: int | None = None) -> Stabilization:
     """Poles of every requested order, each realized from the leading block of the SAME projected H(1).
 
     Parameters
@@ -197,9 +201,15 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         MAC with that pole at or above which the shape is stable (default 0.98).
     min_orders : int
         A suggested mode must be found stable (all three) in at least this many orders.
-    uncertainty : bool
-        Also the standard deviations from the data (ModalModel.frequency_std_hz, damping_std) of every stable
-        pole (NaN for the others): about the work of the sweep again (tests/bench/bench_sweep.py).
+    uncertainty : bool or "choice"
+        True: also the standard deviations from the data (ModalModel.frequency_std_hz, damping_std) of every
+        stable pole (NaN for the others): about the work of the sweep again (tests/bench/bench_sweep.py).
+        "choice": the same numbers for the poles whose σ era.choice reads, NaN for the others, and the same
+        choice for about a third of the work: each suggested mode's last pole (``data_frequency_std_hz``), the
+        stable poles of the top order when it is the identification's max_order (the exact-rank choice), and
+        of each mode's other poles enough to tell whether their median σ of the frequency reaches
+        UNCERTAIN_FRACTION of its frequency: the lowest orders' until more than half are below it, all of them
+        when one is not (era.analyse's default).
     workers : int, optional
         Orders realized at a time in threads (numpy's eigensolver releases the GIL); default the BLAS thread
         count (:func:`blas_threads`), so one BLAS thread means one core.
@@ -212,6 +222,8 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     Stabilization
     """
     req = sorted({int(n) for n in orders})
+    if uncertainty not in (False, True, "choice"):
+        raise EraError(f"`uncertainty` must be False, True or \"choice\", got {uncertainty!r}.")
     if not req or req[0] < 1:
         raise EraError("`orders` must hold positive integers (model orders), e.g. range(2, 121, 2).")
     done = [n for n in req if n <= ident.max_order]
@@ -237,14 +249,10 @@ def _stabilization(ident, done, freq_tol, damping_tol, mac_min, min_orders, unce
     stable = sf & sd & ss
     tracks = _cluster(order, freq, unit, stable, freq_tol, mac_min, min_orders)
     f_std, d_std = np.full(freq.size, np.nan), np.full(freq.size, np.nan)
-    if uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
-        def std_of_stable(k):
-            raw, perm, clusters = sw.raw[k]
-            at = np.flatnonzero(stable[sw.of(k)])
-            if at.size:
-                f_std[at + sw.start[k]], d_std[at + sw.start[k]] = ident.mode_std(done[k], raw, perm[at], clusters)
-
-        in_parallel(std_of_stable, list(range(len(done))), workers)
+    if uncertainty == "choice":
+        _choice_std(ident, sw, done, stable, tracks, f_std, d_std, workers)
+    elif uncertainty:  # the data's standard deviations of the stable poles (the others are not worth their cost)
+        _data_std(ident, sw, done, stable, f_std, d_std, workers)
     modes = []
     for c in tracks:
         c = np.array(c)
@@ -260,3 +268,34 @@ def _stabilization(ident, done, freq_tol, damping_tol, mac_min, min_orders, unce
                          stable_frequency=sf, stable_damping=sd, stable_shape=ss, shapes=shapes, modes=tuple(modes),
                          frequency_std_hz=f_std, damping_std=d_std,
                          uncertainty_source=ident.uncertainty_source() if uncertainty else "")
+
+
+def _data_std(ident, sw, done, wanted, f_std, d_std, workers) -> None:
+    """Fill ``f_std``, ``d_std`` (n_poles,) of the poles ``wanted`` (bool) not computed yet, order by order."""
+    def of_order(k):
+        raw, perm, clusters = sw.raw[k]
+        at = np.flatnonzero(wanted[sw.of(k)] & np.isnan(f_std[sw.of(k)]))
+        if at.size:
+            f_std[at + sw.start[k]], d_std[at + sw.start[k]] = ident.mode_std(done[k], raw, perm[at], clusters)
+
+    in_parallel(of_order, [k for k in range(len(done)) if wanted[sw.of(k)].any()], workers)
+
+
+def _choice_std(ident, sw, done, stable, tracks, f_std, d_std, workers) -> None:
+    """The σ era.choice reads (``stabilization(..., uncertainty="choice")``), in two rounds: each track's last
+    pole and its ⌊N/2⌋ lowest others (a median below UNCERTAIN_FRACTION of the frequency needs ⌊N/2⌋ + 1 of
+    the N values below it, and then the median of any superset of them is below too), then every pole of the
+    tracks where one of those is not below."""
+    first = np.zeros(sw.order.size, dtype=bool)
+    if done and done[-1] == ident.max_order:  # the exact-rank choice reads the top order's stable poles
+        first[sw.of(len(done) - 1)] = stable[sw.of(len(done) - 1)]
+    for c in tracks:  # c: increasing orders (the merged ones sorted), so c[-1] is the last pole
+        first[c[-1]] = True
+        first[c[:len(c) // 2]] = True
+    _data_std(ident, sw, done, first, f_std, d_std, workers)
+    rest = np.zeros(sw.order.size, dtype=bool)
+    for c in tracks:
+        known = f_std[c][first[c]]
+        if not np.all(known < UNCERTAIN_FRACTION * sw.frequency_hz[c].mean()):  # NaN is not below either
+            rest[c] = True
+    _data_std(ident, sw, done, rest, f_std, d_std, workers)

@@ -1,7 +1,9 @@
 """The whole sweep for half an SVD (issue 14): identify + stabilization(2..120) against one dense gesdd of H(0),
-measured in the same process, with 1 and 2 BLAS threads, and every stable pole against the dense path's.
+measured in the same process, with 1 and 2 BLAS threads, and every stable pole against the dense path's; and the
+whole default path, era.analyse (orders to 160, the σ its choice reads, the choice), against the same SVD with one
+BLAS thread, beside era.analyse(..., pole_std="all") (every stable pole's σ, the path before).
 
-Run: python3 -m pytest tests/bench/bench_sweep.py -s
+Run: nice -n 5 python3 -m pytest tests/bench/bench_sweep.py -s
 The sizes are those of the issue: H(0) 900 × 2392 (grid-like, p = 9, m = 8) and 1280 × 2000 (p = 32, m = 4).
 Timings are interleaved (SVD, sweep, SVD, sweep, ...) and their medians compared, so a neighbour's load hits both.
 """
@@ -107,3 +109,40 @@ def test_every_stable_pole_equals_the_dense_paths_to_1e_8(case):
     print(f"\n[{name}] {int(stab_dense.stable.sum())} stable poles over orders 2..120: largest relative difference "
           f"truncated vs dense {worst:.1e}")
     assert worst <= 1e-8
+
+
+def _analyse_ratios(data, rows, cols, repeat=REPEAT):
+    """Medians of wall-clock and minima of CPU seconds, one BLAS thread, interleaved: one dense gesdd of H(0),
+    era.analyse with the σ its choice reads, and with every stable pole's σ."""
+    h0 = block_hankel(data.markov, np.arange(rows), np.arange(cols))
+    runs = {"svd": lambda: dense_svd(h0), "analyse": lambda: era.analyse(data, rows=rows, cols=cols),
+            "all": lambda: era.analyse(data, rows=rows, cols=cols, pole_std="all")}
+    times = {k: [] for k in runs}
+    with threadpool_limits(1):
+        runs["analyse"]()  # warm-up
+        for _ in range(repeat):
+            for k, fn in runs.items():
+                times[k].append(_timed(fn))
+    wall = {k: float(np.median([t[0] for t in v])) for k, v in times.items()}
+    cpu = {k: min(t[1] for t in v) for k, v in times.items()}
+    return h0.shape, wall, cpu
+
+
+#: era.analyse over one dense SVD with one BLAS thread, wall-clock: at most what it was with every stable pole's σ
+#: on a quiet machine (2.53 and 1.65), a guard against regressions that holds at a load of 8-9 on 2 cores; the
+#: issue's target is 0.5, what was reached is in docs/performance.md#analyse.
+ANALYSE_LIMIT = {"900x2392 p=9 m=8": 2.5, "1280x2000 p=32 m=4": 1.65}
+
+
+def test_the_default_analysis_against_one_dense_svd_with_one_blas_thread(case):
+    """era.analyse(data, rows, cols) as a user calls it (max_order 200, the diagram to 160, the σ its choice
+    reads, the choice, the chosen model) against one gesdd of the same H(0); "before": every stable pole's σ.
+    The choice is the same with both (tests/core/test_choice_std.py)."""
+    name, data, rows, cols = case
+    shape, wall, cpu = _analyse_ratios(data, rows, cols)
+    print(f"\n[{name}, 1 BLAS thread] H(0) {shape[0]}×{shape[1]}: one dense gesdd {wall['svd']:.3f} s | "
+          f"era.analyse {wall['analyse']:.3f} s = {wall['analyse'] / wall['svd']:.2f}× SVD (CPU "
+          f"{cpu['analyse'] / cpu['svd']:.2f}×; issue target 0.5) | with every stable pole's σ {wall['all']:.3f} s = "
+          f"{wall['all'] / wall['svd']:.2f}× (CPU {cpu['all'] / cpu['svd']:.2f}×) | load {os.getloadavg()[0]:.1f}")
+    assert wall["analyse"] < wall["all"]
+    assert wall["analyse"] / wall["svd"] <= ANALYSE_LIMIT[name]
