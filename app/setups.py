@@ -7,10 +7,12 @@ A test is files only (no table), in the store's ``setups/{id}/``: the uploaded f
 (``setup1.bin`` ...), ``test.json`` (schemas.SetupsTest without ``merged``: the setups' channels and the proposed
 references), written once after the files, and ``merged.json`` (schemas.SetupsMerged), written again at every
 merge. The merged document holds everything the page draws, so the test's link (/s/{id}) reopens the result.
-Every setup is read and analysed as era.load and era.analyse do by default (ambient records through NExT with every
-channel as a correlation reference): the library's path, so the page and a script give one answer. The upload
-analyses the setups at once to propose the references from the data (era.reference_evidence); the names propose them
-only when the data cannot and the names are not generic.
+Every setup is read and analysed as era.load and era.analyse do (ambient records through NExT), and the merge takes
+the library's path, era.merge_choosing_next: ambient setups are merged with every channel as NExT reference and with
+the picked references only, and the merge with more modes complete is kept (so the page and
+era.merge_ambient_setups give one answer). The upload analyses the setups (every channel) at once to propose the
+references from the data (era.reference_evidence); the names propose them only when the data cannot and the names
+are not generic.
 
 A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
 frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see
@@ -33,6 +35,7 @@ import numpy as np
 
 import era
 import era.setup_geometry
+import era.setup_next
 import era.setups
 from era.words import listed
 
@@ -249,22 +252,35 @@ def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = N
     return results
 
 
-#: How ambient records are correlated (NExT) at a merge: every channel a reference (era.load's default), or the
-#: picked references only (era.load's ``references``; better when the roving channels are noisy).
-NEXT_REFERENCES = ("every", "references")
+#: How ambient records are correlated (NExT) at a merge: "auto" merges both ways and keeps the better merge
+#: (era.merge_choosing_next: more modes complete, ties to more consistent shapes); "every" channel a reference
+#: (era.load's default) or the picked "references" only (era.load's ``references``) as asked.
+NEXT_REFERENCES = ("auto", "every", "references")
 
 
 def merge(store, settings, test: dict, references, points: str | None = None,
-          next_references: str = "every") -> dict:
+          next_references: str = "auto") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
     then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
-    ``next_references``: "every" (every channel a NExT reference) or "references" (the picked ones only).
+    ``next_references``: "auto" (ambient records merged with both NExT references and the better merge kept, as
+    era.merge_ambient_setups does), "every" (every channel a NExT reference) or "references" (the picked ones only).
     Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
-    runs = analyse_setups(store, settings, test, refs if next_references == "references" else None)
+    ambient = any(s.get("ambient") for s in test["setups"])
+    runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
     try:
-        result = era.setups.merge([a for a, _ in runs], refs)
+        if next_references == "auto":
+            only = analyse_setups(store, settings, test, refs) if ambient else None
+            choice = era.merge_choosing_next([a for a, _ in runs], None if only is None else [a for a, _ in only],
+                                             refs)
+            result, used, said = choice.result, choice.used, choice.reason
+            complete = [int(x) for x in choice.complete]
+        else:
+            if next_references == "references":
+                runs = analyse_setups(store, settings, test, refs)
+            result, used = era.setups.merge([a for a, _ in runs], refs), next_references
+            said, complete = f"As asked: {era.setup_next.WAY_WORDS[used]}.", []
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
@@ -276,8 +292,8 @@ def merge(store, settings, test: dict, references, points: str | None = None,
             raise Refusal(str(exc), "points") from None
     else:
         geometry = era.setups.merged_geometry([g for _, g in runs], result)
-    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "",
-                  next_references=next_references)
+    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
+                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 

@@ -67,8 +67,14 @@ class SetupsMerged(Schema):
     uncertainty_source: str
     points_table: str = Field(default="", description="the points table the merge was given (CSV point,x,y,z,"
                                                       "direction, then from,to lines), or empty")
-    next_references: str = Field(default="every", description="how ambient records were correlated: every channel "
-                                 "a NExT reference (era.load's default) or the picked references only")
+    next_references: str = Field(default="every", description="how ambient records were correlated in the kept "
+                                 "merge: \"every\" channel a NExT reference or the picked \"references\" only")
+    next_asked: str = Field(default="every", description="what was asked: \"auto\" (both ways, the merge with more "
+                            "modes complete kept: era.merge_choosing_next), \"every\" or \"references\"")
+    next_choice: str = Field(default="", description="why that way, in words (each way's complete modes and mean "
+                             "MPC)")
+    next_complete: list[int] = Field(default=[], description="with \"auto\": complete modes at distinct frequencies "
+                                     "with every channel, then with the references only (-1: refused)")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
@@ -117,10 +123,10 @@ class SetupsRequest(BaseModel):
                                "point,x,y,z,direction (direction x, -z, or \"dx dy dz\"; point named as the merged "
                                "modes name it, or S<setup>:<channel>), optionally followed by from,to rows (the "
                                "lines between points)")
-    next_references: Literal["every", "references"] = Field("every", description="ambient records: every channel "
-                                                             "a NExT correlation reference (era.load's default), or "
-                                                             "the picked references only (better when the roving "
-                                                             "channels are noisy)")
+    next_references: Literal["auto", "every", "references"] = Field(
+        "auto", description="ambient records: \"auto\" merges with both NExT references and keeps the merge with "
+        "more modes complete (ties: more consistent shapes), as era.merge_ambient_setups; \"every\" channel a NExT "
+        "correlation reference (era.load's default), or the picked \"references\" only")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 

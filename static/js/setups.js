@@ -118,7 +118,7 @@ function show(t) {
   $("setups-unmatched").textContent = missing.length
     ? `${missing.join("; ")}: if it is a reference there under another name, add it below.` : "";
   picker(t.merged ? t.merged.references : (t.proposed[0].length ? t.proposed : t.setups.map(() => [0, 1])));
-  if (t.merged && t.merged.next_references) $("setups-next").value = t.merged.next_references;
+  if (t.merged && t.merged.next_asked) $("setups-next").value = t.merged.next_asked;
   if (t.merged && t.merged.points_table && !$("setups-points").value) {
     $("setups-points").value = t.merged.points_table;
   }
@@ -158,6 +158,7 @@ function result(m) {
   $("setups-uff-note").textContent = partial.length
     ? `The UFF 55 file leaves out ${partial.map(([mode, j]) => `mode ${j + 1} (${mode.frequency_hz.toFixed(3)} Hz, not measured in setup ${mode.missing_setups.join(", ")})`).join("; ")}: UFF 55 holds a value at every node. The CSV has it, with empty cells where it is unknown.`
     : "Every mode is known at every point.";
+  $("setups-next-note").textContent = m.next_choice ? `NExT references: ${m.next_choice}` : "";
   const body = $("setups-modes").tBodies[0];
   body.replaceChildren(...m.modes.map((mode, j) => {
     const cells = [["mode", String(j + 1)], ["frequency_hz", num(mode.frequency_hz, 4)],

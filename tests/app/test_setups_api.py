@@ -69,7 +69,10 @@ def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
         np.testing.assert_allclose([m["frequency_hz"] for m in only["modes"]], FREQUENCY_HZ, rtol=0.01)
         assert np.all(np.diag(era.mac(shapes_of(only), truth_at(only["points"]))) >= 0.99)
         merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
-        assert merged["next_references"] == "every"
+        # by default both ways, the better merge kept and said (era.merge_choosing_next)
+        assert merged["next_asked"] == "auto" and merged["next_references"] in ("every", "references")
+        assert merged["next_choice"].startswith("Kept ") and len(merged["next_complete"]) == 2
+        assert max(merged["next_complete"]) == 4
 
         # the link reopens it: the same merge, read back
         again = c.get(f"/api/setups/{test['id']}").json()
@@ -193,8 +196,10 @@ def test_references_in_another_column_order_are_proposed(tmp_path):
 def test_the_page_and_the_library_give_one_answer_on_generic_names(tmp_path):
     """The tower of tests/simulated_setups.py as the files of issue 36: no time column (40 Hz typed), channels
     ch1..ch8, the references the last two channels. The names would propose ch1..ch6 (wrong); the data propose
-    ch5, ch6 / ch7, ch8; the page's merge equals era.load + era.analyse + era.merge_setups on the same files."""
-    files = [tower_file(k) for k in range(4)]
+    ch5, ch6 / ch7, ch8; the page's merge equals the library's on the same files: each read by era.load both ways
+    (every channel as NExT reference; the references only), era.analyse, era.merge_choosing_next (300 s records:
+    both ways find the five modes complete, every channel's shapes the more consistent)."""
+    files = [tower_file(k, 12_000, seed=1) for k in range(4)]
     with client(tmp_path) as c:
         test = upload(c, files, dt="0.025").json()
         assert test["proposed_from"] == "data", test["data_proposal"]
@@ -231,11 +236,15 @@ def test_the_page_and_the_library_give_one_answer_on_generic_names(tmp_path):
         r = c.post(f"/api/setups/{test['id']}/merge",
                    json={"references": test["proposed"], "points": table.replace("S2:ch1", "S9:ch1")})
         assert r.status_code == 422 and "S9:ch1" in r.json()["error"]
-    runs = []
-    for name, blob in files:
+    every, only = [], []
+    for (name, blob), refs in zip(files, test["proposed"]):
         (tmp_path / name).write_bytes(blob)
-        runs.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient").data))
-    library = era.merge_setups(runs, test["proposed"])
+        every.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient").data))
+        only.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient", references=refs).data))
+    choice = era.merge_choosing_next(every, only, test["proposed"])
+    library = choice.result.model
+    assert merged["next_references"] == choice.used == "every" and merged["next_complete"] == [5, 5]
+    assert merged["next_choice"] == choice.reason
     np.testing.assert_allclose([m["frequency_hz"] for m in merged["modes"]], library.frequency_hz, rtol=1e-9)
     np.testing.assert_allclose(shapes_of(merged), library.point_shapes, atol=1e-6)
     assert merged["points"] == list(library.points)

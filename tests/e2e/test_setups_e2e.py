@@ -157,7 +157,7 @@ def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(t
     viewer shows them."""
     files = []
     for k in range(4):
-        name, blob = tower_file(k)
+        name, blob = tower_file(k, 12_000, seed=1)
         (tmp_path / name).write_bytes(blob)
         files.append(str(tmp_path / name))
     (tmp_path / "points.csv").write_text(tower_geometry_csv())
@@ -184,6 +184,9 @@ def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(t
         rows = table_rows(page, "#setups-modes")
         np.testing.assert_allclose([float(r["cells"]["frequency_hz"]) for r in rows], TOWER_HZ, rtol=0.01)
         assert all(r["cells"]["seen"] == "seen in 4 of 4 setups" for r in rows)
+        # NExT's references chosen from the data (both ways merged), the choice said
+        assert page.text_content("#setups-next-note").startswith("NExT references: Kept every channel as NExT reference")
+        assert page.input_value("#setups-next") == "auto"
         assert "on the 24 nodes given" in page.text_content("#setups-drawing-note")
         macs = []
         for j in range(5):
