@@ -24,12 +24,9 @@ Every function is plain and blocking (the routes run them on the job pools).
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import re
 import time
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -43,7 +40,7 @@ from .errors import NotFound
 from .importing import page_words
 from .loading import check_stored, load_upload
 from .payloads import floats
-from .reporting import geometry_from_json, geometry_json
+from .reporting import geometry_json
 from .store import new_token, write_atomic
 
 #: A multi-setup test has at least this many setups (one file is an ordinary dataset) ...
@@ -177,7 +174,46 @@ def load(store, test_id: str) -> dict:
         raise NotFound(f"No multi-setup test {test_id!r}: check that the whole link was copied.")
     test = json.loads((folder / "test.json").read_bytes())
     merged = folder / "merged.json"
-    return dict(test, merged=json.loads(merged.read_bytes()) if merged.is_file() else None)
+    nodes = folder / "nodes.json"
+    return dict(test, merged=json.loads(merged.read_bytes()) if merged.is_file() else None,
+                nodes=json.loads(nodes.read_bytes()) if nodes.is_file() else None)
+
+
+# ---- the nodes of a UFF file (UFF 15, trace lines 82): where a points table point,node,direction puts its points
+def set_nodes(store, settings, test_id: str, file_name: str, blob: bytes) -> dict:
+    """Keep a UFF file of the test's nodes (``nodes.bin``, its summary in ``nodes.json``) for a points table
+    ``point,node,direction`` (era.setup_geometry). Returns schemas.SetupsTest. Refusal next to the points when the
+    file has no nodes."""
+    test = load(store, test_id)
+    geometry = _nodes_geometry(settings, file_name, blob)
+    summary = {"file": file_name, "n_nodes": int(geometry.node_ids.size), "n_lines": int(len(geometry.line_ids)),
+               "node_ids": [int(n) for n in geometry.node_ids[:200]]}
+    folder = _folder(store, test_id)
+    write_atomic(folder / "nodes.bin", blob)
+    write_atomic(folder / "nodes.json", json.dumps(summary).encode())
+    return dict(test, nodes=summary)
+
+
+def _nodes_geometry(settings, file_name: str, blob: bytes):
+    """era.Geometry of a UFF file's nodes and trace lines (era.load); Refusal ("points") when it has none."""
+    try:
+        geometry = era.load(blob, name=file_name, max_bytes=settings.max_upload_bytes).geometry
+    except era.TooLargeError:
+        raise
+    except era.EraError as exc:
+        raise Refusal(f"{file_name}: {page_words(str(exc))}", "points") from None
+    if geometry is None or geometry.node_ids.size == 0:
+        raise Refusal(f"{file_name} defines no nodes: give a UFF file with nodes (UFF 15, and trace lines, UFF 82) "
+                      "for a points table point,node,direction.", "points")
+    return geometry
+
+
+def stored_nodes(store, settings, test: dict):
+    """The test's nodes (era.Geometry of its kept UFF file), or None when none was given."""
+    if not test.get("nodes"):
+        return None
+    blob = (_folder(store, test["id"]) / "nodes.bin").read_bytes()
+    return _nodes_geometry(settings, test["nodes"]["file"], blob)
 
 
 # ---- the merge --------------------------------------------------------------------------------------------------
@@ -287,7 +323,8 @@ def merge(store, settings, test: dict, references, points: str | None = None,
         aliases = era.setup_geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
                                                    [s["outputs"] for s in test["setups"]], refs)
         try:
-            geometry = era.setup_geometry.points_geometry(era.setup_geometry.parse_points(points), aliases)
+            table = era.setup_geometry.parse_points(points, nodes=stored_nodes(store, settings, test))
+            geometry = era.setup_geometry.points_geometry(table, aliases)
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
@@ -346,74 +383,3 @@ def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
 def _num(x) -> float | None:
     x = float(x)
     return x if np.isfinite(x) else None
-
-
-# ---- exports ----------------------------------------------------------------------------------------------------
-def _shapes(merged: dict) -> np.ndarray:
-    """(points, modes) complex, NaN where unknown."""
-    def arr(key):
-        return np.array([[np.nan if v is None else v for v in row] for row in merged[key]], dtype=float)
-    return (arr("shapes_re") + 1j * arr("shapes_im")).T.reshape(len(merged["points"]), len(merged["modes"]))
-
-
-def left_out(merged: dict) -> str:
-    """What a UFF 55 export leaves out, in words ("" when every mode is written)."""
-    gone = [f"mode {j + 1} ({m['frequency_hz']:.4g} Hz, not measured in setup "
-            f"{', '.join(str(k) for k in m['missing_setups'])})" for j, m in enumerate(merged["modes"])
-            if not m["complete"]]
-    return ("Left out (not known at every point): " + "; ".join(gone) + ".") if gone else ""
-
-
-def modes_uff(merged: dict) -> bytes:
-    """The merged modes known at every point as UFF 55 (era.save_modes_uff), on the merged geometry when there is
-    one (else point k is node k + 1): a set keeps its mode's number, so the numbers of :func:`left_out` are gaps."""
-    shapes = _shapes(merged)
-    points = tuple(merged["points"])
-    f_std = np.array([np.nan if m["frequency_std_hz"] is None else m["frequency_std_hz"] for m in merged["modes"]])
-    d_std = np.array([np.nan if m["damping_std"] is None else m["damping_std"] for m in merged["modes"]])
-    s = np.array(merged["eigenvalue_re"], dtype=float) + 1j * np.array(merged["eigenvalue_im"], dtype=float)
-    model = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=f_std, damping_std=d_std, outputs=points,
-                            points=points, point_shapes=shapes, uncertainty_source=merged.get("uncertainty_source", ""))
-    buf = io.BytesIO()
-    era.save_modes_uff(buf, model, geometry_from_json(merged.get("geometry")), name="ERA merged")
-    return buf.getvalue()
-
-
-def modes_csv(merged: dict) -> str:
-    """One row per merged mode: frequency, damping and their σ, MPC, in how many setups it was seen, whether its
-    shape is known at every point and where it is not, then each point's real and imaginary part (an empty cell
-    where the shape is unknown: never 0, which would claim a node)."""
-    shapes = _shapes(merged)
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    cols = [f"{_cell(q)} {part}" for q in merged["points"] for part in ("re", "im")]
-    w.writerow(["mode", "frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "mpc", "seen_in_setups",
-                "n_setups", "complete", "unknown_at", *cols])
-    for j, m in enumerate(merged["modes"]):
-        values = []
-        for v in shapes[:, j]:
-            values += ["", ""] if not np.isfinite(v) else [repr(float(v.real)), repr(float(v.imag))]
-        unknown = " ".join(q for q, v in zip(merged["points"], shapes[:, j]) if not np.isfinite(v))
-        w.writerow([j + 1, m["frequency_hz"], _blank(m["frequency_std_hz"]), m["damping_ratio"],
-                    _blank(m["damping_std"]), _blank(m["mpc"]), m["seen_in"], len(merged["setups"]),
-                    int(m["complete"]), unknown, *values])
-    return buf.getvalue()
-
-
-def _blank(x):
-    return "" if x is None else x
-
-
-def _cell(text: str) -> str:
-    """A label safe for spreadsheets: a leading = + - @ would be read as a formula."""
-    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
-
-
-def viewer_scene(merged: dict) -> tuple:
-    """(geometry or None, frequency_hz (k,), shapes (q, k) complex, labels) for the 3-D viewer: an unknown value
-    is drawn at rest (the viewer needs numbers; the labels say which modes are incomplete)."""
-    shapes = _shapes(merged)
-    f = [m["frequency_hz"] for m in merged["modes"]]
-    labels = [f"{m['frequency_hz']:.3f} Hz, {m['seen']}" + ("" if m["complete"] else " (still where unknown)")
-              for m in merged["modes"]]
-    return geometry_from_json(merged.get("geometry")), np.array(f), np.where(np.isfinite(shapes), shapes, 0), labels

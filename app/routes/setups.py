@@ -7,7 +7,7 @@ from __future__ import annotations
 from fastapi import APIRouter, File, Form, HTTPException, Request, UploadFile
 from fastapi.responses import FileResponse, HTMLResponse, Response
 
-from .. import config, setups
+from .. import config, setups, setups_export
 from ..errors import NotFound
 from ..schemas.analyses import ViewerLink
 from ..schemas.setups import SetupsRequest, SetupsTest
@@ -54,6 +54,17 @@ async def merge(request: Request, test_id: str, body: SetupsRequest):
     return dict(test, merged=merged)
 
 
+@router.post("/api/setups/{test_id}/nodes", response_model=SetupsTest,
+             summary="Give the test's nodes as a UFF file (UFF 15 nodes, 82 trace lines) for a points table "
+                     "point,node,direction")
+async def nodes(request: Request, test_id: str,
+                file: UploadFile = File(description="a UFF file with the nodes (and trace lines)")):
+    """The test with its nodes; the next merge's points table may put its points on these nodes. A file without
+    nodes is refused (422, ``option`` "points")."""
+    (name, blob), = await read_parts([file])
+    return await jobs(request).quick(setups.set_nodes, store(request), cache(request).settings, test_id, name, blob)
+
+
 async def _merged(request: Request, test_id: str) -> dict:
     test = await jobs(request).quick(setups.load, store(request), test_id)
     if test["merged"] is None:
@@ -66,7 +77,7 @@ async def _merged(request: Request, test_id: str) -> dict:
             responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
 async def modes_csv(request: Request, test_id: str):
     test = await _merged(request, test_id)
-    return Response(setups.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",
+    return Response(setups_export.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",
                     headers={"Content-Disposition": f'attachment; filename="era-setups-{test_id[:8]}.csv"'})
 
 
@@ -76,9 +87,9 @@ async def modes_csv(request: Request, test_id: str):
                                             "X-ERA-Left-Out says which modes are not in it"}})
 async def modes_uff(request: Request, test_id: str):
     test = await _merged(request, test_id)
-    blob = await jobs(request).quick(setups.modes_uff, test["merged"])
+    blob = await jobs(request).quick(setups_export.modes_uff, test["merged"])
     headers = {"Content-Disposition": f'attachment; filename="era-setups-{test_id[:8]}.uff"'}
-    said = setups.left_out(test["merged"])
+    said = setups_export.left_out(test["merged"])
     if said:
         headers["X-ERA-Left-Out"] = said.encode("ascii", "replace").decode("ascii")
     return Response(blob, media_type="application/octet-stream", headers=headers)
@@ -91,7 +102,7 @@ async def viewer(request: Request, test_id: str):
     v = request.app.state.viewer
     if v is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
-    scene = setups.viewer_scene(test["merged"])
+    scene = setups_export.viewer_scene(test["merged"])
     key = await jobs(request).quick(v.publish, *scene)
     return {"key": key, "url": v.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": len(scene[1])}
 

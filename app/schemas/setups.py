@@ -94,6 +94,14 @@ class ReferencePairEvidence(Schema):
     mac: Matrix = Field(description="(setups, shared modes) its MAC with setup 1's pair, mode by mode")
 
 
+class SetupsNodes(Schema):
+    file: str = Field(description="the UFF file of the test's nodes")
+    n_nodes: int
+    n_lines: int = Field(description="its trace lines (UFF 82)")
+    node_ids: list[int] = Field(description="its node numbers (the first 200), for a points table "
+                                            "point,node,direction")
+
+
 class SetupsTest(Schema):
     id: str
     name: str
@@ -113,6 +121,8 @@ class SetupsTest(Schema):
     candidates: list[ReferencePairEvidence] = Field(default=[], description="the best pairs of channels, best first")
     unmatched: list[SetupsUnmatched] = Field(description="setup 1's channel names that some setups lack (a "
                                                          "reference renamed or missing there)")
+    nodes: SetupsNodes | None = Field(default=None, description="the UFF file of nodes given for the points "
+                                      "table (point,node,direction), or null")
     merged: SetupsMerged | None = Field(description="the last merge, or null")
 
 
@@ -131,5 +141,5 @@ class SetupsRequest(BaseModel):
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 
 
-__all__ = ["SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
+__all__ = ["SetupsNodes", "SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
            "SetupsUnmatched"]

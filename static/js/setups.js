@@ -122,8 +122,17 @@ function show(t) {
   if (t.merged && t.merged.points_table && !$("setups-points").value) {
     $("setups-points").value = t.merged.points_table;
   }
+  nodesNote(t);
   $("setups-result").hidden = !t.merged;
   if (t.merged) result(t.merged);
+}
+
+// The UFF file of nodes given for a points table point,node,direction.
+function nodesNote(t) {
+  const n = t.nodes;
+  $("setups-nodes-note").textContent = n
+    ? `${n.file}: ${n.n_nodes} nodes (${n.node_ids.slice(0, 6).join(", ")}${n.n_nodes > 6 ? ", …" : ""}), ${n.n_lines} trace ${n.n_lines === 1 ? "line" : "lines"}; the table may read point,node,direction.`
+    : "";
 }
 
 // The reference evidence: the best pairs of channels and their MAC over the modes every setup found.
@@ -266,6 +275,22 @@ $("setups-merge").addEventListener("click", merge);
 $("setups-points-file").addEventListener("change", async (ev) => {
   const f = ev.target.files[0];
   if (f) $("setups-points").value = await f.text();
+});
+$("setups-nodes-file").addEventListener("change", async (ev) => {
+  const f = ev.target.files[0];
+  if (!f) return;
+  showError("setups-points-error", null);
+  const form = new FormData();
+  form.append("file", f, f.name);
+  try {
+    const res = await fetch(`/api/setups/${test.id}/nodes`, { method: "POST", body: form });
+    const body = await res.json().catch(() => null);
+    if (!res.ok) throw new Error((body && body.error) || `${res.status} ${res.statusText}`);
+    test = Object.assign(body, { merged: test.merged });
+    nodesNote(test);
+  } catch (err) {
+    showError("setups-points-error", err);
+  }
 });
 $("setups-modes").addEventListener("click", sendMode);
 const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)$/);

@@ -123,6 +123,43 @@ def test_setups_with_a_geometry_merge_onto_it(tmp_path):
         assert r.status_code == 503 and "not available" in r.json()["error"]
 
 
+def test_points_on_the_nodes_of_a_uff_file(tmp_path):
+    """The beam's nodes as another program writes them (pyuff: UFF 15 nodes 100-113, the supports 100 and 113
+    without sensors, one UFF 82 trace line through them): given to the test, a points table point,node,direction
+    puts every merged point on its node, the drawing keeps every node and the line, and UFF 55 writes each point's
+    value at its node."""
+    ids = np.arange(100, 114)
+    x = np.arange(14) / 13 * 1.3
+    sets = [pyuff.prepare_15(node_nums=[int(i) for i in ids], def_cs=[0] * 14, disp_cs=[0] * 14, color=[1] * 14,
+                             x=x, y=np.zeros(14), z=np.zeros(14)),
+            {"type": 82, "trace_num": 1, "n_nodes": 14, "color": 1, "id": "beam", "nodes": ids}]
+    pyuff.UFF(str(tmp_path / "beam.uff")).write_sets(sets, mode="overwrite")
+    table = "point,node,direction\n" + "".join(f"P{i},{99 + i},z\n" for i in range(1, 13))
+    with client(tmp_path) as c:
+        test = upload(c, [setup_npz(k) for k in range(4)], kind="auto").json()
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"], "points": table})
+        assert r.status_code == 422 and r.json()["option"] == "points" and "UFF file" in r.json()["error"]
+        r = c.post(f"/api/setups/{test['id']}/nodes", files={"file": ("notes.csv", b"a,b\n1,2\n", "text/csv")})
+        assert r.status_code == 422 and r.json()["option"] == "points"
+        r = c.post(f"/api/setups/{test['id']}/nodes",
+                   files={"file": ("beam.uff", (tmp_path / "beam.uff").read_bytes(), "application/octet-stream")})
+        assert r.status_code == 200, r.text
+        assert r.json()["nodes"] == {"file": "beam.uff", "n_nodes": 14, "n_lines": 1, "node_ids": ids.tolist()}
+        assert c.get(f"/api/setups/{test['id']}").json()["nodes"]["n_nodes"] == 14
+        merged = c.post(f"/api/setups/{test['id']}/merge",
+                        json={"references": test["proposed"], "points": table}).json()["merged"]
+        g = merged["geometry"]
+        assert g["node_ids"] == ids.tolist() and len(g["edges"]) == 13
+        np.testing.assert_allclose(np.array(g["coordinates"])[:, 0], x, atol=1e-9)
+        node_of = [g["node_ids"][n] for n in g["channel_nodes"]]
+        assert node_of == [99 + int(q[1:]) for q in merged["points"]]
+        path = tmp_path / "merged.uff"
+        path.write_bytes(c.get(f"/api/setups/{test['id']}/modes.uff").content)
+        modes = era.read_modes_uff(path)
+        row = {int(n): i for i, n in enumerate(modes.node_ids)}
+        np.testing.assert_allclose(modes.shapes[[row[n] for n in node_of], 2, :], shapes_of(merged), atol=1e-5)
+
+
 def test_a_mode_one_setup_missed_is_kept_seen_in_3_of_4_and_left_out_of_uff(tmp_path):
     files = [setup_file(0), setup_file(1, modes=(0, 1, 3)), setup_file(2), setup_file(3)]
     with client(tmp_path) as c:
