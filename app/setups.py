@@ -179,6 +179,29 @@ def load(store, test_id: str) -> dict:
                 nodes=json.loads(nodes.read_bytes()) if nodes.is_file() else None)
 
 
+# ---- a report: the last merge frozen --------------------------------------------------------------------------
+def freeze(store, test_id: str) -> dict:
+    """A report of the test's last merge: the test and its merged modes and geometry as they are now, frozen in
+    ``setups/{id}/reports/{token}.json`` (a later merge does not change it). Returns {"token", "url"}; the link
+    (/s/{id}/r/{token}) reopens the merged modes on their geometry. NotFound before the first merge."""
+    test = load(store, test_id)
+    if test["merged"] is None:
+        raise NotFound("This test is not merged yet: pick its references and merge it first.")
+    token = new_token()
+    url = f"/s/{test_id}/r/{token}"
+    doc = dict(test, report={"token": token, "url": url, "created": time.time()})
+    write_atomic(_folder(store, test_id) / "reports" / f"{token}.json", json.dumps(doc).encode())
+    return {"token": token, "url": url}
+
+
+def report(store, test_id: str, token: str) -> dict:
+    """schemas.SetupsTest as frozen by :func:`freeze` (its ``report`` says when); NotFound for an unknown link."""
+    path = _folder(store, test_id) / "reports" / f"{token}.json"
+    if not _ID.fullmatch(token) or not path.is_file():
+        raise NotFound("No report of this multi-setup test has this link: check that the whole link was copied.")
+    return json.loads(path.read_bytes())
+
+
 # ---- the nodes of a UFF file (UFF 15, trace lines 82): where a points table point,node,direction puts its points
 def set_nodes(store, settings, test_id: str, file_name: str, blob: bytes) -> dict:
     """Keep a UFF file of the test's nodes (``nodes.bin``, its summary in ``nodes.json``) for a points table

@@ -10,6 +10,7 @@ from fastapi.responses import FileResponse, HTMLResponse, Response
 from .. import config, setups, setups_export
 from ..errors import NotFound
 from ..schemas.analyses import ViewerLink
+from ..schemas.reports import ReportCreated
 from ..schemas.setups import SetupsRequest, SetupsTest
 from .datasets import read_parts
 from .deps import cache, jobs, progress_key, store
@@ -99,6 +100,47 @@ async def modes_uff(request: Request, test_id: str):
              summary="Publish the merged shapes to the viser viewer (on the geometry, else the points in a row)")
 async def viewer(request: Request, test_id: str):
     test = await _merged(request, test_id)  # an unknown test is a 404 first, on every server
+    return await _published(request, test)
+
+
+# ---- reports: the last merge frozen, its link reopens it ------------------------------------------------------------
+@router.post("/api/setups/{test_id}/report", response_model=ReportCreated,
+             summary="Freeze the last merge into a report; its link (/s/{id}/r/{token}) reopens the merged modes "
+                     "on their geometry")
+async def freeze(request: Request, test_id: str):
+    return await jobs(request).quick(setups.freeze, store(request), test_id)
+
+
+@router.get("/api/setups/{test_id}/reports/{token}", response_model=SetupsTest,
+            summary="A frozen report of a multi-setup test: the test and its merge as they were")
+async def read_report(request: Request, test_id: str, token: str):
+    return await jobs(request).quick(setups.report, store(request), test_id, token)
+
+
+@router.get("/api/setups/{test_id}/reports/{token}/modes.csv", summary="A report's merged modes as CSV",
+            response_class=Response, responses={200: {"content": {"text/csv": {}}}})
+async def report_csv(request: Request, test_id: str, token: str):
+    frozen = await jobs(request).quick(setups.report, store(request), test_id, token)
+    return Response(setups_export.modes_csv(frozen["merged"]), media_type="text/csv; charset=utf-8",
+                    headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.csv"'})
+
+
+@router.get("/api/setups/{test_id}/reports/{token}/modes.uff", summary="A report's complete merged modes as UFF 55",
+            response_class=Response, responses={200: {"content": {"application/octet-stream": {}}}})
+async def report_uff(request: Request, test_id: str, token: str):
+    frozen = await jobs(request).quick(setups.report, store(request), test_id, token)
+    blob = await jobs(request).quick(setups_export.modes_uff, frozen["merged"])
+    return Response(blob, media_type="application/octet-stream",
+                    headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.uff"'})
+
+
+@router.post("/api/setups/{test_id}/reports/{token}/viewer", response_model=ViewerLink,
+             summary="Publish a report's merged shapes to the viser viewer")
+async def report_viewer(request: Request, test_id: str, token: str):
+    return await _published(request, await jobs(request).quick(setups.report, store(request), test_id, token))
+
+
+async def _published(request: Request, test: dict) -> dict:
     v = request.app.state.viewer
     if v is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
@@ -110,6 +152,17 @@ async def viewer(request: Request, test_id: str):
 # ---- the page -----------------------------------------------------------------------------------------------------
 @router.get("/setups", include_in_schema=False)
 async def page():
+    return FileResponse(config.STATIC_DIR / "setups.html", media_type="text/html")
+
+
+@router.get("/s/{test_id}/r/{token}", include_in_schema=False)
+async def report_page(request: Request, test_id: str, token: str):
+    try:
+        await jobs(request).quick(setups.report, store(request), test_id, token)
+    except NotFound:
+        return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title><h1>Report not found"
+                            "</h1><p>No report of a multi-setup test has this link. Check that the whole link was "
+                            "copied.</p><p><a href=\"/setups\">Start a multi-setup test</a></p>", status_code=404)
     return FileResponse(config.STATIC_DIR / "setups.html", media_type="text/html")
 
 

@@ -102,6 +102,12 @@ class SetupsNodes(Schema):
                                             "point,node,direction")
 
 
+class SetupsReport(Schema):
+    token: str = Field(description="the report's token")
+    url: str = Field(description="its read-only page, /s/{id}/r/{token}")
+    created: float = Field(description="when it was frozen, Unix s")
+
+
 class SetupsTest(Schema):
     id: str
     name: str
@@ -124,6 +130,8 @@ class SetupsTest(Schema):
     nodes: SetupsNodes | None = Field(default=None, description="the UFF file of nodes given for the points "
                                       "table (point,node,direction), or null")
     merged: SetupsMerged | None = Field(description="the last merge, or null")
+    report: SetupsReport | None = Field(default=None, description="set on a frozen report (the merge as it was "
+                                        "when the report was made), null on the test itself")
 
 
 class SetupsRequest(BaseModel):
@@ -141,5 +149,5 @@ class SetupsRequest(BaseModel):
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 
 
-__all__ = ["SetupsNodes", "SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
-           "SetupsUnmatched"]
+__all__ = ["SetupsReport", "SetupsNodes", "SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode",
+           "SetupsMerged", "SetupsTest", "SetupsRequest", "SetupsUnmatched"]

@@ -158,11 +158,17 @@ const num = (x, d) => (x === null || x === undefined ? "–" : x.toFixed(d));
 
 function result(m) {
   $("setups-rule").textContent = "a mode two setups or more chose is kept; its shape is unknown (not zero) at the points of a setup that missed it";
-  const link = `${location.origin}/s/${test.id}`;
+  const frozen = test.report;  // a report: the merge as it was frozen, read-only
+  const link = `${location.origin}${frozen ? frozen.url : `/s/${test.id}`}`;
   $("setups-link").textContent = link;
   $("setups-link").href = link;
-  $("setups-csv").href = `/api/setups/${test.id}/modes.csv`;
-  $("setups-uff").href = `/api/setups/${test.id}/modes.uff`;
+  const base = frozen ? `/api/setups/${test.id}/reports/${frozen.token}` : `/api/setups/${test.id}`;
+  $("setups-csv").href = `${base}/modes.csv`;
+  $("setups-uff").href = `${base}/modes.uff`;
+  $("setups-report-note").hidden = !frozen;
+  $("setups-report-note").textContent = frozen
+    ? `Read-only report, frozen ${new Date(frozen.created * 1000).toISOString().slice(0, 16).replace("T", " ")} UTC: the merged modes and their geometry as they were then. The test itself: /s/${test.id}.` : "";
+  $("setups-report-row").hidden = Boolean(frozen);
   const partial = m.modes.map((mode, j) => [mode, j]).filter(([mode]) => !mode.complete);
   $("setups-uff-note").textContent = partial.length
     ? `The UFF 55 file leaves out ${partial.map(([mode, j]) => `mode ${j + 1} (${mode.frequency_hz.toFixed(3)} Hz, not measured in setup ${mode.missing_setups.join(", ")})`).join("; ")}: UFF 55 holds a value at every node. The CSV has it, with empty cells where it is unknown.`
@@ -247,7 +253,8 @@ let published = null;
 async function viewer() {
   const box = $("setups-viewer");
   try {
-    const v = await api(`/api/setups/${test.id}/viewer`, { method: "POST" });
+    const where = test.report ? `/api/setups/${test.id}/reports/${test.report.token}` : `/api/setups/${test.id}`;
+    const v = await api(`${where}/viewer`, { method: "POST" });
     published = v;
     box.replaceChildren(el("iframe", { class: "viewer", src: v.url, title: "merged mode shape viewer" }));
   } catch (err) {
@@ -260,11 +267,29 @@ async function sendMode() {
   if (published) await api(published.mode_url, { method: "POST", body: { index: selected } }).catch(() => {});
 }
 
-async function reopen(id) {
+async function reopen(id, token) {
   try {
-    show(await api(`/api/setups/${id}`));
+    const t = await api(token ? `/api/setups/${id}/reports/${token}` : `/api/setups/${id}`);
+    show(t);
+    if (token) {  // a report: only the frozen result
+      $("setups-new").hidden = true;
+      $("setups-refs").hidden = true;
+      $("setups-title").textContent = `ERA multi-setup test report: ${t.name}`;
+    }
   } catch (err) {
     showError("setups-file-error", err);
+  }
+}
+
+async function freeze() {
+  try {
+    const r = await api(`/api/setups/${test.id}/report`, { method: "POST" });
+    const link = `${location.origin}${r.url}`;
+    $("setups-report-link").textContent = link;
+    $("setups-report-link").href = link;
+    $("setups-report-share").hidden = false;
+  } catch (err) {
+    showError("setups-references-error", err);
   }
 }
 
@@ -293,5 +318,6 @@ $("setups-nodes-file").addEventListener("change", async (ev) => {
   }
 });
 $("setups-modes").addEventListener("click", sendMode);
-const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)$/);
-if (opened) reopen(opened[1]);
+$("setups-freeze").addEventListener("click", freeze);
+const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)(?:\/r\/([A-Za-z0-9_-]+))?$/);
+if (opened) reopen(opened[1], opened[2]);

@@ -123,11 +123,11 @@ def test_setups_with_a_geometry_merge_onto_it(tmp_path):
         assert r.status_code == 503 and "not available" in r.json()["error"]
 
 
-def test_points_on_the_nodes_of_a_uff_file(tmp_path):
+def test_points_on_the_nodes_of_a_uff_file_and_a_report_of_the_merge(tmp_path):
     """The beam's nodes as another program writes them (pyuff: UFF 15 nodes 100-113, the supports 100 and 113
     without sensors, one UFF 82 trace line through them): given to the test, a points table point,node,direction
     puts every merged point on its node, the drawing keeps every node and the line, and UFF 55 writes each point's
-    value at its node."""
+    value at its node. A report freezes that merge: its link reopens it (modes and geometry) after a later merge."""
     ids = np.arange(100, 114)
     x = np.arange(14) / 13 * 1.3
     sets = [pyuff.prepare_15(node_nums=[int(i) for i in ids], def_cs=[0] * 14, disp_cs=[0] * 14, color=[1] * 14,
@@ -158,6 +158,21 @@ def test_points_on_the_nodes_of_a_uff_file(tmp_path):
         modes = era.read_modes_uff(path)
         row = {int(n): i for i, n in enumerate(modes.node_ids)}
         np.testing.assert_allclose(modes.shapes[[row[n] for n in node_of], 2, :], shapes_of(merged), atol=1e-5)
+
+        # a report freezes this merge: its link reopens the merged modes on these nodes after a later merge
+        csv_now = c.get(f"/api/setups/{test['id']}/modes.csv").text
+        r = c.post(f"/api/setups/{test['id']}/report")
+        assert r.status_code == 200 and r.json()["url"] == f"/s/{test['id']}/r/{r.json()['token']}"
+        token = r.json()["token"]
+        c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]})  # the files' geometry
+        assert c.get(f"/api/setups/{test['id']}").json()["merged"]["geometry"]["node_ids"] == list(range(1, 13))
+        frozen = c.get(f"/api/setups/{test['id']}/reports/{token}").json()
+        assert frozen["report"]["token"] == token and frozen["merged"] == merged
+        assert frozen["merged"]["geometry"]["node_ids"] == ids.tolist()
+        assert c.get(f"/api/setups/{test['id']}/reports/{token}/modes.csv").text == csv_now
+        assert c.get(f"/s/{test['id']}/r/{token}").status_code == 200
+        assert c.get(f"/s/{test['id']}/r/nosuchreport").status_code == 404
+        assert c.get(f"/api/setups/{test['id']}/reports/nosuchreport").status_code == 404
 
 
 def test_a_mode_one_setup_missed_is_kept_seen_in_3_of_4_and_left_out_of_uff(tmp_path):
