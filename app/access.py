@@ -23,9 +23,12 @@ from starlette.requests import HTTPConnection
 COOKIE = "era_token"
 #: A browser's own random id, set at sign-in beside the token: who the limits count for on a token server.
 SESSION = "era_session"
-#: Open without signing in (GET only): report and campaign links, the page's assets, the viewer's client for
-#: recordings (/viser/ itself: a live key's page, picks and websocket are not), health, sign-in.
-_PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|c/[^/]+|api/campaigns/(?!folders$)[^/]+(/.*)?|static/.*|"
+#: Open without signing in (GET only): report and campaign links (a multi-setup test's reports too), the page's
+#: assets, the viewer's client for recordings (/viser/ itself: a live key's page, picks and websocket are not),
+#: health, sign-in.
+_PUBLIC = re.compile(r"^/(r/[^/]+|api/reports/[^/]+(/.*)?|s/[^/]+/r/[^/]+|"
+                     r"api/setups/[^/]+/reports/[^/]+(/modes\.(csv|uff))?|c/[^/]+|"
+                     r"api/campaigns/(?!folders$)[^/]+(/.*)?|static/.*|"
                      r"vendor/.*|viser/|api/health|login|favicon\.ico)$")
 
 

@@ -130,7 +130,7 @@ def install(app: FastAPI, settings: Settings, access: Access) -> None:
         path = request.url.path
         refused = access.check(request)
         # the API, and the links and sign-in a stranger could guess tokens at; refusals count for their address
-        if path.startswith(("/api/", "/r/", "/c/")) or path == "/login" or refused is not None:
+        if path.startswith(("/api/", "/r/", "/c/", "/s/")) or path == "/login" or refused is not None:
             who = access.user(request)
             # uploads, identifications, examples, reports and sign-ins start heavy work (or guess a token);
             # publishing to the viewer does not

@@ -7,10 +7,12 @@ A test is files only (no table), in the store's ``setups/{id}/``: the uploaded f
 (``setup1.bin`` ...), ``test.json`` (schemas.SetupsTest without ``merged``: the setups' channels and the proposed
 references), written once after the files, and ``merged.json`` (schemas.SetupsMerged), written again at every
 merge. The merged document holds everything the page draws, so the test's link (/s/{id}) reopens the result.
-Every setup is read and analysed as era.load and era.analyse do by default (ambient records through NExT with every
-channel as a correlation reference): the library's path, so the page and a script give one answer. The upload
-analyses the setups at once to propose the references from the data (era.reference_evidence); the names propose them
-only when the data cannot and the names are not generic.
+Every setup is read and analysed as era.load and era.analyse do (ambient records through NExT), and the merge takes
+the library's path, era.merge_choosing_next: ambient setups are merged with every channel as NExT reference and with
+the picked references only, and the merge with more modes complete is kept (so the page and
+era.merge_ambient_setups give one answer). The upload analyses the setups (every channel) at once to propose the
+references from the data (era.reference_evidence); the names propose them only when the data cannot and the names
+are not generic.
 
 A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
 frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see
@@ -22,17 +24,15 @@ Every function is plain and blocking (the routes run them on the job pools).
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import re
 import time
-from types import SimpleNamespace
 
 import numpy as np
 
 import era
 import era.setup_geometry
+import era.setup_next
 import era.setups
 from era.words import listed
 
@@ -40,7 +40,7 @@ from .errors import NotFound
 from .importing import page_words
 from .loading import check_stored, load_upload
 from .payloads import floats
-from .reporting import geometry_from_json, geometry_json
+from .reporting import geometry_json
 from .store import new_token, write_atomic
 
 #: A multi-setup test has at least this many setups (one file is an ordinary dataset) ...
@@ -174,7 +174,69 @@ def load(store, test_id: str) -> dict:
         raise NotFound(f"No multi-setup test {test_id!r}: check that the whole link was copied.")
     test = json.loads((folder / "test.json").read_bytes())
     merged = folder / "merged.json"
-    return dict(test, merged=json.loads(merged.read_bytes()) if merged.is_file() else None)
+    nodes = folder / "nodes.json"
+    return dict(test, merged=json.loads(merged.read_bytes()) if merged.is_file() else None,
+                nodes=json.loads(nodes.read_bytes()) if nodes.is_file() else None)
+
+
+# ---- a report: the last merge frozen --------------------------------------------------------------------------
+def freeze(store, test_id: str) -> dict:
+    """A report of the test's last merge: the test and its merged modes and geometry as they are now, frozen in
+    ``setups/{id}/reports/{token}.json`` (a later merge does not change it). Returns {"token", "url"}; the link
+    (/s/{id}/r/{token}) reopens the merged modes on their geometry. NotFound before the first merge."""
+    test = load(store, test_id)
+    if test["merged"] is None:
+        raise NotFound("This test is not merged yet: pick its references and merge it first.")
+    token = new_token()
+    url = f"/s/{test_id}/r/{token}"
+    doc = dict(test, report={"token": token, "url": url, "created": time.time()})
+    write_atomic(_folder(store, test_id) / "reports" / f"{token}.json", json.dumps(doc).encode())
+    return {"token": token, "url": url}
+
+
+def report(store, test_id: str, token: str) -> dict:
+    """schemas.SetupsTest as frozen by :func:`freeze` (its ``report`` says when); NotFound for an unknown link."""
+    path = _folder(store, test_id) / "reports" / f"{token}.json"
+    if not _ID.fullmatch(token) or not path.is_file():
+        raise NotFound("No report of this multi-setup test has this link: check that the whole link was copied.")
+    return json.loads(path.read_bytes())
+
+
+# ---- the nodes of a UFF file (UFF 15, trace lines 82): where a points table point,node,direction puts its points
+def set_nodes(store, settings, test_id: str, file_name: str, blob: bytes) -> dict:
+    """Keep a UFF file of the test's nodes (``nodes.bin``, its summary in ``nodes.json``) for a points table
+    ``point,node,direction`` (era.setup_geometry). Returns schemas.SetupsTest. Refusal next to the points when the
+    file has no nodes."""
+    test = load(store, test_id)
+    geometry = _nodes_geometry(settings, file_name, blob)
+    summary = {"file": file_name, "n_nodes": int(geometry.node_ids.size), "n_lines": int(len(geometry.line_ids)),
+               "node_ids": [int(n) for n in geometry.node_ids[:200]]}
+    folder = _folder(store, test_id)
+    write_atomic(folder / "nodes.bin", blob)
+    write_atomic(folder / "nodes.json", json.dumps(summary).encode())
+    return dict(test, nodes=summary)
+
+
+def _nodes_geometry(settings, file_name: str, blob: bytes):
+    """era.Geometry of a UFF file's nodes and trace lines (era.load); Refusal ("points") when it has none."""
+    try:
+        geometry = era.load(blob, name=file_name, max_bytes=settings.max_upload_bytes).geometry
+    except era.TooLargeError:
+        raise
+    except era.EraError as exc:
+        raise Refusal(f"{file_name}: {page_words(str(exc))}", "points") from None
+    if geometry is None or geometry.node_ids.size == 0:
+        raise Refusal(f"{file_name} defines no nodes: give a UFF file with nodes (UFF 15, and trace lines, UFF 82) "
+                      "for a points table point,node,direction.", "points")
+    return geometry
+
+
+def stored_nodes(store, settings, test: dict):
+    """The test's nodes (era.Geometry of its kept UFF file), or None when none was given."""
+    if not test.get("nodes"):
+        return None
+    blob = (_folder(store, test["id"]) / "nodes.bin").read_bytes()
+    return _nodes_geometry(settings, test["nodes"]["file"], blob)
 
 
 # ---- the merge --------------------------------------------------------------------------------------------------
@@ -249,35 +311,49 @@ def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = N
     return results
 
 
-#: How ambient records are correlated (NExT) at a merge: every channel a reference (era.load's default), or the
-#: picked references only (era.load's ``references``; better when the roving channels are noisy).
-NEXT_REFERENCES = ("every", "references")
+#: How ambient records are correlated (NExT) at a merge: "auto" merges both ways and keeps the better merge
+#: (era.merge_choosing_next: more modes complete, ties to more consistent shapes); "every" channel a reference
+#: (era.load's default) or the picked "references" only (era.load's ``references``) as asked.
+NEXT_REFERENCES = ("auto", "every", "references")
 
 
 def merge(store, settings, test: dict, references, points: str | None = None,
-          next_references: str = "every") -> dict:
+          next_references: str = "auto") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
     then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
-    ``next_references``: "every" (every channel a NExT reference) or "references" (the picked ones only).
+    ``next_references``: "auto" (ambient records merged with both NExT references and the better merge kept, as
+    era.merge_ambient_setups does), "every" (every channel a NExT reference) or "references" (the picked ones only).
     Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
-    runs = analyse_setups(store, settings, test, refs if next_references == "references" else None)
+    ambient = any(s.get("ambient") for s in test["setups"])
+    runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
     try:
-        result = era.setups.merge([a for a, _ in runs], refs)
+        if next_references == "auto":
+            only = analyse_setups(store, settings, test, refs) if ambient else None
+            choice = era.merge_choosing_next([a for a, _ in runs], None if only is None else [a for a, _ in only],
+                                             refs)
+            result, used, said = choice.result, choice.used, choice.reason
+            complete = [int(x) for x in choice.complete]
+        else:
+            if next_references == "references":
+                runs = analyse_setups(store, settings, test, refs)
+            result, used = era.setups.merge([a for a, _ in runs], refs), next_references
+            said, complete = f"As asked: {era.setup_next.WAY_WORDS[used]}.", []
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
         aliases = era.setup_geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
                                                    [s["outputs"] for s in test["setups"]], refs)
         try:
-            geometry = era.setup_geometry.points_geometry(era.setup_geometry.parse_points(points), aliases)
+            table = era.setup_geometry.parse_points(points, nodes=stored_nodes(store, settings, test))
+            geometry = era.setup_geometry.points_geometry(table, aliases)
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
         geometry = era.setups.merged_geometry([g for _, g in runs], result)
-    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "",
-                  next_references=next_references)
+    merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
+                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 
@@ -330,74 +406,3 @@ def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
 def _num(x) -> float | None:
     x = float(x)
     return x if np.isfinite(x) else None
-
-
-# ---- exports ----------------------------------------------------------------------------------------------------
-def _shapes(merged: dict) -> np.ndarray:
-    """(points, modes) complex, NaN where unknown."""
-    def arr(key):
-        return np.array([[np.nan if v is None else v for v in row] for row in merged[key]], dtype=float)
-    return (arr("shapes_re") + 1j * arr("shapes_im")).T.reshape(len(merged["points"]), len(merged["modes"]))
-
-
-def left_out(merged: dict) -> str:
-    """What a UFF 55 export leaves out, in words ("" when every mode is written)."""
-    gone = [f"mode {j + 1} ({m['frequency_hz']:.4g} Hz, not measured in setup "
-            f"{', '.join(str(k) for k in m['missing_setups'])})" for j, m in enumerate(merged["modes"])
-            if not m["complete"]]
-    return ("Left out (not known at every point): " + "; ".join(gone) + ".") if gone else ""
-
-
-def modes_uff(merged: dict) -> bytes:
-    """The merged modes known at every point as UFF 55 (era.save_modes_uff), on the merged geometry when there is
-    one (else point k is node k + 1): a set keeps its mode's number, so the numbers of :func:`left_out` are gaps."""
-    shapes = _shapes(merged)
-    points = tuple(merged["points"])
-    f_std = np.array([np.nan if m["frequency_std_hz"] is None else m["frequency_std_hz"] for m in merged["modes"]])
-    d_std = np.array([np.nan if m["damping_std"] is None else m["damping_std"] for m in merged["modes"]])
-    s = np.array(merged["eigenvalue_re"], dtype=float) + 1j * np.array(merged["eigenvalue_im"], dtype=float)
-    model = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=f_std, damping_std=d_std, outputs=points,
-                            points=points, point_shapes=shapes, uncertainty_source=merged.get("uncertainty_source", ""))
-    buf = io.BytesIO()
-    era.save_modes_uff(buf, model, geometry_from_json(merged.get("geometry")), name="ERA merged")
-    return buf.getvalue()
-
-
-def modes_csv(merged: dict) -> str:
-    """One row per merged mode: frequency, damping and their σ, MPC, in how many setups it was seen, whether its
-    shape is known at every point and where it is not, then each point's real and imaginary part (an empty cell
-    where the shape is unknown: never 0, which would claim a node)."""
-    shapes = _shapes(merged)
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    cols = [f"{_cell(q)} {part}" for q in merged["points"] for part in ("re", "im")]
-    w.writerow(["mode", "frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "mpc", "seen_in_setups",
-                "n_setups", "complete", "unknown_at", *cols])
-    for j, m in enumerate(merged["modes"]):
-        values = []
-        for v in shapes[:, j]:
-            values += ["", ""] if not np.isfinite(v) else [repr(float(v.real)), repr(float(v.imag))]
-        unknown = " ".join(q for q, v in zip(merged["points"], shapes[:, j]) if not np.isfinite(v))
-        w.writerow([j + 1, m["frequency_hz"], _blank(m["frequency_std_hz"]), m["damping_ratio"],
-                    _blank(m["damping_std"]), _blank(m["mpc"]), m["seen_in"], len(merged["setups"]),
-                    int(m["complete"]), unknown, *values])
-    return buf.getvalue()
-
-
-def _blank(x):
-    return "" if x is None else x
-
-
-def _cell(text: str) -> str:
-    """A label safe for spreadsheets: a leading = + - @ would be read as a formula."""
-    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
-
-
-def viewer_scene(merged: dict) -> tuple:
-    """(geometry or None, frequency_hz (k,), shapes (q, k) complex, labels) for the 3-D viewer: an unknown value
-    is drawn at rest (the viewer needs numbers; the labels say which modes are incomplete)."""
-    shapes = _shapes(merged)
-    f = [m["frequency_hz"] for m in merged["modes"]]
-    labels = [f"{m['frequency_hz']:.3f} Hz, {m['seen']}" + ("" if m["complete"] else " (still where unknown)")
-              for m in merged["modes"]]
-    return geometry_from_json(merged.get("geometry")), np.array(f), np.where(np.isfinite(shapes), shapes, 0), labels

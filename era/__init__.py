@@ -20,6 +20,8 @@ from .choice import Candidate, ModeChoice, choose_modes
 from .analysis import AnalysisResult, analyse
 from .setups import SetupMerge, merge_setups  # multi-setup tests (issue 26): one shape through the references
 from .setup_references import ReferenceProposal, propose_references, reference_evidence  # references from the data
+from .setup_next import NextChoice, choose_next, merge_ambient_setups, merge_choosing_next  # NExT's references
+from .setup_preger import PregerMerge, merge_correlations  # merging before identifying (PreGER)
 
 # test data in (issue 3): readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
@@ -43,6 +45,7 @@ __all__ = [
     "ResponseData", "Geometry", "identify", "Identification", "stabilization", "Stabilization", "StableMode",
     "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate", "merge_setups", "SetupMerge",
     "propose_references", "reference_evidence", "ReferenceProposal",
+    "merge_ambient_setups", "merge_choosing_next", "choose_next", "NextChoice", "merge_correlations", "PregerMerge",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "TooLargeError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",

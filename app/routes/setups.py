@@ -7,9 +7,10 @@ from __future__ import annotations
 from fastapi import APIRouter, File, Form, HTTPException, Request, UploadFile
 from fastapi.responses import FileResponse, HTMLResponse, Response
 
-from .. import config, setups
+from .. import config, setups, setups_export
 from ..errors import NotFound
 from ..schemas.analyses import ViewerLink
+from ..schemas.reports import ReportCreated
 from ..schemas.setups import SetupsRequest, SetupsTest
 from .datasets import read_parts
 from .deps import cache, jobs, progress_key, store
@@ -54,6 +55,17 @@ async def merge(request: Request, test_id: str, body: SetupsRequest):
     return dict(test, merged=merged)
 
 
+@router.post("/api/setups/{test_id}/nodes", response_model=SetupsTest,
+             summary="Give the test's nodes as a UFF file (UFF 15 nodes, 82 trace lines) for a points table "
+                     "point,node,direction")
+async def nodes(request: Request, test_id: str,
+                file: UploadFile = File(description="a UFF file with the nodes (and trace lines)")):
+    """The test with its nodes; the next merge's points table may put its points on these nodes. A file without
+    nodes is refused (422, ``option`` "points")."""
+    (name, blob), = await read_parts([file])
+    return await jobs(request).quick(setups.set_nodes, store(request), cache(request).settings, test_id, name, blob)
+
+
 async def _merged(request: Request, test_id: str) -> dict:
     test = await jobs(request).quick(setups.load, store(request), test_id)
     if test["merged"] is None:
@@ -66,7 +78,7 @@ async def _merged(request: Request, test_id: str) -> dict:
             responses={200: {"content": {"text/csv": {}}, "description": "one row per merged mode"}})
 async def modes_csv(request: Request, test_id: str):
     test = await _merged(request, test_id)
-    return Response(setups.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",
+    return Response(setups_export.modes_csv(test["merged"]), media_type="text/csv; charset=utf-8",
                     headers={"Content-Disposition": f'attachment; filename="era-setups-{test_id[:8]}.csv"'})
 
 
@@ -76,9 +88,9 @@ async def modes_csv(request: Request, test_id: str):
                                             "X-ERA-Left-Out says which modes are not in it"}})
 async def modes_uff(request: Request, test_id: str):
     test = await _merged(request, test_id)
-    blob = await jobs(request).quick(setups.modes_uff, test["merged"])
+    blob = await jobs(request).quick(setups_export.modes_uff, test["merged"])
     headers = {"Content-Disposition": f'attachment; filename="era-setups-{test_id[:8]}.uff"'}
-    said = setups.left_out(test["merged"])
+    said = setups_export.left_out(test["merged"])
     if said:
         headers["X-ERA-Left-Out"] = said.encode("ascii", "replace").decode("ascii")
     return Response(blob, media_type="application/octet-stream", headers=headers)
@@ -88,10 +100,51 @@ async def modes_uff(request: Request, test_id: str):
              summary="Publish the merged shapes to the viser viewer (on the geometry, else the points in a row)")
 async def viewer(request: Request, test_id: str):
     test = await _merged(request, test_id)  # an unknown test is a 404 first, on every server
+    return await _published(request, test)
+
+
+# ---- reports: the last merge frozen, its link reopens it ------------------------------------------------------------
+@router.post("/api/setups/{test_id}/report", response_model=ReportCreated,
+             summary="Freeze the last merge into a report; its link (/s/{id}/r/{token}) reopens the merged modes "
+                     "on their geometry")
+async def freeze(request: Request, test_id: str):
+    return await jobs(request).quick(setups.freeze, store(request), test_id)
+
+
+@router.get("/api/setups/{test_id}/reports/{token}", response_model=SetupsTest,
+            summary="A frozen report of a multi-setup test: the test and its merge as they were")
+async def read_report(request: Request, test_id: str, token: str):
+    return await jobs(request).quick(setups.report, store(request), test_id, token)
+
+
+@router.get("/api/setups/{test_id}/reports/{token}/modes.csv", summary="A report's merged modes as CSV",
+            response_class=Response, responses={200: {"content": {"text/csv": {}}}})
+async def report_csv(request: Request, test_id: str, token: str):
+    frozen = await jobs(request).quick(setups.report, store(request), test_id, token)
+    return Response(setups_export.modes_csv(frozen["merged"]), media_type="text/csv; charset=utf-8",
+                    headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.csv"'})
+
+
+@router.get("/api/setups/{test_id}/reports/{token}/modes.uff", summary="A report's complete merged modes as UFF 55",
+            response_class=Response, responses={200: {"content": {"application/octet-stream": {}}}})
+async def report_uff(request: Request, test_id: str, token: str):
+    frozen = await jobs(request).quick(setups.report, store(request), test_id, token)
+    blob = await jobs(request).quick(setups_export.modes_uff, frozen["merged"])
+    return Response(blob, media_type="application/octet-stream",
+                    headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.uff"'})
+
+
+@router.post("/api/setups/{test_id}/reports/{token}/viewer", response_model=ViewerLink,
+             summary="Publish a report's merged shapes to the viser viewer")
+async def report_viewer(request: Request, test_id: str, token: str):
+    return await _published(request, await jobs(request).quick(setups.report, store(request), test_id, token))
+
+
+async def _published(request: Request, test: dict) -> dict:
     v = request.app.state.viewer
     if v is None:
         raise HTTPException(503, "The mode-shape viewer is not available on this server.")
-    scene = setups.viewer_scene(test["merged"])
+    scene = setups_export.viewer_scene(test["merged"])
     key = await jobs(request).quick(v.publish, *scene)
     return {"key": key, "url": v.iframe_url(key), "mode_url": f"/viser/{key}/mode", "n_modes": len(scene[1])}
 
@@ -99,6 +152,17 @@ async def viewer(request: Request, test_id: str):
 # ---- the page -----------------------------------------------------------------------------------------------------
 @router.get("/setups", include_in_schema=False)
 async def page():
+    return FileResponse(config.STATIC_DIR / "setups.html", media_type="text/html")
+
+
+@router.get("/s/{test_id}/r/{token}", include_in_schema=False)
+async def report_page(request: Request, test_id: str, token: str):
+    try:
+        await jobs(request).quick(setups.report, store(request), test_id, token)
+    except NotFound:
+        return HTMLResponse("<!doctype html><meta charset=utf-8><title>Report not found</title><h1>Report not found"
+                            "</h1><p>No report of a multi-setup test has this link. Check that the whole link was "
+                            "copied.</p><p><a href=\"/setups\">Start a multi-setup test</a></p>", status_code=404)
     return FileResponse(config.STATIC_DIR / "setups.html", media_type="text/html")
 
 

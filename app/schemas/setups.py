@@ -67,8 +67,14 @@ class SetupsMerged(Schema):
     uncertainty_source: str
     points_table: str = Field(default="", description="the points table the merge was given (CSV point,x,y,z,"
                                                       "direction, then from,to lines), or empty")
-    next_references: str = Field(default="every", description="how ambient records were correlated: every channel "
-                                 "a NExT reference (era.load's default) or the picked references only")
+    next_references: str = Field(default="every", description="how ambient records were correlated in the kept "
+                                 "merge: \"every\" channel a NExT reference or the picked \"references\" only")
+    next_asked: str = Field(default="every", description="what was asked: \"auto\" (both ways, the merge with more "
+                            "modes complete kept: era.merge_choosing_next), \"every\" or \"references\"")
+    next_choice: str = Field(default="", description="why that way, in words (each way's complete modes and mean "
+                             "MPC)")
+    next_complete: list[int] = Field(default=[], description="with \"auto\": complete modes at distinct frequencies "
+                                     "with every channel, then with the references only (-1: refused)")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
@@ -86,6 +92,20 @@ class ReferencePairEvidence(Schema):
     runner_up: float | None = Field(description="the same for the next best pair of some setup (ambiguous when "
                                                 "it passes too)")
     mac: Matrix = Field(description="(setups, shared modes) its MAC with setup 1's pair, mode by mode")
+
+
+class SetupsNodes(Schema):
+    file: str = Field(description="the UFF file of the test's nodes")
+    n_nodes: int
+    n_lines: int = Field(description="its trace lines (UFF 82)")
+    node_ids: list[int] = Field(description="its node numbers (the first 200), for a points table "
+                                            "point,node,direction")
+
+
+class SetupsReport(Schema):
+    token: str = Field(description="the report's token")
+    url: str = Field(description="its read-only page, /s/{id}/r/{token}")
+    created: float = Field(description="when it was frozen, Unix s")
 
 
 class SetupsTest(Schema):
@@ -107,7 +127,11 @@ class SetupsTest(Schema):
     candidates: list[ReferencePairEvidence] = Field(default=[], description="the best pairs of channels, best first")
     unmatched: list[SetupsUnmatched] = Field(description="setup 1's channel names that some setups lack (a "
                                                          "reference renamed or missing there)")
+    nodes: SetupsNodes | None = Field(default=None, description="the UFF file of nodes given for the points "
+                                      "table (point,node,direction), or null")
     merged: SetupsMerged | None = Field(description="the last merge, or null")
+    report: SetupsReport | None = Field(default=None, description="set on a frozen report (the merge as it was "
+                                        "when the report was made), null on the test itself")
 
 
 class SetupsRequest(BaseModel):
@@ -117,13 +141,13 @@ class SetupsRequest(BaseModel):
                                "point,x,y,z,direction (direction x, -z, or \"dx dy dz\"; point named as the merged "
                                "modes name it, or S<setup>:<channel>), optionally followed by from,to rows (the "
                                "lines between points)")
-    next_references: Literal["every", "references"] = Field("every", description="ambient records: every channel "
-                                                             "a NExT correlation reference (era.load's default), or "
-                                                             "the picked references only (better when the roving "
-                                                             "channels are noisy)")
+    next_references: Literal["auto", "every", "references"] = Field(
+        "auto", description="ambient records: \"auto\" merges with both NExT references and keeps the merge with "
+        "more modes complete (ties: more consistent shapes), as era.merge_ambient_setups; \"every\" channel a NExT "
+        "correlation reference (era.load's default), or the picked \"references\" only")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 
 
-__all__ = ["SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode", "SetupsMerged", "SetupsTest", "SetupsRequest",
-           "SetupsUnmatched"]
+__all__ = ["SetupsReport", "SetupsNodes", "SetupChannels", "ReferencePairEvidence", "MergedMode", "DroppedSetupMode",
+           "SetupsMerged", "SetupsTest", "SetupsRequest", "SetupsUnmatched"]

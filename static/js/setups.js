@@ -118,12 +118,21 @@ function show(t) {
   $("setups-unmatched").textContent = missing.length
     ? `${missing.join("; ")}: if it is a reference there under another name, add it below.` : "";
   picker(t.merged ? t.merged.references : (t.proposed[0].length ? t.proposed : t.setups.map(() => [0, 1])));
-  if (t.merged && t.merged.next_references) $("setups-next").value = t.merged.next_references;
+  if (t.merged && t.merged.next_asked) $("setups-next").value = t.merged.next_asked;
   if (t.merged && t.merged.points_table && !$("setups-points").value) {
     $("setups-points").value = t.merged.points_table;
   }
+  nodesNote(t);
   $("setups-result").hidden = !t.merged;
   if (t.merged) result(t.merged);
+}
+
+// The UFF file of nodes given for a points table point,node,direction.
+function nodesNote(t) {
+  const n = t.nodes;
+  $("setups-nodes-note").textContent = n
+    ? `${n.file}: ${n.n_nodes} nodes (${n.node_ids.slice(0, 6).join(", ")}${n.n_nodes > 6 ? ", …" : ""}), ${n.n_lines} trace ${n.n_lines === 1 ? "line" : "lines"}; the table may read point,node,direction.`
+    : "";
 }
 
 // The reference evidence: the best pairs of channels and their MAC over the modes every setup found.
@@ -149,15 +158,22 @@ const num = (x, d) => (x === null || x === undefined ? "–" : x.toFixed(d));
 
 function result(m) {
   $("setups-rule").textContent = "a mode two setups or more chose is kept; its shape is unknown (not zero) at the points of a setup that missed it";
-  const link = `${location.origin}/s/${test.id}`;
+  const frozen = test.report;  // a report: the merge as it was frozen, read-only
+  const link = `${location.origin}${frozen ? frozen.url : `/s/${test.id}`}`;
   $("setups-link").textContent = link;
   $("setups-link").href = link;
-  $("setups-csv").href = `/api/setups/${test.id}/modes.csv`;
-  $("setups-uff").href = `/api/setups/${test.id}/modes.uff`;
+  const base = frozen ? `/api/setups/${test.id}/reports/${frozen.token}` : `/api/setups/${test.id}`;
+  $("setups-csv").href = `${base}/modes.csv`;
+  $("setups-uff").href = `${base}/modes.uff`;
+  $("setups-report-note").hidden = !frozen;
+  $("setups-report-note").textContent = frozen
+    ? `Read-only report, frozen ${new Date(frozen.created * 1000).toISOString().slice(0, 16).replace("T", " ")} UTC: the merged modes and their geometry as they were then. The test itself: /s/${test.id}.` : "";
+  $("setups-report-row").hidden = Boolean(frozen);
   const partial = m.modes.map((mode, j) => [mode, j]).filter(([mode]) => !mode.complete);
   $("setups-uff-note").textContent = partial.length
     ? `The UFF 55 file leaves out ${partial.map(([mode, j]) => `mode ${j + 1} (${mode.frequency_hz.toFixed(3)} Hz, not measured in setup ${mode.missing_setups.join(", ")})`).join("; ")}: UFF 55 holds a value at every node. The CSV has it, with empty cells where it is unknown.`
     : "Every mode is known at every point.";
+  $("setups-next-note").textContent = m.next_choice ? `NExT references: ${m.next_choice}` : "";
   const body = $("setups-modes").tBodies[0];
   body.replaceChildren(...m.modes.map((mode, j) => {
     const cells = [["mode", String(j + 1)], ["frequency_hz", num(mode.frequency_hz, 4)],
@@ -237,7 +253,8 @@ let published = null;
 async function viewer() {
   const box = $("setups-viewer");
   try {
-    const v = await api(`/api/setups/${test.id}/viewer`, { method: "POST" });
+    const where = test.report ? `/api/setups/${test.id}/reports/${test.report.token}` : `/api/setups/${test.id}`;
+    const v = await api(`${where}/viewer`, { method: "POST" });
     published = v;
     box.replaceChildren(el("iframe", { class: "viewer", src: v.url, title: "merged mode shape viewer" }));
   } catch (err) {
@@ -250,11 +267,29 @@ async function sendMode() {
   if (published) await api(published.mode_url, { method: "POST", body: { index: selected } }).catch(() => {});
 }
 
-async function reopen(id) {
+async function reopen(id, token) {
   try {
-    show(await api(`/api/setups/${id}`));
+    const t = await api(token ? `/api/setups/${id}/reports/${token}` : `/api/setups/${id}`);
+    show(t);
+    if (token) {  // a report: only the frozen result
+      $("setups-new").hidden = true;
+      $("setups-refs").hidden = true;
+      $("setups-title").textContent = `ERA multi-setup test report: ${t.name}`;
+    }
   } catch (err) {
     showError("setups-file-error", err);
+  }
+}
+
+async function freeze() {
+  try {
+    const r = await api(`/api/setups/${test.id}/report`, { method: "POST" });
+    const link = `${location.origin}${r.url}`;
+    $("setups-report-link").textContent = link;
+    $("setups-report-link").href = link;
+    $("setups-report-share").hidden = false;
+  } catch (err) {
+    showError("setups-references-error", err);
   }
 }
 
@@ -266,6 +301,23 @@ $("setups-points-file").addEventListener("change", async (ev) => {
   const f = ev.target.files[0];
   if (f) $("setups-points").value = await f.text();
 });
+$("setups-nodes-file").addEventListener("change", async (ev) => {
+  const f = ev.target.files[0];
+  if (!f) return;
+  showError("setups-points-error", null);
+  const form = new FormData();
+  form.append("file", f, f.name);
+  try {
+    const res = await fetch(`/api/setups/${test.id}/nodes`, { method: "POST", body: form });
+    const body = await res.json().catch(() => null);
+    if (!res.ok) throw new Error((body && body.error) || `${res.status} ${res.statusText}`);
+    test = Object.assign(body, { merged: test.merged });
+    nodesNote(test);
+  } catch (err) {
+    showError("setups-points-error", err);
+  }
+});
 $("setups-modes").addEventListener("click", sendMode);
-const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)$/);
-if (opened) reopen(opened[1]);
+$("setups-freeze").addEventListener("click", freeze);
+const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)(?:\/r\/([A-Za-z0-9_-]+))?$/);
+if (opened) reopen(opened[1], opened[2]);

@@ -69,7 +69,10 @@ def test_four_setups_merge_to_the_true_shape_at_every_point(tmp_path):
         np.testing.assert_allclose([m["frequency_hz"] for m in only["modes"]], FREQUENCY_HZ, rtol=0.01)
         assert np.all(np.diag(era.mac(shapes_of(only), truth_at(only["points"]))) >= 0.99)
         merged = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]}).json()["merged"]
-        assert merged["next_references"] == "every"
+        # by default both ways, the better merge kept and said (era.merge_choosing_next)
+        assert merged["next_asked"] == "auto" and merged["next_references"] in ("every", "references")
+        assert merged["next_choice"].startswith("Kept ") and len(merged["next_complete"]) == 2
+        assert max(merged["next_complete"]) == 4
 
         # the link reopens it: the same merge, read back
         again = c.get(f"/api/setups/{test['id']}").json()
@@ -118,6 +121,58 @@ def test_setups_with_a_geometry_merge_onto_it(tmp_path):
         # the server runs without the viewer here: said, not a 500
         r = c.post(f"/api/setups/{test['id']}/viewer")
         assert r.status_code == 503 and "not available" in r.json()["error"]
+
+
+def test_points_on_the_nodes_of_a_uff_file_and_a_report_of_the_merge(tmp_path):
+    """The beam's nodes as another program writes them (pyuff: UFF 15 nodes 100-113, the supports 100 and 113
+    without sensors, one UFF 82 trace line through them): given to the test, a points table point,node,direction
+    puts every merged point on its node, the drawing keeps every node and the line, and UFF 55 writes each point's
+    value at its node. A report freezes that merge: its link reopens it (modes and geometry) after a later merge."""
+    ids = np.arange(100, 114)
+    x = np.arange(14) / 13 * 1.3
+    sets = [pyuff.prepare_15(node_nums=[int(i) for i in ids], def_cs=[0] * 14, disp_cs=[0] * 14, color=[1] * 14,
+                             x=x, y=np.zeros(14), z=np.zeros(14)),
+            {"type": 82, "trace_num": 1, "n_nodes": 14, "color": 1, "id": "beam", "nodes": ids}]
+    pyuff.UFF(str(tmp_path / "beam.uff")).write_sets(sets, mode="overwrite")
+    table = "point,node,direction\n" + "".join(f"P{i},{99 + i},z\n" for i in range(1, 13))
+    with client(tmp_path) as c:
+        test = upload(c, [setup_npz(k) for k in range(4)], kind="auto").json()
+        r = c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"], "points": table})
+        assert r.status_code == 422 and r.json()["option"] == "points" and "UFF file" in r.json()["error"]
+        r = c.post(f"/api/setups/{test['id']}/nodes", files={"file": ("notes.csv", b"a,b\n1,2\n", "text/csv")})
+        assert r.status_code == 422 and r.json()["option"] == "points"
+        r = c.post(f"/api/setups/{test['id']}/nodes",
+                   files={"file": ("beam.uff", (tmp_path / "beam.uff").read_bytes(), "application/octet-stream")})
+        assert r.status_code == 200, r.text
+        assert r.json()["nodes"] == {"file": "beam.uff", "n_nodes": 14, "n_lines": 1, "node_ids": ids.tolist()}
+        assert c.get(f"/api/setups/{test['id']}").json()["nodes"]["n_nodes"] == 14
+        merged = c.post(f"/api/setups/{test['id']}/merge",
+                        json={"references": test["proposed"], "points": table}).json()["merged"]
+        g = merged["geometry"]
+        assert g["node_ids"] == ids.tolist() and len(g["edges"]) == 13
+        np.testing.assert_allclose(np.array(g["coordinates"])[:, 0], x, atol=1e-9)
+        node_of = [g["node_ids"][n] for n in g["channel_nodes"]]
+        assert node_of == [99 + int(q[1:]) for q in merged["points"]]
+        path = tmp_path / "merged.uff"
+        path.write_bytes(c.get(f"/api/setups/{test['id']}/modes.uff").content)
+        modes = era.read_modes_uff(path)
+        row = {int(n): i for i, n in enumerate(modes.node_ids)}
+        np.testing.assert_allclose(modes.shapes[[row[n] for n in node_of], 2, :], shapes_of(merged), atol=1e-5)
+
+        # a report freezes this merge: its link reopens the merged modes on these nodes after a later merge
+        csv_now = c.get(f"/api/setups/{test['id']}/modes.csv").text
+        r = c.post(f"/api/setups/{test['id']}/report")
+        assert r.status_code == 200 and r.json()["url"] == f"/s/{test['id']}/r/{r.json()['token']}"
+        token = r.json()["token"]
+        c.post(f"/api/setups/{test['id']}/merge", json={"references": test["proposed"]})  # the files' geometry
+        assert c.get(f"/api/setups/{test['id']}").json()["merged"]["geometry"]["node_ids"] == list(range(1, 13))
+        frozen = c.get(f"/api/setups/{test['id']}/reports/{token}").json()
+        assert frozen["report"]["token"] == token and frozen["merged"] == merged
+        assert frozen["merged"]["geometry"]["node_ids"] == ids.tolist()
+        assert c.get(f"/api/setups/{test['id']}/reports/{token}/modes.csv").text == csv_now
+        assert c.get(f"/s/{test['id']}/r/{token}").status_code == 200
+        assert c.get(f"/s/{test['id']}/r/nosuchreport").status_code == 404
+        assert c.get(f"/api/setups/{test['id']}/reports/nosuchreport").status_code == 404
 
 
 def test_a_mode_one_setup_missed_is_kept_seen_in_3_of_4_and_left_out_of_uff(tmp_path):
@@ -193,8 +248,10 @@ def test_references_in_another_column_order_are_proposed(tmp_path):
 def test_the_page_and_the_library_give_one_answer_on_generic_names(tmp_path):
     """The tower of tests/simulated_setups.py as the files of issue 36: no time column (40 Hz typed), channels
     ch1..ch8, the references the last two channels. The names would propose ch1..ch6 (wrong); the data propose
-    ch5, ch6 / ch7, ch8; the page's merge equals era.load + era.analyse + era.merge_setups on the same files."""
-    files = [tower_file(k) for k in range(4)]
+    ch5, ch6 / ch7, ch8; the page's merge equals the library's on the same files: each read by era.load both ways
+    (every channel as NExT reference; the references only), era.analyse, era.merge_choosing_next (300 s records:
+    both ways find the five modes complete, every channel's shapes the more consistent)."""
+    files = [tower_file(k, 12_000, seed=1) for k in range(4)]
     with client(tmp_path) as c:
         test = upload(c, files, dt="0.025").json()
         assert test["proposed_from"] == "data", test["data_proposal"]
@@ -231,11 +288,15 @@ def test_the_page_and_the_library_give_one_answer_on_generic_names(tmp_path):
         r = c.post(f"/api/setups/{test['id']}/merge",
                    json={"references": test["proposed"], "points": table.replace("S2:ch1", "S9:ch1")})
         assert r.status_code == 422 and "S9:ch1" in r.json()["error"]
-    runs = []
-    for name, blob in files:
+    every, only = [], []
+    for (name, blob), refs in zip(files, test["proposed"]):
         (tmp_path / name).write_bytes(blob)
-        runs.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient").data))
-    library = era.merge_setups(runs, test["proposed"])
+        every.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient").data))
+        only.append(era.analyse(era.load(tmp_path / name, dt=0.025, kind="ambient", references=refs).data))
+    choice = era.merge_choosing_next(every, only, test["proposed"])
+    library = choice.result.model
+    assert merged["next_references"] == choice.used == "every" and merged["next_complete"] == [5, 5]
+    assert merged["next_choice"] == choice.reason
     np.testing.assert_allclose([m["frequency_hz"] for m in merged["modes"]], library.frequency_hz, rtol=1e-9)
     np.testing.assert_allclose(shapes_of(merged), library.point_shapes, atol=1e-6)
     assert merged["points"] == list(library.points)

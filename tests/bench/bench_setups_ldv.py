@@ -1,6 +1,6 @@
 """era.merge_setups on a real multi-setup ambient test: pyOMA's steel frame, 15 setups (issue 26).
 
-Run: python3 tests/bench/bench_setups_ldv.py /path/to/pyOMA/tests/files
+Run: python3 tests/bench/bench_setups_ldv.py /path/to/pyOMA/tests/files [every | both] [defaults]
 
 A script, not a pytest benchmark: the records are GPL-3.0 and cannot be in this repository, so nothing here could
 run them on its own. It exits non-zero when a figure below is not met.
@@ -12,6 +12,9 @@ node and records 240 s at 256 Hz together with two reference accelerometers at n
 accelerometer, column 5, is left out as pyOMA's setup_info.txt says). Per setup: decimated ×3 ×3 (28.4 Hz, as
 pyOMA's scripts), NExT with the two references (4 segments, 600 lags = 21 s: the modes' damping is ~0.15 %, so the
 correlations need many cycles), era.analyse with its defaults; then era.merge_setups(analyses, [[3, 4]] * 15).
+
+With "both": the setups through NExT both ways and era.merge_choosing_next keeps one (asserted: the references
+only, 10 modes complete where every channel gives 5, none complete).
 
 Compared with pyOMA's own PoGER result on the same records (its notebook scripts/multi_setup_analysis_poger.ipynb,
 stored output, band to 11.4 Hz): 1.229, 1.436, 2.100, 4.017, 4.769, 6.683, 7.616, 9.664 Hz, damping 0.13-0.23 %.
@@ -52,13 +55,21 @@ def setup(root: Path, n: int, every_channel: bool = False) -> era.AnalysisResult
     return era.analyse(data)
 
 
-def main(root: Path, every_channel: bool = False) -> None:
+def main(root: Path, every_channel: bool = False, both: bool = False) -> None:
     t0 = time.perf_counter()
     runs = [setup(root, n, every_channel) for n in range(1, 16)]
     t1 = time.perf_counter()
     evidence = era.reference_evidence(runs)
     print(f"proposed references: {evidence.references} ({evidence.reason}; {evidence.shared_hz.size} shared modes)")
-    result = merge(runs, [[3, 4]] * 15)
+    if both:  # era's rule: both ways, the merge with more modes complete kept (what the page does by default)
+        every = [setup(root, n, True) for n in range(1, 16)]
+        t1 = time.perf_counter()
+        choice = era.merge_choosing_next(every, runs, [[3, 4]] * 15)
+        print(choice.reason)
+        assert choice.used == "references", choice.reason
+        result = choice.result
+    else:
+        result = merge(runs, [[3, 4]] * 15)
     t2 = time.perf_counter()
     model = result.model
     print(f"\n15 setups analysed in {t1 - t0:.1f} s, merged in {1000 * (t2 - t1):.0f} ms; {len(model.points)} points")
@@ -80,9 +91,9 @@ def main(root: Path, every_channel: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) not in (2, 3, 4) or not (Path(sys.argv[1]) / "measurement_1").is_dir():
+    if len(sys.argv) not in (2, 3, 4, 5) or not (Path(sys.argv[1]) / "measurement_1").is_dir():
         sys.exit("usage: python3 tests/bench/bench_setups_ldv.py PYOMA_TESTS_FILES [every] (the folder holding "
                  "measurement_1 … measurement_15 of pyOMA-dev/pyOMA's tests/files; 'every': NExT with every "
-                 "channel as a correlation reference, era's default, instead of the two references; 'defaults': NExT's "
-                 "own segments and lags)")
-    main(Path(sys.argv[1]), "every" in sys.argv[2:])
+                 "channel as a correlation reference, instead of the two references; 'both': both ways and "
+                 "era.merge_choosing_next's choice, as the page does; 'defaults': NExT's own segments and lags)")
+    main(Path(sys.argv[1]), "every" in sys.argv[2:], "both" in sys.argv[2:])

@@ -145,3 +145,20 @@ def test_a_third_reference_is_found_in_its_place_in_every_setup():
 def test_a_sensor_that_moved_in_one_setup_is_not_proposed():
     models = with_third_reference(tower(12_000, 1), [0.615, 0.615, 0.93, 0.615], [1, 8, 0, 3])
     assert era.propose_references(models) == [[5, 6], [6, 7], [7, 8], [7, 8]]
+
+
+def test_the_tower_keeps_every_channel_as_nexts_reference_its_near_node_mode_the_closer():
+    """The tower at 300 s merged both ways (era.merge_choosing_next): five modes complete each way, so the rule
+    keeps the merge with the more consistent shapes (mean MPC), every channel as NExT reference; that merge's third
+    mode (the references near its nodes) is indeed the closer to the exact shape."""
+    only = []
+    for k in range(4):
+        y = tower_records(k, 12_000, seed=1)
+        only.append(era.analyse(era.markov_from_ambient(y, DT, TRUE_REFERENCES[k])))
+    choice = era.merge_choosing_next(tower(12_000, 1), only, TRUE_REFERENCES)
+    print(choice.reason)
+    assert choice.used == "every" and list(choice.complete) == [5, 5] and choice.quality[0] > choice.quality[1]
+    assert np.all(choice.result.complete) and choice.result.model.n_modes == 5
+    every, refs = (np.diag(era.mac(m.model.point_shapes, merged_truth())) for m in choice.merges)
+    print("MAC with the exact shapes, every channel", every.round(4), "references only", refs.round(4))
+    assert np.all(every >= 0.99) and every[2] > refs[2]

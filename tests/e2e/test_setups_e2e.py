@@ -154,10 +154,10 @@ def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(t
     """The files of issue 36 (no time column, channels ch1..ch8, the references the last two): the page proposes
     ch5, ch6 / ch7, ch8 from the data with its evidence; with the points file (point,x,y,z,direction and the lines
     up the tower) the merged modes are drawn on the tower in 3-D, each its exact shear-cantilever shape, and the
-    viewer shows them."""
+    viewer shows them; a report of the merge reopens them on the tower."""
     files = []
     for k in range(4):
-        name, blob = tower_file(k)
+        name, blob = tower_file(k, 12_000, seed=1)
         (tmp_path / name).write_bytes(blob)
         files.append(str(tmp_path / name))
     (tmp_path / "points.csv").write_text(tower_geometry_csv())
@@ -184,6 +184,9 @@ def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(t
         rows = table_rows(page, "#setups-modes")
         np.testing.assert_allclose([float(r["cells"]["frequency_hz"]) for r in rows], TOWER_HZ, rtol=0.01)
         assert all(r["cells"]["seen"] == "seen in 4 of 4 setups" for r in rows)
+        # NExT's references chosen from the data (both ways merged), the choice said
+        assert page.text_content("#setups-next-note").startswith("NExT references: Kept every channel as NExT reference")
+        assert page.input_value("#setups-next") == "auto"
         assert "on the 24 nodes given" in page.text_content("#setups-drawing-note")
         macs = []
         for j in range(5):
@@ -199,6 +202,18 @@ def test_a_tower_with_generic_names_and_a_points_file_is_drawn_on_its_geometry(t
         assert min(macs) >= 0.99
         page.wait_for_selector("#setups-viewer iframe", state="attached", timeout=60000)
         page.screenshot(path=str(shots / "setups-tower.png"), full_page=True)
+        # a report of the merge: its link reopens the merged modes on the tower, read-only
+        page.click("#setups-freeze")
+        page.wait_for_selector("#setups-report-share:not([hidden]) a[href*='/r/']")
+        report = page.get_attribute("#setups-report-link", "href")
+        page.goto(report)
+        page.wait_for_selector("#setups-result:not([hidden]) #setups-modes tbody tr", timeout=60000)
+        assert page.is_hidden("#setups-new") and page.is_hidden("#setups-refs")
+        assert page.text_content("#setups-report-note").startswith("Read-only report, frozen ")
+        assert len(table_rows(page, "#setups-modes")) == 5
+        assert "on the 24 nodes given" in page.text_content("#setups-drawing-note")
+        drawn = page.evaluate("() => document.getElementById('setups-drawing').data.map(t => t.type)")
+        assert drawn == ["scatter3d"] * 3
         assert not errors, errors
     finally:
         server.stop()

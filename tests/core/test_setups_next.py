@@ -1,0 +1,68 @@
+"""NExT's references chosen per test from the merges (era.merge_ambient_setups, era.choose_next): a beam whose
+roving channels are much noisier than its two reference sensors (as a scanning laser vibrometer's beside reference
+accelerometers) keeps the merge with the references only, which finds every mode complete where every channel as
+NExT reference does not; the shapes match the exact simply supported beam's sin(jπx)."""
+
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+import era
+from era.examples.synthetic import ambient_response
+from tests.simulated_setups import DAMPING, DT, FREQUENCY_HZ, LEVELS, REFERENCES, ROVING, TRUE_SHAPES, truth_at
+
+#: The roving channels' noise: 10 dB above their structural response (SNR -10 dB); the references' 20 dB below.
+ROVING_SNR_DB, REFERENCE_SNR_DB = -10.0, 20.0
+
+
+def noisy_records(k: int, n_samples: int = 8000) -> np.ndarray:
+    """Setup k of the beam (the references P2, P5 first, then its roving points), 200 s at 40 Hz; white sensor
+    noise 10 dB above the signal on the roving channels, 20 dB below it on the references."""
+    rows = REFERENCES + ROVING[k]
+    y, _ = ambient_response(FREQUENCY_HZ, DAMPING, len(rows), n_samples, DT, seed=10 + k, shapes=TRUE_SHAPES[rows])
+    snr = np.r_[[REFERENCE_SNR_DB] * 2, [ROVING_SNR_DB] * (len(rows) - 2)]
+    rms = np.sqrt(np.mean(y**2, axis=0))
+    noise = np.random.default_rng(500 + k).standard_normal(y.shape) * rms * 10 ** (-snr / 20)
+    return LEVELS[k] * (y + noise)
+
+
+@lru_cache(maxsize=None)
+def noisy_choice() -> era.NextChoice:
+    records = [noisy_records(k) for k in range(4)]
+    names = [[f"P{i + 1}" for i in REFERENCES + ROVING[k]] for k in range(4)]
+    return era.merge_ambient_setups(records, DT, [[0, 1]] * 4, names=names)
+
+
+def test_noisy_roving_channels_keep_the_merge_with_the_references_only():
+    choice = noisy_choice()
+    print(choice.reason)
+    assert choice.used == "references" and choice.result is choice.merges[1]
+    every, only = choice.complete
+    assert only == 4 > every  # every channel as NExT reference loses a mode (or a setup's every mode)
+    model = choice.result.model
+    assert np.all(choice.result.complete) and model.n_modes == 4
+    np.testing.assert_allclose(model.frequency_hz, FREQUENCY_HZ, rtol=0.01)
+    macs = np.diag(era.mac(model.point_shapes, truth_at(model.points)))
+    print("noisy roving channels, references only: MAC with sin(jπx)", macs.round(4))
+    assert np.all(macs[:3] >= 0.95) and macs[3] >= 0.85  # the roving channels' noise, 10 dB above the signal
+    assert "more modes complete" in choice.reason and "4 complete" in choice.reason
+
+
+def test_the_rule_keeps_the_merge_that_was_not_refused_and_counts_split_twins_once():
+    only = noisy_choice().merges[1]
+    refused = era.DataError("Setup 1 has no modes")
+    kept = era.choose_next(refused, only)
+    assert kept.used == "references" and kept.complete[0] == -1 and "refused (Setup 1 has no modes)" in kept.reason
+    assert era.choose_next(only, refused).used == "every"
+    with pytest.raises(era.DataError, match="no modes"):
+        era.choose_next(refused, era.DataError("other"))
+    # the same merge both ways: a tie, kept by the default (every channel)
+    assert era.choose_next(only, only).used == "every" and "era's default kept" in era.choose_next(only, only).reason
+    # a mode within the pairing window of another counts once
+    from dataclasses import replace
+
+    f = only.model.frequency_hz.copy()
+    f[1] = f[0] * 1.01
+    twin = replace(only, model=replace(only.model, z=np.exp((-0.01 + 2j * np.pi * f) * only.model.dt)))
+    assert era.setup_next.complete_modes(twin) == 3
