@@ -2,7 +2,7 @@
 watch the campaign run, read the tracking plots and the failed record, open the report link, download the table
 and the report as one HTML file that opens with no server.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded); the records are
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded); the records are
 era.campaign.simulated's monitored structure (five modes, six sensors), short enough for seconds per record.
 """
 

@@ -9,7 +9,7 @@ slider starts at, which is always one of the stabilization diagram's orders.
 - the ModeLAB beam's nine SignalCalc FRFs (band 65-1000 Hz, setup.csv's fMin and fMax, given in the import step):
   111.99 / 306.86 / 596.37 / 974.14 Hz ticked, one each.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded). Screenshots go to
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded). Screenshots go to
 $APP_SHOTS when set.
 """
 

@@ -1,7 +1,7 @@
 """The simulation-vs-test panel in a real browser: open the grid example, run the panel, read the verdict and the
 gap table, then find the same verdict in the report created afterwards.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded).
 """
 
 from __future__ import annotations

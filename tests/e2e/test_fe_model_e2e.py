@@ -3,7 +3,7 @@ node 28, tests/fe_test_files.py), upload the plate's Nastran deck in the Model p
 output that matches no model node, give it its node in the mapping table, run simulation vs test and read the
 point mass named at node 28.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded).
 """
 
 from __future__ import annotations

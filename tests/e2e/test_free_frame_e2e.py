@@ -3,7 +3,7 @@ section (solid rectangle 50 × 6 mm) in steel, no supports (free-free: the grid 
 free frame's elastic frequencies (not six zeros), and Run simulation vs test ends in a verdict in words — it used
 to answer "Internal error" (HTTP 500).
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded).
 """
 
 from __future__ import annotations

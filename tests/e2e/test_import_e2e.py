@@ -3,7 +3,7 @@ drop the Carini rows file, read the refusal next to the sample rate, say 25 Hz a
 near 2.31 / 4.96 / 7.37 Hz; drop three UFF files of a roving-hammer test at once and see one dataset of three
 references. The choices are in the summary and in the report.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded).
 """
 
 from __future__ import annotations

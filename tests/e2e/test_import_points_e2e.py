@@ -1,7 +1,7 @@
 """Issue 26's "point" column in the import step, in a real browser: two shakers on masses 1 and 3 of a three-mass
 chain, accelerometers on masses 1 and 2 (tests/app/test_api_import_points.py); the person types each channel's
-point and the shape plot shows the three masses (mass 3 driven, not measured). Same server and browser as
-test_app_e2e.py."""
+point and the shape plot shows the three masses (mass 3 driven, not measured). Same server and browser as the other
+browser tests (app_server.py, conftest.py)."""
 
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ test, read the named effect at a node, freeze the report and find the model in i
 the model still there, see a broken model file refused with the saved model kept, then a changed model file mark the
 result stale until it runs again.
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded).
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded).
 """
 
 from __future__ import annotations

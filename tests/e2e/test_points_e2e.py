@@ -1,7 +1,7 @@
 """Issue 26 in a real browser: the ModeLAB roving-hammer beam uploaded as its nine SignalCalc files with its
 setup.csv shows each mode's shape at the nine hit points (1X … 9X along the beam), not one bar for its one
-accelerometer; the first bending mode has both ends against the middle. Same server and browser as
-test_app_e2e.py; screenshots to $APP_SHOTS when set."""
+accelerometer; the first bending mode has both ends against the middle. Same server and browser as the other
+browser tests (app_server.py, conftest.py); screenshots to $APP_SHOTS when set."""
 
 from __future__ import annotations
 

@@ -13,7 +13,7 @@
 - the model step says in words, not only on hover, why "Describe it from the test geometry" is disabled;
 - the shape bar chart's legend is above its plot area (its white box covered the top of the bars).
 
-Same server and browser setup as test_app_e2e.py (Debian's Chromium, never downloaded). Screenshots go to
+Same server and browser setup as the other browser tests (app_server.py, conftest.py) (Debian's Chromium, never downloaded). Screenshots go to
 $APP_SHOTS when set.
 """
 

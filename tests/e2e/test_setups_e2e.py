@@ -1,8 +1,8 @@
 """Issue 26 in a real browser: a multi-setup ambient test uploaded as four CSV files (one per setup) on /setups;
 the picker proposes P2 and P5 (the channels named alike in every setup); a wrong pick is refused next to the
 picker; the merge shows four modes, each seen in 4 of 4 setups, with the shape at all twelve points (MAC ≥ 0.99
-with the truth); the test's link reopens the same result in a new tab. Same server and browser as
-test_app_e2e.py; screenshots to $APP_SHOTS when set."""
+with the truth); the test's link reopens the same result in a new tab. Same server and browser as the other
+browser tests (app_server.py, conftest.py); screenshots to $APP_SHOTS when set."""
 
 from __future__ import annotations
 
