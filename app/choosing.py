@@ -3,8 +3,9 @@ diagram with the data's uncertainty, and era's choice of the structure's modes (
 library's era.analyse follows too).
 
 The app does not run era.analyse itself: a person may choose the Hankel size and the shifts, and the SVD is cached
-apart from the diagram (the slider realizes orders from it). So the same steps are taken here one by one, with the
-server's settings only as caps on era's defaults. Functions run in a worker process (app/compute.py): they are
+apart from the diagram (the slider realizes orders from it). So the steps are taken here one by one (the SVD, then
+era.analysis.diagram_and_choice, the steps era.analyse takes after it), with the server's settings only as caps on
+era's defaults. Functions run in a worker process (app/compute.py): they are
 module-level and take and return picklable values.
 """
 
@@ -15,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import era
-from era.analysis import DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER, diagram_orders
+from era.analysis import (DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER, diagram_and_choice,
+                          diagram_orders)
 from era.suggest import HankelChoice, hankel_size, order_cap, order_from_singular_values
 
 from . import limits
@@ -71,8 +73,7 @@ def band_of(data: era.ResponseData) -> tuple[float, float] | None:
 def diagram(ident: era.Identification, band_hz: tuple[float, float] | None, settings: Settings) -> Diagram:
     """The stabilization diagram of ``ident`` (with the data's standard deviations) and era's choice of modes in
     ``band_hz``. Blocking: run it in a worker process."""
-    stab = era.stabilization(ident, orders(ident.max_order, settings), uncertainty=True)
-    picked = era.choose_modes(ident, stab, band_hz=band_hz)
+    stab, picked = diagram_and_choice(ident, orders(ident.max_order, settings), band_hz)
     return Diagram(stabilization=stab, choice=picked, band_hz=band_hz or (0.0, 0.5 / float(ident.dt)),
                    order=opening_order(ident, stab, picked))
 

@@ -107,12 +107,26 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
         raise DataError("H(0) has rank 0: the records are zero (or round-off) throughout, so there is nothing to "
                         "identify. Check the file's channels and scaling.")
     orders = diagram_orders(ident.max_order) if orders is None else orders
-    stab = stabilization(ident, orders, uncertainty=True if pole_std == "all" else "choice", workers=workers)
     if band_hz is None and data.meta.get("band_hz") is not None:
         band_hz = tuple(float(x) for x in data.meta["band_hz"])
-    picked = choose_modes(ident, stab, band_hz=band_hz)
+    stab, picked = diagram_and_choice(ident, orders, band_hz, pole_std=pole_std, workers=workers)
     return AnalysisResult(identification=ident, stabilization=stab, choice=picked,
                           model=chosen_model(ident, picked), band_hz=band_hz or (0.0, 0.5 / data.dt))
+
+
+def diagram_and_choice(ident: Identification, orders, band_hz: tuple[float, float] | None = None, *,
+                       pole_std: str = "choice", workers: int | None = None) -> tuple[Stabilization, ModeChoice]:
+    """The stabilization diagram of ``ident`` at ``orders`` with the data's standard deviations, and the modes
+    :func:`era.choose_modes` chooses from it in ``band_hz`` (Hz; None: 0 to Nyquist): the default analysis's
+    steps after the SVD, one place for :func:`analyse`, the app and explain.
+
+    pole_std : "choice" (the poles the choice reads get their σ) or "all" (every stable pole); the choice and the
+        chosen modes' σ are the same with both.
+    """
+    if pole_std not in ("choice", "all"):
+        raise EraError(f"`pole_std` must be \"choice\" or \"all\", got {pole_std!r}.")
+    stab = stabilization(ident, orders, uncertainty=True if pole_std == "all" else "choice", workers=workers)
+    return stab, choose_modes(ident, stab, band_hz=band_hz)
 
 
 def chosen_model(ident: Identification, picked: ModeChoice) -> ModalModel:

@@ -9,9 +9,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..analysis import analyse, diagram_orders
+from ..analysis import analyse, diagram_and_choice, diagram_orders
 from ..blas import single_threaded_blas
-from ..choice import ModeChoice, choose_modes
+from ..choice import ModeChoice
 from ..correlation import real_shapes
 from ..data import ResponseData
 from ..errors import DataError
@@ -217,8 +217,8 @@ def measured_modes(ident: Identification, orders=None, *, kept: tuple | None = N
     """
     orders = {int(o) for o in (diagram_orders(ident.max_order) if orders is None else orders)}
     if kept is None:
-        stab = stabilization(ident, sorted(orders), uncertainty=True)   # the choice's twin test uses the σ
-        return _from_choice(ident, stab, choose_modes(ident, stab, band_hz=_band(ident.data)), input_weights)
+        stab, picked = diagram_and_choice(ident, sorted(orders), _band(ident.data))
+        return _from_choice(ident, stab, picked, input_weights)
     order, indices = int(kept[0]), np.asarray(kept[1], dtype=int).reshape(-1)
     stab = stabilization(ident, sorted(orders | {order}))
     chosen = _kept_modes(ident, stab, order, indices)
