@@ -63,6 +63,11 @@ class EffectSpec:
         candidate idealises the truth's form (a crack is not one member's E and G scaled together), whose
         misfit then shifts between neighbouring places by a few nats; T = 2 is the error variance doubled for
         comparing places. The effect's evidence (summed over places) is not tempered.
+    either_way : the effect's size is a factor on something modelled, as likely over as under (a part stiffer or
+        softer, heavier or lighter, a property off either way): its change at the trial size points one way and
+        the structure may differ the other way, so the screening lets the linearised size take either sign. An
+        effect that is there or not (a mass, a spring) or a factor whose prior leans one way (a member less
+        stiff than drawn) acts one way only (False).
     """
 
     name: str
@@ -77,6 +82,7 @@ class EffectSpec:
     start: tuple = ()
     prior_log_odds: float = 0.0
     place_temperature: float = 1.0
+    either_way: bool = False
 
     @property
     def located(self) -> bool:
@@ -101,7 +107,7 @@ def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
     fixed.update(spec.fixed)
     return EffectSpec(spec.name, tuple(params) + tuple(spec.params), fixed, spec.location_keyword, spec.locations,
                       spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds,
-                      spec.place_temperature)
+                      spec.place_temperature, spec.either_way)
 
 
 def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,
