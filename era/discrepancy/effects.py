@@ -66,6 +66,11 @@ class EffectSpec:
     nearby : for places thinned from a larger set (a big mesh's nodes), {place: (the places of the full set near
         it that ``locations`` leaves out)}: the ranking screens those near the best screened places too, so the
         place named is the set's own, not only the nearest thinned one. None: ``locations`` is every place.
+    either_way : the effect's size is a factor on something modelled, as likely over as under (a part stiffer or
+        softer, heavier or lighter, a property off either way): its change at the trial size points one way and
+        the structure may differ the other way, so the screening lets the linearised size take either sign. An
+        effect that is there or not (a mass, a spring) or a factor whose prior leans one way (a member less
+        stiff than drawn) acts one way only (False).
     """
 
     name: str
@@ -81,6 +86,7 @@ class EffectSpec:
     prior_log_odds: float = 0.0
     place_temperature: float = 1.0
     nearby: dict | None = None
+    either_way: bool = False
 
     @property
     def located(self) -> bool:
@@ -105,7 +111,7 @@ def combined(named: tuple, spec: EffectSpec) -> EffectSpec:
     fixed.update(spec.fixed)
     return EffectSpec(spec.name, tuple(params) + tuple(spec.params), fixed, spec.location_keyword, spec.locations,
                       spec.trial, spec.trial_power, spec.summary, spec.caveat, tuple(start), spec.prior_log_odds,
-                      spec.place_temperature, spec.nearby)
+                      spec.place_temperature, spec.nearby, spec.either_way)
 
 
 def member_stiffness(locations, prior_factor: float, prior_std: float, summary: str,

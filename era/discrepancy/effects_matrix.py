@@ -161,12 +161,12 @@ def matrix_effects(model) -> tuple:
             "part_stiffness", (Param("part_factor", True, 0.0, 0.5, ""),), location_keyword="part_at",
             locations=tuple(PART + p for p in m.parts), trial={"part_factor": 0.7}, trial_power=-1.0,
             summary="a part is stiffer or softer than modelled (its stiffness matrix times a factor)",
-            place_temperature=2.0))
+            place_temperature=2.0, either_way=True))
     if m.part_masses:
         out.append(EffectSpec(
             "part_mass", (Param("part_mass_factor", True, 0.0, 0.5, ""),), location_keyword="part_mass_at",
             locations=tuple(PART + p for p in m.part_masses), trial={"part_mass_factor": 1.3}, trial_power=1.0,
-            summary="a part is heavier or lighter than modelled (its mass matrix times a factor)"))
+            summary="a part is heavier or lighter than modelled (its mass matrix times a factor)", either_way=True))
     out.append(EffectSpec(
         "distributed_mass", (Param("distributed_mass", True, np.log(0.1 * total), 1.2, u["mass"]),),
         summary="there is extra mass spread over the structure in proportion to its own",

@@ -138,7 +138,8 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
 
     r(a, b) ≈ r₀ + a Δ_ℓ + b J_sf, with r₀ the residual of the fitted reference ``base`` (the nominal, or the
     effects already named), Δ_ℓ the change the effect makes at its trial size at location ℓ, J_sf the
-    sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act backwards). with_prior: the stiffness
+    sensitivity to the stiffness factor; a ≥ 0 (the effect cannot act backwards), of either sign for a
+    factor that may be off either way (EffectSpec.either_way). with_prior: the stiffness
     factor's prior enters as one more residual (frames: the group of every member is a pure scaling, which the
     bare linearisation would score as a perfect, free fit). ritz_modes > 0: on models with a ``ritz`` method,
     each place's modes come from the reference's lowest ``ritz_modes`` modes (Rayleigh-Ritz) instead of a solve.
@@ -160,6 +161,7 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
     nudge = np.zeros(base.u.size)
     nudge[0] = 1e-3
     j_sf = (resid(build_model(nominal, base.spec, base.params, base.u + nudge, base.location)) - r0) / 1e-3
+    either_way = spec.either_way
     out = np.full(len(locations), np.inf)
     size = np.zeros(len(locations))
     changes = np.full((len(locations), n_r), np.nan)
@@ -172,7 +174,7 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
             d = np.r_[d, 0.0]
         A = np.column_stack([d, j_sf])
         coef, *_ = np.linalg.lstsq(A, -r0, rcond=None)
-        if coef[0] < 0:  # only the stiffness factor then
+        if coef[0] < 0 and not either_way:  # only the stiffness factor then
             coef = np.array([0.0, -(j_sf @ r0) / max(j_sf @ j_sf, 1e-300)])
         return float(np.sum((r0 + A @ coef) ** 2)), coef[0]
 
@@ -200,9 +202,13 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
 
 def _start(spec: EffectSpec, base: Fit, size: float) -> np.ndarray:
     """Start of a located fit from the screening: the reference's fitted values, then the new effect's trial size
-    scaled by the linearised size a (within ±3σ)."""
+    scaled by the linearised size a (within ±3σ); a factor off the other way (a < 0, EffectSpec.either_way) starts
+    as far on the other side of its prior mean in ln θ as the linearised size says."""
     p = spec.params[-1]
-    u = p.u(spec.trial[p.name]) + (spec.trial_power * np.log(max(size, 1e-3)) if p.log else 0.0)
+    if size < 0 and spec.either_way:
+        u = p.prior_mean + size * (p.u(spec.trial[p.name]) - p.prior_mean)
+    else:
+        u = p.u(spec.trial[p.name]) + (spec.trial_power * np.log(max(size, 1e-3)) if p.log else 0.0)
     return np.array([*base.u, np.clip(u, p.prior_mean - 3 * p.prior_std, p.prior_mean + 3 * p.prior_std)])
 
 

@@ -49,7 +49,9 @@ def test_explain_names_the_thinner_plate(nominal):
     truth = nominal.with_params(property_at="property:PSHELL 1 T", property_factor=0.85, stiffness_factor=1.005)
     f, s = truth.exact.modes(6)
     library = deck_effects(nominal)
-    assert library[-1].name == "property_factor" and len(library[-1].locations) == 6
+    # MAT1 1, which PSHELL 1 alone uses, is that part's stiffness: no second candidate (effects_deck)
+    assert library[-1].name == "property_factor" and len(library[-1].locations) == 5
+    assert "property:MAT1 1 E" not in library[-1].locations and "property:MAT1 2 E" in library[-1].locations
     # the whole library costs a minute on 2 busy cores: the nominal, a point mass, a part and the properties
     kept = tuple(e for e in library if e.name in ("none", "point_mass", "part_stiffness", "property_factor"))
     r = explain(modes_from_arrays(f, s), nominal, effects=kept, extra_model_modes=3)
