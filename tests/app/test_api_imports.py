@@ -17,9 +17,9 @@ from apiclient import client
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
 import uff_files as U  # noqa: E402
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
+CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
 
 
 def valid(kind, value):

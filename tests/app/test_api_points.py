@@ -6,16 +6,15 @@ from __future__ import annotations
 
 import csv
 import io
-from pathlib import Path
 
 import numpy as np
 import pyuff
 
 from apiclient import client
 from app import viewing
-from shared_data import require_shared
+from shared_data import SHARED_DATASETS, require_shared
 
-MODELAB = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "modelab_beam_frf" / "SignalCalc"
+MODELAB = SHARED_DATASETS / "modelab_beam_frf" / "SignalCalc"
 
 
 def test_the_modelab_beam_with_its_setup_answers_the_shape_at_nine_points(tmp_path):

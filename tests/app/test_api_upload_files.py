@@ -3,15 +3,14 @@
 
 from __future__ import annotations
 
-import io
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from apiclient import client
+from shared_data import SHARED_DATASETS, require_shared
 
-CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
+CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
 
 
 def _decay_csv(seed: int) -> bytes:
@@ -36,7 +35,7 @@ def test_several_csv_files_are_one_dataset_of_several_records(tmp_path):
 
 
 def test_headerless_rows_need_the_sample_rate_and_nothing_is_stored_until_given(tmp_path):
-    blob = CARINI.read_bytes()
+    blob = require_shared(CARINI).read_bytes()
     with client(tmp_path) as c:
         refused = c.post("/api/datasets", files={"file": ("yk.txt", blob)}, data={"kind": "ambient"})
         assert refused.status_code == 422

@@ -77,7 +77,12 @@ def test_returned_report_links_survive_kill_9(backend, tmp_path, request):
         writer = threading.Thread(target=create_reports)
         stop.clear()
         writer.start()
-        time.sleep(0.7 + 0.37 * kill)  # a different moment of the report's life each time
+        # reports are being made (on a loaded machine the first takes a while), then a different moment of a
+        # report's life each time
+        made, deadline = len(returned), time.monotonic() + 60
+        while len(returned) == made and time.monotonic() < deadline:
+            time.sleep(0.02)
+        time.sleep(0.05 + 0.13 * kill)
         server.kill9()
         stop.set()
         writer.join(30)

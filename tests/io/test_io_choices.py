@@ -14,9 +14,9 @@ from era.io.preview import preview, thin
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import chain, hammer_decay, simulate  # noqa: E402
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
+CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
 DT = 0.01
 
 
@@ -124,7 +124,7 @@ def test_choices_that_do_not_fit_the_records_are_refused_by_option():
     assert err.value.option == "forces"
 
 
-LADISK = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "ladisk_pyfrf_impact"
+LADISK = SHARED_DATASETS / "ladisk_pyfrf_impact"
 
 
 def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset():
@@ -147,7 +147,7 @@ def test_five_npy_hammer_records_with_a_time_row_become_one_input_output_dataset
 
 def test_complex_numbers_in_text_are_named_as_frfs_without_a_frequency_axis():
     """pyuff's README sample FRFs (MIT, ../shared): one complex number per line, no frequency axis."""
-    path = require_shared(Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "pyuff_samples" /
+    path = require_shared(SHARED_DATASETS / "pyuff_samples" /
                           "meas_point_1.txt")
     with pytest.raises(era.DataError, match="complex numbers .*FRFs without a frequency axis.*UFF 58"):
         era.load(path)

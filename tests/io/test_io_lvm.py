@@ -12,9 +12,9 @@ import era
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import hammer_decay  # noqa: E402
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-USC = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "usc_cantilever_free_decay" / \
+USC = SHARED_DATASETS / "usc_cantilever_free_decay" / \
     "timeseries_data.lvm"
 DT = 0.01
 

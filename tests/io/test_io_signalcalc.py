@@ -2,15 +2,14 @@
 copied) reaches its published modes; files written here in the same layout cover magnitude/phase, channel pairs
 assembled into a matrix, and malformed exports."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import era
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-MODELAB = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "modelab_beam_frf" / "SignalCalc"
+MODELAB = SHARED_DATASETS / "modelab_beam_frf" / "SignalCalc"
 PUBLISHED_HZ = [111.99, 306.86, 596.37, 974.14]  # the repository's modeshapes.png
 
 

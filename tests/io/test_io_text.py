@@ -13,9 +13,9 @@ import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import hammer_decay  # noqa: E402
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-CARINI = Path(__file__).resolve().parents[2].parent / "shared" / "datasets" / "carini_ambient_3ch" / "yk.txt"
+CARINI = SHARED_DATASETS / "carini_ambient_3ch" / "yk.txt"
 DT = 0.01
 
 

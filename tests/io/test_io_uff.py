@@ -11,10 +11,10 @@ import uff_files as U
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "markov"))
 from chain_sim import chain, continuous_chain, simulate  # noqa: E402
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "data"
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
+SHARED = SHARED_DATASETS
 
 
 def chain_accelerance(f):

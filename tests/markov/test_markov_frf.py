@@ -8,9 +8,9 @@ import pytest
 
 import era
 from chain_sim import continuous_chain
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
+SHARED = SHARED_DATASETS
 MODELAB = SHARED / "modelab_beam_frf" / "SignalCalc"
 
 

@@ -1,16 +1,15 @@
 """NExT (James, Carne & Lauffer 1995): correlations of ambient response as free decays; simulated, then the real
 3-channel ambient record of Carini (MIT)."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import era
 from chain_sim import chain, simulate
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
+SHARED = SHARED_DATASETS
 CARINI = SHARED / "carini_ambient_3ch" / "yk.txt"
 
 

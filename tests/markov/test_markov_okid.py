@@ -1,15 +1,14 @@
 """OKID (Juang, Phan, Horta & Longman 1993): a simulated noisy shaker test, and real hammer records (ladisk)."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import era
 from chain_sim import chain, simulate
-from shared_data import require_shared  # noqa: E402
+from shared_data import SHARED_DATASETS, require_shared  # noqa: E402
 
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "datasets"
+SHARED = SHARED_DATASETS
 LADISK = SHARED / "ladisk_pyfrf_impact"
 
 
