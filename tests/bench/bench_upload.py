@@ -85,7 +85,7 @@ def test_upload_to_chosen_modes(name, files, options, tmp_path):
         server.stop()
     svd = one_svd_seconds(stab["hankel_shape"])
     chosen = [round(c["frequency_hz"], 2) for c in stab["candidates"] if c["code"] == "chosen"]
-    print(f"\n{name}: H(0) {stab['hankel_shape'][0]} × {stab['hankel_shape'][1]}, {len(chosen)} modes chosen "
+    print(f"\n{name}: H(0) {stab['hankel_shape'][0]} × {stab['hankel_shape'][1]}, {len(chosen)} chosen "
           f"{chosen}; upload → chosen modes fresh {fresh:.2f} s ({fresh / svd:.1f} × one SVD), warm {warm:.2f} s "
           f"({warm / svd:.1f} ×); one SVD {svd:.3f} s; era {era.__version__}")
     assert [c["code"] for c in again["candidates"]] == [c["code"] for c in stab["candidates"]]  # the same choice
