@@ -4,7 +4,7 @@ library's era.analyse follows too).
 
 The app does not run era.analyse itself: a person may choose the Hankel size and the shifts, and the SVD is cached
 apart from the diagram (the slider realizes orders from it). So the steps are taken here one by one (the SVD, then
-era.analysis.diagram_and_choice, the steps era.analyse takes after it), with the server's settings only as caps on
+era.choice.analysis.diagram_and_choice, era.analyse's steps after it), with the server's settings only as caps on
 era's defaults. Functions run in a worker process (app/compute.py): they are
 module-level and take and return picklable values.
 """
@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import era
-from era.analysis import (DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER, diagram_and_choice,
-                          diagram_orders)
-from era.suggest import HankelChoice, hankel_size, order_cap, order_from_singular_values
+from era.choice.analysis import (DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER,
+                                 diagram_and_choice, diagram_orders)
+from era.core.suggest import HankelChoice, hankel_size, order_cap, order_from_singular_values
 
 from . import limits
 from .config import Settings
@@ -45,7 +45,7 @@ class Diagram:
 
 
 def default_hankel(n_samples: int, n_outputs: int, n_inputs: int, settings: Settings) -> HankelChoice:
-    """era's Hankel size for a dataset (era.suggest.hankel_size with era.analysis's defaults), within the server's
+    """era's Hankel size for a dataset (era.core.suggest.hankel_size, era.analyse's defaults), within the server's
     ERA_MAX_HANKEL_ELEMENTS and ERA_MAX_ORDER."""
     return hankel_size(n_samples, n_outputs, n_inputs, max_side=DEFAULT_MAX_SIDE,
                        max_elements=min(DEFAULT_MAX_ELEMENTS, settings.max_hankel_elements),
@@ -59,7 +59,7 @@ def named_hankel(rows: int, cols: int, n_outputs: int, n_inputs: int, settings: 
 
 
 def orders(max_order: int, settings: Settings) -> range:
-    """The diagram's orders (era.analysis.diagram_orders) up to the identification's max_order, at most
+    """The diagram's orders (era.choice.analysis.diagram_orders) up to the identification's max_order, at most
     min(era's DIAGRAM_MAX_ORDER, the server's max_stabilization_order)."""
     return diagram_orders(max_order, min(DIAGRAM_MAX_ORDER, settings.max_stabilization_order))
 
@@ -80,7 +80,7 @@ def diagram(ident: era.Identification, band_hz: tuple[float, float] | None, sett
 
 def opening_order(ident: era.Identification, stab: era.Stabilization, picked: era.ModeChoice) -> int:
     """The order an analysis opens at: the choice's order, or, when era chose no mode, the diagram order nearest
-    the singular values' order (era.suggest.order_from_singular_values; the lower of two).
+    the singular values' order (era.core.suggest.order_from_singular_values; the lower of two).
 
     Noise-free records of exact rank n (the paper's Case I and II) give the diagram no cluster below n, so the
     choice is empty and its order is the diagram's lowest; the person is then better served at the order the

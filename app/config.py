@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from era.analysis import DIAGRAM_MAX_ORDER
+from era.choice.analysis import DIAGRAM_MAX_ORDER
 
 
 def _static_dir() -> Path:
@@ -59,7 +59,7 @@ class Settings:
     #: Largest model order (state dimension) kept from the SVD.
     max_order: int = 400
     #: Largest order shown in the stabilization diagram (every 2nd order from 2): a cap on era's own
-    #: (era.analysis.DIAGRAM_MAX_ORDER); the diagram goes up to the lower of the two (app/choosing.py).
+    #: (era.choice.analysis.DIAGRAM_MAX_ORDER); the diagram goes up to the lower of the two (app/choosing.py).
     max_stabilization_order: int = DIAGRAM_MAX_ORDER
     #: Samples per curve sent to the browser for plots (records are decimated above it; fits use all).
     max_plot_points: int = 4000

@@ -1,6 +1,6 @@
 """ERA within this server's limits: the H(0) size (ERA_MAX_HANKEL_ELEMENTS) and the order (ERA_MAX_ORDER).
 
-era/ has its own, larger limits (era.hankel.MAX_HANKEL_ELEMENTS); these are what one shared server affords per
+era/ has its own, larger limits (era.core.hankel.MAX_HANKEL_ELEMENTS); these are what one shared server affords per
 request, so a refusal names the setting and a size that fits.
 """
 
@@ -9,15 +9,15 @@ from __future__ import annotations
 import math
 
 import era
-from era.analysis import DEFAULT_MAX_ORDER
-from era.suggest import order_cap
+from era.choice.analysis import DEFAULT_MAX_ORDER
+from era.core.suggest import order_cap
 
 from .config import Settings
 
 # max_order of an analysis that does not ask for one (and the one the dataset suggests) is era's default
-# (era.analysis.DEFAULT_MAX_ORDER, 200), capped by ERA_MAX_ORDER: above the stabilization diagram's 160 so the
+# (era.choice.analysis.DEFAULT_MAX_ORDER, 200), capped by ERA_MAX_ORDER: above the stabilization diagram's 160 so the
 # slider goes past the diagram, and low enough that H(0) of the usual sizes takes the truncated SVD of only these
-# leading triplets (era.svd.choose_method: max_order ≤ min(H(0) shape) / 3; the grid example's 792 × 798 H(0)
+# leading triplets (era.core.svd.choose_method: max_order ≤ min(H(0) shape) / 3; the grid example's 792 × 798 H(0)
 # does). An analysis that needs more asks for it, up to ERA_MAX_ORDER.
 
 
@@ -49,7 +49,7 @@ def default_max_order(rows: int, cols: int, p: int, m: int, settings: Settings) 
 def identify(data: era.ResponseData, params: dict, settings: Settings) -> era.Identification:
     """era.identify with the stored parameters {rows, cols, row_shifts, col_shifts, max_order} after the server's
     limits are checked; max_order defaults to :func:`default_max_order`. Blocking (one SVD, or the truncated one
-    of the leading max_order triplets when that is far below H(0)'s size: era.svd.choose_method)."""
+    of the leading max_order triplets when that is far below H(0)'s size: era.core.svd.choose_method)."""
     n, p, m = data.markov.shape
     rows, cols = params["rows"], params["cols"]
     check_hankel(rows, cols, params.get("max_order"), p, m, settings)

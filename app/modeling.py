@@ -294,11 +294,11 @@ def describe(model: dict) -> str:
 
 def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
     """The model's modes beside the test's (schemas.ModelComparison): frequencies (Hz), the MAC matrix (test
-    modes × model modes) at the sensors, and each test mode's partner (era.correlation.pair_modes: frequency and
+    modes × model modes) at the sensors, and each test mode's partner (era.core.correlation.pair_modes: frequency and
     MAC together, as explain pairs them; null when none is acceptable). frequency_hz (k,), shapes (p, k) complex:
     the test's modes, e.g. those kept at one order. The model gives 6 modes more than the test, so a mode that
     moved can still be found. A free frame's rigid-body modes (0 Hz) are left out, as explain leaves them."""
-    from era.correlation import real_shapes
+    from era.core.correlation import real_shapes
 
     f_test = np.asarray(frequency_hz, float)
     test = real_shapes(np.asarray(shapes))
@@ -311,7 +311,7 @@ def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
 def comparison(f_test, test, f_model, s_model) -> dict:
     """schemas.ModelComparison of test modes (f_test (k,) Hz, real shapes (p, k)) and model modes (f_model (n,) Hz,
     shapes (p, n) at the same points): each test mode's partner by era.pair_modes, or null when none is acceptable."""
-    from era.correlation import pair_modes
+    from era.core.correlation import pair_modes
 
     p = pair_modes(f_test, test, f_model, s_model)
     partner = {int(i): k for k, i in enumerate(p.measured_index)}

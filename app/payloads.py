@@ -13,10 +13,10 @@ import math
 import numpy as np
 
 import era
-from era.decomposition import CLUSTER_SCREEN
-from era.spectrum import cmif
-from era.stabilization import COHERENT_MIN
-from era.suggest import order_from_singular_values
+from era.core.decomposition import CLUSTER_SCREEN
+from era.core.spectrum import cmif
+from era.core.stabilization import COHERENT_MIN
+from era.core.suggest import order_from_singular_values
 
 from .choosing import Diagram, band_of, default_hankel, named_hankel
 from .config import Settings
@@ -115,8 +115,8 @@ def std_groups(model: era.ModalModel) -> list:
     """(k,) for each mode, the indices of the modes that share its ± (itself included, ascending), or None.
 
     era gives every member of a repeated cluster the cluster's largest σ (era.Identification.decomposed,
-    era.mode_uncertainty.mode_std): poles closer together than CLUSTER_SIGMAS times their scatter
-    (era.decomposition.repeated_clusters) are one eigenvalue as far as the data can tell; which of them the noise
+    era.core.mode_uncertainty.mode_std): poles closer together than CLUSTER_SIGMAS times their scatter
+    (era.core.decomposition.repeated_clusters) are one eigenvalue as far as the data can tell; which of them the noise
     pushed where is not determined, and first-order perturbation does not hold for each alone (it divides by their
     distance), so each one's own σ would claim a precision the data do not give. The model does not keep its
     clusters; they are found again as the connected groups of poles of the same kind within CLUSTER_SCREEN of
@@ -225,7 +225,7 @@ def candidate_json(c) -> dict:
 
 def stabilization_json(diagram: Diagram, data: era.ResponseData, max_points: int) -> dict:
     """The stabilization diagram (schemas.Stabilization): every pole of every order with its stability flags,
-    the suggested modes (clusters: each marked coherent when its mean γ·μ ≥ era.stabilization.COHERENT_MIN, and
+    the suggested modes (clusters: each marked coherent when its mean γ·μ ≥ stabilization.COHERENT_MIN, and
     with era.choose_modes' verdict: chosen, or why not), every candidate era judged with its verdict, the order
     and modes chosen, and the CMIF of the records drawn under it."""
     stab, choice = diagram.stabilization, diagram.choice

@@ -31,9 +31,9 @@ import time
 import numpy as np
 
 import era
-import era.setup_geometry
-import era.setup_next
-import era.setups
+import era.setups.geometry
+import era.setups.next_references
+import era.setups.merge
 from era.words import listed
 
 from .errors import NotFound
@@ -205,7 +205,7 @@ def report(store, test_id: str, token: str) -> dict:
 # ---- the nodes of a UFF file (UFF 15, trace lines 82): where a points table point,node,direction puts its points
 def set_nodes(store, settings, test_id: str, file_name: str, blob: bytes) -> dict:
     """Keep a UFF file of the test's nodes (``nodes.bin``, its summary in ``nodes.json``) for a points table
-    ``point,node,direction`` (era.setup_geometry). Returns schemas.SetupsTest. Refusal next to the points when the
+    ``point,node,direction`` (era.setups.geometry). Returns schemas.SetupsTest. Refusal next to the points when the
     file has no nodes."""
     test = load(store, test_id)
     geometry = _nodes_geometry(settings, file_name, blob)
@@ -321,7 +321,7 @@ def merge(store, settings, test: dict, references, points: str | None = None,
           next_references: str = "auto") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
-    then optional from,to lines, era.setup_geometry), which places the merged points; else the files' geometry.
+    then optional from,to lines, era.setups.geometry), which places the merged points; else the files' geometry.
     ``next_references``: "auto" (ambient records merged with both NExT references and the better merge kept, as
     era.merge_ambient_setups does), "every" (every channel a NExT reference) or "references" (the picked ones only).
     Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
@@ -338,20 +338,20 @@ def merge(store, settings, test: dict, references, points: str | None = None,
         else:
             if next_references == "references":
                 runs = analyse_setups(store, settings, test, refs)
-            result, used = era.setups.merge([a for a, _ in runs], refs), next_references
-            said, complete = f"As asked: {era.setup_next.WAY_WORDS[used]}.", []
+            result, used = era.setups.merge.merge([a for a, _ in runs], refs), next_references
+            said, complete = f"As asked: {era.setups.next_references.WAY_WORDS[used]}.", []
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
-        aliases = era.setup_geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
+        aliases = era.setups.geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
                                                    [s["outputs"] for s in test["setups"]], refs)
         try:
-            table = era.setup_geometry.parse_points(points, nodes=stored_nodes(store, settings, test))
-            geometry = era.setup_geometry.points_geometry(table, aliases)
+            table = era.setups.geometry.parse_points(points, nodes=stored_nodes(store, settings, test))
+            geometry = era.setups.geometry.points_geometry(table, aliases)
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
-        geometry = era.setups.merged_geometry([g for _, g in runs], result)
+        geometry = era.setups.merge.merged_geometry([g for _, g in runs], result)
     merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
                   next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
@@ -359,7 +359,7 @@ def merge(store, settings, test: dict, references, points: str | None = None,
 
 
 def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
-    """schemas.SetupsMerged of an era.setups.merge result."""
+    """schemas.SetupsMerged of an era.setups.merge.merge result."""
     model = result.model
     setups = test["setups"]
     n_setups = len(setups)

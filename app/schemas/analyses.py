@@ -47,7 +47,7 @@ class Modes(Schema):
     emac: Floats = Field(description="(k,) γ, modal amplitude coherence (eqs. 42-45), fraction")
     mpc: Floats = Field(description="(k,) μ, modal phase collinearity (eqs. 46-54), fraction")
     frequency_std_hz: Floats | None = Field(None, description="(k,) standard deviation of frequency_hz that the "
-                                            "data determine (era.uncertainty), Hz; 95 % interval ± 1.96 σ")
+                                            "data determine (era.core.uncertainty), Hz; 95 % interval ± 1.96 σ")
     damping_std: Floats | None = Field(None, description="(k,) standard deviation of ζ from the data, fraction")
     uncertainty_source: str | None = Field(None, description="which scatter the standard deviations come from: "
                                            "\"σ from N records\" (repeated records) or \"σ from one record's "
@@ -97,7 +97,7 @@ class StableMode(Schema):
     damping_ratio: float | None = Field(description="mean ζ, fraction")
     damping_std: float | None = Field(description="spread of ζ, fraction")
     data_frequency_std_hz: float | None = Field(None, description="standard deviation of the frequency that the "
-                                                "data determine at its highest order (era.uncertainty), Hz")
+                                                "data determine at its highest order (era.core.uncertainty), Hz")
     data_damping_std: float | None = Field(None, description="the same for ζ, fraction")
     emac: float | None = Field(description="mean γ, fraction")
     mpc: float | None = Field(description="mean μ, fraction")
@@ -108,7 +108,7 @@ class StableMode(Schema):
                                                     "(absent in reports frozen before it existed)")
     chosen: bool | None = Field(None, description="era.choose_modes chose it as one of the structure's modes "
                                                   "(null in reports frozen before the choice existed)")
-    code: str | None = Field(None, description="'chosen', or why not (era.choice.REASONS): rigid, band, harmonic, "
+    code: str | None = Field(None, description="'chosen', or why not (choose.REASONS): rigid, band, harmonic, "
                                                "damping, uncertain, twin, orders, noise, absent")
     reason: str | None = Field(None, description="why it was not chosen, in words ('' when chosen)")
     mode: int | None = Field(None, description="the chosen mode it is, or of which it is a split twin (index into "
@@ -127,7 +127,7 @@ class ChoiceCandidate(Schema):
     pole_indices: list[int] = Field(description="its poles: indices into the pole arrays")
     cluster: int | None = Field(description="its index in modes, or null when it is no cluster of the diagram")
     chosen: bool = Field(description="chosen as one of the structure's modes")
-    code: str | None = Field(description="'chosen', or why not (era.choice.REASONS)")
+    code: str | None = Field(description="'chosen', or why not (choose.REASONS)")
     reason: str | None = Field(description="why it was not chosen, in words ('' when chosen)")
     mode: int | None = Field(description="the chosen mode it is, or of which it is a split twin (index into "
                                          "chosen_indices), else null")

@@ -10,9 +10,7 @@ records; runner.py  the tasks and the cache; result.py  the table; simulated.py 
 for tests and demos.
 """
 
-from .record import (
-    CampaignSettings, RecordFailure, RecordModes, analyse_record, modes_of, record_modes, time_from_name,
-)
+from .record import CampaignSettings, RecordFailure, RecordModes, analyse_record, modes_of, record_modes, time_from_name
 from .result import COLUMNS, CampaignResult
 from .runner import run_campaign
 from .tracking import TrackedMode, Tracking, track_modes

@@ -17,10 +17,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis import AnalysisResult, analyse
+from ..choice.analysis import AnalysisResult, analyse
 from ..errors import EraError
 from ..io import load
-from ..suggest import hankel_size
+from ..core.suggest import hankel_size
 
 
 @dataclass(frozen=True)
@@ -29,7 +29,7 @@ class CampaignSettings:
 
     kind : era.load's conversion ("auto", "ambient", "decay", "pulse", "frf", "io").
     dt : sampling interval in s for CSV files without a time column, or None.
-    rows, cols : Hankel block rows and columns; None: era.suggest.hankel_size of each record.
+    rows, cols : Hankel block rows and columns; None: era.core.suggest.hankel_size of each record.
     orders : model orders of the stabilization diagram (tuple of int); orders above what the Hankel size allows
         are left out.
     load_options : extra keywords for era.load (e.g. references=[0, 1], n_lags=1024), as sorted (name, value)
@@ -53,7 +53,8 @@ class CampaignSettings:
 
 
 def _rule_constants() -> tuple:
-    from .. import __version__, choice, evidence
+    from .. import __version__
+    from ..choice import choose as choice, evidence
     return (__version__,) + tuple((k, getattr(m, k)) for m in (choice, evidence) for k in sorted(vars(m))
                                   if k.isupper())
 
@@ -65,7 +66,7 @@ class RecordModes:
     index : position of the record in the campaign's sources; name : its file name (or "record i");
     time : numpy.datetime64 (s) read from the file name, or None;
     frequency_hz, damping_ratio, emac, mpc : (k,) the chosen model's (ModalModel at ``order``: Hz, fraction, γ, μ);
-    frequency_std_hz, damping_std : (k,) their standard deviations from the data at that order (era.uncertainty;
+    frequency_std_hz, damping_std : (k,) their standard deviations from the data at that order (era.core.uncertainty;
         NaN where not computed);
     n_orders : (k,) at how many of the diagram's orders the mode is a stable pole (its track and its split
         twins);
@@ -157,7 +158,7 @@ def record_name(source, index: int) -> str:
 
 def modes_of(data, settings: CampaignSettings) -> tuple[AnalysisResult, int, int]:
     """(era.AnalysisResult, rows, cols) of one record's ResponseData: era.analyse with the campaign's Hankel size
-    (era.suggest.hankel_size of the record where ``settings`` gives none) and orders."""
+    (era.core.suggest.hankel_size of the record where ``settings`` gives none) and orders."""
     n, p, m = data.markov.shape
     size = hankel_size(n, p, m)
     rows = settings.rows or size.rows

@@ -24,7 +24,7 @@ class CampaignResult:
         the record's position in the campaign, a float), mode (int, see ``modes``), found (bool), frequency_hz,
         damping_ratio (fraction), mac_to_reference (MAC with the tracked mode's reference shape), emac (γ),
         mpc (μ), n_orders (orders of the diagram where the mode is stable), frequency_std_hz and damping_std
-        (standard deviations from the data, era.uncertainty), order (the diagram order the record's modes are
+        (standard deviations from the data, era.core.uncertainty), order (the diagram order the record's modes are
         read at, era.choose_modes), record_mode (the mode's index in the record's own RecordModes, -1 where
         missing; n_modes + k for the record's spare k, a cluster the choice left out: RecordModes.spares). The
         values are the record's chosen model's (era.analyse), or the spare cluster's. Where a record does not

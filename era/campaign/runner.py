@@ -96,7 +96,7 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     sources : paths or bytes of records era.load reads (one record each), or a folder of them (its files by name).
     kind, dt : era.load's conversion ("auto", "ambient" for NExT, "decay", "pulse", "frf", "io") and the sampling
         interval in s for CSV files without a time column.
-    rows, cols : Hankel block rows and columns; None: era.suggest.hankel_size of each record.
+    rows, cols : Hankel block rows and columns; None: era.core.suggest.hankel_size of each record.
     orders : model orders of each record's stabilization diagram (default 2, 4, … 80).
     reference : None (the modes of the first record that has any) or an era.ModalModel whose decaying modes are
         tracked (its outputs must be the records' sensors, in order).

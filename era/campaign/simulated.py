@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import lfilter
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..io import save_npz
 
 #: Nominal damped frequencies (Hz) of the five modes at the mean temperature.

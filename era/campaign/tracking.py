@@ -1,6 +1,6 @@
 """Following modes through a campaign: each record's modes matched to the tracked modes by frequency and MAC.
 
-One optimal assignment per record (scipy.optimize.linear_sum_assignment, the cost of era.correlation.pairing_cost:
+One optimal assignment per record (scipy.optimize.linear_sum_assignment, the cost of era.core.correlation.pairing_cost:
 1 − MAC plus the relative frequency error, over the pairs that pass the gates), so no mode is used twice and two
 modes that cross in frequency keep their identities: the shape decides, not the frequency order. The rules:
 
@@ -32,9 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ..correlation import pairing_cost
+from ..core.correlation import pairing_cost
 from ..errors import DataError
-from ..indicators import mac
+from ..core.indicators import mac
 from .record import RecordFailure, mode_shape
 
 

@@ -13,13 +13,13 @@ import time
 
 import numpy as np
 
-from ..blas import single_threaded_blas
-from ..correlation import ModePairing, comac, gap, serep, subspace_mac
-from ..data import ResponseData
+from ..core.blas import single_threaded_blas
+from ..core.correlation import ModePairing, comac, gap, serep, subspace_mac
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..models.matrix import MatrixModel
 from ..models.nastran.reader import NastranModel
-from ..realization import Identification
+from ..core.realization import Identification
 from ..structure import Frame
 from ..words import counted
 from .effects import describe, nuisance, one_of, places_noun, short_place
@@ -191,7 +191,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only. With an
-        era.Frame, the struck points of data.meta["input_points"] (era.points' labels, "4Z" or "E x") that name a
+        era.Frame, the struck points of data.meta["input_points"] (era.setups.points' labels, "4Z" or "E x") that name a
         node and direction of the frame are sensors for the comparison too, after the outputs (their input-side
         shapes scaled through a driving point, a point both measured and struck); others are said and left out. So
         are they with a matrix model, where a point is compared when it names a free DOF.

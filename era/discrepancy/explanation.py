@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from ..correlation import Gap, ModePairing
+from ..core.correlation import Gap, ModePairing
 from .effects import as_json_location
 from .measured import MeasuredModes
 from .protocol import ExplainModel

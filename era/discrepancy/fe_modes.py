@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes
+from ..core.correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes
 from ..errors import DataError
 from ..structure import DIRECTIONS
 from .measured import MeasuredModes

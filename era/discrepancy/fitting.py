@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares, linear_sum_assignment
 
-from ..correlation import pairing_cost
+from ..core.correlation import pairing_cost
 from ..errors import EraError
 from .effects import EffectSpec, Param, as_location
 from .measured import MeasuredModes

@@ -9,16 +9,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..analysis import analyse, diagram_and_choice, diagram_orders
-from ..blas import single_threaded_blas
-from ..choice import ModeChoice
-from ..correlation import real_shapes
-from ..data import ResponseData
+from ..choice.analysis import analyse, diagram_and_choice, diagram_orders
+from ..core.blas import single_threaded_blas
+from ..choice.choose import ModeChoice
+from ..core.correlation import real_shapes
+from ..core.data import ResponseData
 from ..errors import DataError
-from ..points import channel_points, point_shapes
-from ..realization import Identification
-from ..selection import keep_mask, kept_modes
-from ..stabilization import Stabilization, StableMode, stabilization
+from ..setups.points import channel_points, point_shapes
+from ..core.realization import Identification
+from ..core.selection import keep_mask, kept_modes
+from ..core.stabilization import Stabilization, StableMode, stabilization
 from ..words import listed
 
 #: A kept mode below this frequency (Hz) is refused: a pole that slow is drift, not a vibration mode to compare.
@@ -41,7 +41,7 @@ class MeasuredModes:
         model's node coordinates, or an era.Frame's (node id, direction), e.g. ("E", "x").
     struck_points : (e,) labels of the struck points (``data.meta["input_points"]``) not among the outputs' points,
         or None; struck_shapes : (p + e, k) real unit-norm shapes at the outputs and then those points (the
-        input-side shapes scaled through a driving point, by reciprocity: :mod:`era.points`), None when no point is
+        input-side shapes scaled through a driving point, by reciprocity: era.setups.points), None when no point is
         both measured and struck; struck_shape_std : (k,) their spread across orders. See :meth:`with_struck`.
     """
 
@@ -183,7 +183,7 @@ def identify_modes(data: ResponseData, *, orders=None, rows: int | None = None, 
     stabilization diagram with the data's uncertainty, :func:`era.choose_modes`), with their error levels.
 
     orders : the diagram's orders (default era.analyse's: every even order from 2 to 160 within the rank);
-    rows, cols : block rows and columns of H(0) (default era.analyse's, era.suggest.hankel_size).
+    rows, cols : block rows and columns of H(0) (default era.analyse's, era.core.suggest.hankel_size).
     balance_inputs : scale each input's records to unit RMS first (:func:`input_weights`), so that small
     decays (e.g. dwells at higher modes) are not buried under the noise of large ones; modal constants are
     scaled back. The choice's noise level is then each input's alike: unbalanced, a dwell test's higher modes
@@ -289,7 +289,7 @@ def _measured(ident: Identification, stab: Stabilization, chosen: list[StableMod
 def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
     """(labels (e,), shapes (p + e, k), spread (k,)) of the struck points of ``ident.data`` that are not among its
     outputs' points: each chosen mode's shape at the outputs (as the channels read it, the rows of ``shapes``) and
-    at those points, from every pole of its track (:func:`era.points.point_shapes`: reciprocity, scaled through
+    at those points, from every pole of its track (:func:`era.setups.points.point_shapes`: reciprocity, scaled through
     the driving points), real, unit norm, averaged like the shapes. (None, None, None) without
     ``data.meta["input_points"]``; (labels, None, None) when no point is both measured and struck.
     weights : (m,) the factors the records were multiplied by before ERA (:func:`input_weights`), undone."""
@@ -332,7 +332,7 @@ _NODE_DIRECTION = re.compile(r"^(\S+?)\s*(-?[xyz])$", re.IGNORECASE)
 
 
 def node_direction(label) -> tuple | None:
-    """(node, direction) a point label names: "4X", "4 x" -> ("4", "x"); "E -z" -> ("E", "-z") (era.points' "node
+    """(node, direction) a point label names: "4X", "4 x" -> ("4", "x"); "E -z" -> ("E", "-z") (era.setups.points' "node
     axis" labels, a frame's sensor names "node direction"); None for any other label (e.g. "4RX", a rotation)."""
     hit = _NODE_DIRECTION.match(str(label).strip())
     if hit is None or re.fullmatch(r"-?\d+R", hit.group(1), re.IGNORECASE):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..correlation import pair_modes
+from ..core.correlation import pair_modes
 from ..words import counted, listed
 from .effects import short_place
 from .measured import MeasuredModes

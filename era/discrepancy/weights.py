@@ -8,7 +8,7 @@ import dataclasses
 
 import numpy as np
 
-from ..correlation import ModePairing, pair_modes
+from ..core.correlation import ModePairing, pair_modes
 from ..words import counted
 from .fitting import ErrorLevels, ModeWeights
 from .measured import MeasuredModes, node_direction

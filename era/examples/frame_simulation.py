@@ -15,7 +15,7 @@ import numpy as np
 
 from ..discrepancy.frame_model import FrameModel
 from ..discrepancy.measured import MeasuredModes, modes_from_arrays
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..structure import Frame
 
 

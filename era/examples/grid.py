@@ -21,11 +21,12 @@ import scipy.linalg
 from .. import fem
 from ..errors import EraError
 from ..discrepancy.protocol import RitzModes, joint_rows
-from ..geometry import Geometry
+from ..core.geometry import Geometry
 from ..words import listed
 # the layout (joints, members, sensors, indices) is era/examples/grid_layout.py; its names are read from here too
-from .grid_layout import (AIR_JET_FT, CABLES_FT, FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL,  # noqa: F401
-                          N_SEGMENTS, NX, NY, SEGMENT_JOINTS, SENSORS_FT, joint_index, segment_index)
+from .grid_layout import (
+    AIR_JET_FT, CABLES_FT, FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SEGMENT_JOINTS, SENSORS_FT,
+    joint_index, segment_index)
 from .grid_solves import SolveCache, assemble, attachments, changed_nodes, param_key, self_weight
 
 SAMPLE_RATE_HZ = 32.0

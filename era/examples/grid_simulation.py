@@ -14,10 +14,11 @@ import functools
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import EraError
-from .grid import (AIR_JET_FT, CABLES_FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ,
-                   SEGMENT_JOINTS, SENSORS_FT, GridModel, GridPerturbation, joint_index, nasa_grid, segment_index)
+from .grid import (
+    AIR_JET_FT, CABLES_FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SAMPLE_RATE_HZ, SEGMENT_JOINTS,
+    SENSORS_FT, GridModel, GridPerturbation, joint_index, nasa_grid, segment_index)
 
 EFFECTS = ("joint_flexibility", "torsion_stiffness", "cable_length", "distributed_mass", "point_mass",
            "loose_joint", "gravity_stiffening", "member_stiffness")

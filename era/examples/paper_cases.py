@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 
 DT_S = 0.05  # the paper's sample time interval
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 
 
 @dataclass(frozen=True)

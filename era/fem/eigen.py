@@ -14,7 +14,7 @@ import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 
-from ..blas import single_threaded_blas
+from ..core.blas import single_threaded_blas
 from ..errors import DataError
 
 DENSE_LIMIT = 600         # up to this many DOFs a dense LAPACK solve is faster and surer than Lanczos

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError, EraError
-from ..geometry import Geometry
+from ..core.geometry import Geometry
 from ..words import listed
 from .csv import read_csv
 from .hdf5 import read_hdf5
@@ -145,7 +145,7 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         positions)
     points : where time channels are, {channel (name or 0-based position as read): point label ("4X")}: a force
         channel's point is where the structure was struck (``ResponseData.meta["input_points"]``), a response's
-        where it was measured (``output_points``); era.points then gives the shape at every such point
+        where it was measured (``output_points``); era.setups.points then gives the shape at every such point
     orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates

@@ -13,7 +13,7 @@ Arrays of the archive (plain ``.npy`` members; strings are NumPy unicode arrays,
 ``input_locations``       (m, d)     the point each input acts at: float (grid joints (x_ft, y_ft)) or str (an
                                      era.Frame's (node id, direction), e.g. ("E", "x"));
                                      ``ResponseData.meta["input_locations"]``, a tuple of m tuples; optional
-``output_points``         (p,)       str point label of each output ("" unknown; era.points), optional  } where the
+``output_points``         (p,)       str point label of each output ("" unknown; setups.points), optional  } where the
 ``output_signs``          (p,)       float ±1, the output's sense along its point's axis, optional      } channels
 ``input_points``          (m,)       str point label of each input: where it was struck, optional      } are:
 ``input_signs``           (m,)       float ±1, the force's sense along its point's axis, optional       } meta
@@ -48,9 +48,9 @@ import zipfile
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
-from ..geometry import Geometry
+from ..core.geometry import Geometry
 from .inflate import Budget
 
 #: Largest array read from an NPZ file, in bytes (uncompressed).
@@ -62,7 +62,7 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-#: Where the channels are (era.points), kept in ResponseData.meta under the same names.
+#: Where the channels are (era.setups.points), kept in ResponseData.meta under the same names.
 _POINTS = ("output_points", "output_signs", "input_points", "input_signs")
 _NAMES = ("markov", "dt", *_LABELS, "input_locations", *_POINTS, "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
           *_FLAGS, *_LEGACY_GEOMETRY)
@@ -205,13 +205,13 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
             raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
                             f"(m, d) = ({data.n_inputs}, d), or remove it.")
         arrays["input_locations"] = where
-    for key in _POINTS:  # where the channels are: the point shapes (era.points) need them
+    for key in _POINTS:  # where the channels are: the point shapes (era.setups.points) need them
         value = (data.meta or {}).get(key)
         if value is not None:
             arrays[key] = np.array(value, dtype=str if key.endswith("points") else float)
     if name is not None:
         arrays["name"] = np.array(str(name))
-    if data.records is not None:  # the records' scatter gives σ (era.uncertainty)
+    if data.records is not None:  # the records' scatter gives σ (era.core.uncertainty)
         arrays["records"] = data.records
     if geometry is not None:
         arrays.update({k: getattr(geometry, k) for k in _GEOMETRY})

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
 from ..words import counted
@@ -36,7 +36,7 @@ class Records:
     nodes : (c or p,) int node label of each channel (0 = unknown); directions : (c or p, 3) unit vectors.
     frf_type : "accelerance", "mobility", "receptance" or None.
     described : list of str, what was read (for Dataset.source).
-    points : where the channels are, for ResponseData.meta (era.points: output_points, output_signs, input_points,
+    points : where the channels are, for ResponseData.meta (setups.points: output_points, output_signs, input_points,
         input_signs; and proposed_band_hz, a band the test's setup proposes), or None; for time histories also
         channel_points (c,), a point label per channel ("" unknown), the person's (era.io.choices.choose), split by
         :func:`to_response` into the inputs' and outputs' points.

@@ -16,8 +16,8 @@ from ..errors import DataError
 from ..words import counted, sampling, significant
 from ..markov.common import uneven_step
 from .records import Records, check_finite, merge
-from .uff_geometry import (build_geometry, geometry_parts, in_global_directions, merge_parts,  # noqa: F401
-                           modes_in_global, unit_factors)
+from .uff_geometry import (
+    build_geometry, geometry_parts, in_global_directions, merge_parts, modes_in_global, unit_factors)
 
 #: Record 6 direction codes: ±1, ±2, ±3 = ±X, ±Y, ±Z translation; 4-6 rotations have no displacement direction.
 _DIR_LABEL = {1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
@@ -227,7 +227,7 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
 
 
 def _points(outs: list, refs: list) -> dict | None:
-    """Where the responses and references are (era.points): node and axis from each record's node and direction
+    """Where the responses and references are (era.setups.points): node and axis from each record's node and direction
     code ("4X"; "" when node or direction is 0), the code's sign apart. None when no reference is placed."""
     def side(keys):
         pts = tuple(f"{n}{_DIR_LABEL[abs(c)]}" if n and abs(c) in _DIR_LABEL else "" for n, c in keys)

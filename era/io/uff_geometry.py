@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import DataError
-from ..geometry import Geometry
+from ..core.geometry import Geometry
 from .records import Records
 from .uff_cs import systems, to_global
 

@@ -77,7 +77,7 @@ def uneven_step(x: np.ndarray, resolution: float = 0.0) -> tuple[float, int | No
 
 #: at most this many per-record estimates are kept (ResponseData.records): more records are averaged in groups
 #: (batch means, whose scatter estimates the same covariance of the overall mean with fewer degrees of freedom),
-#: which bounds the memory and the cost of σ (each kept estimate is one more error set in era.uncertainty).
+#: which bounds the memory and the cost of σ (each kept estimate is one more error set in era.core.uncertainty).
 MAX_KEPT_RECORDS = 20
 #: and at most this many values in all (40 MB of float64).
 MAX_KEPT_VALUES = 5_000_000
@@ -86,9 +86,9 @@ MAX_KEPT_VALUES = 5_000_000
 def kept_records(estimates: np.ndarray) -> np.ndarray | None:
     """The per-record estimates (n_b, N, p, m) to keep beside their mean: as given, or averaged over
     consecutive groups of records (sizes differing by at most one) so that at most MAX_KEPT_RECORDS estimates
-    and MAX_KEPT_VALUES values are kept; None when fewer than era.uncertainty.MIN_RECORDS would remain (too few
+    and MAX_KEPT_VALUES values are kept; None when fewer than era.core.uncertainty.MIN_RECORDS would remain (too few
     for σ: the residual blocks are used then)."""
-    from ..uncertainty import MIN_RECORDS
+    from ..core.uncertainty import MIN_RECORDS
 
     n_b = estimates.shape[0]
     each = int(np.prod(estimates.shape[1:]))

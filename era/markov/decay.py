@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..words import counted, listed
 from .common import check_dt

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..words import counted
 from .common import uneven_step

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import find_peaks, welch
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..words import counted, listed
 from .common import check_dt, kept_records, positive_int, records
@@ -25,7 +25,7 @@ MAX_LAGS = 2048
 #: A resonance stands this many times above the spectrum's median (a 10 × weaker mode's peak still does).
 LOW_PEAK_FACTOR = 10.0
 #: One record is cut into this many consecutive segments whose correlations are kept beside the whole record's
-#: (ResponseData.records): their scatter gives σ (era.uncertainty.record_covariance), as the blocks of
+#: (ResponseData.records): their scatter gives σ (era.core.uncertainty.record_covariance), as the blocks of
 #: covariance-driven SSI (Döhler & Mevel 2013). 20 keeps the σ's own relative error near 1/√38 = 16 % and each
 #: segment long (5 minutes at 25 Hz: 375 samples, against lags of a few periods).
 SEGMENTS = 20
@@ -165,10 +165,10 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
         each.append(s[1:] / np.maximum(c[1:], 1)[:, None, None])
     r = total / counts[:, None, None]
     # comparable records (lengths within 10 %: about equal variances) each give one estimate; their scatter is
-    # the σ of the modes (era.uncertainty.record_covariance, from MIN_RECORDS of them)
+    # the σ of the modes (era.core.uncertainty.record_covariance, from MIN_RECORDS of them)
     lengths = [len(y) for y in ys]
     per_record = kept_records(np.stack(each)) if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) else None
-    from ..uncertainty import MIN_RECORDS  # as common.kept_records: the σ's rule, read where it is used
+    from ..core.uncertainty import MIN_RECORDS  # as common.kept_records: the σ's rule, read where it is used
 
     # one record: its segments (each at least 4 × the lags long, so its sums are mostly its own samples)
     n_segments = min(SEGMENTS, n_total // max(4 * (n_lags + 1), 1))

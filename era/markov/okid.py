@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..data import ResponseData
+from ..core.data import ResponseData
 from ..errors import DataError
 from ..words import counted, listed
 from .common import check_dt, kept_records, positive_int, records
@@ -123,7 +123,7 @@ def markov_from_io(inputs, outputs, dt, *, n_observer: int = 40, n_markov: int |
     obs, residual = observer_markov([u / scale_u for u in us], [y / scale_y for y in ys], l)
     y_sys = system_markov(obs, m, p, n_markov) * scale_y[None, :, None] / scale_u[None, None, :]
     # repeated hits of comparable length (within 10 %), each long enough for its own fit: one estimate per
-    # record, whose scatter gives the modes' σ (ResponseData.records, era.uncertainty.record_covariance)
+    # record, whose scatter gives the modes' σ (ResponseData.records, era.core.uncertainty.record_covariance)
     lengths = [len(y) - l for y in ys]
     per_record = None
     if len(ys) >= 2 and min(lengths) >= 0.9 * max(lengths) and min(lengths) >= 2 * n_cols:

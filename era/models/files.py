@@ -74,7 +74,7 @@ def load_model(path, *, max_bytes: int | None = MAX_BYTES) -> MatrixModel:
     suffix = path.suffix.lower()
     if suffix in NASTRAN:
         try:
-            from .nastran import read_bdf      # the bulk-data reader is large: loaded when a deck is read
+            from .nastran import read_bdf  # the bulk-data reader is large: loaded when a deck is read
         except ImportError:
             raise DataError(f"{path.name}: this installation has no Nastran reader (era.models.nastran); export "
                             "the model's matrices instead (docs/fe-models.md).") from None

@@ -95,7 +95,7 @@ def _deck_parts(model: MatrixModel, params: dict, lines: list) -> tuple:
     deck = getattr(model, "deck", None)
     if deck is None:
         return model, None
-    from .nastran.patch import deck_patch_for      # the bulk-data writer: loaded for a deck's model only
+    from .nastran.patch import deck_patch_for  # the bulk-data writer: loaded for a deck's model only
     from .nastran.reader import deck_model
     base = model
     factor = float(params.get("property_factor", 1.0))

@@ -2,7 +2,7 @@
    the report download inlines it). */
 (function () {
   const num = (v, digits) => (v === null || v === undefined || !isFinite(v)) ? "–" : Number(v).toFixed(digits);
-  // value ± 1.96 σ (the 95 % interval the data give, era.uncertainty), or the value alone when σ is unknown
+  // value ± 1.96 σ (the 95 % interval the data give, era.core.uncertainty), or the value alone when σ is unknown
   const pm = (v, sd, digits) => {
     const ok = sd !== null && sd !== undefined && isFinite(sd);
     return ok ? `${num(v, digits)} ± ${num(1.96 * sd, digits)}` : num(v, digits);
@@ -20,7 +20,7 @@
   const ONE_SENSOR = "one sensor";
   const oneSensor = (m) => m.outputs.length === 1;
   // The modes that share one ± (schemas.Modes.std_group): poles closer together than their scatter, which the data
-  // cannot tell apart (era.decomposition.repeated_clusters), each given the group's largest σ.
+  // cannot tell apart (era.core.decomposition.repeated_clusters), each given the group's largest σ.
   const group = (m, k) => (m.std_group && m.std_group[k] ? m.std_group[k] : null);
   const groupWords = (m, k) => {
     const g = group(m, k);

@@ -73,7 +73,7 @@ export function render() {
 }
 
 function note() {
-  // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.uncertainty)
+  // ± columns: 95 % intervals, σ from the records' scatter or from the one record's residuals (era.core.uncertainty)
   const source = state.modes.uncertainty_source ? `± 1.96 ${state.modes.uncertainty_source}${shared(state.modes)} · ` : "";
   $("table-note").textContent = `${source}${state.kept.size} of ${state.modes.n_modes} modes kept at order ${state.order}`;
   rule();

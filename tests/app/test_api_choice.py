@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import era
-from era.choice import REASONS
+from era.choice.choose import REASONS
 from era.examples.synthetic import modal_response
-from era.suggest import hankel_size
+from era.core.suggest import hankel_size
 
 from apiclient import client, npz_bytes, upload
 
@@ -128,14 +128,14 @@ def test_records_of_pure_noise_open_at_a_diagram_order_with_nothing_chosen_and_e
 def test_the_hankel_size_and_orders_are_eras_defaults_with_the_server_settings_as_caps(tmp_path):
     data = noisy_four_modes()
     n, p, m = data.markov.shape
-    era_default = hankel_size(n, p, m, max_side=era.analysis.DEFAULT_MAX_SIDE,
-                              max_elements=era.analysis.DEFAULT_MAX_ELEMENTS,
-                              max_order=era.analysis.DEFAULT_MAX_ORDER)
+    era_default = hankel_size(n, p, m, max_side=era.choice.analysis.DEFAULT_MAX_SIDE,
+                              max_elements=era.choice.analysis.DEFAULT_MAX_ELEMENTS,
+                              max_order=era.choice.analysis.DEFAULT_MAX_ORDER)
     with client(tmp_path / "a") as c:
         ds, a = identify_defaults(c, npz_bytes(data))
         stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()
     assert ds["defaults"] == {"rows": era_default.rows, "cols": era_default.cols, "max_order": era_default.max_order}
-    assert stab["orders"] == list(era.analysis.diagram_orders(a["max_order"]))
+    assert stab["orders"] == list(era.choice.analysis.diagram_orders(a["max_order"]))
     with client(tmp_path / "b", max_hankel_elements=20_000, max_order=60, max_stabilization_order=40) as c:
         ds, a = identify_defaults(c, npz_bytes(data))
         stab = c.get(f"/api/analyses/{a['id']}/stabilization").json()

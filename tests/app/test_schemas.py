@@ -16,7 +16,7 @@ from apiclient import client
 from app import choosing, payloads, reporting, schemas
 from app.cache import Analysis
 from app.config import Settings
-from era.stabilization import COHERENT_MIN
+from era.core.stabilization import COHERENT_MIN
 
 
 def _fields(x):

@@ -1,7 +1,7 @@
 """The ± a repeated cluster shares (issue 28's review: the close pair 116.88 / 117.23 Hz of the USC cantilever
 carried identical ± 0.3473 Hz, 0.229 %). By design: poles closer together than their scatter are one eigenvalue as
-far as the data can tell (era.decomposition.repeated_clusters), and each member carries the cluster's largest σ
-(era.mode_uncertainty.mode_std); the payload says which modes share one (schemas.Modes.std_group), so the page can
+far as the data can tell (era.core.decomposition.repeated_clusters), and each member carries the cluster's largest σ
+(era.core.mode_uncertainty.mode_std); the payload says which modes share one (schemas.Modes.std_group), so the page can
 say "the ± of the group" instead of showing one number twice as if computed twice."""
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ from starlette.websockets import WebSocketDisconnect
 from app.viewer import ModeViewer, scene
 from app.viewer.registry import Registry, ViewState, updated_state
 from era.errors import DataError
-from era.geometry import Geometry
+from era.core.geometry import Geometry
 
 SENSORS = [(x, y) for y in (1, 4, 6) for x in (1, 5, 9)]
 

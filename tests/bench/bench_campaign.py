@@ -31,7 +31,7 @@ import pytest
 
 from era.campaign import run_campaign
 from era.campaign.simulated import SENSITIVITY, monitoring_truth, write_campaign
-from era.indicators import mac
+from era.core.indicators import mac
 
 N_RECORDS, DAMAGE_FROM, DURATION_S = 48, 30, 1800.0
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import era
-from era.hankel import block_hankel
-from era.svd import dense_svd
+from era.core.hankel import block_hankel
+from era.core.svd import dense_svd
 from era.examples.synthetic import modal_response
 from timing import median_time
 

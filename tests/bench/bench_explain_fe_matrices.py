@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 import era
-from era.blas import single_threaded_blas
+from era.core.blas import single_threaded_blas
 from era.discrepancy import modes_from_arrays
 from era.fem.mesh import BeamProperty, FEMesh, ShellProperty, assemble
 

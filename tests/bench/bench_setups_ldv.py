@@ -30,7 +30,7 @@ import numpy as np
 from scipy.signal import decimate
 
 import era
-from era.setups import merge
+from era.setups.merge import merge
 
 POGER_HZ = np.array([1.229, 1.436, 2.100, 4.017, 4.769, 6.683, 7.616, 9.664])
 POGER_DAMPING = np.array([0.232, 0.147, 0.130, 0.162, 0.161, 0.190, 0.165, 0.174]) / 100

@@ -17,8 +17,8 @@ from threadpoolctl import threadpool_limits
 
 import era
 from era.examples.synthetic import modal_response
-from era.hankel import block_hankel
-from era.svd import dense_svd
+from era.core.hankel import block_hankel
+from era.core.svd import dense_svd
 
 ORDERS = range(2, 121, 2)
 CASES = {  # (p, m, N, rows, cols, dt, frequencies)
@@ -75,7 +75,7 @@ def test_identify_and_stabilization_against_one_dense_svd_with_1_and_2_threads(c
     reflectors' factors and H(0), stein 6.5, the reflectors 6.5, h^T v 10.5), the 60 eigensolutions ≈ 86, γ, μ
     and the contribution ≈ 30, tracking ≈ 5. With two threads the orders and the runs of modes go two at a time
     and identify's reduction takes both threads, OpenBLAS's idle workers being stopped after it
-    (era.blas.rest_blas_workers). The ratio must not be worse with two threads than with one (5 % for noise)."""
+    (era.core.blas.rest_blas_workers). The ratio must not be worse with two threads than with one (5 % for noise)."""
     name, data, rows, cols = case
     assert era.identify(data, rows, cols, max_order=max(ORDERS)).svd_method == "truncated"
     ratio = {}

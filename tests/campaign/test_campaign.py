@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from era.indicators import mac
+from era.core.indicators import mac
 
 # the layout of the simulated campaign (tests/campaign/conftest.py)
 N_RECORDS, DAMAGE_FROM, CORRUPT = 16, 10, "rec_2026-03-03T10-30.csv"

@@ -10,7 +10,7 @@ mode lists.
 
 Asked: both crossing modes found in every record, each by the tracked mode that holds its true shape (MAC ≥ 0.95
 with its own, ≤ 0.5 with the other's), and their tracked frequencies as close to the truth as the σ each record's
-data give (era.uncertainty) says, that σ itself small (< 0.01 % of the frequency, so the bounds are not loose):
+data give (era.core.uncertainty) says, that σ itself small (< 0.01 % of the frequency, so the bounds are not loose):
 errors within 3σ in all but one of the 32 cells and within 4σ in all, |error|/σ of rms 0.5-1.5 (the σ neither
 too small nor too large), and within 0.05 % of the frequency. With a σ that is right, one cell in 32 beyond 3σ
 happens in 8 % of campaigns, one beyond 4σ in 0.2 %: the test asks what the statistics allow, no more. (40 noise
@@ -24,7 +24,7 @@ import pytest
 
 from era.campaign import run_campaign
 from era.campaign.simulated import monitoring_truth, write_pulse_campaign
-from era.indicators import mac
+from era.core.indicators import mac
 
 N_RECORDS, HOURS_BETWEEN = 16, 1.5
 CROSSING = (2, 3)  # modes 3 and 4 of the simulated structure (0-based)

@@ -1,4 +1,4 @@
-"""era.blas: BLAS thread limits, and OpenBLAS's idle workers stopped only where that is safe.
+"""era.core.blas: BLAS thread limits, and OpenBLAS's idle workers stopped only where that is safe.
 
 The checks that need the caller to be the process's only Python thread run in a fresh interpreter (the test
 process may hold other threads: servers, clusters)."""
@@ -8,7 +8,7 @@ import sys
 import textwrap
 import threading
 
-from era import blas
+from era.core import blas
 
 _CPU_WHILE_SLEEPING = """
 import time
@@ -40,7 +40,7 @@ def test_rest_is_only_done_when_the_caller_is_the_only_python_thread():
         other.join()
     assert _run_alone("""
         import threading
-        from era import blas
+        from era.core import blas
         assert blas.workers_can_rest() and blas.rest_blas_workers()
         t = threading.Thread(target=threading.Event().wait, args=(0.5,))
         t.start()
@@ -54,7 +54,7 @@ def test_stopped_workers_burn_no_cpu_and_blas_still_computes_right_after():
     _run_alone("""
         import numpy as np, scipy.linalg
         from threadpoolctl import threadpool_limits
-        from era import blas
+        from era.core import blas
         a = np.random.default_rng(0).standard_normal((600, 600))
         expected = a @ a.T
         with threadpool_limits(2):
@@ -73,7 +73,7 @@ def test_limits_are_applied_and_restored_and_leave_no_spinning_workers():
     _run_alone("""
         import numpy as np
         from threadpoolctl import threadpool_limits
-        from era import blas
+        from era.core import blas
         a = np.random.default_rng(1).standard_normal((500, 500))
         with threadpool_limits(2):
             before = blas.blas_threads()

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import era
-from era.choice import REASONS
+from era.choice.choose import REASONS
 from era.examples import paper_cases
 from era.examples.synthetic import ambient_response, modal_response
 from tests.shared_data import SHARED_DATASETS, require_shared

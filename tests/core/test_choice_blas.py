@@ -6,7 +6,7 @@ singular values fade smoothly from 1 to round-off (1e-13 of the largest) with no
 values above max(shape)·ε·d_1, and how many lie that near the floor changes with the thread count (54 or 53); with
 54, an even order, the choice took the "exact rank" path and read the realization at order 54, where a pole fitting
 the band's cut (38.29 Hz) passed as a mode. Now exact rank needs the last value kept far above round-off
-(era.choice.EXACT_RANK_MARGIN): such a spectrum takes the diagram's path, and the chain's three modes are chosen
+(era.choice.choose.EXACT_RANK_MARGIN): such a spectrum takes the diagram's path, and the chain's three modes are chosen
 whatever the BLAS.
 """
 
@@ -24,7 +24,7 @@ import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import era
-from era.choice import exact_rank
+from era.choice.choose import exact_rank
 from era.examples import paper_cases
 from era.examples.synthetic import ambient_response, modal_response
 

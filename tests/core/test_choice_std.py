@@ -17,8 +17,8 @@ import era
 from era.examples import paper_cases
 from era.examples.synthetic import ambient_response, modal_response
 
-choice_module = importlib.import_module("era.choice")
-stabilization_module = importlib.import_module("era.stabilization")  # era.stabilization is the function
+choice_module = importlib.import_module("era.choice.choose")
+stabilization_module = importlib.import_module("era.core.stabilization")  # era.stabilization is the function
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_choice_blas import chain_frf_data  # noqa: E402

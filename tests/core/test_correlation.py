@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-from era.correlation import comac, gap, pair_modes, real_shapes, serep
+from era.core.correlation import comac, gap, pair_modes, real_shapes, serep
 
 
 def _beam_modes(n_nodes=40, n_modes=8):

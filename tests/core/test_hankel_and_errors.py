@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-from era.hankel import block_hankel, shifts
+from era.core.hankel import block_hankel, shifts
 from era.examples.paper_cases import case_1, case_1_eigenvalues, case_2
 
 
@@ -47,7 +47,7 @@ def test_bad_hankel_parameters_are_refused_with_a_clear_message(kwargs, message)
 
 
 def test_too_large_a_hankel_is_refused_with_what_fits(monkeypatch):
-    monkeypatch.setattr(era.hankel, "MAX_HANKEL_ELEMENTS", 1000)
+    monkeypatch.setattr(era.core.hankel, "MAX_HANKEL_ELEMENTS", 1000)
     with pytest.raises(era.HankelError, match="90 × 90 .* below it"):
         era.identify(case_1(), rows=90, cols=90)
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from era.indicators import emac, mac, mpc
+from era.core.indicators import emac, mac, mpc
 
 
 def _printed_eq_52_54(c):

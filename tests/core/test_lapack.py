@@ -1,4 +1,4 @@
-"""era.lapack: the kept eigenvalues, right eigenvectors and rows of ψ^{-1} of a real matrix, GIL-free."""
+"""era.core.lapack: the kept eigenvalues, right eigenvectors and rows of ψ^{-1} of a real matrix, GIL-free."""
 
 import ctypes
 import sys
@@ -10,10 +10,10 @@ import pytest
 import scipy.linalg
 
 import era
-from era import lapack
+from era.core import lapack
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
-from era.decomposition import decompose, mode_order
+from era.core.decomposition import decompose, mode_order
 
 
 def _kept_eigvals(a):

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import era
-from era.uncertainty import Z95
+from era.core.uncertainty import Z95
 from oma_structures import ambient, shear_building
 
 N_RECORDS = 24
@@ -24,7 +24,7 @@ def monte_carlo():
     for r in range(N_RECORDS):
         y = ambient(s, 0.04, 300.0, noise=0.05, seed=500 + r)  # five minutes at 25 Hz
         data = era.markov_from_ambient(y, 0.04)
-        rows = data.markov.shape[0] * 45 // 100  # as era.analyse (era.suggest.hankel_size)
+        rows = data.markov.shape[0] * 45 // 100  # as era.analyse (era.core.suggest.hankel_size)
         m = era.identify(data, rows, rows, max_order=6).model(6)  # the structure's order: a fast test
         j = [int(np.argmin(np.abs(m.frequency_hz - f))) for f in s.frequency_hz]
         assert np.allclose(m.frequency_hz[j], s.frequency_hz, rtol=0.03), (r, m.frequency_hz)

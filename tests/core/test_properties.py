@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import era
-from era import indicators
-from era.decomposition import decompose
-from era.modal import build_model
+from era.core import indicators
+from era.core.decomposition import decompose
+from era.core.modal import build_model
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
 

@@ -7,7 +7,7 @@ import pytest
 import era
 from era.examples.synthetic import modal_response
 from era.markov import markov_from_ambient, markov_from_io
-from era.uncertainty import MIN_RECORDS, Z95
+from era.core.uncertainty import MIN_RECORDS, Z95
 
 F_HZ = np.array([2.0, 3.3])
 ZETA = np.array([0.02, 0.03])

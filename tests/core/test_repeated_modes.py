@@ -1,4 +1,4 @@
-"""μ of repeated modes: the eigenspace's basis that makes the shapes most real (era.decomposition.align_repeated)."""
+"""μ of repeated modes: the eigenspace's basis that makes the shapes most real (decomposition.align_repeated)."""
 
 import numpy as np
 import pytest
@@ -6,8 +6,8 @@ import pytest
 import era
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
-from era.indicators import mpc
-from era.decomposition import align_repeated, decompose
+from era.core.indicators import mpc
+from era.core.decomposition import align_repeated, decompose
 
 SHAPES = np.random.default_rng(5).standard_normal((8, 3))  # 8 sensors: μ of a complex mix is not trivially 1
 

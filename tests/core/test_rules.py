@@ -10,8 +10,8 @@ import era
 from era.discrepancy import measured_modes
 from era.examples.paper_cases import case_2
 from era.examples.synthetic import modal_response
-from era.stabilization import COHERENT_MIN
-from era.suggest import hankel_size, order_cap
+from era.core.stabilization import COHERENT_MIN
+from era.core.suggest import hankel_size, order_cap
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +37,7 @@ def test_named_modes_and_thresholds_combine(ident):
 def test_physical_only_keeps_decaying_pairs():
     z = np.array([0.9 * np.exp(0.3j), 1.05 * np.exp(0.5j), 0.5 + 0j, 0.95 * np.exp(1.0j)])
     # three pairs (one of them growing) and a real pole
-    model = era.modal.build_model(_real_form(z), np.ones((7, 1)), np.ones((2, 7)), np.ones((7, 1)), 0.01,
+    model = era.core.modal.build_model(_real_form(z), np.ones((7, 1)), np.ones((2, 7)), np.ones((7, 1)), 0.01,
                                   np.array([0]), np.array([0]))
     kept = era.kept_modes(model, physical_only=True)
     assert model.n_modes == 4 and kept.size == 2

@@ -9,7 +9,7 @@ import pytest
 
 import era
 from era.examples.synthetic import ambient_response
-from era.setups import combine, merge
+from era.setups.merge import combine, merge
 
 FREQUENCY_HZ = np.array([2.0, 5.5, 9.0, 14.0])
 DAMPING = np.array([0.015, 0.01, 0.012, 0.01])
@@ -300,8 +300,8 @@ def test_merged_points_are_placed_on_each_setups_geometry():
                          np.tile([0.0, 0, 1], (2 + len(ROVING[k]), 1))) for k in range(4)]
     geos[2] = None  # a setup without geometry: its points are not placed
     result = merge(analyses(), [[0, 1]] * 4)
-    g = era.setups.merged_geometry(geos, result)
+    g = era.setups.merge.merged_geometry(geos, result)
     order = REFERENCES + [i for rov in ROVING for i in rov]
     expect = np.where(result.point_setup == 2, -1, order)
     np.testing.assert_array_equal(g.channel_nodes, expect)
-    assert era.setups.merged_geometry([None] * 4, result) is None
+    assert era.setups.merge.merged_geometry([None] * 4, result) is None

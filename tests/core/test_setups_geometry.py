@@ -1,11 +1,11 @@
-"""The points table of a multi-setup test (era.setup_geometry): parsed as typed, placed on the merged points by
+"""The points table of a multi-setup test (era.setups.geometry): parsed as typed, placed on the merged points by
 their names, refused with the row that is wrong."""
 
 import numpy as np
 import pytest
 
 import era
-from era.setup_geometry import parse_points, point_aliases, points_geometry
+from era.setups.geometry import parse_points, point_aliases, points_geometry
 
 TABLE = """point,x,y,z,direction
 S1:ch1, 0, 0, 1, x

@@ -1,4 +1,4 @@
-"""Merging before identifying (era.setup_preger, PreGER): the beam's four setups as exact correlation functions
+"""Merging before identifying (era.setups.preger, PreGER): the beam's four setups as exact correlation functions
 (the closed form of NExT's correlations for modes driven by independent white noise), each setup at its own
 excitation level. Stacked on one scale and identified once, every mode is known at every point and matches the
 exact shape sin(jπx); when the modes' excitation changes shape from setup to setup, one factor per setup no longer
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import era
-from era.setup_preger import merge_correlations
+from era.setups.preger import merge_correlations
 from tests.simulated_setups import DAMPING, DT, FREQUENCY_HZ, LEVELS, REFERENCES, ROVING, TRUE_SHAPES, truth_at
 
 N_LAGS = 200

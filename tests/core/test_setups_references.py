@@ -9,7 +9,7 @@ import numpy as np
 
 import era
 from era.examples.synthetic import ambient_response
-from era.setups import merge
+from era.setups.merge import merge
 from tests.simulated_setups import DT, TOWER_HZ, TOWER_REFERENCES, TOWER_ROVING, tower_records, tower_truth
 
 TRUE_REFERENCES = [[4, 5], [6, 7], [6, 7], [6, 7]]  # ch5, ch6 in setup 1; ch7, ch8 in setups 2-4

@@ -32,7 +32,7 @@ def test_no_svd_is_recomputed(noisy, monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("stabilization must not call an SVD")
 
-    monkeypatch.setattr(era.svd, "dense_svd", forbidden)
+    monkeypatch.setattr(era.core.svd, "dense_svd", forbidden)
     monkeypatch.setattr(np.linalg, "svd", forbidden)
     era.stabilization(ident, orders=range(2, 41, 2))
 
@@ -98,11 +98,11 @@ def test_stable_poles_carry_the_standard_deviations_of_their_order_model(noisy):
 
 
 def test_gamma_without_the_histories_equals_gamma_from_them_with_any_column_shifts():
-    """era.sweep.sweep_emac (inner products from Q^T arranged by shift and the conjugate powers) against
+    """era.core.sweep.sweep_emac (inner products from Q^T arranged by shift and the conjugate powers) against
     indicators.emac on the histories themselves, with non-consecutive column shifts and orders of several
     widths in one batch (zero-padded rows)."""
-    from era import indicators
-    from era.sweep import sweep_emac
+    from era.core import indicators
+    from era.core.sweep import sweep_emac
 
     rng = np.random.default_rng(7)
     m, shifts, k = 3, np.array([0, 1, 3, 4, 7, 11]), 9

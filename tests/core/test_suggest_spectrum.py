@@ -5,8 +5,8 @@ import pytest
 
 import era
 import era.examples.paper_cases
-from era.spectrum import cmif
-from era.suggest import hankel_size, order_from_singular_values
+from era.core.spectrum import cmif
+from era.core.suggest import hankel_size, order_from_singular_values
 
 
 def test_case_1_gets_the_papers_hankel_size():

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import era
-from era.svd import dense_svd, randomized_svd
+from era.core.svd import dense_svd, randomized_svd
 from era.examples.synthetic import modal_response
 
 
@@ -32,7 +32,7 @@ def test_randomized_triplets_are_orthonormal():
 
 
 def test_auto_switches_to_randomized_above_the_work_limit(monkeypatch):
-    monkeypatch.setattr(era.svd, "DENSE_SVD_WORK_LIMIT", 1e3)
+    monkeypatch.setattr(era.core.svd, "DENSE_SVD_WORK_LIMIT", 1e3)
     data, _ = modal_response([1.0], 0.01, 1, 1, 100, 0.05, seed=0)
     assert era.identify(data, rows=20, cols=20, max_order=10).svd_method == "randomized"
 

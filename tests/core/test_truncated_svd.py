@@ -9,7 +9,7 @@ import pytest
 import era
 from era.examples.paper_cases import case_1
 from era.examples.synthetic import modal_response
-from era.svd import dense_svd, truncated_svd
+from era.core.svd import dense_svd, truncated_svd
 
 
 def test_auto_takes_the_truncated_svd_only_when_the_order_is_far_below_the_shape():
@@ -66,7 +66,7 @@ def test_gram_eigenvectors_by_inverse_iteration_on_a_flat_noise_floor_match_the_
     and the MRRR fallback when inverse iteration reports failure."""
     import scipy.linalg
     from unittest import mock
-    from era import svd
+    from era.core import svd
 
     rng = np.random.default_rng(3)
     basis, _ = np.linalg.qr(rng.standard_normal((400, 400)))
@@ -91,7 +91,7 @@ def test_inverse_iteration_in_two_threads_equals_one_stein_and_refuses_a_split_t
     cut is repeated (the two parts then find the same directions) the split is refused and the caller runs one
     stein."""
     import scipy.linalg
-    from era import svd
+    from era.core import svd
 
     rng = np.random.default_rng(4)
     basis, _ = np.linalg.qr(rng.standard_normal((300, 300)))
@@ -119,12 +119,12 @@ def test_inverse_iteration_in_two_threads_equals_one_stein_and_refuses_a_split_t
 
 def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in_two_steps_equal_ormqr():
     """gram_eigen(workers=2) (the reflectors' block factors beside sterf, stein in two parts, the factors
-    applied after) against workers=1 (sterf, one stein, ormqr), and era.lapack's two steps against ormqr on
+    applied after) against workers=1 (sterf, one stein, ormqr), and era.core.lapack's two steps against ormqr on
     sizes around the block of 64 reflectors."""
     from unittest import mock
 
     import scipy.linalg
-    from era import lapack, svd
+    from era.core import lapack, svd
 
     rng = np.random.default_rng(6)
     basis, _ = np.linalg.qr(rng.standard_normal((260, 260)))
@@ -136,7 +136,7 @@ def test_gram_eigen_with_a_second_thread_equals_one_thread_and_the_reflectors_in
     assert np.abs(v2.T @ v2 - np.eye(70)).max() < 1e-13
     assert np.abs(gram @ v2 - v2 * w2[:70]).max() < 1e-12 * w2[0]
     np.testing.assert_allclose(np.abs(np.einsum("ij,ij->j", v1, v2)), 1.0, atol=1e-12)
-    # only the upper triangle is read (era.hankel.gram leaves the rest unset), in the matrix's own memory when
+    # only the upper triangle is read (era.core.hankel.gram leaves the rest unset), in the matrix's own memory when
     # allowed; the caller's ``beside`` runs once, in the helper thread beside sterf or first with one worker
     for workers in (1, 2):
         upper, called = np.triu(gram) + np.tril(np.full_like(gram, np.nan), -1), []
@@ -165,7 +165,7 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
     square, wide and tall shapes; then identify (which takes the FFT products on 900 × 2392) against the same
     identification from the dense H(0)."""
     from unittest import mock
-    from era import hankel
+    from era.core import hankel
 
     rng = np.random.default_rng(5)
     for p, m, r, s in [(3, 2, 7, 7), (2, 3, 5, 11), (4, 1, 13, 3), (1, 1, 1, 1)]:
@@ -201,7 +201,7 @@ def test_hankel_products_by_fft_equal_the_dense_matrix_and_identify_does_not_cha
     with mock.patch.object(hankel, "fft_pays", return_value=False):
         plain = era.identify(data, 100, 299, max_order=120)
     np.testing.assert_allclose(fast.singular_values[:120], plain.singular_values[:120], rtol=1e-12)
-    # past the rank, from the Gram matrix's eigenvalues: to ε d_1² / d_i² (era.svd.truncated_svd)
+    # past the rank, from the Gram matrix's eigenvalues: to ε d_1² / d_i² (era.core.svd.truncated_svd)
     np.testing.assert_allclose(fast.singular_values, plain.singular_values, rtol=1e-9)
     np.testing.assert_allclose(np.abs(np.sum(fast.Q * plain.Q, axis=0)), 1.0, atol=1e-9)
     np.testing.assert_allclose(fast.model(40, uncertainty=False).eigenvalues,

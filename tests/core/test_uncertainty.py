@@ -1,11 +1,11 @@
-"""Each mode's standard deviations from the data (era.uncertainty): 95 % intervals hold the truth 95 % of the time."""
+"""Each mode's σ from the data (era.core.uncertainty): 95 % intervals hold the truth 95 % of the time."""
 
 import numpy as np
 import pytest
 
 import era
 from era.examples.synthetic import modal_response
-from era.uncertainty import Z95, modal_std
+from era.core.uncertainty import Z95, modal_std
 
 F_HZ = np.array([2.0, 3.3])
 ZETA = np.array([0.02, 0.03])

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import era
-from era.analysis import diagram_orders
+from era.choice.analysis import diagram_orders
 from era.discrepancy import identify_modes, measured_modes
 from era.discrepancy.measured import input_weights
 from era.examples.paper_cases import case_2

@@ -1,12 +1,12 @@
-"""Issue 26: a roving-hammer test's struck points are sensors for explain's comparison too (era.points' labels in
+"""Issue 26: a roving-hammer test's struck points are sensors for explain's comparison too (era.setups.points' labels in
 data.meta["input_points"] that name a node and direction of the era.Frame become extra shape rows)."""
 
 import dataclasses
 
 import numpy as np
 
-from era.correlation import mac
-from era.data import ResponseData
+from era.core.correlation import mac
+from era.core.data import ResponseData
 from era.discrepancy import explain
 from era.discrepancy.overlay import overlay
 from era.discrepancy.weights import frame_point

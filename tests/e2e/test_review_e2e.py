@@ -9,7 +9,7 @@
   "1 channel(s), 1 record(s)"), and the dataset's conversion names its start sample (was "sample(s) [1826]");
 - the modes table shows "—" where a number would mislead: frequency and damping of a real pole (no oscillation),
   μ and 1 − MAC with one sensor (1 and 0 by construction), each with its reason on hover; the close pair's ± is
-  marked as the group's (one σ by design, era.decomposition.repeated_clusters);
+  marked as the group's (one σ by design, era.core.decomposition.repeated_clusters);
 - the model step says in words, not only on hover, why "Describe it from the test geometry" is disabled;
 - the shape bar chart's legend is above its plot area (its white box covered the top of the bars).
 

@@ -13,7 +13,7 @@ from fastapi import FastAPI
 from fastapi.responses import HTMLResponse, Response
 
 from app.viewer import ModeViewer
-from era.geometry import Geometry
+from era.core.geometry import Geometry
 
 SENSOR_XY = [(x, y) for y in (1, 4, 6) for x in (1, 5, 9)]
 

@@ -8,7 +8,7 @@ import pytest
 from era.errors import DataError
 from era.examples.grid import CABLES_FT, joint_index, nasa_grid
 from era.fem.statics import G_STANDARD
-from era.geometry import Geometry
+from era.core.geometry import Geometry
 from era.structure import Frame, Section
 
 TOML_PORTAL = """

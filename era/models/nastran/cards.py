@@ -7,8 +7,9 @@ import re
 
 import numpy as np
 
-from .records import (BushCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard,
-                      ShellSection, SpcCard, SpringCard)
+from .records import (
+    BushCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard, ShellSection,
+    SpcCard, SpringCard)
 from .sections import DIMENSIONS, section_properties
 from .values import BulkCard, nastran_real
 

@@ -29,7 +29,7 @@ def blas_threads() -> int:
 def single_threaded_blas():
     """A context with one BLAS thread (process-wide while it lasts): for work that a threaded BLAS slows down,
     such as small eigensolutions and batched products run side by side in the sweep's own threads
-    (era.sweep.in_parallel)."""
+    (era.core.sweep.in_parallel)."""
     return blas_threads_limited(1)
 
 

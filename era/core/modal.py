@@ -1,4 +1,4 @@
-"""The modal model: eigensolution of a realization (eqs. 40-41, era/decomposition.py), its indicators, reduction
+"""The modal model: eigensolution of a realization (eqs. 40-41, era/core/decomposition.py), its indicators, reduction
 and reconstruction."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 
 from . import indicators
 from .decomposition import ModalDecomposition, continuous_eigenvalues, decompose, modal_sum, mode_order
-from .errors import EraError
+from ..errors import EraError
 from .selection import kept_modes
 
 
@@ -42,10 +42,10 @@ class ModalModel:
         "ERA", "A1" or "A2".
     frequency_std_hz, damping_std : (modes,)
         Standard deviation of the damped frequency (Hz) and of the damping ratio that the data determine, to
-        first order from the scatter of the Hankel matrices (era.uncertainty: residual blocks of the record,
+        first order from the scatter of the Hankel matrices (era.core.uncertainty: residual blocks of the record,
         or the records' scatter). A 95 % interval is value ± 1.96·std (:meth:`frequency_interval_hz`,
         :meth:`damping_interval`). NaN where not computed (A1/A2, or ``uncertainty=False``). For a repeated
-        mode (a cluster, see era.modal.align_repeated) the largest of the cluster's.
+        mode (a cluster, see era.core.modal.align_repeated) the largest of the cluster's.
     uncertainty_source : str
         Which covariance gave them: "σ from N records" (the scatter of independent records) or "σ from one
         record's residuals" (residual blocks); "" when not computed.
@@ -157,7 +157,7 @@ class ModalModel:
         physical_only : bool
             Keep only complex pairs that decay (0 < ζ < 1).
 
-        The rule is :func:`era.selection.kept_modes` (named modes AND thresholds).
+        The rule is :func:`era.core.selection.kept_modes` (named modes AND thresholds).
 
         Returns
         -------

@@ -1,4 +1,4 @@
-"""The uncertainty of an identification's modes, from era.uncertainty's first-order functionals: the covariance
+"""The uncertainty of an identification's modes, from era.core.uncertainty's first-order functionals: the covariance
 of the poles, the standard deviations of frequency and damping, and the scatter of the shapes, from the residual
 blocks of one record or the scatter of independent records.
 
@@ -11,9 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 from .decomposition import ModalDecomposition, align_repeated, modal_sum
-from .errors import EraError
-from .uncertainty import (MIN_RECORDS, PoleCovariance, block_sums, correlation_length, modal_std, pole_functionals,
-                          record_covariance, residual_covariance)
+from ..errors import EraError
+from .uncertainty import (
+    MIN_RECORDS, PoleCovariance, block_sums, correlation_length, modal_std, pole_functionals, record_covariance,
+    residual_covariance)
 
 
 def mode_std(ident, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
@@ -37,20 +38,20 @@ def mode_std(ident, order: int, raw: ModalDecomposition, modes, clusters=()) -> 
 
 def shape_scatter(ident, n: int, raw: ModalDecomposition, perm: np.ndarray, clusters, modes=None) -> np.ndarray:
     """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``ident.model(n)`` (the scatter the data leave
-    in the shape), to first order from the residual blocks of era.uncertainty; ``raw`` is the order-n
+    in the shape), to first order from the residual blocks of era.core.uncertainty; ``raw`` is the order-n
     decomposition before the repeated modes were aligned, ``perm`` the model's mode order as indices into it,
     ``clusters`` its repeated clusters.
 
-    The shape is the first block of H(0) b_j (b_j as in era.uncertainty), so a perturbation moves it by
+    The shape is the first block of H(0) b_j (b_j as in era.core.uncertainty), so a perturbation moves it by
     Δφ_j = (ΔH(0) b_j)[:p] + Σ_{k≠j} φ_k a_k (ΔH(1) - z_j ΔH(0)) b_j / (z_j - z_k) (the pencil's eigenvector
     perturbation, the sum over all n eigenvalues, conjugates included; the part of Δb_j outside the
     signal subspace is annihilated by H(0)). 1 - MAC ≈ |Δφ_⊥|² / |φ|² with Δφ_⊥ the part orthogonal to φ;
     its expectation is the sum over the independent blocks (or, with records as in :func:`records_used`,
-    the records' scatter divided by n_b (n_b - 1), as era.uncertainty.record_covariance). Cost: n pole
+    the records' scatter divided by n_b (n_b - 1), as era.core.uncertainty.record_covariance). Cost: n pole
     functionals per mode, so it is not part of era.Identification.model; ``modes`` indexes the model's modes
     (default all).
 
-    A member of a repeated cluster (era.decomposition.repeated_clusters) leaves the cluster's other members out of
+    A member of a repeated cluster (era.core.decomposition.repeated_clusters) leaves the cluster's other members out of
     the sum: within their shared eigenspace the basis is a choice (align_repeated), not a scatter.
 
     Returns
@@ -101,7 +102,7 @@ def shape_scatter(ident, n: int, raw: ModalDecomposition, perm: np.ndarray, clus
 
 def records_used(ident, records=None) -> np.ndarray | None:
     """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
-    ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
+    ``data.records`` when it holds at least era.core.uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
     if records is not None:
         records = np.asarray(records, dtype=float)
         n_samples, p, m = ident.data.markov.shape
@@ -117,7 +118,7 @@ def records_used(ident, records=None) -> np.ndarray | None:
 
 def pole_covariance(ident, n: int, dec: ModalDecomposition, modes=None, records=None) -> PoleCovariance:
     """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
-    (from :func:`era.decomposition.decompose` of ``ident.balanced(n)``): see era.uncertainty. ``modes`` indexes dec
+    (from :func:`era.core.decomposition.decompose` of ``ident.balanced(n)``): see uncertainty. ``modes`` indexes dec
     (default all); ``records`` as in era.Identification.model (default ``data.records`` if there are enough)."""
     records = records_used(ident, records)
     d = ident.data

@@ -11,10 +11,10 @@ import numpy as np
 from . import hankel, mode_uncertainty, svd
 from .blas import blas_threads, single_threaded_blas
 from .data import ResponseData
-from .errors import EraError, HankelError, OrderError
-from .points import with_points
-from .decomposition import (ModalDecomposition, align_repeated, cluster_candidates, decompose, mode_order,
-                            repeated_clusters)
+from ..errors import EraError, HankelError, OrderError
+from ..setups.points import with_points
+from .decomposition import (
+    ModalDecomposition, align_repeated, cluster_candidates, decompose, mode_order, repeated_clusters)
 from .modal import ModalModel, build_model
 from .uncertainty import PoleCovariance, modal_std, source_label
 
@@ -30,7 +30,7 @@ class Identification:
         (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
         d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD and for the truncated one of a
-        noisy H(0) (past K from the Gram matrix's eigenvalues: era.svd.truncated_svd), else the computed rank.
+        noisy H(0) (past K from the Gram matrix's eigenvalues: era.core.svd.truncated_svd), else the computed rank.
     P : (r p, K), Q : (s m, K)
         Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
     svd_method : "dense", "truncated" or "randomized"
@@ -154,14 +154,14 @@ class Identification:
         order : int
             n.
         uncertainty : bool
-            Compute each mode's frequency_std_hz and damping_std (era.uncertainty; 1.5-4× the time of the
+            Compute each mode's frequency_std_hz and damping_std (era.core.uncertainty; 1.5-4× the time of the
             model without them, most at high orders with many outputs·inputs). False leaves them NaN; poles
             with a close neighbour still get theirs computed internally to decide which modes are repeated
-            (era.decomposition.repeated_clusters).
+            (era.core.decomposition.repeated_clusters).
         records : (n_b, N, p, m) array, optional
             The independent records whose mean is ``data.markov``: the covariance comes from their scatter
-            (era.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
-            ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS records (:meth:`records_used`);
+            (era.core.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
+            ``data.records`` when it holds at least era.core.uncertainty.MIN_RECORDS records (:meth:`records_used`);
             the model's ``uncertainty_source`` says which was used.
         """
         return self._model(order, uncertainty, records)[0]
@@ -183,9 +183,9 @@ class Identification:
 
     def decomposed(self, n: int, uncertainty: bool, records=None, histories: bool = True):
         """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
-        eigensolver gives them, ``dec`` with the repeated modes aligned (era.decomposition.align_repeated), the
+        eigensolver gives them, ``dec`` with the repeated modes aligned (era.core.decomposition.align_repeated), the
         clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
-        ``histories`` the modal histories are not formed (era.sweep forms those of many orders together)."""
+        ``histories`` the modal histories are not formed (era.core.sweep forms those of many orders together)."""
         d = self.data
         p, m = d.n_outputs, d.n_inputs
         root = np.sqrt(self.singular_values[:n])
@@ -210,12 +210,12 @@ class Identification:
     def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
         """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
         ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest
-        (era.mode_uncertainty.mode_std)."""
+        (era.core.mode_uncertainty.mode_std)."""
         return mode_uncertainty.mode_std(self, order, raw, modes, clusters)
 
     def shape_scatter(self, order: int, modes=None) -> np.ndarray:
         """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)``: the scatter the data leave
-        in the shape, to first order (era.mode_uncertainty.shape_scatter for how). Cost: n pole functionals per
+        in the shape, to first order (era.core.mode_uncertainty.shape_scatter for how). Cost: n pole functionals per
         mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
 
         Returns
@@ -228,7 +228,7 @@ class Identification:
 
     def records_used(self, records=None) -> np.ndarray | None:
         """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
-        ``data.records`` when it holds at least era.uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
+        ``data.records`` when it holds at least uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
         return mode_uncertainty.records_used(self, records)
 
     def uncertainty_source(self, records=None) -> str:
@@ -240,7 +240,7 @@ class Identification:
     def pole_covariance(self, order: int, dec: ModalDecomposition, modes=None,
                         records=None) -> PoleCovariance:
         """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
-        (from :func:`era.decomposition.decompose` of :meth:`balanced`): see era.uncertainty. ``modes`` indexes dec
+        (from :func:`era.core.decomposition.decompose` of :meth:`balanced`): see uncertainty. ``modes`` indexes dec
         (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough)."""
         return mode_uncertainty.pole_covariance(self, self._check_order(order), dec, modes, records)
 
@@ -309,12 +309,12 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
         The largest order needed. Default: the numerical rank of H(0) (singular values above
         max(r p, s m)·ε·d_1). With the randomized SVD, the rank computed (default 200).
     svd_method : "auto", "dense", "truncated" or "randomized"
-        "auto" takes the truncated SVD of rank max_order (era.svd.truncated_svd) when max_order is at most
-        era.svd.TRUNCATED_RANK_FRACTION of min(shape) of H(0) — the sweep of orders 2..120 on a 900 × 2392
+        "auto" takes the truncated SVD of rank max_order (era.core.svd.truncated_svd) when max_order is at most
+        era.core.svd.TRUNCATED_RANK_FRACTION of min(shape) of H(0) — the sweep of orders 2..120 on a 900 × 2392
         H(0) then costs less than half of one dense SVD; else the dense LAPACK SVD unless min(shape)²·max(shape)
-        exceeds era.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
+        exceeds era.core.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
 
-    Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.hankel.MAX_HANKEL_ELEMENTS elements.
+    Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.core.hankel.MAX_HANKEL_ELEMENTS elements.
 
     Returns
     -------
@@ -332,7 +332,7 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
         max_order = _count(max_order, "max_order")
     method = svd.choose_method((r * p, s * m), svd_method, max_order)
     if method == "truncated" and hankel.is_consecutive(js, ts):
-        # its products by FFT, or by BLAS on H(0) formed beside the eigenvalues (era.svd.truncated_svd)
+        # its products by FFT, or by BLAS on H(0) formed beside the eigenvalues (era.core.svd.truncated_svd)
         h0 = hankel.HankelOperator(data.markov, r, s)
     else:
         h0 = hankel.block_hankel(data.markov, js, ts, 0)
@@ -340,7 +340,7 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
         P, d, Q = svd.dense_svd(h0)
     elif method == "truncated":
         threads = blas_threads()
-        with single_threaded_blas():  # one limit for both: lifting it between them costs 2-4 ms (era.blas)
+        with single_threaded_blas():  # one limit for both: lifting it between them costs 2-4 ms (era.core.blas)
             P, d, Q = svd.truncated_svd(h0, max_order or min(200, *h0.shape),
                                         hankel.gram(data.markov, js, ts, h0, threads), threads)
     else:

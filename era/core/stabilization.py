@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import EraError
+from ..errors import EraError
 from .realization import Identification
 from .blas import blas_threads, single_threaded_blas
 from .sweep import in_parallel, order_indicators, realize_orders
@@ -15,7 +15,7 @@ from .sweep import in_parallel, order_indicators, realize_orders
 #: A suggested mode is coherent when its mean γ·μ reaches this (marked in the diagram as a likely physical mode).
 COHERENT_MIN = 0.9
 #: A cluster whose poles' median frequency σ from the data reaches this fraction of its frequency is too uncertain to
-#: be a mode (era.choice); ``stabilization(..., uncertainty="choice")`` computes enough of the σ to tell.
+#: be a mode (era.choice.choose); ``stabilization(..., uncertainty="choice")`` computes enough of the σ to tell.
 UNCERTAIN_FRACTION = 0.5
 
 
@@ -28,7 +28,7 @@ class StableMode:
     orders : the orders where it appears; pole_indices : its poles in the Stabilization arrays;
     shape : (p,) complex, the shape at the highest of those orders;
     data_frequency_std_hz, data_damping_std : the standard deviations the data give at that highest order
-    (era.uncertainty; NaN when the diagram was computed without them). The spread across orders is not an
+    (era.core.uncertainty; NaN when the diagram was computed without them). The spread across orders is not an
     uncertainty of the data: it shrinks as more orders agree on the same biased value.
     """
 
@@ -58,7 +58,7 @@ class Stabilization:
     order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
     frequency_std_hz, damping_std : each stable pole's standard deviations from the data (ModalModel's; NaN
         for the other poles, and for all unless ``stabilization(..., uncertainty=True)``; with
-        ``uncertainty="choice"`` only for the poles era.choice reads, see :func:`stabilization`).
+        ``uncertainty="choice"`` only for the poles era.choice.choose reads, see :func:`stabilization`).
     uncertainty_source : which scatter they come from ("σ from N records" / "σ from one record's residuals",
         as ModalModel.uncertainty_source); "" without them.
     mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
@@ -204,7 +204,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     uncertainty : bool or "choice"
         True: also the standard deviations from the data (ModalModel.frequency_std_hz, damping_std) of every
         stable pole (NaN for the others): about the work of the sweep again (tests/bench/bench_sweep.py).
-        "choice": the same numbers for the poles whose σ era.choice reads, NaN for the others, and the same
+        "choice": the same numbers for the poles whose σ era.choice.choose reads, NaN for the others, and the same
         choice for about a third of the work: each suggested mode's last pole (``data_frequency_std_hz``), the
         stable poles of the top order when it is the identification's max_order (the exact-rank choice), and
         of each mode's other poles enough to tell whether their median σ of the frequency reaches
@@ -229,7 +229,7 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
     done = [n for n in req if n <= ident.max_order]
     workers = blas_threads() if workers is None else max(1, int(workers))
     with single_threaded_blas():  # all of it: its threads have one BLAS thread each, and one limit for the
-        # whole (each limit lifted costs 0.2-4 ms, era.blas) keeps the small products after them on one thread
+        # whole (each limit lifted costs 0.2-4 ms, era.core.blas) keeps the small products after them on one thread
         return _stabilization(ident, done, freq_tol, damping_tol, mac_min, min_orders, uncertainty, workers)
 
 
@@ -282,7 +282,7 @@ def _data_std(ident, sw, done, wanted, f_std, d_std, workers) -> None:
 
 
 def _choice_std(ident, sw, done, stable, tracks, f_std, d_std, workers) -> None:
-    """The σ era.choice reads (``stabilization(..., uncertainty="choice")``), in two rounds: each track's last
+    """The σ era.choice.choose reads (``stabilization(..., uncertainty="choice")``), in two rounds: each track's last
     pole and its ⌊N/2⌋ lowest others (a median below UNCERTAIN_FRACTION of the frequency needs ⌊N/2⌋ + 1 of
     the N values below it, and then the median of any superset of them is below too), then every pole of the
     tracks where one of those is not below."""

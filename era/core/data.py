@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import DataError
-from .words import counted
+from ..errors import DataError
+from ..words import counted
 
 
 def _labels(given, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
@@ -57,8 +57,8 @@ class ResponseData:
     records : array_like, shape (n_b, N, p, m), optional
         Independent estimates of the same pulse responses, one per record of the same test (repeated hits, NExT
         segments), of which ``markov`` is the mean or the pooled estimate. Their scatter gives each mode's
-        standard deviation (era.uncertainty.record_covariance) when there are at least
-        era.uncertainty.MIN_RECORDS of them; era.markov's builders fill it when given several comparable records.
+        standard deviation (era.core.uncertainty.record_covariance) when there are at least
+        era.core.uncertainty.MIN_RECORDS of them; era.markov's builders fill it when given several comparable records.
     """
 
     markov: np.ndarray

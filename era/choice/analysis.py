@@ -1,5 +1,5 @@
 """analyse(): the default analysis in one call: Hankel size, orders, one SVD, the stabilization diagram with the
-data's uncertainty, and the automatic choice of the structure's modes (era.choice)."""
+data's uncertainty, and the automatic choice of the structure's modes (era.choice.choose)."""
 
 from __future__ import annotations
 
@@ -7,14 +7,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .choice import ModeChoice, choose_modes
-from .data import ResponseData
-from .errors import DataError, EraError
-from .hankel import MAX_HANKEL_ELEMENTS
-from .modal import ModalModel
-from .realization import Identification, identify
-from .stabilization import Stabilization, stabilization
-from .suggest import hankel_size
+from .choose import ModeChoice, choose_modes
+from ..core.data import ResponseData
+from ..errors import DataError, EraError
+from ..core.hankel import MAX_HANKEL_ELEMENTS
+from ..core.modal import ModalModel
+from ..core.realization import Identification, identify
+from ..core.stabilization import Stabilization, stabilization
+from ..core.suggest import hankel_size
 
 #: The largest order realized by default (H(0)'s leading singular triplets kept).
 DEFAULT_MAX_ORDER = 200
@@ -32,7 +32,7 @@ class AnalysisResult:
     identification : the one SVD (era.Identification); stabilization : the diagram over ``orders``;
     order : the diagram order at which every chosen mode has a pole; model : the ModalModel of exactly the chosen
     modes at that order, sorted by frequency, with the data's standard deviations (``frequency_std_hz``,
-    ``damping_std``); choice : the verdict on every cluster (era.choice.ModeChoice); rejected : every candidate
+    ``damping_std``); choice : the verdict on every cluster (era.choice.choose.ModeChoice); rejected : every candidate
     left out, each with its reason in words (``choice.rejected``); band_hz : the band the choice used.
     """
 
@@ -72,7 +72,7 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
     ----------
     data : era.ResponseData (pulse responses, free decays, or NExT correlation functions), (N, p, m).
     rows, cols : block rows r and columns s of H(0) (eq. 16, consecutive shifts); default
-        :func:`era.suggest.hankel_size` (about 45 % of N each, H(0) at most ``max_elements`` elements).
+        :func:`era.core.suggest.hankel_size` (about 45 % of N each, H(0) at most ``max_elements`` elements).
     max_order : the largest order realized; default min(r·p, s·m, DEFAULT_MAX_ORDER).
     orders : the diagram's orders; default every even order from 2 to min(max_order, DIAGRAM_MAX_ORDER).
     band_hz : (low, high) Hz, the band the data hold; default ``data.meta["band_hz"]`` (FRF data), else

@@ -1,18 +1,18 @@
-"""How much a cluster of the stabilization diagram is worth as a mode of the structure (era.choice's step 3).
+"""How much a cluster of the stabilization diagram is worth as a mode of the structure (era.choice.choose's step 3).
 
 A mode of the structure stands above the noise and persists over the orders: its poles' amplitude |c||b| (the
 contribution to H(0) without the decay factor, so nearly undamped poles that fit noise do not rank with modes)
 over the median amplitude of the top order's poles that are not modes, and the fraction of the orders, from the
 first where it appears, that hold it. The paper's γ·μ counts too (Pappa's consistent-mode indicator). Pure functions
-of the diagram's arrays and the groups of clusters (each a list of era.choice.Candidate, the strongest first).
+of the diagram's arrays and the groups of clusters (each a list of era.choice.choose.Candidate, the strongest first).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .indicators import mac
-from .stabilization import COHERENT_MIN
+from ..core.indicators import mac
+from ..core.stabilization import COHERENT_MIN
 
 #: The evidence a mode needs: persistence × log10(strength) ≥ MIN_EVIDENCE, where persistence is the fraction of
 #: the diagram's orders, from the first where it appears, that have it, and strength its pole amplitude over that
@@ -149,7 +149,7 @@ def _verdict(f: dict, n_orders: int) -> tuple | None:
 
 
 def pole_amplitudes(stab, ident) -> np.ndarray:
-    """(n_poles,) each pole's initial amplitude |c||b|: its contribution to H(0) (era.indicators.contribution)
+    """(n_poles,) each pole's initial amplitude |c||b|: its contribution to H(0) (era.core.indicators.contribution)
     without the factor its decay over the Hankel matrix's shifts gives it, sqrt(Σ_i |z|^{2 j_i} Σ_i |z|^{2 t_i}).
     A nearly undamped pole that fits noise spreads a small amplitude over the whole matrix; its contribution
     would rank it with the modes, its amplitude does not."""

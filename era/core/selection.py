@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import EraError
+from ..errors import EraError
 
 
 def _fraction(value, name: str) -> float | None:

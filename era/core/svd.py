@@ -10,7 +10,7 @@ import numpy as np
 import scipy.linalg
 
 from .blas import blas_threads, blas_threads_limited, single_threaded_blas, workers_can_rest
-from .errors import EraError
+from ..errors import EraError
 from .lapack import apply_reflectors, reflector_blocks, stein, sterf
 
 #: H(0) switches to the randomized path when min(shape)² · max(shape) exceeds this (about 3-5 s of dense
@@ -18,7 +18,7 @@ from .lapack import apply_reflectors, reflector_blocks, stein, sterf
 DENSE_SVD_WORK_LIMIT = 8e9
 
 #: "auto" takes the truncated SVD when the rank asked is at most this fraction of min(shape) ("far below"):
-#: its cost, the Gram matrix (era.hankel.gram: a recursion for a block Hankel H(0)) and one tridiagonal
+#: its cost, the Gram matrix (era.core.hankel.gram: a recursion for a block Hankel H(0)) and one tridiagonal
 #: reduction of min(shape)², is then at most about 0.6 of gesdd's on a square H(0) (792 × 798: 0.48 at rank
 #: 200, 0.70 at rank 300) and less on an oblong one (900 × 2392 at rank 120: 0.15; tests/bench/bench_sweep.py).
 TRUNCATED_RANK_FRACTION = 1 / 3
@@ -27,7 +27,7 @@ TRUNCATED_RANK_FRACTION = 1 / 3
 TRUNCATED_MAX_SIDE = 6000
 
 #: truncated_svd reduces a Gram matrix of at least this order to tridiagonal form with the caller's BLAS threads
-#: even when OpenBLAS's workers cannot be stopped afterwards (era.blas.workers_can_rest: another Python thread
+#: even when OpenBLAS's workers cannot be stopped afterwards (era.core.blas.workers_can_rest: another Python thread
 #: runs); below it the reduction is too short for that: on 900 × 2392 two threads take it from 41 to 26 ms, but
 #: the workers then spin into the sweep's threads 35 ms later and cost them more (the 2-thread sweep 245 → 250
 #: ms); on 1280 × 2000 they take it from ~120 to ~75 ms, ahead of 70 ms of one-thread work
@@ -113,17 +113,17 @@ def truncated_svd(h: np.ndarray, rank: int, gram: np.ndarray | None = None,
     power iterations stall. Lanczos (scipy.sparse.linalg.svds with PROPACK or ARPACK) is as accurate but, at
     rank 120, is no faster than gesdd on these sizes.
 
-    ``h`` may also be a linear operator with ``h.T @ v`` (era.hankel.HankelOperator: products by FFT, without
+    ``h`` may also be a linear operator with ``h.T @ v`` (era.core.hankel.HankelOperator: products by FFT, without
     forming H(0)); when it has a ``prepare()`` (one that forms H(0) for BLAS products), that runs in a second
     thread while the first finds the eigenvalues (:func:`gram_eigen`'s ``beside``). ``gram``: the Gram matrix
-    of the shorter side (its upper triangle) when the caller has it (era.hankel.gram builds that of a block
+    of the shorter side (its upper triangle) when the caller has it (era.core.hankel.gram builds that of a block
     Hankel matrix by a recursion, without the product); its memory is reused, so it is lost to the caller.
     ``threads``: the BLAS threads to use (default: as the caller has; a caller already inside a one-thread
     limit passes its own count).
 
-    BLAS runs with one thread (era.blas: the stabilization's own threads follow) except in the tridiagonal
+    BLAS runs with one thread (era.core.blas: the stabilization's own threads follow) except in the tridiagonal
     reduction of the Gram matrix, which takes the caller's threads when OpenBLAS's idle workers can be stopped
-    after it (era.blas.rest_blas_workers) or the Gram matrix's order is ≥ THREADED_REDUCTION_MIN. With two or
+    after it (era.core.blas.rest_blas_workers) or the Gram matrix's order is ≥ THREADED_REDUCTION_MIN. With two or
     more threads the steps after it go in two Python threads with one BLAS thread each (:func:`gram_eigen`,
     :func:`_product_t`), so no OpenBLAS worker is left spinning.
 
@@ -166,7 +166,7 @@ def _truncated_svd(h, rank: int, gram: np.ndarray | None, threads: int, workers:
 def _product_t(h, v: np.ndarray, threads: int, workers: int) -> np.ndarray:
     """h^T v (h (a, b) a matrix or an operator, v (a, k)): with ``workers`` > 1, v's columns in two halves in
     two threads with one BLAS thread each (no OpenBLAS worker left spinning: stopping one costs 1.6-3.2 ms
-    after a threaded product, era.blas), else one product with ``threads`` BLAS threads."""
+    after a threaded product, era.core.blas), else one product with ``threads`` BLAS threads."""
     if workers < 2:
         with blas_threads_limited(threads):  # for a dense H(0) one BLAS-3 product (by FFT: small ones)
             return h.T @ v
@@ -187,7 +187,7 @@ def _by_halves(fn, x: np.ndarray, helper: ThreadPoolExecutor | None) -> list:
 def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers: int = 1, *,
                overwrite: bool = False, beside=None) -> tuple[np.ndarray, np.ndarray]:
     """All eigenvalues of the symmetric ``gram`` (a, a), descending, and the eigenvectors (a, rank) of the
-    leading ``rank``. Only the upper triangle of a C-ordered ``gram`` is read (era.hankel.gram builds no more);
+    leading ``rank``. Only the upper triangle of a C-ordered ``gram`` is read (era.core.hankel.gram builds no more);
     ``overwrite``: the reduction may work in ``gram``'s memory (no copy; its contents are then lost).
 
     One tridiagonal reduction (LAPACK sytrd) for both, its eigenvalues by sterf (a² work),
@@ -197,13 +197,13 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
     one worker (default: as the caller has); ormqr's workspace is its optimum, 64 k + 65 · 64 for k vectors.
 
     ``workers`` > 1: a second thread takes what does not wait for sterf (sequential, one core), the reflectors'
-    block factors (era.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
+    block factors (era.core.lapack.reflector_blocks, the first part of ormqr's work), and half of the inverse
     iteration (:func:`_stein_in_parts`); then the factors are applied to the two halves of the vectors
     (:func:`_reflected`), all with one BLAS thread. On tests/bench/bench_sweep.py's Gram matrices with 2
     threads, gram_eigen less its reduction took 33 → 22 ms (900 × 900) and 50 → 40 ms (1280 × 1280) against
     one thread's steps with a threaded ormqr (sessions 8-9). ``beside``: a callable of the
     caller's that the helper runs after the factors, while sterf still runs (the sweep's dense H(0), built
-    there: era.hankel.HankelOperator.prepare); with one worker it runs first.
+    there: era.core.hankel.HankelOperator.prepare); with one worker it runs first.
     """
     a = gram.shape[0]
     lapack = scipy.linalg.lapack
@@ -217,7 +217,7 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
             if info != 0:
                 raise np.linalg.LinAlgError(f"sytrd info {info}")
             v = c[1:, :a - 1]  # G = H T H^T with H = diag(1, H'), H' the reflectors v (sytrd)
-            two = workers > 1 and a > 2  # a helper thread, with one BLAS thread each (era.blas: OpenBLAS's
+            two = workers > 1 and a > 2  # a helper thread, with one BLAS thread each (era.core.blas: OpenBLAS's
             # workers would take the second core from them)
             with single_threaded_blas() if two else contextlib.nullcontext(), \
                     ThreadPoolExecutor(1) if two else contextlib.nullcontext() as helper:
@@ -243,7 +243,7 @@ def gram_eigen(gram: np.ndarray, rank: int, threads: int | None = None, workers:
 def _reflected(v: np.ndarray, tau: np.ndarray, blocks: list | None, y: np.ndarray,
                helper: ThreadPoolExecutor | None = None) -> np.ndarray:
     """H' y for the reflectors ``v``, ``tau`` of sytrd and ``y`` (a - 1, k): by their block factors
-    (era.lapack.apply_reflectors; with a ``helper`` thread, the columns in two halves, one BLAS thread each, so
+    (era.core.lapack.apply_reflectors; with a ``helper`` thread, the columns in two halves, one BLAS thread each, so
     no OpenBLAS worker is left spinning after it), else by ormqr."""
     if blocks is not None:
         parts = _by_halves(lambda part: apply_reflectors(v, blocks, part), y, helper)
@@ -256,7 +256,7 @@ def _reflected(v: np.ndarray, tau: np.ndarray, blocks: list | None, y: np.ndarra
 
 
 def _factors_then(v: np.ndarray, tau: np.ndarray, beside=None):
-    """The reflectors' block factors (era.lapack.reflector_blocks, without the GIL), then ``beside()``."""
+    """The reflectors' block factors (era.core.lapack.reflector_blocks, without the GIL), then ``beside()``."""
     blocks = reflector_blocks(v, tau)
     if beside is not None:
         beside()
@@ -265,7 +265,7 @@ def _factors_then(v: np.ndarray, tau: np.ndarray, beside=None):
 
 def _tridiagonal_values(diag: np.ndarray, off: np.ndarray) -> np.ndarray:
     """All eigenvalues (a,), ascending, of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) by
-    sterf: era.lapack's (without the GIL), else scipy's wrapper."""
+    sterf: era.core.lapack's (without the GIL), else scipy's wrapper."""
     every = sterf(diag, off)
     return every if every is not None else scipy.linalg.eigvalsh_tridiagonal(diag, off, lapack_driver="sterf",
                                                                              check_finite=False)
@@ -298,10 +298,10 @@ def _tridiagonal_vectors(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
 
 def _stein_in_parts(diag: np.ndarray, off: np.ndarray, values: np.ndarray,
                     helper: ThreadPoolExecutor) -> np.ndarray | None:
-    """:func:`_tridiagonal_vectors` in two threads, this one and ``helper``: stein (:func:`era.lapack.stein`,
+    """:func:`_tridiagonal_vectors` in two threads, this one and ``helper``: stein (:func:`era.core.lapack.stein`,
     without the GIL) on the smallest STEIN_LOWER_SHARE of ``values`` and on the rest at the same time, then the
     lower part's vectors made orthogonal to the upper part's (projected out, normalised). Run it with one
-    BLAS thread (era.blas.single_threaded_blas): OpenBLAS's idle workers would take a core from the two.
+    BLAS thread (era.core.blas.single_threaded_blas): OpenBLAS's idle workers would take a core from the two.
 
     stein re-orthogonalises only within its call, so across the split the two parts are orthogonal only as far
     as inverse iteration separates their eigenvalues: their inner products were 1e-12 at most on the

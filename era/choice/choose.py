@@ -16,8 +16,8 @@ carry, with no constant tuned to a dataset:
    mode's half-power bandwidth or within three standard deviations of each other and whose shapes agree
    (MAC ≥ :data:`TWIN_MAC`; with one sensor every MAC is 1 and the frequency decides) are one mode: the track
    found at most orders speaks for it, the others are its twins. A weaker cluster with a stronger mode's very
-   shape (MAC ≥ 0.99 over three sensors or more) near it is that mode's shadow, a twin too (era.evidence).
-3. **The structure's, not the noise's** (era.evidence): a mode stands above the noise poles (its pole amplitude
+   shape (MAC ≥ 0.99 over three sensors or more) near it is that mode's shadow, a twin too (era.choice.evidence).
+3. **The structure's, not the noise's** (era.choice.evidence): a mode stands above the noise poles (its pole amplitude
    over theirs) and persists over the orders from the first where it appears; the louder, the fewer orders it
    needs (persistence × log10(strength) ≥ MIN_EVIDENCE); it is coherent (γ·μ, the paper's indicators: Pappa's
    consistent-mode indicator); and its damping is not far above the other modes'.
@@ -33,8 +33,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .evidence import fold_shadows, pole_amplitudes, weigh
-from .indicators import mac
-from .stabilization import COHERENT_MIN, UNCERTAIN_FRACTION
+from ..core.indicators import mac
+from ..core.stabilization import COHERENT_MIN, UNCERTAIN_FRACTION
 
 #: Shapes of two tracks with at least this MAC may be one mode split in two (with different shapes: two modes).
 TWIN_MAC = 0.9

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import DataError
-from .geometry import Geometry
+from ..errors import DataError
+from ..core.geometry import Geometry
 
 #: A direction as typed: an axis with an optional sign ("x", "-Z", "+y").
 _AXIS = re.compile(r"^([+-]?)([xyz])$", re.IGNORECASE)

@@ -6,7 +6,7 @@ a complex factor per mode, different in every setup. The references are in every
 mode can be brought onto one scale by the factor that best maps its reference components onto the others'
 (post-identification rescaling, "PoSER": Döhler, Reynders, Magalhães, Mevel, De Roeck & Cunha, IMAC 2010; pyOMA2's
 MultiSetup_PoSER). Unlike pyOMA2, the modes need not be picked by hand in the same order in every setup: they are
-paired here by frequency and reference MAC (era.setup_pairing), and a mode some setups missed is kept (see
+paired here by frequency and reference MAC (era.setups.pairing), and a mode some setups missed is kept (see
 merge_setups).
 """
 
@@ -16,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import indicators
-from .errors import DataError
-from .modal import ModalModel
-from .setup_pairing import RECOVERABLE  # noqa: F401  (the rule merge_setups' ``recover`` follows, named here)
-from .setup_pairing import DroppedMode, anchor_references, mean_frequency, pair_modes
-from .setup_pairing import recover as recover_clusters
+from ..core import indicators
+from ..errors import DataError
+from ..core.modal import ModalModel
+from .pairing import RECOVERABLE  # noqa: F401  (the rule merge_setups' ``recover`` follows, named here)
+from .pairing import DroppedMode, anchor_references, mean_frequency, pair_modes
+from .pairing import recover as recover_clusters
 
 #: Two setups' modes are the same mode only if their frequencies differ by at most this fraction ...
 FREQUENCY_TOLERANCE = 0.03
@@ -92,7 +92,7 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     min_setups : a merged mode must have been seen in at least this many setups (at most the number of setups).
     recover : where a setup did not choose a mode that ``min_setups`` others did, take that setup's part of the
         shape from a cluster of its own diagram that era.analyse left out for want of evidence alone (reason
-        "orders" or "noise", era.choice) when it matches the mode in frequency (``frequency_tolerance``) and in
+        "orders" or "noise", era.choice.choose) when it matches the mode in frequency (``frequency_tolerance``) and in
         its reference components (``min_reference_mac``, ``min_reference_level``): the other setups have
         confirmed that the mode exists, so the question "is this weak cluster a mode?" is answered. Only the shape
         is taken from it; frequency and damping come from the setups that chose the mode. Needs era.analyse
@@ -265,7 +265,7 @@ def merged_geometry(geometries, result: SetupMerge):
         reference: in setup 1's). A point no geometry places has node -1. None when no setup
         has a geometry or none of the points is placed.
     """
-    from .geometry import Geometry
+    from ..core.geometry import Geometry
     geometries = list(geometries)
     base = next((g for g in geometries if g is not None), None)
     if base is None:

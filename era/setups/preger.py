@@ -1,6 +1,6 @@
 """Merge before identifying (PreGER): the setups' correlation functions on one scale, one identification.
 
-PoSER (era.setups) identifies every setup on its own and rescales the shapes afterwards, so a mode must be found in
+PoSER (setups.merge) identifies every setup on its own and rescales the shapes afterwards, so a mode must be found in
 every setup to be complete. With short setups a weak mode is often missed somewhere. Pre-identification rescaling
 ("PreGER": Döhler, Reynders, Magalhães, Mevel, De Roeck & Cunha, IMAC 2010; Reynders, Magalhães, Lombaert,
 De Roeck & Cunha 2009) puts the setups' correlation functions with respect to the reference sensors on one scale
@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .data import ResponseData
-from .errors import DataError
+from ..core.data import ResponseData
+from ..errors import DataError
 
 
 @dataclass(frozen=True, eq=False)

@@ -10,7 +10,7 @@ import scipy.fft
 import scipy.sparse.linalg
 
 from .blas import single_threaded_blas
-from .errors import HankelError
+from ..errors import HankelError
 
 #: Largest H(0) built, in matrix elements (8 bytes each): 2e8 elements is 1.6 GB, and H(1) is as large.
 MAX_HANKEL_ELEMENTS = 200_000_000
@@ -106,7 +106,7 @@ def check_size(n_samples: int, p: int, m: int, row_shifts: np.ndarray, col_shift
 
 def gram(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndarray, h0, workers: int = 1) -> np.ndarray:
     """The Gram matrix of the shorter side of H(0) = ``h0``: H H^T (r p × r p) when r p ≤ s m, else H^T H.
-    Only its upper triangle is meant to be read (era.svd.gram_eigen reads no more): with consecutive shifts the
+    Only its upper triangle is meant to be read (era.core.svd.gram_eigen reads no more): with consecutive shifts the
     blocks below the diagonal blocks are left unset.
 
     With consecutive shifts (the default) it is built by the Hankel recursion instead of a product: block
@@ -211,7 +211,7 @@ def fft_pays(rows: int, cols: int) -> bool:
 class HankelOperator(scipy.sparse.linalg.LinearOperator):
     """H(k) of eq. 16 with consecutive shifts as a linear operator: H @ X and H^T @ X by FFT without forming H
     when that pays (:func:`fft_pays`, ``by_fft``), else by BLAS on H itself, formed once when first needed or
-    ahead of that by :meth:`prepare` (era.svd.truncated_svd calls it in a second thread while the main one is
+    ahead of that by :meth:`prepare` (era.core.svd.truncated_svd calls it in a second thread while the main one is
     busy, so the copy is not on the path).
 
     Block (i, j) of H is Y(k + i + j), so (H X)_i = Σ_j Y(k + i + j) X_j and (H^T X)_j = Σ_i Y(k + i + j)^T X_i

@@ -1,6 +1,6 @@
 """The eigen-decomposition of a realization (eq. 40): the modes' eigenvalues, shapes, amplitudes and histories,
 the repeated modes (clusters of poles that the data cannot tell apart, and the basis of their eigenspace that
-makes the shapes most real), the continuous eigenvalues (eq. 41) and the modes' order. era.modal builds the
+makes the shapes most real), the continuous eigenvalues (eq. 41) and the modes' order. era.core.modal builds the
 ModalModel on it."""
 
 from __future__ import annotations
@@ -46,12 +46,12 @@ def decompose(A: np.ndarray, B: np.ndarray, C: np.ndarray, W=None) -> ModalDecom
         and A1). Its rows projected on the left eigenvectors are the modal histories of eq. 44.
         Or a pair (root (n,), basis (s·m, n)) standing for W = diag(root) basis^T (ERA's D^{1/2} Q_n^T),
         which saves forming W. None: no histories (``histories`` is None; γ then needs them from elsewhere,
-        era.sweep forms those of every order of a sweep in a few large products).
+        era.core.sweep forms those of every order of a sweep in a few large products).
 
     Shapes are scaled so that their largest component is 1 (real), and amplitudes inversely, so the product
     shapes·amplitudes (the response) is unchanged and shapes are comparable across orders.
     """
-    # LAPACK without the GIL (era.lapack), so the orders of a sweep run in parallel threads
+    # LAPACK without the GIL (era.core.lapack), so the orders of a sweep run in parallel threads
     z, right, left = lapack.eig_kept(A)  # every real eigenvalue and one member (Im z > 0) of each pair
     is_pair = z.imag > 0
     z = np.where(is_pair, z, z.real + 0j)

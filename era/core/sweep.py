@@ -2,7 +2,7 @@
 eigensolution on its own, then γ, μ and the contribution of the modes of a run of orders in one batch.
 
 Per order n the realization is the leading n × n block of one projection of H(1) (Identification.projected),
-so only its eigensolution (LAPACK's Hessenberg QR through era.lapack, about 25 n³ flops, not BLAS-3) is per
+so only its eigensolution (LAPACK's Hessenberg QR through era.core.lapack, about 25 n³ flops, not BLAS-3) is per
 order. What is per mode is then done on the modes of a run of orders together (:func:`chunks_of`, about
 CHUNK_MODES modes):
 
@@ -104,7 +104,7 @@ def sweep_emac(left: list, z: np.ndarray, by_shift: np.ndarray, root: np.ndarray
     where Q_i^T (K × m) is Q^T's block of column shift t_i. All F_j are ONE real product of Q^T arranged by
     shift (K m × s) with the conjugate powers (s × 2 M): the flops of the histories' product, but an output of
     K m × 2 M instead of 2 M × s m and no pass over the histories after it; |q_j| = |L_j| as Q's columns are
-    orthonormal (to ε d_1²/d_n², 2e-10 relative at most on the truncated SVD's direct route, era.svd).
+    orthonormal (to ε d_1²/d_n², 2e-10 relative at most on the truncated SVD's direct route, era.core.svd).
 
     Parameters
     ----------
@@ -146,7 +146,7 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     ident.max_order), as an :class:`OrderSweep`; ``workers`` orders are eigensolved at a time."""
     d = ident.data
     if orders:
-        with single_threaded_blas():  # era.blas: the threads below would share their cores with BLAS's
+        with single_threaded_blas():  # era.core.blas: the threads below would share their cores with BLAS's
             ident.projected(orders[-1])  # one projection of H(1) for every order
 
     def decomposed(n):

@@ -1,5 +1,5 @@
 """The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
-LAPACK without the GIL (issue 14); also, for era.svd's threads, the eigenvalues (:func:`sterf`) and, by inverse
+LAPACK without the GIL (issue 14); also, for era.core.svd's threads, the eigenvalues (:func:`sterf`) and, by inverse
 iteration, eigenvectors (:func:`stein`) of a symmetric tridiagonal matrix, and a product of Householder
 reflectors in two steps: its block factors (:func:`reflector_blocks`), then their product with a matrix
 (:func:`apply_reflectors`).
@@ -25,7 +25,7 @@ Fallback to ``np.linalg.eig`` (numpy's dgeev, which releases the GIL too) and th
 inverse, the same result to round-off: above order MAX_ORDER, when scipy does not export a routine, when a
 routine reports an error (info ≠ 0: dlahqr did not converge), when two eigenvalues are closer than
 REPEATED_RELATIVE·|z| (a repeated eigenvalue, Case II of the paper: ψ^{-1} is then a dual basis of the shared
-eigenspace, not the scaled left eigenvectors, and era.decomposition.align_repeated rotates dgeev's basis of it), and
+eigenspace, not the scaled left eigenvectors, and decomposition.align_repeated rotates dgeev's basis of it), and
 when yᴴx vanishes (near-defective).
 
 Measured on bench_sweep's 900 × 2392 case (the 60 matrices of orders 2..120, one BLAS thread, CPU time, load
@@ -282,7 +282,7 @@ def stein(diag: np.ndarray, off: np.ndarray, values: np.ndarray) -> np.ndarray |
     """Eigenvectors (a, k) of the symmetric tridiagonal matrix (``diag`` (a,), ``off`` (a - 1,)) for its
     eigenvalues ``values`` (k,), ascending: LAPACK's dstein (inverse iteration, which re-orthogonalises the
     vectors of close eigenvalues among themselves) on one block, without the GIL, so that parts of the values
-    can go to threads (era.svd). None when scipy does not export dstein or it did not converge."""
+    can go to threads (era.core.svd). None when scipy does not export dstein or it did not converge."""
     fn = routine("dstein")
     a, k = diag.size, values.size
     if fn is None or a < 2 or k < 1:
@@ -308,7 +308,7 @@ def reflector_blocks(v: np.ndarray, tau: np.ndarray) -> list | None:
     """The triangular factors of Q = H(1) H(2) ... H(k), H(i) = I - tau_i v_i v_i^T, by blocks of
     REFLECTOR_BLOCK reflectors: block b (reflectors i = b·64 ...) is I - V_b T_b V_b^T (LAPACK's dlarft,
     forward, columnwise), without the GIL. The first half of dormqr's work, which needs only the reflectors,
-    so it can run before the matrix they multiply is known (era.svd).
+    so it can run before the matrix they multiply is known (era.core.svd).
 
     v : (n, k) Fortran order, v_i in column i below the diagonal (1 on it, implied; as geqrf or sytrd leave
     them); tau : (k,). Returns the factors (ib, ib) in block order, or None when scipy does not export dlarft

@@ -14,11 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from . import indicators
-from .errors import DataError
+from ..core import indicators
+from ..errors import DataError
 
-#: The reasons (era.choice.REASONS) for which a setup's cluster, left out by era.analyse for want of evidence alone,
-#: may be taken as a mode other setups confirm (see era.setups.merge_setups, ``recover``).
+#: The reasons (choose.REASONS) for which a setup's cluster, left out by era.analyse for want of evidence alone,
+#: may be taken as a mode other setups confirm (see era.setups.merge.merge_setups, ``recover``).
 RECOVERABLE = ("orders", "noise")
 #: The cost of a pairing that is not allowed (an optimal assignment needs finite costs).
 FORBIDDEN = 1e6
@@ -103,7 +103,7 @@ def by_frequency(near, taken, filled):
 
 def without_twins(model, usable, min_mac, tol: float = 0.0):
     """The usable modes of one setup without split twins: of two modes within the stronger one's half-power
-    bandwidth (2 ζ f, era.choice's twin rule) or within the pairing window (``tol`` f) whose shapes (every sensor)
+    bandwidth (2 ζ f, the choice's twin rule) or within the pairing window (``tol`` f) whose shapes (every sensor)
     have MAC ≥ ``min_mac``, the one with the larger contribution stays: inside the window both would pair with
     the other setups' mode, and a weaker pole with the same shape beside a mode is its noise (NExT with every
     channel as a correlation reference leaves such poles in short records). Also [(twin, kept)]."""

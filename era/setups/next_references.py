@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis import analyse
-from .errors import DataError
-from .markov import markov_from_ambient
-from .setups import FREQUENCY_TOLERANCE, SetupMerge, merge
+from ..choice.analysis import analyse
+from ..errors import DataError
+from ..markov import markov_from_ambient
+from .merge import FREQUENCY_TOLERANCE, SetupMerge, merge
 
 #: The two ways, in the order of NextChoice's arrays: every channel a NExT reference, or the reference sensors only.
 WAYS = ("every", "references")

@@ -23,7 +23,7 @@ from itertools import combinations, permutations
 
 import numpy as np
 
-from .modal import ModalModel
+from ..core.modal import ModalModel
 
 #: Two setups' modes are one shared mode when their frequencies differ by at most this fraction (and uniquely).
 FREQUENCY_TOLERANCE = 0.03
