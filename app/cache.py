@@ -164,7 +164,7 @@ class Cache:
     def new_analysis(self, dataset: CachedDataset, params: dict) -> tuple[Analysis, era.Identification]:
         """Identify a dataset (one SVD, within the server's limits) with its diagram and chosen modes, then store
         the analysis and cache its results."""
-        ident, diagram = self._compute(choosing.analyse, dataset.data, params, self.settings)
+        ident, diagram = self._compute(choosing.analyse_dataset, dataset.data, params, self.settings)
         analysis_id = self.store.add_analysis(dataset.id, params)
         a = Analysis(analysis_id, dataset.id, params, dataset.data, dataset.geometry, dataset.name)
         self._diagrams.put(analysis_id, diagram)
@@ -183,7 +183,7 @@ class Cache:
         hit = self._idents.get(a.id)
         if hit is not None:
             return hit
-        return self._once(self._idents, a.id, lambda: self._compute(limits.identify, a.data, a.params, self.settings))
+        return self._once(self._idents, a.id, lambda: self._compute(limits.identify_within_limits, a.data, a.params, self.settings))
 
     def model(self, a: Analysis, order: int) -> era.ModalModel:
         """The model of one order (era.OrderError above the identification's max_order)."""

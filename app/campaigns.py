@@ -11,7 +11,6 @@ row says done.
 
 from __future__ import annotations
 
-import io
 import json
 import logging
 import math
@@ -25,8 +24,7 @@ import numpy as np
 from fastapi import HTTPException
 
 import era
-from era.campaign import run_campaign, time_from_name
-from era.campaign.result import pandas
+from era.campaign import require_pandas, run_campaign, time_from_name
 
 from . import config, payloads
 from .config import Settings
@@ -59,7 +57,7 @@ def local_workers(settings: Settings) -> int:
 
 def options(kind: str, dt: float | None, max_order: int, settings: Settings) -> dict:
     """The analysis every record gets, checked: {kind, dt (s or None), orders [2, 4, … max_order]}."""
-    pandas()  # the campaign's table: without the campaign extra, say how to install it before any work
+    require_pandas()  # the campaign's table: without the campaign extra, say how to install it before any work
     if kind not in KINDS:
         raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.")
     top = settings.max_stabilization_order
@@ -110,17 +108,6 @@ def folders(root: Path | None) -> list[dict]:
         n = len(_record_files(base, p))
         if n:
             out.append({"name": "." if p == base else p.name, "n_files": n})
-    return out
-
-
-def uploaded(files: list[tuple[str, bytes]]) -> list[io.BytesIO]:
-    """Uploads as named in-memory files: era.load sniffs the format from the name and names it in its messages,
-    and bytes travel with each task to any Dask worker (the workers need not see this server's disk)."""
-    out = []
-    for name, blob in files:
-        f = io.BytesIO(blob)
-        f.name = name
-        out.append(f)
     return out
 
 

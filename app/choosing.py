@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import era
-from era.choice.analysis import (DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER,
+from era.choice import (DEFAULT_MAX_ELEMENTS, DEFAULT_MAX_ORDER, DEFAULT_MAX_SIDE, DIAGRAM_MAX_ORDER,
                                  diagram_and_choice, diagram_orders)
-from era.core.suggest import HankelChoice, hankel_size, order_cap, order_from_singular_values
+from era.core import HankelChoice, hankel_size, order_cap, order_from_singular_values
 
 from . import limits
 from .config import Settings
@@ -92,8 +92,8 @@ def opening_order(ident: era.Identification, stab: era.Stabilization, picked: er
     return int(at[np.argmin(np.abs(at - n))])
 
 
-def analyse(data: era.ResponseData, params: dict, settings: Settings) -> tuple[era.Identification, Diagram]:
-    """One SVD (limits.identify) and its diagram and choice, in one worker call (the identification is not sent
+def analyse_dataset(data: era.ResponseData, params: dict, settings: Settings) -> tuple[era.Identification, Diagram]:
+    """One SVD (limits.identify_within_limits) and its diagram and choice, in one worker call (the identification is not sent
     back and forth between the two)."""
-    ident = limits.identify(data, params, settings)
+    ident = limits.identify_within_limits(data, params, settings)
     return ident, diagram(ident, band_of(data), settings)

@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from era.choice.analysis import DIAGRAM_MAX_ORDER
+from era.choice import DIAGRAM_MAX_ORDER
 
 
 def _static_dir() -> Path:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import era
-import era.examples.paper_cases
+from era.examples import paper_cases
 from era.examples.grid import nasa_grid
 from era.examples.grid_simulation import simulate_grid_test
 
@@ -23,11 +23,11 @@ class Example:
 
 
 def _case_1():
-    return era.examples.paper_cases.case_1(200), None
+    return paper_cases.case_1(200), None
 
 
 def _case_2():
-    return era.examples.paper_cases.case_2(200, mimo=True), None
+    return paper_cases.case_2(200, mimo=True), None
 
 
 def _grid():
@@ -36,7 +36,7 @@ def _grid():
     return data, nasa_grid().geometry()
 
 
-def available() -> dict[str, Example]:
+def catalogue() -> dict[str, Example]:
     return {
         "case1": Example("case1", "Paper Case I: five modes, one sensor",
                          "Juang & Pappa 1985, eqs. 58-60: free decay of five modes (s = -0.01j + ij rad/s) "

@@ -124,7 +124,7 @@ def chosen_modes(choice: era.ModeChoice) -> tuple[int, list[int]]:
     return int(choice.order), [int(k) for k in choice.indices]
 
 
-def run(ident: era.Identification, geometry: era.Geometry | None, model, params: dict | None, *,
+def run_explain(ident: era.Identification, geometry: era.Geometry | None, model, params: dict | None, *,
         orders: list[int], kept: tuple, chosen: bool = False, described: dict | None = None) -> tuple[dict, dict]:
     """era.explain on the identification of a dataset against the nominal ``model``: the grid
     (nominal_model(params)), or None with ``described``, the dataset's structure model as stored (app/modeling.py:
@@ -144,7 +144,7 @@ def run(ident: era.Identification, geometry: era.Geometry | None, model, params:
         model = femodel.load(described["path"]).with_sensors(femodel.sensors_of(described["mapping"]))
     elif is_frame:
         from . import modeling
-        model = modeling.frame(described)
+        model = modeling.frame_of(described)
         modeling.check_channels(model, data.outputs, geometry)
     else:
         check_grid_dataset(data, geometry, model)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 import era
-from era.setups.points import axis_and_sign, channel_points
+from era.core import axis_and_sign, channel_points
 from era.words import counted, listed
 
 from . import modeling
@@ -201,7 +201,7 @@ def elastic_modes(model: era.MatrixModel, n: int) -> tuple[np.ndarray, np.ndarra
 
 def compare(model: era.MatrixModel, rows: list[dict], frequency_hz, shapes) -> dict:
     """The model's modes beside the test's (schemas.ModelComparison), at the outputs the mapping matches."""
-    from era.core.correlation import real_shapes
+    from era import real_shapes
 
     use = [k for k, r in enumerate(rows) if r["matched"]]
     if len(use) < 2:

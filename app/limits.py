@@ -9,8 +9,8 @@ from __future__ import annotations
 import math
 
 import era
-from era.choice.analysis import DEFAULT_MAX_ORDER
-from era.core.suggest import order_cap
+from era.choice import DEFAULT_MAX_ORDER
+from era.core import order_cap
 
 from .config import Settings
 
@@ -46,7 +46,7 @@ def default_max_order(rows: int, cols: int, p: int, m: int, settings: Settings) 
     return order_cap(rows, cols, p, m, min(DEFAULT_MAX_ORDER, settings.max_order))
 
 
-def identify(data: era.ResponseData, params: dict, settings: Settings) -> era.Identification:
+def identify_within_limits(data: era.ResponseData, params: dict, settings: Settings) -> era.Identification:
     """era.identify with the stored parameters {rows, cols, row_shifts, col_shifts, max_order} after the server's
     limits are checked; max_order defaults to :func:`default_max_order`. Blocking (one SVD, or the truncated one
     of the leading max_order triplets when that is far below H(0)'s size: era.core.svd.choose_method)."""

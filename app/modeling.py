@@ -108,7 +108,7 @@ def _check_sections(sections) -> None:
                                     option=at)
 
 
-def frame(model: dict) -> era.Frame:
+def frame_of(model: dict) -> era.Frame:
     """The era.Frame of a stored model (the file format); era.DataError with the reason when it is not one."""
     if not isinstance(model, dict):
         raise era.DataError("A model must be a table of nodes, members, sections, supports, masses and sensors.")
@@ -188,7 +188,7 @@ def check_channels(fr: era.Frame, outputs: tuple, geometry: era.Geometry | None)
 
 def check_channels_of(model: dict, outputs: tuple, geometry: era.Geometry | None) -> None:
     """:func:`check_channels` of a stored model: a quick refusal before an explanation is queued."""
-    check_channels(frame(model), outputs, geometry)
+    check_channels(frame_of(model), outputs, geometry)
 
 
 def _dir_text(d) -> str:
@@ -213,7 +213,7 @@ def checked(model: dict, outputs: tuple, geometry: era.Geometry | None) -> tuple
     """(Frame, its lowest N_MODES frequencies in Hz) of a model for this dataset, or era.DataError: a member to a
     missing node, a section without a material, a mechanism (the solver names the free DOF), sensors that are
     not the dataset's channels. Blocking (one eigen-solution)."""
-    fr = frame(model)
+    fr = frame_of(model)
     check_channels(fr, outputs, geometry)
     try:     # the elastic modes: a free frame's six rigid-body modes at 0 Hz left out, as explain leaves them
         f_hz = fr.modes(N_MODES + fr.n_rigid_modes)[0][fr.n_rigid_modes:]
@@ -298,7 +298,7 @@ def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
     MAC together, as explain pairs them; null when none is acceptable). frequency_hz (k,), shapes (p, k) complex:
     the test's modes, e.g. those kept at one order. The model gives 6 modes more than the test, so a mode that
     moved can still be found. A free frame's rigid-body modes (0 Hz) are left out, as explain leaves them."""
-    from era.core.correlation import real_shapes
+    from era import real_shapes
 
     f_test = np.asarray(frequency_hz, float)
     test = real_shapes(np.asarray(shapes))
@@ -311,7 +311,7 @@ def compare(fr: era.Frame, frequency_hz, shapes) -> dict:
 def comparison(f_test, test, f_model, s_model) -> dict:
     """schemas.ModelComparison of test modes (f_test (k,) Hz, real shapes (p, k)) and model modes (f_model (n,) Hz,
     shapes (p, n) at the same points): each test mode's partner by era.pair_modes, or null when none is acceptable."""
-    from era.core.correlation import pair_modes
+    from era import pair_modes
 
     p = pair_modes(f_test, test, f_model, s_model)
     partner = {int(i): k for k, i in enumerate(p.measured_index)}

@@ -13,10 +13,7 @@ import math
 import numpy as np
 
 import era
-from era.core.decomposition import CLUSTER_SCREEN
-from era.core.spectrum import cmif
-from era.core.stabilization import COHERENT_MIN
-from era.core.suggest import order_from_singular_values
+from era.core import CLUSTER_SCREEN, COHERENT_MIN, cmif, order_from_singular_values
 
 from .choosing import Diagram, band_of, default_hankel, named_hankel
 from .config import Settings

@@ -31,9 +31,8 @@ import time
 import numpy as np
 
 import era
-import era.setups.geometry
-import era.setups.next_references
-import era.setups.merge
+from era.setups import (WAY_WORDS, merge_with_evidence, merged_geometry, parse_points, point_aliases,
+                        points_geometry)
 from era.words import listed
 
 from .errors import NotFound
@@ -317,7 +316,7 @@ def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = N
 NEXT_REFERENCES = ("auto", "every", "references")
 
 
-def merge(store, settings, test: dict, references, points: str | None = None,
+def merge_test(store, settings, test: dict, references, points: str | None = None,
           next_references: str = "auto") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
@@ -338,20 +337,20 @@ def merge(store, settings, test: dict, references, points: str | None = None,
         else:
             if next_references == "references":
                 runs = analyse_setups(store, settings, test, refs)
-            result, used = era.setups.merge.merge([a for a, _ in runs], refs), next_references
-            said, complete = f"As asked: {era.setups.next_references.WAY_WORDS[used]}.", []
+            result, used = merge_with_evidence([a for a, _ in runs], refs), next_references
+            said, complete = f"As asked: {WAY_WORDS[used]}.", []
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
-        aliases = era.setups.geometry.point_aliases(result.model.points, result.point_setup, result.point_channel,
+        aliases = point_aliases(result.model.points, result.point_setup, result.point_channel,
                                                    [s["outputs"] for s in test["setups"]], refs)
         try:
-            table = era.setups.geometry.parse_points(points, nodes=stored_nodes(store, settings, test))
-            geometry = era.setups.geometry.points_geometry(table, aliases)
+            table = parse_points(points, nodes=stored_nodes(store, settings, test))
+            geometry = points_geometry(table, aliases)
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
-        geometry = era.setups.merge.merged_geometry([g for _, g in runs], result)
+        geometry = merged_geometry([g for _, g in runs], result)
     merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
                   next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
@@ -359,7 +358,7 @@ def merge(store, settings, test: dict, references, points: str | None = None,
 
 
 def merged_json(test: dict, refs: list[list[int]], result, geometry) -> dict:
-    """schemas.SetupsMerged of an era.setups.merge.merge result."""
+    """schemas.SetupsMerged of an era.setups.poser.merge_with_evidence result."""
     model = result.model
     setups = test["setups"]
     n_setups = len(setups)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 import era
-import era.setups.points
+from era.core import point_geometry
 
 from .cache import Analysis, Cache
 from .errors import NotFound
@@ -23,7 +23,7 @@ def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
     if tuple(model.points) != tuple(model.outputs):
         if a.geometry is None:  # the points in a row (app.viewer.scene.geometry_for)
             return None, model.frequency_hz, model.point_shapes, labels
-        placed = era.setups.points.point_geometry(a.geometry, model.points)
+        placed = point_geometry(a.geometry, model.points)
         if (placed.channel_nodes >= 0).any():
             return placed, model.frequency_hz, model.point_shapes, labels
     return a.geometry, model.frequency_hz, model.shapes, labels

@@ -18,7 +18,7 @@ from .core.stabilization import StableMode, Stabilization, stabilization
 # modes in one click (issue 25): the default analysis and the automatic choice of the structure's modes
 from .choice.choose import Candidate, ModeChoice, choose_modes
 from .choice.analysis import AnalysisResult, analyse
-from .setups.merge import SetupMerge, merge_setups  # multi-setup tests (issue 26): one shape through the references
+from .setups.poser import SetupMerge, merge_setups  # multi-setup tests (issue 26): one shape through the references
 from .setups.references import ReferenceProposal, propose_references, reference_evidence  # references from the data
 from .setups.next_references import NextChoice, choose_next, merge_ambient_setups, merge_choosing_next  # NExT refs
 from .setups.preger import PregerMerge, merge_correlations  # merging before identifying (PreGER)

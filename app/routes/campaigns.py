@@ -10,7 +10,7 @@ from fastapi.responses import FileResponse, HTMLResponse
 
 import era
 
-from .. import campaigns, schemas
+from .. import campaigns, loading, schemas
 from ..campaigns import Campaigns
 from ..errors import NotFound
 
@@ -52,7 +52,7 @@ async def start(request: Request,
             files.append(((part.filename or "record").rsplit("/", 1)[-1].rsplit("\\", 1)[-1][:200], await part.read()))
         names = [n for n, _ in files]
         label = names[0] if len(names) == 1 else f"{names[0]} + {len(names) - 1} more"
-        row = s.start(name or label, campaigns.uploaded(files), names, analysis)
+        row = s.start(name or label, loading.named_sources(files), names, analysis)
     return s.status(row["id"])
 
 

@@ -15,14 +15,14 @@ router = APIRouter(prefix="/api/examples", tags=["examples"])
 @router.get("", summary="The built-in examples", response_model=list[schemas.Example])
 async def list_examples():
     return [{"name": e.name, "title": e.title, "description": e.description, "rows": e.rows, "cols": e.cols}
-            for e in ex.available().values()]
+            for e in ex.catalogue().values()]
 
 
 @router.post("/{name}", summary="Load a built-in example as a new dataset", response_model=schemas.Dataset)
 async def load_example(request: Request, name: str):
-    found = ex.available().get(name)
+    found = ex.catalogue().get(name)
     if found is None:
-        raise NotFound(f"No example named {name!r}; the examples are {', '.join(ex.available())}.")
+        raise NotFound(f"No example named {name!r}; the examples are {', '.join(ex.catalogue())}.")
     c = cache(request)
 
     def work():

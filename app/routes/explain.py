@@ -72,7 +72,7 @@ async def run(request: Request, body: ExplainRequest, a: Analysis = Depends(anal
     def work():
         compared = (kept[0], era.kept_modes(c.model(a, kept[0]), kept[1]).tolist())
         nominal = body.nominal if stored is None else {}
-        summary, responses = compute.run(explaining.run, ident, a.geometry, model, nominal, orders=tracked,
+        summary, responses = compute.run(explaining.run_explain, ident, a.geometry, model, nominal, orders=tracked,
                                          kept=compared, chosen=body.modes == "stable", described=described,
                                          workers=c.settings.heavy_workers)
         summary["model_used"] = modeling.used(stored)      # so a later model change shows this result as stale

@@ -55,7 +55,7 @@ async def read(request: Request, ds: CachedDataset = Depends(dataset)):
         return femodel.summary(stored, stored["frequency_hz"], modeling.fingerprint(stored["model"]))
 
     def work():
-        fr = modeling.frame(stored["model"])
+        fr = modeling.frame_of(stored["model"])
         f_hz = stored.get("frequency_hz") or (     # kept when saved: no solve here; elastic modes, as Save's
             fr.modes(modeling.N_MODES + fr.n_rigid_modes)[0][fr.n_rigid_modes:])
         return modeling.summary(stored, fr, f_hz)
@@ -183,7 +183,7 @@ async def mac(request: Request, order: int = Query(ge=1, le=schemas.MAX_INT), mo
         if path is not None:
             return femodel.compare(femodel.load(str(path)), stored["model"]["mapping"], m.frequency_hz[kept],
                                    m.shapes[:, kept])
-        return modeling.compare(modeling.frame(stored["model"]), m.frequency_hz[kept], m.shapes[:, kept])
+        return modeling.compare(modeling.frame_of(stored["model"]), m.frequency_hz[kept], m.shapes[:, kept])
 
     return await jobs(request).heavy(work, progress=progress_key(request),
                                      message="The model's modes beside the test's")

@@ -48,7 +48,7 @@ async def merge(request: Request, test_id: str, body: SetupsRequest):
     analysed or are no longer stored."""
     test = await jobs(request).quick(setups.load, store(request), test_id)
     settings = cache(request).settings
-    merged = await jobs(request).heavy(setups.merge, store(request), settings, test, body.references, body.points,
+    merged = await jobs(request).heavy(setups.merge_test, store(request), settings, test, body.references, body.points,
                                        body.next_references,
                                        progress=progress_key(request),
                                        message=f"Analysing {len(test['setups'])} setups and merging them")

@@ -31,7 +31,7 @@ import numpy as np
 import sqlalchemy as sa
 
 import era
-from era.io.npz import npz_bytes, read_arrays, read_npz
+from era.io import npz_bytes, read_arrays, read_npz
 
 from . import database
 from .files import LOCKED_TMP, abandoned, holding, unborn, write_atomic

@@ -23,7 +23,7 @@ from urllib.parse import quote
 
 import numpy as np
 
-from era.core.geometry import Geometry
+from era import Geometry
 
 from .bridge import make_router
 from .live import LiveViewer

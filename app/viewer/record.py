@@ -17,7 +17,7 @@ import numpy as np
 import viser
 
 from era.errors import DataError
-from era.core.geometry import Geometry
+from era import Geometry
 
 from . import scene
 from .registry import MAX_AMPLITUDE

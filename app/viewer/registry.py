@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from era.core.geometry import Geometry
+from era import Geometry
 
 from . import scene
 from .recent import Recent

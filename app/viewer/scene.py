@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from era.errors import DataError
-from era.core.geometry import Geometry
+from era import Geometry
 
 # (value, R, G, B) stops of the displacement colour scale, 0..1 -> 0..255.
 COLOUR_STOPS = np.array([

@@ -11,9 +11,9 @@ for tests and demos.
 """
 
 from .record import CampaignSettings, RecordFailure, RecordModes, analyse_record, modes_of, record_modes, time_from_name
-from .result import COLUMNS, CampaignResult
+from .result import COLUMNS, CampaignResult, require_pandas
 from .runner import run_campaign
 from .tracking import TrackedMode, Tracking, track_modes
 
 __all__ = ["run_campaign", "CampaignResult", "COLUMNS", "RecordModes", "RecordFailure", "CampaignSettings",
-           "analyse_record", "modes_of", "record_modes", "time_from_name", "track_modes", "Tracking", "TrackedMode"]
+           "analyse_record", "modes_of", "record_modes", "time_from_name", "track_modes", "Tracking", "TrackedMode", "require_pandas"]

@@ -50,13 +50,13 @@ class CampaignResult:
         """pandas.DataFrame of the tracked modes (without shapes): mode, reference_frequency_hz,
         reference_damping_ratio, origin, first_record, n_found, n_held (records that hold it: from the one that
         defined it on) and identification_rate (n_found / n_held)."""
-        return pandas().DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
+        return require_pandas().DataFrame([{"mode": m.mode, "reference_frequency_hz": m.reference_frequency_hz,
                               "reference_damping_ratio": m.reference_damping_ratio, "origin": m.origin,
                               "first_record": m.first_record, "n_found": m.n_found, "n_held": m.n_held,
                               "identification_rate": m.identification_rate} for m in self.modes])
 
 
-def pandas():
+def require_pandas():
     """The pandas module, or an EraError saying how to install it."""
     try:
         import pandas as pd
@@ -80,7 +80,7 @@ def record_times(records) -> list:
 
 def build_table(tracking):
     """The campaign table (pandas.DataFrame, columns :data:`COLUMNS`) from an era.campaign.Tracking."""
-    pd = pandas()
+    pd = require_pandas()
     rows = {c: [] for c in COLUMNS}
     times = record_times(tracking.records)
     for pos, rec in enumerate(tracking.records):

@@ -36,7 +36,7 @@ import numpy as np
 from ..errors import EraError
 from . import cache
 from .record import CampaignSettings, RecordFailure, RecordModes, analyse_record, record_name
-from .result import CampaignResult, build_table, pandas
+from .result import CampaignResult, build_table, require_pandas
 from .tracking import track_modes
 
 
@@ -120,7 +120,7 @@ def run_campaign(sources, *, kind: str = "auto", dt: float | None = None, rows: 
     Raises era.EraError for bad arguments (never for a bad record: those are in ``result.failed``).
     """
     srcs = _sources(sources)
-    pandas()  # before any work: the table needs it
+    require_pandas()  # before any work: the table needs it
     try:
         inspect.signature(track_modes).bind_partial(None, **(tracking or {}))
     except TypeError:

@@ -81,7 +81,7 @@ def block_hankel(markov: np.ndarray, row_shifts: np.ndarray, col_shifts: np.ndar
     return out.reshape(r * p, s * m)
 
 
-def check_size(n_samples: int, p: int, m: int, row_shifts: np.ndarray, col_shifts: np.ndarray) -> None:
+def check_hankel_size(n_samples: int, p: int, m: int, row_shifts: np.ndarray, col_shifts: np.ndarray) -> None:
     """Raise a HankelError that says what fits when the data or the memory limit cannot hold H(0), H(1)."""
     need = samples_needed(row_shifts, col_shifts)
     r, s = len(row_shifts), len(col_shifts)

@@ -12,7 +12,7 @@ from . import hankel, mode_uncertainty, svd
 from .blas import blas_threads, single_threaded_blas
 from .data import ResponseData
 from ..errors import EraError, HankelError, OrderError
-from ..setups.points import with_points
+from .points import with_points
 from .decomposition import (
     ModalDecomposition, align_repeated, cluster_candidates, decompose, mode_order, repeated_clusters)
 from .modal import ModalModel, build_model
@@ -327,7 +327,7 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     js = hankel.shifts(r, row_shifts, "row_shifts")
     ts = hankel.shifts(s, col_shifts, "col_shifts")
     n_samples, p, m = data.markov.shape
-    hankel.check_size(n_samples, p, m, js, ts)
+    hankel.check_hankel_size(n_samples, p, m, js, ts)
     if max_order is not None:
         max_order = _count(max_order, "max_order")
     method = svd.choose_method((r * p, s * m), svd_method, max_order)

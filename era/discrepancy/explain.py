@@ -26,7 +26,7 @@ from .effects import describe, nuisance, one_of, places_noun, short_place
 from .effects_frame import frame_effects
 from .effects_grid import grid_effects
 from .explanation import PLACE_COVERAGE, VERDICTS, Explanation, NamedEffect
-from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, build_model, profile_interval
+from .fitting import TRIAL_FAILURES, ErrorLevels, ModeWeights, effect_model, profile_interval
 from .effects_matrix import matrix_effects
 from .frame_model import FrameModel, refit_exact
 from .deck_model import DeckExplainModel
@@ -74,7 +74,7 @@ def _select_modes(nominal: ExplainModel, specs, measured: MeasuredModes, n_model
             continue
         params = (nu,) + tuple(spec.params)
         try:
-            model = build_model(nominal, spec, params, [p.prior_mean for p in params])
+            model = effect_model(nominal, spec, params, [p.prior_mean for p in params])
             used |= set(pair(model, measured, n_model).measured_index.tolist())
         except TRIAL_FAILURES:     # a candidate that cannot be solved pairs nothing (rank_effects says why)
             continue
@@ -191,7 +191,7 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         responses to impulses (input_units "N·s", outputs in m or mm) whose points are given as
         data.meta["input_locations"] ((x_ft, y_ft) joints, as era.examples.grid_simulation records them) also contribute their
         modal constants, which fix the absolute mass; other data are fitted by frequencies and shapes only. With an
-        era.Frame, the struck points of data.meta["input_points"] (era.setups.points' labels, "4Z" or "E x") that name a
+        era.Frame, the struck points of data.meta["input_points"] (era.core.points' labels, "4Z" or "E x") that name a
         node and direction of the frame are sensors for the comparison too, after the outputs (their input-side
         shapes scaled through a driving point, a point both measured and struck); others are said and left out. So
         are they with a matrix model, where a point is compared when it names a free DOF.

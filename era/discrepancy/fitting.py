@@ -173,7 +173,7 @@ class Fit:
     n_evals: int
 
 
-def build_model(nominal: ExplainModel, spec: EffectSpec, params: tuple, u, location=None) -> ExplainModel:
+def effect_model(nominal: ExplainModel, spec: EffectSpec, params: tuple, u, location=None) -> ExplainModel:
     """The nominal model with the effect switched on at parameters u (transformed, nuisance first)."""
     changes = dict(spec.fixed)
     changes.update({p.name: p.value(x) for p, x in zip(params, u)})
@@ -253,14 +253,14 @@ def fit_effect(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, measure
     ref = [None]          # the solved model the trials are approximated about (ritz), else None
 
     def solved(u):
-        m = build_model(nominal, spec, params, u, location)
+        m = effect_model(nominal, spec, params, u, location)
         m.node_modes(max(ritz_modes, n_model))
         return m
 
     def total(u):
         nonlocal n_evals
         n_evals += 1
-        m = build_model(nominal, spec, params, u, location)
+        m = effect_model(nominal, spec, params, u, location)
         approx = m.ritz(ref[0], ritz_modes) if ref[0] is not None else None
         r, _ = mode_residuals(m if approx is None else approx, measured, w, n_model)
         if approx is None and ref[0] is not None:   # too far for the approximation: solved, the next trials
@@ -318,7 +318,7 @@ def fit_effect(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, measure
     sd_u = np.sqrt(np.clip(np.diag(np.linalg.pinv(H)), 0.0, None))
     sd_u = np.hypot(sd_u, [p.model_form * (1.0 if p.log else abs(p.value(x))) for p, x in zip(params, u)])
     unc = {p.name: (p.value(x) * s if p.log else s) for p, x, s in zip(params, u, sd_u)}
-    model = build_model(nominal, spec, params, u, location)
+    model = effect_model(nominal, spec, params, u, location)
     r, (fa, mac_pair, idx) = mode_residuals(model, measured, w, n_model)
     chi2 = float(np.sum(r**2))
     chi2_prior = float(np.sum(_prior_residuals(params, u) ** 2))
@@ -365,7 +365,7 @@ def profile_interval(nominal: ExplainModel, fit: Fit, measured: MeasuredModes, w
     ritz = ritz_modes > 0 and fit.model.has_ritz
 
     def resid(u):
-        m = build_model(nominal, spec, params, u, loc)
+        m = effect_model(nominal, spec, params, u, loc)
         approx = m.ritz(fit.model, ritz_modes) if ritz else None
         r, _ = mode_residuals(m if approx is None else approx, measured, w, n_model)
         return r

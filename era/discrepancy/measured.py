@@ -15,7 +15,7 @@ from ..choice.choose import ModeChoice
 from ..core.correlation import real_shapes
 from ..core.data import ResponseData
 from ..errors import DataError
-from ..setups.points import channel_points, point_shapes
+from ..core.points import channel_points, point_shapes
 from ..core.realization import Identification
 from ..core.selection import keep_mask, kept_modes
 from ..core.stabilization import Stabilization, StableMode, stabilization
@@ -41,7 +41,7 @@ class MeasuredModes:
         model's node coordinates, or an era.Frame's (node id, direction), e.g. ("E", "x").
     struck_points : (e,) labels of the struck points (``data.meta["input_points"]``) not among the outputs' points,
         or None; struck_shapes : (p + e, k) real unit-norm shapes at the outputs and then those points (the
-        input-side shapes scaled through a driving point, by reciprocity: era.setups.points), None when no point is
+        input-side shapes scaled through a driving point, by reciprocity: era.core.points), None when no point is
         both measured and struck; struck_shape_std : (k,) their spread across orders. See :meth:`with_struck`.
     """
 
@@ -289,7 +289,7 @@ def _measured(ident: Identification, stab: Stabilization, chosen: list[StableMod
 def struck_shapes(ident, stab, chosen, weights=None) -> tuple:
     """(labels (e,), shapes (p + e, k), spread (k,)) of the struck points of ``ident.data`` that are not among its
     outputs' points: each chosen mode's shape at the outputs (as the channels read it, the rows of ``shapes``) and
-    at those points, from every pole of its track (:func:`era.setups.points.point_shapes`: reciprocity, scaled through
+    at those points, from every pole of its track (:func:`era.core.points.point_shapes`: reciprocity, scaled through
     the driving points), real, unit norm, averaged like the shapes. (None, None, None) without
     ``data.meta["input_points"]``; (labels, None, None) when no point is both measured and struck.
     weights : (m,) the factors the records were multiplied by before ERA (:func:`input_weights`), undone."""
@@ -332,7 +332,7 @@ _NODE_DIRECTION = re.compile(r"^(\S+?)\s*(-?[xyz])$", re.IGNORECASE)
 
 
 def node_direction(label) -> tuple | None:
-    """(node, direction) a point label names: "4X", "4 x" -> ("4", "x"); "E -z" -> ("E", "-z") (era.setups.points' "node
+    """(node, direction) a point label names: "4X", "4 x" -> ("4", "x"); "E -z" -> ("E", "-z") (era.core.points' "node
     axis" labels, a frame's sensor names "node direction"); None for any other label (e.g. "4RX", a rotation)."""
     hit = _NODE_DIRECTION.match(str(label).strip())
     if hit is None or re.fullmatch(r"-?\d+R", hit.group(1), re.IGNORECASE):

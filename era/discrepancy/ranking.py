@@ -17,7 +17,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from .effects import EffectSpec, Param, as_json_location, as_location
-from .fitting import TRIAL_FAILURES, Fit, ModeWeights, build_model, fit_effect, mode_residuals, trial_failure
+from .fitting import TRIAL_FAILURES, Fit, ModeWeights, effect_model, fit_effect, mode_residuals, trial_failure
 from .measured import MeasuredModes
 from .protocol import ExplainModel
 
@@ -160,7 +160,7 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
     n_r = r0.size
     nudge = np.zeros(base.u.size)
     nudge[0] = 1e-3
-    j_sf = (resid(build_model(nominal, base.spec, base.params, base.u + nudge, base.location)) - r0) / 1e-3
+    j_sf = (resid(effect_model(nominal, base.spec, base.params, base.u + nudge, base.location)) - r0) / 1e-3
     either_way = spec.either_way
     out = np.full(len(locations), np.inf)
     size = np.zeros(len(locations))
@@ -187,7 +187,7 @@ def screen_locations(nominal: ExplainModel, spec: EffectSpec, nuisance: Param, b
     for i in todo:
         u = [*base.u, *trial_u]
         try:
-            trial = build_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
+            trial = effect_model(nominal, spec, (nuisance,) + tuple(spec.params), u, locations[i])
             approx = trial.screening_ritz(base.model, ritz_modes) if ritz else None
             change = resid(trial if approx is None else approx) - r0[:n_r]
             if not np.all(np.isfinite(change)):

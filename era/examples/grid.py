@@ -27,7 +27,7 @@ from ..words import listed
 from .grid_layout import (
     AIR_JET_FT, CABLES_FT, FT, JOINTS_FT, MEMBERS_FT, N_HORIZONTAL, N_SEGMENTS, NX, NY, SEGMENT_JOINTS, SENSORS_FT,
     joint_index, segment_index)
-from .grid_solves import SolveCache, assemble, attachments, changed_nodes, param_key, self_weight
+from .grid_solves import SolveCache, assemble_grid, attachments, changed_nodes, param_key, grid_self_weight
 
 SAMPLE_RATE_HZ = 32.0
 TABLE1_HZ = np.array([0.362, 0.612, 1.425, 2.331, 2.826, 4.936, 5.476, 6.429, 7.047, 9.841])
@@ -206,7 +206,7 @@ class GridModel:
         statics = self._statics or self.cache.statics.get(key)
         if statics is None:
             p = self._params
-            statics = self_weight(frame, [(cables[0], True, True), (cables[1], False, True)], self.cache,
+            statics = grid_self_weight(frame, [(cables[0], True, True), (cables[1], False, True)], self.cache,
                                   param_key(p, ("elements_per_bar", "member_at", "member_factor")),
                                   1.0 / N_SEGMENTS / FT, p["distributed_mass_kg"],
                                   p["point_mass_kg"],
@@ -219,7 +219,7 @@ class GridModel:
         springs[cables, 0] += tension / lengths           # pendulum stiffness T/L of each cable
         frame = replace(frame, node_springs=springs)
         axial = axial_force * float(self._params["gravity"])
-        system = assemble(frame, axial if self._params["gravity"] else None, self.cache)
+        system = assemble_grid(frame, axial if self._params["gravity"] else None, self.cache)
         return frame, system, tension, system.dofs[:NX * NY, 0], (axial_force, tension)
 
     @property

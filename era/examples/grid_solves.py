@@ -45,7 +45,7 @@ def param_key(params: dict, names=None) -> tuple:
     return tuple((k, params[k]) for k in sorted(params) if names is None or k in names)
 
 
-def assemble(frame: fem.PlaneFrame, axial_force, cache: SolveCache) -> fem.Assembled:
+def assemble_grid(frame: fem.PlaneFrame, axial_force, cache: SolveCache) -> fem.Assembled:
     """fem.assemble_out_of_plane with the DOF map and the sparse pattern kept per mesh (the split joints and
     which of their springs are finite): the same matrices, entry for entry, without rebuilding the sparse
     structure at every parameter change (tests/discrepancy/test_fast_fits.py checks them against it)."""
@@ -89,7 +89,7 @@ def assemble(frame: fem.PlaneFrame, axial_force, cache: SolveCache) -> fem.Assem
     return fem.Assembled(K=K, M=M, dofs=dofs)
 
 
-def self_weight(frame: fem.PlaneFrame, supports: list, cache: SolveCache, structure: tuple, spread_per_bar: float,
+def grid_self_weight(frame: fem.PlaneFrame, supports: list, cache: SolveCache, structure: tuple, spread_per_bar: float,
                 spread_kg: float, point_kg: float, point_joint: int | None) -> tuple:
     """(axial force (e,), support vertical reactions (2,)) of the in-plane self-weight solve (fem.self_weight).
 

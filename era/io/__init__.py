@@ -25,9 +25,9 @@ from .inflate import Budget
 from .lvm import read_lvm
 from .mat import read_mat
 from .npy import read_npy
-from .npz import npz_bytes, read_npz, save_npz
+from .npz import npz_bytes, read_arrays, read_npz, save_npz
 from .choices import choose, renumber
-from .records import Records, merge, to_response
+from .records import Records, merge_records, to_response
 from .signalcalc import is_setup, is_signalcalc, read_signalcalc
 from .tdms import read_tdms
 from .uff import ModeSet, read_modes_uff, read_uff
@@ -145,7 +145,7 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
         positions)
     points : where time channels are, {channel (name or 0-based position as read): point label ("4X")}: a force
         channel's point is where the structure was struck (``ResponseData.meta["input_points"]``), a response's
-        where it was measured (``output_points``); era.setups.points then gives the shape at every such point
+        where it was measured (``output_points``); era.core.points then gives the shape at every such point
     orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
         (default: from the shape, the longer side is time)
     variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
@@ -254,7 +254,7 @@ def read(source, format: str | None = None, *, name: str | None = None, dt: floa
         if fmt in _TIME_READERS:
             reader = _TIME_READERS[fmt]
             more = dict(how, budget=budget) if fmt in _INFLATING else how
-            return replace(got, records=merge([reader(_payload(fmt, raw, src), lab, dt, **more)
+            return replace(got, records=merge_records([reader(_payload(fmt, raw, src), lab, dt, **more)
                                                for (raw, lab), src in zip(raws, sources)], labels))
         if fmt == "signalcalc":
             rec, parts = read_signalcalc([_whole(raw, src) for (raw, _), src in zip(raws, sources)], labels, setup)
@@ -332,5 +332,5 @@ def _source(labels, fmt, kind, described, data) -> dict:
     return out
 
 
-__all__ = ["load", "read", "Read", "choose", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes",
+__all__ = ["load", "read", "Read", "choose", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes", "read_npz", "read_arrays",
            "sniff"]

@@ -40,7 +40,7 @@ class Var:
     """A named array in a file, not read yet. name: as the user chooses it (MAT name, HDF5 path); shape; kind: the
     numpy dtype kind ('f', 'i', 'u', 'c', 'b', or '?' for what is not a plain array); read: () -> ndarray, checked
     against the bytes the file holds; attrs: units ("units", str or one per channel), channel names ("channels"),
-    the channels' points ("points", one label per channel, era.setups.points) and sampling (dt/fs names above) stored
+    the channels' points ("points", one label per channel, era.core.points) and sampling (dt/fs names above) stored
     with it."""
 
     name: str
@@ -146,7 +146,7 @@ def records_from_vars(vars_: list[Var], label: str, fmt: str, dt=None, variable=
             [v.name.lstrip("/")] if b.shape[1] == 1 else [f"{v.name.lstrip('/')}:{i + 1}" for i in range(b.shape[1])])  # file:channel
         unit = [str(x) for x in np.atleast_1d(v.attrs.get("units", ""))]
         units += unit if len(unit) == b.shape[1] else [unit[0]] * b.shape[1]
-        where = [str(x).strip() for x in np.atleast_1d(v.attrs.get("points", []))]  # era.setups.points labels (HDF5)
+        where = [str(x).strip() for x in np.atleast_1d(v.attrs.get("points", []))]  # era.core.points labels (HDF5)
         points += where if len(where) == b.shape[1] else [""] * b.shape[1]
     lead = _time_channel(y, vars_, label)
     if lead is not None:  # a time axis stored as the first channel (np.vstack([t, force, acc]) and the like)

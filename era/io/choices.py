@@ -52,7 +52,7 @@ def choose(rec: Records, *, start_sample: int | None = None, drop=None, forces=N
     drop : channels (names or 0-based positions) left out: time channels, or outputs of FRFs/impulse responses.
     forces : the channels (names or positions) that measure the excitation (hammer, shaker force), replacing what
         the file's units and names suggested; time histories only. An empty list says that no channel is a force.
-    points : where the channels are (era.setups.points): {channel (name or 0-based position): point label ("4X": node 4
+    points : where the channels are (era.core.points): {channel (name or 0-based position): point label ("4X": node 4
         along X)}, time histories only. A force channel's point is where the structure was struck or driven
         (``input_points``), a response channel's where it was measured (``output_points``); see
         era.io.records.to_response. Channels not named have no known point.

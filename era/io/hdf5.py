@@ -10,7 +10,7 @@ The layout read (every name case-insensitive; era/io/arrays.py does the choosing
 - **labels**: attribute ``channels`` (one string per channel) and ``units`` (one string, or one per channel) on
   the data dataset;
 - **points**: attribute ``points`` (one string per channel, "" unknown) on the data dataset: where each channel is
-  ("4X": node 4 along X; era.setups.points). A force channel's point is where the structure was struck or driven, a
+  ("4X": node 4 along X; era.core.points). A force channel's point is where the structure was struck or driven, a
   response's where it was measured; the import step's point column replaces them.
 
 For example ``h5py.File("test.h5", "w")`` with ``f["acc"] = y`` (N × 3), ``f["acc"].attrs["units"] = "m/s^2"``,

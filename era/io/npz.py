@@ -62,7 +62,7 @@ _LEGACY_GEOMETRY = {f"geo_{k}": k for k in _GEOMETRY} | {"geo_units": "geometry_
 #: The geometry's trace lines by name (optional; archives written before them have none).
 _LINES = ("edge_lines", "line_ids", "line_names")
 _FLAGS = ("has_output_units", "has_input_units", "has_geometry")
-#: Where the channels are (era.setups.points), kept in ResponseData.meta under the same names.
+#: Where the channels are (era.core.points), kept in ResponseData.meta under the same names.
 _POINTS = ("output_points", "output_signs", "input_points", "input_signs")
 _NAMES = ("markov", "dt", *_LABELS, "input_locations", *_POINTS, "name", "records", *_GEOMETRY, "geometry_units", *_LINES,
           *_FLAGS, *_LEGACY_GEOMETRY)
@@ -205,7 +205,7 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
             raise DataError(f"data.meta['input_locations'] has shape {where.shape}; give one point per input, shape "
                             f"(m, d) = ({data.n_inputs}, d), or remove it.")
         arrays["input_locations"] = where
-    for key in _POINTS:  # where the channels are: the point shapes (era.setups.points) need them
+    for key in _POINTS:  # where the channels are: the point shapes (era.core.points) need them
         value = (data.meta or {}).get(key)
         if value is not None:
             arrays[key] = np.array(value, dtype=str if key.endswith("points") else float)

@@ -228,7 +228,7 @@ def check_finite(values: np.ndarray, where: str, row_offset: int = 0, row_name: 
                         f"{int(first[0]) + row_offset}{col}. Remove or interpolate them, then load again.")
 
 
-def merge(records: list[Records], labels: list[str]) -> Records:
+def merge_records(records: list[Records], labels: list[str]) -> Records:
     """Several files of the same channels as several records (one or more per file).
 
     The files must hold the same channels in the same units, sampled with the same step, and records of the same

@@ -227,9 +227,9 @@ def read_setup(raw: bytes, label: str) -> dict:
 
 def setup_points(setup: dict, n_outputs: int, n_inputs: int, label: str) -> tuple[dict, tuple]:
     """(meta points, geometry parts) of a roving-hammer test: each distinct position a node (the hammer points
-    first, numbered 1, 2, ...), the inputs at the hammer points, the outputs at the accelerometers (era.setups.points);
+    first, numbered 1, 2, ...), the inputs at the hammer points, the outputs at the accelerometers (era.core.points);
     the nodes joined in a line when they lie on one (the ModeLAB beam), else left as a scatter of points."""
-    from ..setups.points import axis_and_sign, point_label
+    from ..core.points import axis_and_sign, point_label
     h_xyz, a_xyz = setup["hammer_xyz"], setup["accel_xyz"]
     if len(h_xyz) != n_inputs or len(a_xyz) != n_outputs:
         raise DataError(f"{label}: {counted(len(h_xyz), 'hammer point')} and {counted(len(a_xyz), 'accelerometer')}, "

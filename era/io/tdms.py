@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import DataError
 from .arrays import Var, check_size, records_from_vars
-from .records import Records, merge
+from .records import Records, merge_records
 
 MAGIC = b"TDSm"
 _UNIT_KEYS = ("unit_string", "NI_UnitDescription", "unit")
@@ -49,7 +49,7 @@ def read_tdms(raw, label: str, dt: float | None = None, group: str | None = None
                             f"group={next(iter(groups))!r}.", option="group")
         records = [records_from_vars([_var(c, size, label, g) for c in groups[g]], f"{label} [{g}]", "NI TDMS",
                                      dt) for g in chosen]
-    return merge(records, [f"{label} [{g}]" for g in chosen]) if len(records) > 1 else records[0]
+    return merge_records(records, [f"{label} [{g}]" for g in chosen]) if len(records) > 1 else records[0]
 
 
 def _check_segments(fh, label: str) -> int:

@@ -15,7 +15,7 @@ import pyuff
 from ..errors import DataError
 from ..words import counted, sampling, significant
 from ..markov.common import uneven_step
-from .records import Records, check_finite, merge
+from .records import Records, check_finite, merge_records
 from .uff_geometry import (
     build_geometry, geometry_parts, in_global_directions, merge_parts, modes_in_global, unit_factors)
 
@@ -227,7 +227,7 @@ def _matrix(recs: list[dict], domain: str, label: str) -> Records:
 
 
 def _points(outs: list, refs: list) -> dict | None:
-    """Where the responses and references are (era.setups.points): node and axis from each record's node and direction
+    """Where the responses and references are (era.core.points): node and axis from each record's node and direction
     code ("4X"; "" when node or direction is 0), the code's sign apart. None when no reference is placed."""
     def side(keys):
         pts = tuple(f"{n}{_DIR_LABEL[abs(c)]}" if n and abs(c) in _DIR_LABEL else "" for n, c in keys)
@@ -340,7 +340,7 @@ def read_uff(path, label):
         elif len(paths) == 1:
             records = _channels(funcs, labels[0])
         else:
-            records = merge([_channels([f for f in funcs if f["file"] == lab], lab) for lab in labels
+            records = merge_records([_channels([f for f in funcs if f["file"] == lab], lab) for lab in labels
                              if any(f["file"] == lab for f in funcs)], labels)
         if len(paths) > 1:
             records.described.insert(0, f"{len(paths)} UFF files read as one test: {', '.join(labels)}")

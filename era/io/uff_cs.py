@@ -107,7 +107,7 @@ def lookup(table: dict[int, System], cs: int, node: int, label: str, what: str) 
     return table[cs]
 
 
-def to_global(ids, xyz, def_cs, disp_cs, table, label: str) -> tuple[np.ndarray, np.ndarray, bool]:
+def nodes_to_global(ids, xyz, def_cs, disp_cs, table, label: str) -> tuple[np.ndarray, np.ndarray, bool]:
     """(global coordinates (n, 3), each node's measurement axes (n, 3, 3) as rows, whether anything changed)."""
     xyz = np.array(xyz, dtype=float)
     frames = np.tile(np.eye(3), (len(ids), 1, 1))

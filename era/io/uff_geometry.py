@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import DataError
 from ..core.geometry import Geometry
 from .records import Records
-from .uff_cs import systems, to_global
+from .uff_cs import systems, nodes_to_global
 
 
 def unit_factors(sets, label: str) -> tuple[float, float]:
@@ -46,7 +46,7 @@ def geometry_parts(sets, label: str):
     if not ids:
         return None
     ids = np.concatenate(ids)
-    xyz, frames, _ = to_global(ids, np.concatenate(xyz), np.concatenate(def_cs).astype(int),
+    xyz, frames, _ = nodes_to_global(ids, np.concatenate(xyz), np.concatenate(def_cs).astype(int),
                                np.concatenate(disp_cs).astype(int), systems(sets, label), label)
     return ids, xyz / unit_factors(sets, label)[0], traces, frames  # coordinates in m
 

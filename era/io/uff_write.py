@@ -41,7 +41,7 @@ def node_shapes(shapes: np.ndarray, geometry: Geometry | None) -> tuple[np.ndarr
 
 def written_shapes(model, geometry: Geometry | None) -> tuple[np.ndarray, Geometry | None]:
     """(shapes (q, modes) complex, geometry) to write: the model's ``point_shapes`` with a geometry whose channels
-    are its ``points`` (era.setups.points.point_geometry; "4X" is node 4 along X) when it has points beyond its outputs
+    are its ``points`` (era.core.points.point_geometry; "4X" is node 4 along X) when it has points beyond its outputs
     (a roving hammer's hit points) and the geometry places some of them, or there is no geometry (point k is then
     node k + 1); else its ``shapes`` with ``geometry``."""
     shapes = np.asarray(model.shapes, dtype=complex)
@@ -52,7 +52,7 @@ def written_shapes(model, geometry: Geometry | None) -> tuple[np.ndarray, Geomet
     at_points = np.asarray(at_points, dtype=complex)
     if geometry is None:
         return at_points, None
-    from ..setups.points import point_geometry
+    from ..core.points import point_geometry
     placed = point_geometry(geometry, points)
     if (placed.channel_nodes >= 0).any():
         return at_points, placed

@@ -20,7 +20,7 @@ import numpy as np
 from ..choice.analysis import analyse
 from ..errors import DataError
 from ..markov import markov_from_ambient
-from .merge import FREQUENCY_TOLERANCE, SetupMerge, merge
+from .poser import FREQUENCY_TOLERANCE, SetupMerge, merge_with_evidence
 
 #: The two ways, in the order of NextChoice's arrays: every channel a NExT reference, or the reference sensors only.
 WAYS = ("every", "references")
@@ -53,7 +53,7 @@ class NextChoice:
     reason: str
 
 
-def complete_modes(result: SetupMerge, frequency_tolerance: float = FREQUENCY_TOLERANCE) -> int:
+def count_complete_modes(result: SetupMerge, frequency_tolerance: float = FREQUENCY_TOLERANCE) -> int:
     """How many of a merge's complete modes lie at distinct frequencies (a mode within ``frequency_tolerance`` of
     the last counted one is not counted)."""
     f = np.sort(result.model.frequency_hz[result.complete])
@@ -67,7 +67,7 @@ def complete_modes(result: SetupMerge, frequency_tolerance: float = FREQUENCY_TO
 def choose_next(every, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE) -> NextChoice:
     """The rule: of two merges of one test (``every``: NExT with every channel as reference; ``references``: with
     the reference sensors only; each an era.SetupMerge or the era.DataError its merge raised), keep the one with
-    more complete modes (:func:`complete_modes`), ties to the higher mean MPC of the complete shapes, then to every
+    more complete modes (:func:`count_complete_modes`), ties to the higher mean MPC of the complete shapes, then to every
     channel (era's default). Raises the DataError of the default way when both were refused."""
     merges, refused = [], []
     for m in (every, references):
@@ -75,7 +75,7 @@ def choose_next(every, references, *, frequency_tolerance: float = FREQUENCY_TOL
         refused.append("" if isinstance(m, SetupMerge) else str(m))
     if merges[0] is None and merges[1] is None:
         raise every if isinstance(every, Exception) else DataError(refused[0])
-    complete = np.array([-1 if m is None else complete_modes(m, frequency_tolerance) for m in merges])
+    complete = np.array([-1 if m is None else count_complete_modes(m, frequency_tolerance) for m in merges])
     quality = np.array([np.nan if m is None or not m.complete.any() else float(np.mean(m.model.mpc[m.complete]))
                         for m in merges])
     q = np.nan_to_num(quality, nan=-1.0)
@@ -115,7 +115,7 @@ def merge_choosing_next(every, references_only, references, *, frequency_toleran
     """
     def attempt(analyses):
         try:
-            return merge(analyses, references, frequency_tolerance=frequency_tolerance, **options)
+            return merge_with_evidence(analyses, references, frequency_tolerance=frequency_tolerance, **options)
         except DataError as exc:
             return exc
 
@@ -124,7 +124,7 @@ def merge_choosing_next(every, references_only, references, *, frequency_toleran
         if isinstance(first, Exception):
             raise first
         return NextChoice(used="every", result=first, merges=(first, None), complete=np.array(
-            [complete_modes(first, frequency_tolerance), -1]), quality=np.array([np.nan, np.nan]),
+            [count_complete_modes(first, frequency_tolerance), -1]), quality=np.array([np.nan, np.nan]),
             refused=("", "not ambient records"), reason="Not ambient records: no NExT references to choose.")
     return choose_next(first, attempt(references_only), frequency_tolerance=frequency_tolerance)
 

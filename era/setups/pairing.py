@@ -18,7 +18,7 @@ from ..core import indicators
 from ..errors import DataError
 
 #: The reasons (choose.REASONS) for which a setup's cluster, left out by era.analyse for want of evidence alone,
-#: may be taken as a mode other setups confirm (see era.setups.merge.merge_setups, ``recover``).
+#: may be taken as a mode other setups confirm (see era.setups.poser.merge_setups, ``recover``).
 RECOVERABLE = ("orders", "noise")
 #: The cost of a pairing that is not allowed (an optimal assignment needs finite costs).
 FORBIDDEN = 1e6
@@ -36,7 +36,7 @@ class DroppedMode:
 
 
 # ---- pairing ----------------------------------------------------------------------------------------------------
-def pair_modes(models, refs, tol, min_mac, min_level):
+def pair_setup_modes(models, refs, tol, min_mac, min_level):
     """Groups: a list of (setups,) int arrays, one per distinct mode (its index in each setup, -1 where not seen),
     built setup by setup by an optimal assignment (frequency and reference MAC), then by frequency alone where the
     reference MAC failed but the frequency leaves no doubt (:func:`by_frequency`); the modes that cannot be scaled

@@ -1,7 +1,7 @@
 """Issue 26 in the import step: the "point" of each time channel. Two shakers drive a three-mass chain at masses 1
 and 3 while accelerometers measure masses 1 and 2; the person types where each channel is (1X, 3X for the forces;
 1X, 2X for the responses), and the model's shape is then known at all three masses: mass 3 was driven, not
-measured, and its value comes from the input side through the driving point 1X (reciprocity, era.setups.points)."""
+measured, and its value comes from the input side through the driving point 1X (reciprocity, era.core.points)."""
 
 from __future__ import annotations
 

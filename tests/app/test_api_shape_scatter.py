@@ -10,13 +10,13 @@ import numpy as np
 
 from app import limits, payloads, reporting
 from app.config import Settings
-from app.examples import available
+from app.examples import catalogue
 
 from apiclient import client
 
 
 def test_modes_carry_the_shape_scatter_when_asked_and_the_csv_has_its_column(tmp_path):
-    data, _ = available()["grid"].build()
+    data, _ = catalogue()["grid"].build()
     with client(tmp_path) as c:
         ds = c.post("/api/examples/grid").json()
         params = {"rows": ds["defaults"]["rows"], "cols": ds["defaults"]["cols"]}
@@ -26,7 +26,7 @@ def test_modes_carry_the_shape_scatter_when_asked_and_the_csv_has_its_column(tmp
         step = c.get(f"/api/analyses/{a['id']}/step", params={"order": 20}).json()
         assert step["modes"]["shape_scatter"] is None
         m = c.get(f"/api/analyses/{a['id']}/modes", params={"order": 20, "fit": False, "scatter": True}).json()
-    ident = limits.identify(data, params, Settings())
+    ident = limits.identify_within_limits(data, params, Settings())
     expected = ident.shape_scatter(20)
     scatter = np.array(m["shape_scatter"], dtype=float)
     assert scatter.shape == (m["n_modes"],) and np.all((scatter >= 0) & (scatter < 1))

@@ -30,7 +30,7 @@ import numpy as np
 from scipy.signal import decimate
 
 import era
-from era.setups.merge import merge
+from era.setups.poser import merge_with_evidence
 
 POGER_HZ = np.array([1.229, 1.436, 2.100, 4.017, 4.769, 6.683, 7.616, 9.664])
 POGER_DAMPING = np.array([0.232, 0.147, 0.130, 0.162, 0.161, 0.190, 0.165, 0.174]) / 100
@@ -69,7 +69,7 @@ def main(root: Path, every_channel: bool = False, both: bool = False) -> None:
         assert choice.used == "references", choice.reason
         result = choice.result
     else:
-        result = merge(runs, [[3, 4]] * 15)
+        result = merge_with_evidence(runs, [[3, 4]] * 15)
     t2 = time.perf_counter()
     model = result.model
     print(f"\n15 setups analysed in {t1 - t0:.1f} s, merged in {1000 * (t2 - t1):.0f} ms; {len(model.points)} points")

@@ -8,7 +8,10 @@
 - no class name defined twice in era/ and app/ (app/schemas/ mirrors era's names on purpose);
 - no module over 450 lines;
 - private names stay in their module: none is imported (``from .x import _y``) or read off a module
-  (``x._y``) by another module of era/ or app/.
+  (``x._y``) by another module of era/ or app/;
+- app/ takes era's public names only: from ``era`` itself or a room's face (``era.core``, ``era.choice``,
+  ``era.setups``, ``era.io``, ...: the names in that package's ``__all__``), never from a module inside a room;
+- one word per concept: no public function name is defined in two modules for two different things.
 """
 
 from __future__ import annotations
@@ -26,6 +29,34 @@ LONG_MODULES: dict[str, str] = {}
 
 #: Private names still read across modules, {(module, name): reason}. Keep it empty.
 PRIVATE_CROSSINGS: dict[tuple[str, str], str] = {}
+
+#: era modules app/ may import from although they are not a room's face, {module: reason}.
+PUBLIC_MODULES = {
+    "era.errors": "the exceptions every room raises",
+    "era.words": "plural and list wording shared by every message",
+    "era.io.preview": "the import preview; it reads with era.io's own reader, so the face cannot hold it",
+}
+#: Rooms whose modules app/ may take anything from: built-in examples and demo data, not the method.
+EXAMPLE_ROOMS = ("era.examples",)
+
+#: Public function names defined in more than one module, {name: why it is one concept}. Route handlers
+#: (app/routes/: named after the HTTP operation, as FastAPI does) and migrations (alembic's upgrade/downgrade) are
+#: left out. Keep it short: a name used for two different things is renamed instead.
+SAME_CONCEPT = {
+    "compare": "a structure model's modes against the test's: for frames (app.modeling) and FE models (app.femodel)",
+    "describe": "what an effect or a model holds, in words, for the page",
+    "summary": "a stored model's summary for the page: frames and FE models",
+    "load": "read the stored thing of the room (a test file, a setups test, an FE model)",
+    "unmatched": "the test's points with no partner: in a setups test and in an FE model",
+    "even_step": "the sampling step of a clock; era.io.arrays's refuses a jittered clock where arrays take no option",
+    "free_decays": "the free decays of an example's simulated test",
+    "install": "install the app's handlers on the FastAPI app (errors, middleware)",
+    "main": "a package's command line (python3 -m era / -m app)",
+    "modes_csv": "chosen modes as CSV: of an analysis report and of a setups merge",
+    "modes_uff": "chosen modes as UFF 55: of an analysis report and of a setups merge",
+    "self_weight": "the static solve under the structure's own weight: plane and space frames",
+    "standalone_html": "a page that works offline: report, campaign, viewer recording",
+}
 
 
 def _modules() -> dict[str, tuple[Path, bool]]:
@@ -221,3 +252,44 @@ def test_private_names_stay_in_their_module():
                 if attr.startswith("_") and not attr.startswith("__") and (name, attr) not in PRIVATE_CROSSINGS:
                     wrong.append(f"{name}:{node.lineno} reads {node.value.id}.{attr}")
     assert wrong == []
+
+
+def _face(package: str) -> set[str]:
+    """The names in a package's ``__all__`` (read from its ``__init__`` with ast), or empty."""
+    path, is_package = MODULES[package]
+    if not is_package:
+        return set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "__all__" for t in node.targets):
+            return set(ast.literal_eval(node.value))
+    return set()
+
+
+def test_app_takes_era_public_names_only():
+    wrong = []
+    for name in MODULES:
+        if not name.startswith("app"):
+            continue
+        for target, taken, line in _imports(name):
+            if not (target == "era" or target.startswith("era.")):
+                continue
+            if target in PUBLIC_MODULES or target.startswith(EXAMPLE_ROOMS) or target == "era" and taken is None:
+                continue
+            package = target if taken is not None else target.rsplit(".", 1)[0]
+            what = taken if taken is not None else target.rsplit(".", 1)[1]
+            if MODULES.get(package, (None, False))[1] and what in _face(package):
+                continue
+            wrong.append(f"{name}:{line} takes {what} from {package}")
+    assert wrong == []
+
+
+def test_one_public_function_name_per_concept():
+    where: dict[str, list[str]] = {}
+    for name, (path, _) in MODULES.items():
+        if name.startswith(("app.routes", "app.store.migrations")):
+            continue
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and not node.name.startswith("_"):
+                where.setdefault(node.name, []).append(name)
+    twice = {k: v for k, v in where.items() if len(v) > 1 and k not in SAME_CONCEPT}
+    assert twice == {}, "a function name defined for two things: rename one, or say in SAME_CONCEPT why it is one"

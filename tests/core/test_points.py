@@ -1,4 +1,4 @@
-"""The mode shape at every measured or struck point (issue 26, era.setups.points): a simulated roving-hammer test whose
+"""The mode shape at every measured or struck point (issue 26, era.core.points): a simulated roving-hammer test whose
 residues are made from known shapes at known hit points gives back those shapes at the hit points, scaled onto the
 sensors' through the driving point; with one sensor off the hit points, the hit points' shapes alone."""
 
@@ -7,7 +7,7 @@ import pytest
 
 import era
 from era.examples.synthetic import modal_response
-from era.setups.points import point_geometry, point_shapes
+from era.core.points import point_geometry, point_shapes
 
 F_HZ = np.array([5.0, 12.0, 21.0])
 ZETA = np.array([0.02, 0.015, 0.01])

@@ -9,7 +9,7 @@ import pytest
 
 import era
 from era.examples.synthetic import ambient_response
-from era.setups.merge import combine, merge
+from era.setups.poser import combine, merge_with_evidence
 
 FREQUENCY_HZ = np.array([2.0, 5.5, 9.0, 14.0])
 DAMPING = np.array([0.015, 0.01, 0.012, 0.01])
@@ -57,7 +57,7 @@ def test_each_setup_finds_the_four_modes():
 
 
 def test_merged_shapes_match_the_truth_at_all_twelve_points():
-    result = merge(analyses(), [[0, 1]] * 4)
+    result = merge_with_evidence(analyses(), [[0, 1]] * 4)
     model = result.model
     assert isinstance(model, era.ModalModel) and model.n_modes == 4
     assert model.points == ("P2", "P5", "P1", "P3", "P4", "P6", "P7", "P8", "P9", "P10", "P11", "P12")
@@ -131,7 +131,7 @@ def test_a_mode_a_setup_missed_is_kept_with_nan_at_that_setups_points():
     runs = list(analyses())
     runs[1] = analyse_setup(setup_records(1, modes=(0, 1, 3)))
     assert runs[1].model.n_modes == 3
-    result = merge(runs, [[0, 1]] * 4)
+    result = merge_with_evidence(runs, [[0, 1]] * 4)
     model = result.model
     assert model.n_modes == 4
     np.testing.assert_array_equal(result.complete, [True, True, False, True])
@@ -155,7 +155,7 @@ def test_a_weak_cluster_a_setup_left_out_is_recovered_when_the_other_setups_conf
     choice = replace(a.choice, indices=a.choice.indices[[0, 1, 3]], chosen=a.choice.chosen[:2] + a.choice.chosen[3:],
                      rejected=a.choice.rejected + (weak,))
     runs[1] = replace(a, choice=choice, model=a.model.select([0, 1, 3]))
-    result = merge(runs, [[0, 1]] * 4)
+    result = merge_with_evidence(runs, [[0, 1]] * 4)
     assert result.members[2, 1] == -1 and result.recovered[2, 1] and np.all(result.complete)
     assert result.recovered_from[2, 1] == len(a.choice.rejected)
     macs = np.diag(era.mac(result.model.point_shapes, points_truth(result.model)))
@@ -163,7 +163,7 @@ def test_a_weak_cluster_a_setup_left_out_is_recovered_when_the_other_setups_conf
     three = [runs[k].model.frequency_hz[2] for k in (0, 2, 3)]
     assert min(three) <= result.model.frequency_hz[2] <= max(three)
     # without recovery, setup 2's points are NaN for that mode
-    plain = merge(runs, [[0, 1]] * 4, recover=False)
+    plain = merge_with_evidence(runs, [[0, 1]] * 4, recover=False)
     assert not plain.complete[2] and np.all(np.isnan(plain.model.point_shapes[plain.point_setup == 1, 2]))
 
 
@@ -171,13 +171,13 @@ def test_a_mode_seen_in_one_setup_only_is_dropped_with_its_reason():
     runs = list(analyses())
     lonely = runs[0].model
     runs = [runs[0]] + [a.model.select([0, 1, 3]) for a in runs[1:]]
-    result = merge(runs, [[0, 1]] * 4)
+    result = merge_with_evidence(runs, [[0, 1]] * 4)
     assert result.model.n_modes == 3
     assert [(d.setup, d.index) for d in result.dropped] == [(0, 2)]
     assert "seen in 1 of 4 setups" in result.dropped[0].reason
     assert result.dropped[0].frequency_hz == pytest.approx(lonely.frequency_hz[2])
     # with min_setups=1 it is kept, known at setup 1's points only
-    kept = merge(runs, [[0, 1]] * 4, min_setups=1)
+    kept = merge_with_evidence(runs, [[0, 1]] * 4, min_setups=1)
     assert kept.model.n_modes == 4 and np.count_nonzero(np.isfinite(kept.model.point_shapes[:, 2])) == 5
 
 
@@ -192,7 +192,7 @@ def test_a_split_twin_in_one_setup_is_dropped_as_such():
     per_mode = {name: getattr(model, name)[idx] for name in
                 ("amplitudes", "emac", "mpc", "contribution", "is_pair", "frequency_std_hz", "damping_std")}
     runs[0] = replace(model, z=z, shapes=model.shapes[:, idx], point_shapes=model.shapes[:, idx], **per_mode)
-    result = merge(runs, [[0, 1]] * 4)
+    result = merge_with_evidence(runs, [[0, 1]] * 4)
     assert result.model.n_modes == 4 and np.all(result.complete)
     assert len(result.dropped) == 1 and result.dropped[0].setup == 0 and result.dropped[0].index in (2, 3)
     assert "split twin" in result.dropped[0].reason
@@ -206,7 +206,7 @@ def test_a_mode_at_a_node_of_the_references_cannot_be_scaled():
     flat = model.shapes.copy()
     flat[[0, 1], 1] *= 1e-3  # mode 2 barely moves at the references in setup 1
     runs[0] = _with_shapes(model, flat)
-    result = merge(runs, [[0, 1]] * 4)
+    result = merge_with_evidence(runs, [[0, 1]] * 4)
     assert any(d.setup == 0 and d.index == 1 and "near a node" in d.reason for d in result.dropped)
     # mode 2 is still merged from the other three setups
     assert result.model.n_modes == 4 and not result.complete[1]
@@ -265,7 +265,7 @@ def test_a_uff55_export_of_merged_point_shapes_reads_back_at_the_right_nodes(tmp
 
     runs = list(analyses())
     runs[1] = analyse_setup(setup_records(1, modes=(0, 1, 3)), 1)
-    model = merge(runs, [[0, 1]] * 4).model
+    model = merge_with_evidence(runs, [[0, 1]] * 4).model
     path = tmp_path / "merged.uff"
     assert era.save_modes_uff(path, model) == (2,)
     sets = pyuff.UFF(str(path)).read_sets()
@@ -283,7 +283,7 @@ def test_a_uff55_export_of_merged_point_shapes_reads_back_at_the_right_nodes(tmp
 
 def test_no_complete_mode_is_refused_in_words(tmp_path):
     runs = list(analyses())
-    model = merge(runs, [[0, 1]] * 4).model
+    model = merge_with_evidence(runs, [[0, 1]] * 4).model
     gappy = replace(model, shapes=np.where(np.arange(12)[:, None] == 11, np.nan, model.shapes),
                     point_shapes=np.where(np.arange(12)[:, None] == 11, np.nan, model.shapes))
     with pytest.raises(era.DataError, match="None of the 4 modes is known at every point"):
@@ -299,9 +299,9 @@ def test_merged_points_are_placed_on_each_setups_geometry():
     geos = [era.Geometry(nodes, xyz, edges, np.array(REFERENCES + ROVING[k]),
                          np.tile([0.0, 0, 1], (2 + len(ROVING[k]), 1))) for k in range(4)]
     geos[2] = None  # a setup without geometry: its points are not placed
-    result = merge(analyses(), [[0, 1]] * 4)
-    g = era.setups.merge.merged_geometry(geos, result)
+    result = merge_with_evidence(analyses(), [[0, 1]] * 4)
+    g = era.setups.poser.merged_geometry(geos, result)
     order = REFERENCES + [i for rov in ROVING for i in rov]
     expect = np.where(result.point_setup == 2, -1, order)
     np.testing.assert_array_equal(g.channel_nodes, expect)
-    assert era.setups.merge.merged_geometry([None] * 4, result) is None
+    assert era.setups.poser.merged_geometry([None] * 4, result) is None

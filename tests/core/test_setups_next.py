@@ -65,4 +65,4 @@ def test_the_rule_keeps_the_merge_that_was_not_refused_and_counts_split_twins_on
     f = only.model.frequency_hz.copy()
     f[1] = f[0] * 1.01
     twin = replace(only, model=replace(only.model, z=np.exp((-0.01 + 2j * np.pi * f) * only.model.dt)))
-    assert era.setups.next_references.complete_modes(twin) == 3
+    assert era.setups.next_references.count_complete_modes(twin) == 3

@@ -9,7 +9,7 @@ import numpy as np
 
 import era
 from era.examples.synthetic import ambient_response
-from era.setups.merge import merge
+from era.setups.poser import merge_with_evidence
 from tests.simulated_setups import DT, TOWER_HZ, TOWER_REFERENCES, TOWER_ROVING, tower_records, tower_truth
 
 TRUE_REFERENCES = [[4, 5], [6, 7], [6, 7], [6, 7]]  # ch5, ch6 in setup 1; ch7, ch8 in setups 2-4
@@ -42,7 +42,7 @@ def test_the_references_are_found_from_the_modes_not_the_names():
 
 
 def test_the_merge_through_the_proposed_references_is_complete_and_exact():
-    result = merge(tower(), era.propose_references(tower()))
+    result = merge_with_evidence(tower(), era.propose_references(tower()))
     model = result.model
     assert model.n_modes == 5 and np.all(result.complete)
     np.testing.assert_allclose(model.frequency_hz, TOWER_HZ, rtol=0.01)
@@ -67,7 +67,7 @@ def test_references_near_a_node_pair_by_frequency_and_say_so():
         if k in (0, 2):
             shapes[TRUE_REFERENCES[k][1], third[k]] *= -1
         models.append(replace(a.model, shapes=shapes, points=(), point_shapes=None))
-    result = merge(models, TRUE_REFERENCES)
+    result = merge_with_evidence(models, TRUE_REFERENCES)
     assert result.model.n_modes == 5 and np.all(result.complete)
     m = int(np.argmin(np.abs(result.model.frequency_hz - TOWER_HZ[2])))
     assert result.by_frequency[m].sum() >= 1 and result.by_frequency.sum() == result.by_frequency[m].sum()
@@ -78,7 +78,7 @@ def test_references_near_a_node_pair_by_frequency_and_say_so():
           "scale σ", result.scale_std[m].round(3), "MAC", macs.round(4))
     assert np.all(np.delete(macs, m) >= 0.99)
     # the same test unflipped: complete too, every mode MAC ≥ 0.95 (0.978 for the third at 300 s)
-    plain = merge(runs, TRUE_REFERENCES)
+    plain = merge_with_evidence(runs, TRUE_REFERENCES)
     assert np.all(plain.complete) and np.all(np.diag(era.mac(plain.model.point_shapes, merged_truth())) >= 0.95)
 
 

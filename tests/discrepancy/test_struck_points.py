@@ -1,4 +1,4 @@
-"""Issue 26: a roving-hammer test's struck points are sensors for explain's comparison too (era.setups.points' labels in
+"""Issue 26: a roving-hammer test's struck points are sensors for explain's comparison too (era.core.points' labels in
 data.meta["input_points"] that name a node and direction of the era.Frame become extra shape rows)."""
 
 import dataclasses

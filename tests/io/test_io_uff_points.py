@@ -38,5 +38,5 @@ def test_uff_references_place_the_hammer_and_the_point_shapes_are_the_chains_mod
     # through the stored format the points survive (the web app keeps its datasets as NPZ)
     back = era.load(era.io.npz_bytes(ds.data, ds.geometry), name="chain.npz")
     assert back.data.meta["input_signs"] == (1.0, -1.0, 1.0)
-    placed = era.setups.points.point_geometry(back.geometry, model.points)
+    placed = era.core.points.point_geometry(back.geometry, model.points)
     assert placed.channel_nodes.tolist() == [0, 1, 2]

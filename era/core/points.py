@@ -166,7 +166,7 @@ def point_geometry(geometry, points):
     None without a geometry."""
     if geometry is None:
         return None
-    from ..core.geometry import Geometry
+    from .geometry import Geometry
     row = {int(n): k for k, n in enumerate(geometry.node_ids)}
     nodes, dirs = [], []
     for pt in points:

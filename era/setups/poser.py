@@ -20,7 +20,7 @@ from ..core import indicators
 from ..errors import DataError
 from ..core.modal import ModalModel
 from .pairing import RECOVERABLE  # noqa: F401  (the rule merge_setups' ``recover`` follows, named here)
-from .pairing import DroppedMode, anchor_references, mean_frequency, pair_modes
+from .pairing import DroppedMode, anchor_references, mean_frequency, pair_setup_modes
 from .pairing import recover as recover_clusters
 
 #: Two setups' modes are the same mode only if their frequencies differ by at most this fraction ...
@@ -36,7 +36,7 @@ MIN_SETUPS = 2
 
 @dataclass(frozen=True, eq=False)
 class SetupMerge:
-    """What :func:`merge` found.
+    """What :func:`merge_with_evidence` found.
 
     model : the merged era.ModalModel (see :func:`merge_setups`).
     members : (modes, setups) int, each merged mode's index in each setup's model, -1 where that setup did not see it.
@@ -119,8 +119,8 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed in
     a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real evidence,
     and its shape is known where it was measured (and where ``recover`` found it). At the other setups' points the
-    shape is NaN, not 0: a zero would claim a node there. :func:`merge` says which modes are complete (with
-    ``r = merge(...)``, ``r.model.select(np.flatnonzero(r.complete))`` keeps those, e.g. for a UFF 55 export, whose
+    shape is NaN, not 0: a zero would claim a node there. :func:`merge_with_evidence` says which modes are complete (with
+    ``r = merge_with_evidence(...)``, ``r.model.select(np.flatnonzero(r.complete))`` keeps those, e.g. for a UFF 55 export, whose
     reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
     references, and its shape would be unknown at most points).
 
@@ -135,12 +135,12 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     setup has no modes, or a setup's references do not move like the others' (its modes agree in frequency with the
     other setups' but their reference components do not: the wrong channels were named as references).
     """
-    return merge(analyses, references, frequency_tolerance=frequency_tolerance,
+    return merge_with_evidence(analyses, references, frequency_tolerance=frequency_tolerance,
                  min_reference_mac=min_reference_mac, min_reference_level=min_reference_level,
                  min_setups=min_setups, recover=recover).model
 
 
-def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE,
+def merge_with_evidence(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE,
           min_reference_mac: float = MIN_REFERENCE_MAC, min_reference_level: float = MIN_REFERENCE_LEVEL,
           min_setups: int = MIN_SETUPS, recover: bool = True) -> SetupMerge:
     """:func:`merge_setups` with its evidence: which setup mode went where, the scales, the reference agreement,
@@ -149,7 +149,7 @@ def merge(analyses, references, *, frequency_tolerance: float = FREQUENCY_TOLERA
     models, refs = _checked(analyses, references)
     n_setups = len(models)
     min_setups = max(1, min(int(min_setups), n_setups))
-    groups, dropped, frequency_only = pair_modes(models, refs, frequency_tolerance, min_reference_mac,
+    groups, dropped, frequency_only = pair_setup_modes(models, refs, frequency_tolerance, min_reference_mac,
                                                  min_reference_level)
 
     kept = []
