@@ -50,7 +50,7 @@ class ModalModel:
         Which covariance gave them: "σ from N records" (the scatter of independent records) or "σ from one
         record's residuals" (residual blocks); "" when not computed.
     points : tuple of str
-        A label per measured point, each once (issue 26): by default the outputs. A test whose inputs were at known
+        A label per measured point, each once: by default the outputs. A test whose inputs were at known
         points (a roving hammer) or a merge of several setups (era.merge_setups) adds the struck points and the
         roving sensors.
     point_shapes : (n_points, modes) complex

@@ -103,7 +103,7 @@ def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str =
 
     path : str, os.PathLike, or a binary file object (written from its current position).
     model : era.ModalModel; shapes (p, modes) as identified (largest component 1), or its point_shapes at every
-        measured or struck point (issue 26, :func:`written_shapes`) when it has points beyond its outputs. Its
+        measured or struck point (:func:`written_shapes`) when it has points beyond its outputs. Its
         frequency_std_hz and damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,)
         (expected 1 - MAC, Identification.shape_scatter) with the model's uncertainty_source to ID line 4
         (:func:`uncertainty_lines`; :func:`read_uncertainty_lines` reads them back).

@@ -1,4 +1,4 @@
-"""merge_setups(): one mode shape over several setups of a test through the reference sensors they share (issue 26).
+"""merge_setups(): one mode shape over several setups of a test through the reference sensors they share.
 
 A multi-setup ambient test (a building, a bridge) keeps a few reference sensors in place while the others rove over
 the structure, one setup at a time. Each setup is identified on its own (era.analyse); its shapes are known only up to
