@@ -68,7 +68,8 @@ def test_every_parameter_has_one_entry_and_no_entry_is_stale(name):
         entries += documented(found.get("Attributes", []))
     params = needed(obj)
     missing = [p for p in params if p not in entries]
-    stale = [e for e in entries if e not in params and not (inspect.isclass(obj) and e in dir(obj))]
+    signature = inspect.signature(obj).parameters
+    stale = [e for e in entries if e not in signature and not (inspect.isclass(obj) and e in dir(obj))]
     assert not missing, f"era.{name}: parameters without an entry: {missing}"
     assert not stale, f"era.{name}: entries for parameters that do not exist: {stale}"
     assert len(entries) == len(set(entries)), f"era.{name}: a parameter documented twice"
