@@ -94,19 +94,58 @@ def _direction(node: str, d):
 
 @dataclass(frozen=True, eq=False)
 class Frame:
-    """A 3-D frame of straight Euler-Bernoulli members (see the module docstring for every field's form).
+    """A 3-D frame of straight Euler-Bernoulli members, SI units (see the module docstring for every field's form).
 
-    nodes {id: (x, y, z) m}; members [(node i, node j, section name[, local-z vector])]; sections {name: Section};
-    supports {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}; masses {node: kg};
-    sensors [(node, "x" | "-x" | ... | (dx, dy, dz))] in the data's channel order; gravity (3,) m/s² or None (with
-    it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
-    mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %), a count for every
-    member, or one count per member (e.g. ``element_counts()`` of a nominal model, to keep its mesh in variants).
-    joint_springs {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (docs/effects.md): every
-    beam end there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
-    horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
-    rigid; columns stay continuous. added_mass_per_length {section name: kg/m}: non-structural mass (it weighs
-    too, and has no rotary inertia).
+    ``modes(n)`` meshes the members and returns the lowest modes at the sensors, mass-normalised.
+
+    Parameters
+    ----------
+    nodes : mapping
+        {id: (x, y, z)} in m.
+    members : sequence of tuple
+        (node i, node j, section name[, local-z vector]) per member.
+    sections : mapping
+        {name: Section}.
+    supports : mapping, optional
+        {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}.
+    masses : mapping, optional
+        {node: kg}, lumped masses.
+    sensors : sequence of tuple, optional
+        (node, "x" | "-x" | ... | (dx, dy, dz)) per output channel, in the data's channel order.
+    gravity : (3,) array_like, optional
+        m/s², or None; with it, the geometric stiffness of the self-weight's axial forces.
+    elements_per_member : int or sequence of int, optional
+        None (default) for the automatic mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies
+        converged to 0.1 %), a count for every member, or one count per member (e.g. ``element_counts()`` of a
+        nominal model, to keep its mesh in variants).
+    joint_springs : mapping, optional
+        {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (docs/effects.md): every beam end
+        there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
+        horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
+        rigid; columns stay continuous.
+    added_mass_per_length : mapping, optional
+        {section name: kg/m}: non-structural mass (it weighs too, and has no rotary inertia).
+
+    Raises
+    ------
+    era.DataError
+        For a field that is malformed (an unknown node, section or support key, a negative stiffness), with what
+        to change.
+
+    Examples
+    --------
+    A 1 m steel strip (50 × 10 mm) clamped at one end, sensors at its middle and its tip: its first bending
+    frequency is 1.8751² / 2π · sqrt(EI / (m L⁴)):
+
+    >>> strip = era.Section.rectangle(0.05, 0.01)
+    >>> frame = era.Frame(nodes={"1": (0, 0, 0), "2": (0.5, 0, 0), "3": (1, 0, 0)},
+    ...                   members=[("1", "2", "strip"), ("2", "3", "strip")], sections={"strip": strip},
+    ...                   supports={"1": "fixed"}, sensors=[("2", "z"), ("3", "z")])
+    >>> frequency_hz, shapes = frame.modes(3)
+    >>> print(np.round(frequency_hz, 2), shapes.shape)
+    [ 8.15 40.77 51.1 ]  (2, 3)
+    >>> print(f"{1.8751**2 / (2 * np.pi) * np.sqrt(strip.e * strip.iy / strip.mass_per_length):.2f}")
+    8.15
     """
 
     nodes: Mapping

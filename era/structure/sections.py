@@ -33,9 +33,35 @@ def _material(material, e, g, density) -> dict:
 class Section:
     """Section and material constants of a member, SI units.
 
-    area A (m²); iy, iz second moments about the local y and z axes (m⁴); j St-Venant torsion constant (m⁴);
-    e, g Young's and shear moduli (Pa); density ρ (kg/m³); ip polar moment for the torsional inertia ρ I_p and the
-    Wagner term (m⁴, default iy + iz).
+    The helpers :meth:`rectangle`, :meth:`circle`, :meth:`tube` and :meth:`square_tube` compute them from a shape
+    and a material.
+
+    Parameters
+    ----------
+    area : float
+        A, m².
+    iy : float
+        Second moment about the local y axis (bending that moves the member along z), m⁴.
+    iz : float
+        Second moment about the local z axis, m⁴.
+    j : float
+        St-Venant torsion constant, m⁴.
+    e : float
+        Young's modulus, Pa.
+    g : float
+        Shear modulus, Pa.
+    density : float
+        ρ, kg/m³.
+    ip : float, optional
+        Polar moment for the torsional inertia ρ I_p and the Wagner term, m⁴ (default iy + iz).
+
+    Examples
+    --------
+    >>> bar = era.Section.rectangle(0.05, 0.01)  # steel, 50 mm wide, 10 mm deep
+    >>> round(bar.area * 1e6), round(bar.iy * 1e12), round(bar.mass_per_length, 3)
+    (500, 4167, 3.925)
+    >>> era.Section(area=1e-4, iy=1e-9, iz=1e-9, j=2e-9, e=70e9, g=26e9, density=2700).ip
+    2e-09
     """
 
     area: float
