@@ -113,6 +113,13 @@ class Geometry:
         """Node coordinates displaced by a real sensor shape (p,) along each channel's direction: (n_nodes, 3).
 
         Only nodes with a sensor move; several channels on one node add up (e.g. x, y, z sensors).
+
+        Parameters
+        ----------
+        shape : ndarray, shape (p,)
+            A real sensor shape, one value per output channel (in ``units`` after ``scale``).
+        scale : float, optional
+            Factor on the shape (default 1).
         """
         shape = np.asarray(shape, dtype=float).reshape(-1)
         if shape.size != self.channel_nodes.size:

@@ -150,12 +150,24 @@ class ModalModel:
         return np.abs(self.eigenvalues) / (2 * np.pi)
 
     def frequency_interval_hz(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
-        """(low, high) of the 95 % interval frequency_hz ± 1.96 σ (``level_z`` another normal quantile), Hz."""
+        """(low, high) of the 95 % interval frequency_hz ± 1.96 σ (``level_z`` another normal quantile), Hz.
+
+        Parameters
+        ----------
+        level_z : float, optional
+            The normal quantile of the interval (default 1.96, 95 %).
+        """
         f, sd = self.frequency_hz, self._std(self.frequency_std_hz)
         return f - level_z * sd, f + level_z * sd
 
     def damping_interval(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
-        """(low, high) of the 95 % interval damping_ratio ± 1.96 σ."""
+        """(low, high) of the 95 % interval damping_ratio ± 1.96 σ.
+
+        Parameters
+        ----------
+        level_z : float, optional
+            The normal quantile of the interval (default 1.96, 95 %).
+        """
         z, sd = self.damping_ratio, self._std(self.damping_std)
         return z - level_z * sd, z + level_z * sd
 
@@ -181,18 +193,20 @@ class ModalModel:
                min_contribution: float | None = None, physical_only: bool = False) -> "ModalModel":
         """The reduced model that keeps some modes (model reduction, section III).
 
+        The rule is :func:`era.core.selection.kept_modes` (named modes AND thresholds).
+
         Parameters
         ----------
         indices : sequence of int or bool mask, optional
             Modes to keep (positions in this model's mode order). Default: all.
-        min_emac, min_mpc : float in [0, 1], optional
-            Keep only modes with γ ≥ min_emac and μ ≥ min_mpc.
+        min_emac : float in [0, 1], optional
+            Keep only modes with γ ≥ min_emac.
+        min_mpc : float in [0, 1], optional
+            Keep only modes with μ ≥ min_mpc.
         min_contribution : float, optional
             Keep only modes whose contribution is at least this fraction of the largest one.
-        physical_only : bool
+        physical_only : bool, optional
             Keep only complex pairs that decay (0 < ζ < 1).
-
-        The rule is :func:`era.core.selection.kept_modes` (named modes AND thresholds).
 
         Returns
         -------
@@ -208,6 +222,13 @@ class ModalModel:
         C keeps that output's row and B that input's column, shapes and amplitudes likewise, so the view
         reconstructs exactly that channel of :meth:`reconstruct` (p·m times less work). γ, μ and the
         contribution stay those of the whole model (they judge a mode, not a channel).
+
+        Parameters
+        ----------
+        output : int
+            The output, 0..p-1.
+        input : int
+            The input, 0..m-1.
         """
         p, m = self.shapes.shape[0], self.amplitudes.shape[1]
         for value, size, name in ((output, p, "output"), (input, m, "input")):
@@ -245,6 +266,11 @@ class ModalModel:
         """Y(k) = C A^k B for k = 0..n_samples-1 from the modes (eq. 35), shape (n_samples, p, m).
 
         Summed in modal form: Y(k) = Σ_pairs 2 Re(c_j z_j^k b_j) + Σ_real c_j z_j^k b_j.
+
+        Parameters
+        ----------
+        n_samples : int
+            N, the number of samples.
         """
         n_samples = int(n_samples)
         if n_samples < 0:
@@ -257,6 +283,11 @@ class ModalModel:
         ``markov`` is an (N, p, m) array or a ResponseData. The error of channel (i, j) is
         ‖Y_ij - Ŷ_ij‖ / ‖Y_ij‖ over the N samples (0 is a perfect fit; the fit in percent is 100 (1 - e)).
         A channel that is zero throughout gets 0 if the reconstruction is zero too, else inf.
+
+        Parameters
+        ----------
+        markov : ndarray, shape (N, p, m), or ResponseData
+            The measured pulse responses.
         """
         y = np.asarray(getattr(markov, "markov", markov), dtype=float)
         if y.ndim != 3 or y.shape[1:] != (self.shapes.shape[0], self.amplitudes.shape[1]):

@@ -96,7 +96,13 @@ class Identification:
         return self.P.shape[1]
 
     def order(self, tol: float = 1e-12) -> int:
-        """The rank n by the δ test (eqs. 38-39): the number of singular values with d_i / d_1 > tol."""
+        """The rank n by the δ test (eqs. 38-39): the number of singular values with d_i / d_1 > tol.
+
+        Parameters
+        ----------
+        tol : float, optional
+            The δ threshold on d_i / d_1 (default 1e-12).
+        """
         d = self.singular_values
         if d.size == 0 or d[0] == 0:
             return 0
@@ -131,6 +137,11 @@ class Identification:
         column shifts its block columns are those of H(0) moved by one, so P^T H(1) = [(P^T H(0)) without its
         first block column, P^T Y(j_i + t_{s-1} + 1)] with P^T H(0) = D Q^T (the SVD), and only the last block
         column is new (K² s m instead of K r p s m work); other shifts rebuild H(1) from the data.
+
+        Parameters
+        ----------
+        order : int
+            n, at most :attr:`max_order`.
         """
         n = self._check_order(order)
         with self._lock:
@@ -156,6 +167,11 @@ class Identification:
         of the paper's [P_d^# H(1) Q, Q^T E_m, E_p^T P_d]):
         A = D^{-1/2} P_n^T H(1) Q_n D^{-1/2}, B = D^{1/2} Q_n^T E_m, C = E_p^T P_n D^{1/2}, W = D^{1/2} Q_n^T.
         Shapes (n, n), (n, m), (p, n), (n, s m).
+
+        Parameters
+        ----------
+        order : int
+            n, at most :attr:`max_order`.
         """
         n = self._check_order(order)
         p, m = self.data.n_outputs, self.data.n_inputs
@@ -205,7 +221,19 @@ class Identification:
         """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
         eigensolver gives them, ``dec`` with the repeated modes aligned (era.core.decomposition.align_repeated), the
         clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
-        ``histories`` the modal histories are not formed (era.core.sweep forms those of many orders together)."""
+        ``histories`` the modal histories are not formed (era.core.sweep forms those of many orders together).
+
+        Parameters
+        ----------
+        n : int
+            The order.
+        uncertainty : bool
+            Compute the standard deviations (else NaN, except where needed to tell repeated modes).
+        records : ndarray, shape (n_b, N, p, m), optional
+            As in :meth:`model`.
+        histories : bool, optional
+            Form the modal histories (default True).
+        """
         d = self.data
         p, m = d.n_outputs, d.n_inputs
         root = np.sqrt(self.singular_values[:n])
@@ -230,13 +258,32 @@ class Identification:
     def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
         """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
         ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest
-        (era.core.mode_uncertainty.mode_std)."""
+        (era.core.mode_uncertainty.mode_std).
+
+        Parameters
+        ----------
+        order : int
+            n.
+        raw : ModalDecomposition
+            The order-n decomposition as the eigensolver gives it.
+        modes : sequence of int
+            Indices into ``raw``.
+        clusters : sequence of sequences of int, optional
+            The repeated clusters (era.core.decomposition.repeated_clusters).
+        """
         return mode_uncertainty.mode_std(self, order, raw, modes, clusters)
 
     def shape_scatter(self, order: int, modes=None) -> np.ndarray:
         """Expected MAC deficit E[1 - MAC(φ̂_j, φ_j)] of each shape of ``model(order)``: the scatter the data leave
         in the shape, to first order (era.core.mode_uncertainty.shape_scatter for how). Cost: n pole functionals per
         mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
+
+        Parameters
+        ----------
+        order : int
+            n.
+        modes : sequence of int, optional
+            Indices into the model's modes (default all).
 
         Returns
         -------
@@ -248,11 +295,23 @@ class Identification:
 
     def records_used(self, records=None) -> np.ndarray | None:
         """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
-        ``data.records`` when it holds at least uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
+        ``data.records`` when it holds at least uncertainty.MIN_RECORDS of them, else None (residual blocks).
+
+        Parameters
+        ----------
+        records : ndarray, shape (n_b, N, p, m), optional
+            Independent records given for this call.
+        """
         return mode_uncertainty.records_used(self, records)
 
     def uncertainty_source(self, records=None) -> str:
-        """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses."""
+        """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses.
+
+        Parameters
+        ----------
+        records : ndarray, shape (n_b, N, p, m), optional
+            As in :meth:`model`.
+        """
         used = self.records_used(records)
         segments = records is None and self.data.meta.get("records_are") == "segments"
         return source_label(0 if used is None else used.shape[0], segments=segments)
@@ -261,7 +320,19 @@ class Identification:
                         records=None) -> PoleCovariance:
         """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
         (from :func:`era.core.decomposition.decompose` of :meth:`balanced`): see uncertainty. ``modes`` indexes dec
-        (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough)."""
+        (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough).
+
+        Parameters
+        ----------
+        order : int
+            n.
+        dec : ModalDecomposition
+            The order-n decomposition.
+        modes : sequence of int, optional
+            Indices into ``dec`` (default all).
+        records : ndarray, shape (n_b, N, p, m), optional
+            As in :meth:`model`.
+        """
         return mode_uncertainty.pole_covariance(self, self._check_order(order), dec, modes, records)
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:

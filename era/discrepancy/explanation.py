@@ -200,7 +200,13 @@ class Explanation:
         return tuple(out)
 
     def candidate(self, name: str) -> RankedEffect:
-        """The ranking entry of one candidate, by name."""
+        """The ranking entry of one candidate, by name.
+
+        Parameters
+        ----------
+        name : str
+            The candidate's name (EffectSpec.name), e.g. "point_mass".
+        """
         return next(r for r in self.ranking if r.name == name)
 
     def mode_table(self) -> list:
