@@ -180,7 +180,15 @@ class MatrixModel:
         return cache
 
     def index(self, node, direction) -> int:
-        """The row of (node, direction); DataError when it is not a free DOF of the model."""
+        """The row of (node, direction); DataError when it is not a free DOF of the model.
+
+        Parameters
+        ----------
+        node : str or int
+            The node label.
+        direction : str or int
+            "x", "y", "z", "rx", "ry", "rz" (or 1-6).
+        """
         key = (str(node).strip(), direction_of(direction))
         got = self.dof_index.get(key)
         if got is None:
@@ -190,7 +198,13 @@ class MatrixModel:
         return got
 
     def rows(self, direction: str) -> np.ndarray:
-        """The rows of every free DOF along ``direction``."""
+        """The rows of every free DOF along ``direction``.
+
+        Parameters
+        ----------
+        direction : str
+            "x", "y", "z", "rx", "ry" or "rz".
+        """
         d = direction_of(direction)
         return np.array([i for i, (_, a) in enumerate(self.dofs) if a == d], dtype=int)
 
@@ -205,13 +219,27 @@ class MatrixModel:
         return out
 
     def with_matrices(self, stiffness=None, mass=None) -> "MatrixModel":
-        """The same DOFs, coordinates, parts and units with another stiffness and/or mass matrix."""
+        """The same DOFs, coordinates, parts and units with another stiffness and/or mass matrix.
+
+        Parameters
+        ----------
+        stiffness : (n, n) sparse or dense matrix, optional
+            The new stiffness (default this model's).
+        mass : (n, n) sparse or dense matrix, optional
+            The new mass (default this model's).
+        """
         return MatrixModel(self.stiffness if stiffness is None else stiffness, self.mass if mass is None else mass,
                            self.dofs, coordinates=self.coordinates, parts=self.parts, part_masses=self.part_masses,
                            name=self.name, units=self.units, sensors=self.sensors)
 
     def with_sensors(self, sensors) -> "MatrixModel":
-        """The same model seen at the test's points ((node, direction) per output channel)."""
+        """The same model seen at the test's points ((node, direction) per output channel).
+
+        Parameters
+        ----------
+        sensors : sequence of (node, direction)
+            One per output channel (a direction may carry a sign, "-z").
+        """
         out = type(self).__new__(type(self))       # a reader's subclass (a Nastran deck's model) stays one
         out.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
@@ -221,7 +249,13 @@ class MatrixModel:
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """The lowest ``n_modes`` modes: frequencies (n,) Hz and mass-normalised shapes (n_dofs, n) (φᵀ M φ = 1
-        in the model's units), from era.fem.eigen.sparse_modes; cached."""
+        in the model's units), from era.fem.eigen.sparse_modes; cached.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         from ..fem.eigen import sparse_modes
         cache = self.__dict__.setdefault("_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
@@ -233,7 +267,13 @@ class MatrixModel:
 
     def at(self, points) -> np.ndarray:
         """Rows of the given points ((node, direction) each; a direction may carry a sign, "-z"), and their
-        signs: (rows (p,), signs (p,))."""
+        signs: (rows (p,), signs (p,)).
+
+        Parameters
+        ----------
+        points : sequence of (node, direction)
+            A direction may carry a sign, "-z".
+        """
         rows, signs = [], []
         for node, d in points:
             text = str(d).strip()

@@ -279,7 +279,13 @@ class Frame:
             self.gravity)
 
     def beam_ends(self, node: str) -> list:
-        """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``."""
+        """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``.
+
+        Parameters
+        ----------
+        node : str
+            The node id.
+        """
         ends = self.__dict__.get("_beam_ends")
         if ends is None:     # once per frame: explain asks for every node's, and for each candidate joint
             xyz = np.array([np.subtract(self.nodes[j], self.nodes[i]) for i, j, *_ in self.members])
@@ -296,7 +302,13 @@ class Frame:
         (era.fem.solution.solve).
 
         The automatic mesh is chosen for the lowest max(10, n_modes) modes, so modes(3) is a prefix of modes(10);
-        a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve)."""
+        a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
             raise DataError(f"Frame: the number of modes must be a positive integer, got {n_modes!r}.")
         cache = self.__dict__.setdefault("_solutions", {})
@@ -311,27 +323,59 @@ class Frame:
     def ritz_modes(self, reference: "Frame", n_basis: int = 30) -> tuple[np.ndarray, np.ndarray] | None:
         """This frame's modes in the span of ``reference``'s lowest ``n_basis`` modes (Rayleigh-Ritz, for screening
         many places of a local change): frequencies (r,) Hz and translations (n_nodes, 3, r) as :meth:`node_modes`,
-        or None when the two are not meshed alike (era.fem.solution.ritz_modes)."""
+        or None when the two are not meshed alike (era.fem.solution.ritz_modes).
+
+        Parameters
+        ----------
+        reference : Frame
+            The frame whose modes span the basis (meshed alike).
+        n_basis : int, optional
+            The number of the reference's lowest modes in the basis (default 30).
+        """
         return solution.ritz_modes(self, reference, n_basis)
 
     def element_counts(self, n_modes: int = 10) -> tuple:
-        """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order."""
+        """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return solution.element_counts(self, n_modes)
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
-        ``node_ids`` order, columns x, y, z), 1/√kg."""
+        ``node_ids`` order, columns x, y, z), 1/√kg.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return solution.node_modes(self, n_modes)
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor
-        order (each sensor's node translation along its direction)."""
+        order (each sensor's node translation along its direction).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, u = self.node_modes(n_modes)
         return f, self.at_sensors(u)
 
     def at_sensors(self, u: np.ndarray) -> np.ndarray:
         """The sensors' shapes (..., n_sensors, r) from node translations ``u`` (..., n_nodes, 3, r) in node order,
-        each sensor's node translation along its direction."""
+        each sensor's node translation along its direction.
+
+        Parameters
+        ----------
+        u : ndarray, shape (..., n_nodes, 3, r)
+            Node translations in node order (as :meth:`node_modes` gives them).
+        """
         index = {n: k for k, n in enumerate(self.nodes)}
         rows = [index[n] for n, _ in self.sensors]
         if not rows:
@@ -357,16 +401,34 @@ class Frame:
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":
-        """A Frame from the file format (as read from JSON or TOML); unknown keys are refused."""
+        """A Frame from the file format (as read from JSON or TOML); unknown keys are refused.
+
+        Parameters
+        ----------
+        d : dict
+            The file format of era/structure/file.py.
+        """
         return frame_from_dict(d, cls)
 
     def save(self, path) -> None:
-        """Write the model as JSON (era/structure/file.py)."""
+        """Write the model as JSON (era/structure/file.py).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The JSON file to write.
+        """
         save_frame(self, path)
 
     @classmethod
     def load(cls, path) -> "Frame":
-        """Read a model from JSON, or from TOML when the name ends in .toml."""
+        """Read a model from JSON, or from TOML when the name ends in .toml.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A JSON file, or a TOML file when the name ends in .toml.
+        """
         return load_frame(path, cls)
 
     @classmethod
@@ -378,6 +440,21 @@ class Frame:
         cm, ft, in); repeated trace lines count once and nodes on no trace line are left out. Each channel becomes
         a sensor at its node along its direction ("x", "-z", ... when along an axis); a channel with no node or
         direction, or at a node on no trace line, is an error: the sensors must follow the data's channels.
+
+        Parameters
+        ----------
+        geometry : Geometry
+            The test's nodes, trace lines and channels.
+        section : Section
+            The section of every member.
+        supports : dict, optional
+            {node: support} as :class:`Frame`'s, node ids as strings.
+        masses : dict, optional
+            {node: kg}.
+        gravity : (3,) array_like, optional
+            m/s², or None.
+        elements_per_member : int, optional
+            As :class:`Frame`'s (None: the automatic mesh).
         """
         scale = UNITS_M.get(str(geometry.units).strip().lower())
         if scale is None:
