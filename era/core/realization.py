@@ -221,19 +221,7 @@ class Identification:
         """The balanced order-n realization A (n, n), B (n, m), C (p, n) and its modes: ``raw`` as the
         eigensolver gives them, ``dec`` with the repeated modes aligned (era.core.decomposition.align_repeated), the
         clusters, and frequency_std_hz, damping_std (modes,) in dec's order (NaN where not computed). Without
-        ``histories`` the modal histories are not formed (era.core.sweep forms those of many orders together).
-
-        Parameters
-        ----------
-        n : int
-            The order.
-        uncertainty : bool
-            Compute the standard deviations (else NaN, except where needed to tell repeated modes).
-        records : ndarray, shape (n_b, N, p, m), optional
-            As in :meth:`model`.
-        histories : bool, optional
-            Form the modal histories (default True).
-        """
+        ``histories`` the modal histories are not formed (era.core.sweep forms those of many orders together)."""
         d = self.data
         p, m = d.n_outputs, d.n_inputs
         root = np.sqrt(self.singular_values[:n])
@@ -258,19 +246,7 @@ class Identification:
     def mode_std(self, order: int, raw: ModalDecomposition, modes, clusters=()) -> tuple[np.ndarray, np.ndarray]:
         """frequency_std_hz and damping_std of some modes of the order-n decomposition ``raw`` (indices
         ``modes``), as :meth:`model` gives them: a member of a repeated cluster gets the cluster's largest
-        (era.core.mode_uncertainty.mode_std).
-
-        Parameters
-        ----------
-        order : int
-            n.
-        raw : ModalDecomposition
-            The order-n decomposition as the eigensolver gives it.
-        modes : sequence of int
-            Indices into ``raw``.
-        clusters : sequence of sequences of int, optional
-            The repeated clusters (era.core.decomposition.repeated_clusters).
-        """
+        (era.core.mode_uncertainty.mode_std)."""
         return mode_uncertainty.mode_std(self, order, raw, modes, clusters)
 
     def shape_scatter(self, order: int, modes=None) -> np.ndarray:
@@ -295,13 +271,7 @@ class Identification:
 
     def records_used(self, records=None) -> np.ndarray | None:
         """The records whose scatter gives the covariance: ``records`` if given (n_b, N, p, m), else
-        ``data.records`` when it holds at least uncertainty.MIN_RECORDS of them, else None (residual blocks).
-
-        Parameters
-        ----------
-        records : ndarray, shape (n_b, N, p, m), optional
-            Independent records given for this call.
-        """
+        ``data.records`` when it holds at least uncertainty.MIN_RECORDS of them, else None (residual blocks)."""
         return mode_uncertainty.records_used(self, records)
 
     def uncertainty_source(self, records=None) -> str:
@@ -320,19 +290,7 @@ class Identification:
                         records=None) -> PoleCovariance:
         """First-order covariance of (Re z, Im z) of the given modes of the order-n decomposition ``dec``
         (from :func:`era.core.decomposition.decompose` of :meth:`balanced`): see uncertainty. ``modes`` indexes dec
-        (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough).
-
-        Parameters
-        ----------
-        order : int
-            n.
-        dec : ModalDecomposition
-            The order-n decomposition.
-        modes : sequence of int, optional
-            Indices into ``dec`` (default all).
-        records : ndarray, shape (n_b, N, p, m), optional
-            As in :meth:`model`.
-        """
+        (default all); ``records`` as in :meth:`model` (default ``data.records`` if there are enough)."""
         return mode_uncertainty.pole_covariance(self, self._check_order(order), dec, modes, records)
 
     def realize(self, order: int | None = None, method: str = "ERA") -> ModalModel:

@@ -159,9 +159,23 @@ class DeckExplainModel:
 
     # what explain asks: the matrix model's answers for this parameter set
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), as MatrixExplainModel.modes.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return self._inner().modes(n_modes)
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return self._inner().node_modes(n_modes)
 
     @property

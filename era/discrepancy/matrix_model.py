@@ -273,12 +273,24 @@ class MatrixExplainModel:
         return shapes[got[0]] * got[1][:, None]
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n)."""
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, sensors, _ = self._all_modes(n_modes)
         return f.copy(), sensors.copy()
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels)."""
+        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, _, (rows, y) = self._all_modes(n_modes)
         return f.copy(), (rows[:, :n_modes].copy() if y is None else rows @ y[:, :n_modes])
 
@@ -387,5 +399,11 @@ class MatrixExplainModel:
         return scale_sensitivity(u, du, node_rows)
 
     def part_place(self, place) -> str:
-        """A part's place, "part:name", checked against the model's parts."""
+        """A part's place, "part:name", checked against the model's parts.
+
+        Parameters
+        ----------
+        place : str
+            "part:name" or the part's name.
+        """
         return "part:" + part_name(place, self.model.parts)

@@ -74,17 +74,12 @@ class SetupMerge:
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> merge = era.merge_choosing_next(models, None, [[0, 1], [0, 1]]).result
     >>> merge.members.tolist(), merge.point_setup.tolist(), merge.complete.tolist()
     ([[0, 0], [1, 1], [2, 2]], [-1, -1, 0, 0, 0, 1, 1], [True, True, True])
-    >>> print(np.round(merge.reference_mac, 3))
-    [[1. 1.]
-     [1. 1.]
-     [1. 1.]]
     """
 
     model: ModalModel
@@ -114,15 +109,13 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed
     in a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real
     evidence, and its shape is known where it was measured (and where ``recover`` found it). At the other setups'
-    points the shape is NaN, not 0: a zero would claim a node there. ``era.setups.merge.merge`` says which modes
-    are complete (with ``r = merge(...)``, ``r.model.select(np.flatnonzero(r.complete))`` keeps those, e.g. for a
-    UFF 55 export, whose reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be
+    points the shape is NaN, not 0: a zero would claim a node there (``SetupMerge.complete`` says which modes are
+    known everywhere, e.g. for a UFF 55 export). A mode seen in one setup only is dropped (its pairing cannot be
     confirmed through the references, and its shape would be unknown at most points).
 
-    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) and with the same
-    shape (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the
-    other dropped. Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired
-    by frequency alone and a wrong reference cannot be told.
+    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) with the same shape
+    (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other
+    dropped. Give two references or more: with one, modes pair by frequency alone and a wrong one cannot be told.
 
     Parameters
     ----------
@@ -153,35 +146,29 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
     ModalModel
         ``points``: the references (labelled as in the first setup), then each setup's roving channels in setup
         order, each label once (prefixed "S<k>:" when labels repeat across setups, as y1, y2, ... from NExT do).
-        ``point_shapes`` (n_points, modes) complex, largest component 1, NaN at the points of a setup that did not
-        see the mode; ``shapes`` is the same array and ``outputs`` the same labels.
-        ``frequency_hz``, ``damping_ratio``: combined over the setups that saw the mode, weighted by 1/σ² where
-        every σ is finite (else the plain mean); ``frequency_std_hz``, ``damping_std``: 1/sqrt(Σ 1/σ²), widened by
-        the setups' scatter when they disagree by more than their σ (sqrt of χ²/(k-1) when above 1; the setups of
-        a test are hours apart and the structure changes with temperature), NaN when not all σ are finite.
-        ``emac``: the mean over the setups; ``mpc``: of the merged shape (its finite points); ``contribution``: the
-        mean of each setup's contribution over that setup's largest (1 is the strongest mode).
-        ``A``, ``B``, ``C``: NOT a realization of any record (each setup has its own excitation and NExT scaling,
-        so there is no common input matrix): A is the real modal form of the merged eigenvalues (2 × 2 blocks as
-        in ModalModel.select), C maps it to the points (2 Re φ, -2 Im φ), B has no columns (inputs = ()), so
-        ``order``, ``z`` and ``eigenvalues`` agree with the merged modes and ``reconstruct`` has nothing to say.
+        ``point_shapes`` = ``shapes`` (n_points, modes), largest component 1, NaN at the points of a setup that
+        did not see the mode. ``frequency_hz``, ``damping_ratio``: combined over the setups that saw the mode,
+        weighted by 1/σ² where every σ is finite (else the plain mean); ``frequency_std_hz``, ``damping_std``:
+        1/sqrt(Σ 1/σ²), widened by the setups' scatter when they disagree by more than their σ (sqrt of χ²/(k-1)
+        when above 1: the setups of a test are hours apart and the structure changes with temperature), NaN when
+        not all σ are finite. ``emac``: the mean over the setups; ``mpc``: of the merged shape (its finite
+        points); ``contribution``: each setup's over that setup's largest, averaged (1 is the strongest mode).
+        ``A``, ``B``, ``C``: NOT a realization of any record (each setup has its own excitation and NExT scaling):
+        A is the real modal form of the merged eigenvalues (2 × 2 blocks as in ModalModel.select), C maps it to
+        the points (2 Re φ, -2 Im φ), B has no columns (inputs = ()): ``reconstruct`` has nothing to say.
 
     Raises
     ------
     era.DataError
-        When the setups and references do not match (counts, indices out of range, repeated), a setup has no
-        modes, or a setup's references do not move like the others' (its modes agree in frequency with the other
-        setups' but their reference components do not: the wrong channels were named as references).
+        When setups and references do not match (counts, indices out of range, repeated), a setup has no modes,
+        or a setup's references do not move like the others' (the wrong channels were named as references).
 
     Examples
     --------
-    Two setups of a test: five and four sensors, two of them (the references) in both:
-
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> merged = era.merge_setups(models, references=[[0, 1], [0, 1]])
     >>> merged.points
     ('y1', 'y2', 'S1:y3', 'S1:y4', 'S1:y5', 'S2:y3', 'S2:y4')

@@ -55,10 +55,9 @@ class NextChoice:
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> choice = era.merge_choosing_next(models, None, [[0, 1], [0, 1]])
     >>> choice.used, choice.complete.tolist(), choice.merges[1], choice.refused
     ('every', [3, -1], None, ('', 'not ambient records'))
@@ -111,10 +110,9 @@ def choose_next(every, references, *, frequency_tolerance: float = FREQUENCY_TOL
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> merge = era.merge_choosing_next(models, None, [[0, 1], [0, 1]]).result
     >>> choice = era.choose_next(merge, era.DataError("a setup's references are silent"))
     >>> choice.used, choice.complete.tolist(), choice.refused[1]
@@ -179,10 +177,9 @@ def merge_choosing_next(every, references_only, references, *, frequency_toleran
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> choice = era.merge_choosing_next(models, None, [[0, 1], [0, 1]])
     >>> choice.used, choice.reason
     ('every', 'Not ambient records: no NExT references to choose.')

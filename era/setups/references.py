@@ -77,10 +77,9 @@ class ReferenceProposal:
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> proposal = era.reference_evidence(models)
     >>> print(np.round(proposal.shared_hz, 3), len(proposal.candidates))
     [2.  5.5 9. ] 10
@@ -118,10 +117,9 @@ def propose_references(analyses, *, min_mac: float = MIN_MAC,
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> era.propose_references(models)
     [[0, 1], [0, 1]]
     """
@@ -150,10 +148,9 @@ def reference_evidence(analyses, *, min_mac: float = MIN_MAC,
     Examples
     --------
     >>> from era.examples.synthetic import modal_response
-    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
-    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]  # points 1 and 4 stay put: the references
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
     >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
-    ...                                       shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate(channels)]
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
     >>> proposal = era.reference_evidence(models)
     >>> proposal.references, proposal.shared.tolist()
     ([[0, 1], [0, 1]], [[0, 1, 2], [0, 1, 2]])

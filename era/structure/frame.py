@@ -96,8 +96,6 @@ def _direction(node: str, d):
 class Frame:
     """A 3-D frame of straight Euler-Bernoulli members, SI units (see the module docstring for every field's form).
 
-    ``modes(n)`` meshes the members and returns the lowest modes at the sensors, mass-normalised.
-
     Parameters
     ----------
     nodes : mapping
@@ -129,13 +127,11 @@ class Frame:
     Raises
     ------
     era.DataError
-        For a field that is malformed (an unknown node, section or support key, a negative stiffness), with what
-        to change.
+        For a malformed field (an unknown node, section or support key, a negative stiffness), saying what to change.
 
     Examples
     --------
-    A 1 m steel strip (50 × 10 mm) clamped at one end, sensors at its middle and its tip: its first bending
-    frequency is 1.8751² / 2π · sqrt(EI / (m L⁴)):
+    A 1 m steel strip (50 × 10 mm) clamped at one end: its first frequency is 1.8751² / 2π · sqrt(EI / (m L⁴)):
 
     >>> strip = era.Section.rectangle(0.05, 0.01)
     >>> frame = era.Frame(nodes={"1": (0, 0, 0), "2": (0.5, 0, 0), "3": (1, 0, 0)},
@@ -279,13 +275,7 @@ class Frame:
             self.gravity)
 
     def beam_ends(self, node: str) -> list:
-        """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``.
-
-        Parameters
-        ----------
-        node : str
-            The node id.
-        """
+        """(member index, 0 | 1) of every beam end (member not along the vertical) at ``node``."""
         ends = self.__dict__.get("_beam_ends")
         if ends is None:     # once per frame: explain asks for every node's, and for each candidate joint
             xyz = np.array([np.subtract(self.nodes[j], self.nodes[i]) for i, j, *_ in self.members])
@@ -302,13 +292,7 @@ class Frame:
         (era.fem.solution.solve).
 
         The automatic mesh is chosen for the lowest max(10, n_modes) modes, so modes(3) is a prefix of modes(10);
-        a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve).
-
-        Parameters
-        ----------
-        n_modes : int, optional
-            The number of lowest elastic modes (default 10).
-        """
+        a fixed ``elements_per_member`` solves for exactly the modes asked (or reuses a larger solve)."""
         if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
             raise DataError(f"Frame: the number of modes must be a positive integer, got {n_modes!r}.")
         cache = self.__dict__.setdefault("_solutions", {})
@@ -323,15 +307,7 @@ class Frame:
     def ritz_modes(self, reference: "Frame", n_basis: int = 30) -> tuple[np.ndarray, np.ndarray] | None:
         """This frame's modes in the span of ``reference``'s lowest ``n_basis`` modes (Rayleigh-Ritz, for screening
         many places of a local change): frequencies (r,) Hz and translations (n_nodes, 3, r) as :meth:`node_modes`,
-        or None when the two are not meshed alike (era.fem.solution.ritz_modes).
-
-        Parameters
-        ----------
-        reference : Frame
-            The frame whose modes span the basis (meshed alike).
-        n_basis : int, optional
-            The number of the reference's lowest modes in the basis (default 30).
-        """
+        or None when the two are not meshed alike (era.fem.solution.ritz_modes)."""
         return solution.ritz_modes(self, reference, n_basis)
 
     def element_counts(self, n_modes: int = 10) -> tuple:
@@ -369,13 +345,7 @@ class Frame:
 
     def at_sensors(self, u: np.ndarray) -> np.ndarray:
         """The sensors' shapes (..., n_sensors, r) from node translations ``u`` (..., n_nodes, 3, r) in node order,
-        each sensor's node translation along its direction.
-
-        Parameters
-        ----------
-        u : ndarray, shape (..., n_nodes, 3, r)
-            Node translations in node order (as :meth:`node_modes` gives them).
-        """
+        each sensor's node translation along its direction."""
         index = {n: k for k, n in enumerate(self.nodes)}
         rows = [index[n] for n, _ in self.sensors]
         if not rows:

@@ -3,8 +3,9 @@
 For each function and class in ``era.__all__`` (after python-control's ``control/tests/docstrings_test.py``):
 every parameter of its signature has an entry in its ``Parameters`` section (a class may list its dataclass
 fields under ``Attributes``), no entry names a parameter that does not exist, and its ``Examples`` section runs
-as a doctest. Parameters whose names start with "_" (a dataclass's private fields) and ``*args``/``**kwargs``
-need no entry. The examples see ``np`` (numpy) and ``era`` already imported, as python-control's see ``ct``.
+as a doctest. The public methods users call document their parameters likewise. Parameters whose names start
+with "_" (a dataclass's private fields) and ``*args``/``**kwargs`` need no entry (an entry for them is allowed).
+The examples see ``np`` (numpy) and ``era`` already imported, as python-control's see ``ct``.
 """
 
 from __future__ import annotations
@@ -73,6 +74,44 @@ def test_every_parameter_has_one_entry_and_no_entry_is_stale(name):
     assert not missing, f"era.{name}: parameters without an entry: {missing}"
     assert not stale, f"era.{name}: entries for parameters that do not exist: {stale}"
     assert len(entries) == len(set(entries)), f"era.{name}: a parameter documented twice"
+
+
+#: Public methods that era's own modules call, not users: explain's model protocol (documented once, in
+#: era.discrepancy.protocol.ExplainModel) and the helpers of the uncertainty, the FE solution and the effects.
+INTERNAL_METHODS = {"ritz", "screening_ritz", "modal_rows", "member_energy_fractions", "member_shape_sensitivity",
+                    "member_scale_sensitivity", "Identification.decomposed", "Identification.mode_std",
+                    "Identification.pole_covariance", "Identification.records_used", "FrameModel.member_index",
+                    "FrameModel.bending_rotations", "Frame.beam_ends", "Frame.solution", "Frame.ritz_modes",
+                    "Frame.at_sensors"}
+
+
+def public_methods() -> list[tuple[str, object]]:
+    """("Class.method", function, parameters) of every public method and classmethod of the public classes
+    that users call (not INTERNAL_METHODS) and that takes parameters."""
+    found = []
+    for name in PUBLIC:
+        cls = getattr(era, name)
+        if not inspect.isclass(cls):
+            continue
+        for attr, value in vars(cls).items():
+            func = getattr(value, "__func__", value)
+            if attr.startswith("_") or not inspect.isfunction(func) or attr in INTERNAL_METHODS \
+                    or f"{name}.{attr}" in INTERNAL_METHODS:
+                continue
+            params = needed(func)[1:] if isinstance(value, classmethod) else needed(func)
+            if params:
+                found.append((f"{name}.{attr}", func, params))
+    return found
+
+
+@pytest.mark.parametrize("name, func, params", public_methods(), ids=[m[0] for m in public_methods()])
+def test_every_public_method_documents_its_parameters(name, func, params):
+    entries = documented(sections(inspect.getdoc(func) or "").get("Parameters", []))
+    signature = inspect.signature(func).parameters
+    missing = [p for p in params if p not in entries]
+    stale = [e for e in entries if e not in signature]
+    assert not missing, f"era.{name}: parameters without an entry: {missing}"
+    assert not stale, f"era.{name}: entries for parameters that do not exist: {stale}"
 
 
 def test_no_docstring_line_of_a_public_name_is_over_120_characters():
