@@ -213,6 +213,11 @@ def comac(shapes_measured: np.ndarray, shapes_model: np.ndarray) -> np.ndarray:
     ndarray, shape (p,)
         COMAC per sensor, in [0, 1].
 
+    Raises
+    ------
+    era.DataError
+        When the two arrays are not (p, k) of the same shape.
+
     Examples
     --------
     >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])

@@ -229,6 +229,11 @@ class ModalModel:
             The output, 0..p-1.
         input : int
             The input, 0..m-1.
+
+        Raises
+        ------
+        era.EraError
+            For an output or input out of range.
         """
         p, m = self.shapes.shape[0], self.amplitudes.shape[1]
         for value, size, name in ((output, p, "output"), (input, m, "input")):
@@ -271,6 +276,11 @@ class ModalModel:
         ----------
         n_samples : int
             N, the number of samples.
+
+        Raises
+        ------
+        era.EraError
+            For a negative ``n_samples``.
         """
         n_samples = int(n_samples)
         if n_samples < 0:
@@ -288,6 +298,11 @@ class ModalModel:
         ----------
         markov : ndarray, shape (N, p, m), or ResponseData
             The measured pulse responses.
+
+        Raises
+        ------
+        era.EraError
+            When the data's outputs and inputs do not match the model's.
         """
         y = np.asarray(getattr(markov, "markov", markov), dtype=float)
         if y.ndim != 3 or y.shape[1:] != (self.shapes.shape[0], self.amplitudes.shape[1]):

@@ -199,6 +199,11 @@ class Identification:
             (era.core.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
             ``data.records`` when it holds at least era.core.uncertainty.MIN_RECORDS records (:meth:`records_used`);
             the model's ``uncertainty_source`` says which was used.
+
+        Raises
+        ------
+        era.OrderError
+            For an order that is not a positive integer or is above :attr:`max_order`.
         """
         return self._model(order, uncertainty, records)[0]
 
@@ -311,6 +316,13 @@ class Identification:
         Returns
         -------
         ModalModel
+
+        Raises
+        ------
+        era.OrderError
+            For an order that is not a positive integer or is above :attr:`max_order`.
+        era.EraError
+            For a method other than "ERA", "A1" and "A2".
         """
         if order is None:
             order = max(self.order(), 1)

@@ -55,6 +55,11 @@ class Section:
     ip : float, optional
         Polar moment for the torsional inertia ρ I_p and the Wagner term, m⁴ (default iy + iz).
 
+    Raises
+    ------
+    era.DataError
+        For a constant that is not a positive, finite number (or an unknown shape or material in the helpers).
+
     Examples
     --------
     >>> bar = era.Section.rectangle(0.05, 0.01)  # steel, 50 mm wide, 10 mm deep
