@@ -104,10 +104,13 @@ class Stabilization:
         Each pole's MPC μ, in [0, 1].
     contribution : ndarray, shape (n_poles,)
         Each pole's contribution to H(0) (units of the singular values, as ModalModel.contribution).
-    stable_frequency, stable_damping, stable_shape : bool ndarray, shape (n_poles,)
-        The pole has a partner at the previous computed order within freq_tol (relative frequency change),
-        damping_tol (relative damping change) and with MAC ≥ mac_min; the first order has no previous one, so
-        all False there.
+    stable_frequency : bool ndarray, shape (n_poles,)
+        The pole's partner at the previous computed order is within freq_tol (relative frequency change); the
+        first order has no previous one, so this and the next two are all False there.
+    stable_damping : bool ndarray, shape (n_poles,)
+        Its partner's damping ratio is within damping_tol (relative change).
+    stable_shape : bool ndarray, shape (n_poles,)
+        Its partner's shape has MAC ≥ mac_min with the pole's.
     shapes : complex ndarray, shape (p, n_poles)
         Each pole's mode shape.
     modes : tuple of StableMode

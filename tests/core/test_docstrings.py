@@ -20,8 +20,8 @@ import pytest
 import era
 
 PUBLIC = [name for name in era.__all__ if inspect.isfunction(getattr(era, name)) or inspect.isclass(getattr(era, name))]
-# a numpydoc entry: "name : type" or "name1, name2 : type" (or a bare name) at the section's indentation
-ENTRY = re.compile(r"^(?P<names>\*{0,2}[A-Za-z_][\w]*(?:, \*{0,2}[A-Za-z_][\w]*)*)(?: : .*)?$")
+# a numpydoc entry: "name : type" (or a bare name) at the section's indentation, one parameter per entry
+ENTRY = re.compile(r"^(?P<names>\*{0,2}[A-Za-z_][\w]*)(?: : .*)?$")
 
 
 def sections(doc: str) -> dict[str, list[str]]:
@@ -45,8 +45,8 @@ def documented(lines: list[str]) -> list[str]:
     for line in lines:
         if line.strip() and not line.startswith(" "):
             match = ENTRY.match(line.strip())
-            assert match, f"not a numpydoc entry ('name : type'): {line!r}"
-            names += [n.lstrip("*") for n in match.group("names").split(", ")]
+            assert match, f"not a numpydoc entry of one parameter ('name : type'): {line!r}"
+            names.append(match.group("names").lstrip("*"))
     return names
 
 
