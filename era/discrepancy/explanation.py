@@ -150,7 +150,7 @@ class Explanation:
     >>> heavier[3, 3] = 1.5  # the test article carries 0.5 kg at node 4, which the model does not know
     >>> frequency_hz, shapes = model.with_matrices(mass=heavier).modes(4)
     >>> measured = modes_from_arrays(frequency_hz, shapes, 0.002 * frequency_hz)
-    >>> result = era.explain(measured, model)
+    >>> result = era.explain(measured, model, refine_locations=1)  # one place fitted in full: faster
     >>> [(entry.name, round(entry.probability, 2)) for entry in result.ranking[:2]]
     [('point_mass', 1.0), ('distributed_mass', 0.0)]
     >>> result.fit_modes.tolist(), result.unpaired_measured, result.as_dict()["verdict"]
