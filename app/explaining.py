@@ -1,4 +1,4 @@
-"""Simulation against test for one analysis (issue 5): era.explain on the analysis itself, and the result kept.
+"""Simulation against test for one analysis: era.explain on the analysis itself, and the result kept.
 
 Explain runs on the analysis it is named after: the analysis's own identification (its Hankel size and SVD) and
 the modes era chose from its diagram (era.choose_modes, the modes the page ticks by default) at the choice's

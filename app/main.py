@@ -27,7 +27,7 @@ from .jobs import Jobs
 from .routes import analyses, campaigns, datasets, examples, explain, health, imports, models, pages, reports
 from .routes import jobs as job_routes
 from .routes import help as help_routes  # the docs site at /help/
-from .routes import setups as setups_routes  # multi-setup tests (issue 26)
+from .routes import setups as setups_routes  # multi-setup tests
 from .store import Store
 from .viewer import ModeViewer
 

@@ -1,4 +1,4 @@
-"""The engineer's model of their structure (issue 9): an era.Frame described in the browser from the dataset's
+"""The engineer's model of their structure: an era.Frame described in the browser from the dataset's
 geometry, or uploaded as a model file, checked against the dataset's channels, kept with the dataset.
 
 The model is kept as the person described it, in era.structure's file format (a section may stay

@@ -201,7 +201,7 @@ def modes_uff(report: dict) -> bytes:
     pick = (lambda key: None if not m.get(key) else
             np.array([np.nan if m[key][k] is None else m[key][k] for k in kept], dtype=float))
     # what save_modes_uff reads of a ModalModel; a report frozen before σ or the scatter existed leaves them NONE
-    points = m.get("points") or []  # reports frozen before issue 26 have none: the sensors' shapes are written
+    points = m.get("points") or []  # reports frozen before points were kept have none: the sensors' shapes are written
     at_points = (np.array(m["point_shapes_re"], dtype=float) + 1j * np.array(m["point_shapes_im"], dtype=float)
                  ).T.reshape(len(points), -1)[:, kept] if points else None
     modes = SimpleNamespace(shapes=shapes, eigenvalues=s, frequency_std_hz=pick("frequency_std_hz"),

@@ -1,4 +1,4 @@
-"""Multi-setup tests in the app (issue 26): several files, each the records of one setup of a test, read as a
+"""Multi-setup tests in the app: several files, each the records of one setup of a test, read as a
 single upload is (era.load); the reference channels picked (the same physical sensors, in the same order, in every
 setup); each setup through era.analyse, the setups through era.merge_setups; the merged modes kept as one JSON
 document.

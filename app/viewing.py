@@ -17,7 +17,7 @@ from .viewer.scene import SurfaceGeometry
 
 def modes_scene(a: Analysis, model: era.ModalModel) -> tuple:
     """(geometry, frequency_hz (k,), shapes (q, k) complex, labels) of the modes of one order: the shape at every
-    measured or struck point (ModalModel.point_shapes, issue 26) when the geometry places those points or there is
+    measured or struck point (ModalModel.point_shapes) when the geometry places those points or there is
     no geometry (the points then in a row), else at the sensors."""
     labels = [f"{f:.3f} Hz, ζ {100 * z:.2f} %" for f, z in zip(model.frequency_hz, model.damping_ratio)]
     if tuple(model.points) != tuple(model.outputs):

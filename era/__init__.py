@@ -5,7 +5,7 @@ Pure numerics (numpy/scipy); no web dependency. The public names, nothing else.
 
 __version__ = "0.2.0"
 
-# the ERA core (issue 2)
+# the ERA core: data, one SVD, the realization of every order, the diagram
 from .core.data import ResponseData
 from .errors import DataError, EraError, HankelError, OrderError, TooLargeError
 from .core.geometry import Geometry
@@ -15,23 +15,23 @@ from .core.selection import keep_mask, kept_modes
 from .core.realization import Identification, identify
 from .core.stabilization import StableMode, Stabilization, stabilization
 
-# modes in one click (issue 25): the default analysis and the automatic choice of the structure's modes
+# modes in one click: the default analysis and the automatic choice of the structure's modes
 from .choice.choose import Candidate, ModeChoice, choose_modes
 from .choice.analysis import AnalysisResult, analyse
-from .setups.poser import SetupMerge, merge_setups  # multi-setup tests (issue 26): one shape through the references
+from .setups.poser import SetupMerge, merge_setups  # multi-setup tests: one shape through the references
 from .setups.references import ReferenceProposal, propose_references, reference_evidence  # references from the data
 from .setups.next_references import NextChoice, choose_next, merge_ambient_setups, merge_choosing_next  # NExT refs
 from .setups.preger import PregerMerge, merge_correlations  # merging before identifying (PreGER)
 
-# test data in (issue 3): readers, writers and pulse responses from every kind of test
+# test data in: readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
 from .markov import markov_from_ambient, markov_from_decay, markov_from_frf, markov_from_io
 
-# simulation against test (issue 5): correlation of test and model modes, and which effect the model misses
+# simulation against test: correlation of test and model modes, and which effect the model misses
 from .core.correlation import Gap, ModePairing, comac, gap, pair_modes, real_shapes, serep, subspace_mac
 from .discrepancy import Explanation, explain
 
-# the engineer's own structure (issue 9): a 3-D frame model described in SI units, JSON/TOML in and out
+# the engineer's own structure: a 3-D frame model described in SI units, JSON/TOML in and out
 from .structure import Frame, Section
 from .discrepancy import FrameModel, compare_fe_modes, frame_effects
 

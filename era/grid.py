@@ -1,4 +1,4 @@
-"""``era.grid``: the public name (issue 5) of :mod:`era.examples.grid`, the NASA grid model of the built-in example."""
+"""``era.grid``: the public name of :mod:`era.examples.grid`, the NASA grid model of the built-in example."""
 
 import sys
 

@@ -1,4 +1,4 @@
-"""``era.simulate``: the public name (issue 5) of :mod:`era.examples.grid_simulation`, the simulated grid test."""
+"""``era.simulate``: the public name of :mod:`era.examples.grid_simulation`, the simulated grid test."""
 
 import sys
 

@@ -1,4 +1,4 @@
-"""The structure model of a dataset (issue 9): the draft read from its geometry, the stored model (GET), a model
+"""The structure model of a dataset: the draft read from its geometry, the stored model (GET), a model
 described in the browser (PUT), a model file uploaded (POST .../model/file), and the model's modes beside an
 analysis's (MAC). Saving checks the model against the dataset's channels and solves it once; a refused model
 leaves the stored one as it was."""

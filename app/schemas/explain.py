@@ -122,7 +122,7 @@ class ExplainBasis(Schema):
 
 
 class UsedModel(Schema):
-    """The nominal model an explanation was made with, as it was then (issue 9)."""
+    """The nominal model an explanation was made with, as it was then (an era.Frame or a matrix model)."""
 
     source: Literal["grid", "geometry", "file", "fe"] = Field(description="the NASA grid's built-in model, a model "
                                                                           "described in the panel, a model file, or "

@@ -1,4 +1,4 @@
-"""The structure model of a dataset (issue 9: simulation vs test on the engineer's own structure)."""
+"""The structure model of a dataset (simulation vs test on the engineer's own structure)."""
 
 from __future__ import annotations
 

@@ -66,7 +66,7 @@ class ReportDocument(Schema):
     geometry: ReportGeometry | None
     explanation: Explanation | None = Field(description="simulation vs test, when its panel ran before the report")
     structure_model: FrozenModel | None = Field(None, description="the dataset's structure model when the report was "
-                                                                  "made (issue 9), or null")
+                                                                  "made (the engineer's own structure), or null")
     recordings: dict[str, str] = Field(description="{mode index: file} of the mode-shape recordings (.viser)")
 
 

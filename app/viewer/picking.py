@@ -1,4 +1,4 @@
-"""Picking nodes in the viewer (issue 9): a model being described, drawn in viser with one clickable sphere per node;
+"""Picking nodes in the viewer: a model being described, drawn in viser with one clickable sphere per node;
 a click there is recorded under the scene's key, and the Model panel, which polls ``picks``, takes it as a click on
 that node in its own drawing (a support or a mass, and the node's row selected).
 

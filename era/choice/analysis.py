@@ -29,11 +29,34 @@ DEFAULT_MAX_SIDE = 800
 class AnalysisResult:
     """What :func:`analyse` found.
 
-    identification : the one SVD (era.Identification); stabilization : the diagram over ``orders``;
-    order : the diagram order at which every chosen mode has a pole; model : the ModalModel of exactly the chosen
-    modes at that order, sorted by frequency, with the data's standard deviations (``frequency_std_hz``,
-    ``damping_std``); choice : the verdict on every cluster (era.choice.choose.ModeChoice); rejected : every candidate
-    left out, each with its reason in words (``choice.rejected``); band_hz : the band the choice used.
+    Attributes
+    ----------
+    identification : Identification
+        The one SVD.
+    stabilization : Stabilization
+        The diagram over the analysis' orders.
+    choice : ModeChoice
+        The verdict on every cluster (era.choice.choose.ModeChoice).
+    model : ModalModel
+        The model of exactly the chosen modes at ``order``, sorted by frequency, with the data's standard
+        deviations (``frequency_std_hz``, ``damping_std``).
+    band_hz : (float, float)
+        The band the choice used, Hz.
+    order : int
+        The diagram order at which every chosen mode has a pole (``choice.order``).
+    rejected : tuple of Candidate
+        Every candidate left out, each with its reason in words (``choice.rejected``).
+    indices : int ndarray, shape (modes,)
+        The chosen modes' positions among ``identification.model(order)``'s modes.
+
+    Examples
+    --------
+    >>> from era.examples import paper_cases
+    >>> result = era.analyse(paper_cases.case_1())
+    >>> result.order, result.indices.tolist(), result.rejected
+    (10, [0, 1, 2, 3, 4], ())
+    >>> print(np.round(result.model.eigenvalues, 4))
+    [-0.01+1.j -0.02+2.j -0.03+3.j -0.04+4.j -0.05+5.j]
     """
 
     identification: Identification
@@ -68,27 +91,61 @@ def analyse(data: ResponseData, *, rows: int | None = None, cols: int | None = N
             pole_std: str = "choice") -> AnalysisResult:
     """The structure's modes from a ResponseData, chosen for you, with the evidence for and against every pole.
 
+    The default path: the Hankel size, one SVD (:func:`era.identify`), the stabilization diagram with the data's
+    standard deviations (:func:`era.stabilization`) and the choice of modes (:func:`era.choose_modes`).
+
     Parameters
     ----------
-    data : era.ResponseData (pulse responses, free decays, or NExT correlation functions), (N, p, m).
-    rows, cols : block rows r and columns s of H(0) (eq. 16, consecutive shifts); default
-        :func:`era.core.suggest.hankel_size` (about 45 % of N each, H(0) at most ``max_elements`` elements).
-    max_order : the largest order realized; default min(r·p, s·m, DEFAULT_MAX_ORDER).
-    orders : the diagram's orders; default every even order from 2 to min(max_order, DIAGRAM_MAX_ORDER).
-    band_hz : (low, high) Hz, the band the data hold; default ``data.meta["band_hz"]`` (FRF data), else
-        (0, Nyquist).
-    workers : threads for the diagram's orders (era.stabilization).
-    pole_std : "choice" (default) or "all": the diagram's poles whose standard deviations from the data are
-        computed (``stabilization.frequency_std_hz``): those the choice reads (``era.stabilization(...,
-        uncertainty="choice")``, a third of the work) or every stable pole. The choice, and the chosen modes and
-        their σ (``model``), are the same with both.
+    data : ResponseData
+        Pulse responses, free decays, or NExT correlation functions, (N, p, m).
+    rows : int, optional
+        Block rows r of H(0) (eq. 16, consecutive shifts); default :func:`era.core.suggest.hankel_size` (about
+        45 % of N, H(0) at most ``max_elements`` elements).
+    cols : int, optional
+        Block columns s of H(0); default as ``rows``.
+    max_order : int, optional
+        The largest order realized; default min(r·p, s·m, DEFAULT_MAX_ORDER).
+    orders : iterable of int, optional
+        The diagram's orders; default every even order from 2 to min(max_order, DIAGRAM_MAX_ORDER).
+    band_hz : (float, float), optional
+        (low, high) Hz, the band the data hold; default ``data.meta["band_hz"]`` (FRF data), else (0, Nyquist).
+    max_elements : int, optional
+        The most elements H(0) may hold when its size is chosen here (default DEFAULT_MAX_ELEMENTS).
+    workers : int, optional
+        Threads for the diagram's orders (:func:`era.stabilization`).
+    pole_std : {"choice", "all"}, optional
+        The diagram's poles whose standard deviations from the data are computed
+        (``stabilization.frequency_std_hz``): those the choice reads (``era.stabilization(...,
+        uncertainty="choice")``, a third of the work; the default) or every stable pole. The choice, and the
+        chosen modes and their σ (``model``), are the same with both.
 
     Returns
     -------
     AnalysisResult
+        The identification, the diagram, the verdict on every cluster and the model of the chosen modes.
 
-    Raises era.DataError when the records hold nothing to identify, era.EraError (HankelError, OrderError) for
-    parameters that do not fit the data.
+    Raises
+    ------
+    era.DataError
+        When the records hold nothing to identify (H(0) of rank 0).
+    era.EraError
+        (HankelError, OrderError) for parameters that do not fit the data.
+
+    References
+    ----------
+    Juang & Pappa (1985), eqs. 16, 22 and 34; the diagram and the choice are era's (docs/choosing-modes.md).
+
+    Examples
+    --------
+    Two modes (2 Hz, 1 % and 5 Hz, 2 %) at two sensors, noise 40 dB below the signal:
+
+    >>> from era.examples.synthetic import modal_response
+    >>> data, truth = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> result = era.analyse(data, max_order=40)
+    >>> print(np.round(result.model.frequency_hz, 3), np.round(result.model.damping_ratio, 3))
+    [2. 5.] [0.01 0.02]
+    >>> result.band_hz, [candidate.code for candidate in result.rejected]
+    ((0.0, 25.0), ['noise', 'noise'])
     """
     if not isinstance(data, ResponseData):
         raise EraError(f"analyse needs an era.ResponseData (era.load(...).data), got {type(data).__name__}.")

@@ -69,17 +69,54 @@ REASONS = ("rigid", "band", "harmonic", "damping", "uncertain", "twin", "orders"
 class Candidate:
     """One cluster of the stabilization diagram (an era.StableMode), judged.
 
-    frequency_hz, damping_ratio, emac, mpc : the cluster's means over its orders (Hz, fraction, γ, μ);
-    orders, pole_indices : where it appears (model orders; indices into the Stabilization's pole arrays);
-    shape : (p,) complex, at its highest order; frequency_std_hz, damping_std : the data's standard deviations
-    at that order (NaN when the diagram was computed without them);
-    code : "chosen" or one of :data:`REASONS`; reason : the verdict in words ("" when chosen);
-    mode : the chosen mode it is (its index in ModeChoice.chosen) for a chosen cluster and for a split twin,
-    else None; diagram_index : its position in ``Stabilization.modes``;
-    evidence : what the verdict weighed for the cluster's mode (with its split twins), None when a physical
-    reason decided first: ``orders`` (how many of the diagram's orders have it), ``persistence`` (fraction of
-    the orders from its first one), ``coverage`` (fraction of all orders), ``emac_mpc`` (mean γ·μ of its
-    poles), ``strength`` (its contribution over that of a typical pole at the top order), ``first_order``.
+    Attributes
+    ----------
+    frequency_hz : float
+        The cluster's mean damped frequency over its orders, Hz.
+    damping_ratio : float
+        Its mean damping ratio (a fraction).
+    emac : float
+        Its mean EMAC γ.
+    mpc : float
+        Its mean MPC μ.
+    orders : tuple of int
+        The model orders where it appears.
+    pole_indices : tuple of int
+        Its poles: indices into the Stabilization's pole arrays.
+    shape : complex ndarray, shape (p,)
+        Its shape at its highest order.
+    frequency_std_hz : float
+        The data's standard deviation of the frequency at that order, Hz (NaN when the diagram was computed
+        without them).
+    damping_std : float
+        The same for the damping ratio.
+    diagram_index : int
+        Its position in ``Stabilization.modes`` (-1 for a mode of an exact-rank realization, which needs no
+        diagram).
+    code : str
+        "chosen" or one of :data:`REASONS`.
+    reason : str
+        The verdict in words ("" when chosen).
+    mode : int or None
+        The chosen mode it is (its index in ModeChoice.chosen) for a chosen cluster and for a split twin, else
+        None.
+    evidence : dict or None
+        What the verdict weighed for the cluster's mode (with its split twins), None when a physical reason
+        decided first: ``orders`` (how many of the diagram's orders have it), ``persistence`` (fraction of the
+        orders from its first one), ``coverage`` (fraction of all orders), ``emac_mpc`` (mean γ·μ of its poles),
+        ``strength`` (its contribution over that of a typical pole at the top order), ``first_order``.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> data, _ = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> result = era.analyse(data, max_order=40)
+    >>> first = result.choice.chosen[0]
+    >>> first.chosen, first.code, round(first.frequency_hz, 3), first.mode
+    (True, 'chosen', 2.0, 0)
+    >>> noise = result.rejected[0]
+    >>> noise.code, noise.reason.startswith("noise pole")
+    ('noise', True)
     """
 
     frequency_hz: float
@@ -106,10 +143,30 @@ class Candidate:
 class ModeChoice:
     """The modes chosen from a diagram.
 
-    order : the diagram order the chosen modes are read at (each has a pole there);
-    indices : (k,) int, the chosen modes' positions among the modes of ``Identification.model(order)``, in
-        frequency order; chosen : the k chosen Candidates in the same order (``mode`` = their position);
-    rejected : every other cluster of the diagram with its reason, by frequency.
+    Made by :func:`era.choose_modes`.
+
+    Attributes
+    ----------
+    order : int
+        The diagram order the chosen modes are read at (each has a pole there).
+    indices : int ndarray, shape (k,)
+        The chosen modes' positions among the modes of ``Identification.model(order)``, in frequency order.
+    chosen : tuple of Candidate
+        The k chosen clusters in the same order (``mode`` = their position).
+    rejected : tuple of Candidate
+        Every other cluster of the diagram with its reason, by frequency.
+    n_modes : int
+        k, the number of chosen modes.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> data, _ = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> choice = era.analyse(data, max_order=40).choice
+    >>> choice.n_modes, choice.order, choice.indices.shape
+    (2, 6, (2,))
+    >>> [c.code for c in choice.candidates()]
+    ['chosen', 'chosen', 'noise', 'noise']
     """
 
     order: int
@@ -197,15 +254,6 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
                  record_s: float | None = None) -> ModeChoice:
     """The structure's modes among the clusters of a stabilization diagram, each once, with the reasons for the rest.
 
-    Parameters
-    ----------
-    ident : era.Identification the diagram was computed from (its Δτ, shifts and singular values).
-    stab : era.Stabilization (``uncertainty=True`` gives the data's standard deviations the twin test uses).
-    band_hz : (low, high) Hz, the band the data hold (an FRF's measured band, ``ResponseData.meta["band_hz"]``);
-        default (0, Nyquist).
-    record_s : duration of the pulse responses in seconds (an undamped line does not decay over it); default the
-        Hankel matrix's span, (rows + cols) Δτ.
-
     The noise poles a mode is weighed against are those of the diagram's top order: a diagram that stops a few
     orders past the modes has few, strong noise poles there, and the weaker modes fall below them (era.analyse
     goes to order 160; campaigns of 5-minute ambient records need 80).
@@ -214,9 +262,34 @@ def choose_modes(ident, stab, *, band_hz: tuple[float, float] | None = None,
     diagram: the realization of order n is the system, and its decaying modes with γ·μ ≥ COHERENT_MIN are
     chosen at order n (which the diagram must hold, as era.analyse makes it).
 
+    Parameters
+    ----------
+    ident : Identification
+        The identification the diagram was computed from (its Δτ, shifts and singular values).
+    stab : Stabilization
+        The diagram (``uncertainty=True`` gives the data's standard deviations the twin test uses).
+    band_hz : (float, float), optional
+        (low, high) Hz, the band the data hold (an FRF's measured band, ``ResponseData.meta["band_hz"]``);
+        default (0, Nyquist).
+    record_s : float, optional
+        Duration of the pulse responses in seconds (an undamped line does not decay over it); default the
+        Hankel matrix's span, (rows + cols) Δτ.
+
     Returns
     -------
-    ModeChoice. With no cluster chosen, ``order`` is the diagram's lowest order and ``indices`` is empty.
+    ModeChoice
+        With no cluster chosen, ``order`` is the diagram's lowest order and ``indices`` is empty.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> data, truth = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> ident = era.identify(data, 60, 60, max_order=40)
+    >>> choice = era.choose_modes(ident, era.stabilization(ident, range(2, 41, 2), uncertainty=True))
+    >>> [round(candidate.frequency_hz, 3) for candidate in choice.chosen]
+    [2.0, 5.0]
+    >>> print(np.round(ident.model(choice.order).frequency_hz[choice.indices], 3))
+    [2. 5.]
     """
     dt = float(ident.dt)
     nyquist = 0.5 / dt

@@ -23,11 +23,21 @@ def real_shapes(shapes: np.ndarray) -> np.ndarray:
 
     Parameters
     ----------
-    shapes : (p, k) or (p,) array, real or complex.
+    shapes : array_like, shape (p, k) or (p,)
+        Mode shapes, real or complex, one per column.
 
     Returns
     -------
-    float ndarray, same shape as ``shapes``.
+    float ndarray
+        Same shape as ``shapes``.
+
+    Examples
+    --------
+    >>> era.real_shapes(np.array([1j, 2j, -0.5j]))
+    array([ 1. ,  2. , -0.5])
+    >>> print(np.round(era.real_shapes(np.array([[1 + 1j, 1], [-1 - 1j, 2]])), 3))
+    [[ 1.414  1.   ]
+     [-1.414  2.   ]]
     """
     c = np.asarray(shapes)
     one = c.ndim == 1
@@ -44,19 +54,40 @@ def real_shapes(shapes: np.ndarray) -> np.ndarray:
 class ModePairing:
     """Measured modes paired with model modes.
 
+    Made by :func:`era.pair_modes`.
+
     Attributes
     ----------
-    measured_index, model_index : int ndarray, shape (k,)
-        Column indices of each pair into the measured and the model mode sets, sorted by measured frequency.
-    frequency_measured_hz, frequency_model_hz : ndarray, shape (k,)
+    measured_index : int ndarray, shape (k,)
+        Column index of each pair into the measured mode set, sorted by measured frequency.
+    model_index : int ndarray, shape (k,)
+        Column index of each pair into the model mode set.
+    frequency_measured_hz : ndarray, shape (k,)
+        The measured frequency of each pair, Hz.
+    frequency_model_hz : ndarray, shape (k,)
+        The model frequency of each pair, Hz.
     frequency_error_pct : ndarray, shape (k,)
         100 (f_model - f_measured) / f_measured.
     mac : ndarray, shape (k,)
         MAC of each pair.
     mac_matrix : ndarray, shape (n_measured, n_model)
         MAC between every measured and every model mode.
-    unpaired_measured, unpaired_model : tuple of int
-        Modes with no acceptable partner (measured ones are set aside and reported, never forced).
+    unpaired_measured : tuple of int
+        Measured modes with no acceptable partner (set aside and reported, never forced).
+    unpaired_model : tuple of int
+        Model modes with no acceptable partner.
+    n_pairs : int
+        k, the number of pairs.
+
+    Examples
+    --------
+    >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])
+    >>> model = np.array([[1.0, 0.9, 0.0], [0.55, -1.0, 1.0], [0.2, 0.5, -0.9]])
+    >>> pairing = era.pair_modes([2.0, 5.1], measured, [2.1, 5.0, 8.0], model)
+    >>> pairing.n_pairs, pairing.model_index.tolist(), pairing.unpaired_model
+    (2, [0, 1], (2,))
+    >>> print(np.round(pairing.frequency_error_pct, 2), pairing.mac_matrix.shape)
+    [ 5.   -1.96] (2, 3)
     """
 
     measured_index: np.ndarray
@@ -101,10 +132,39 @@ def pair_modes(f_measured, shapes_measured, f_model, shapes_model, *, freq_scale
 
     Parameters
     ----------
-    f_measured : (n_measured,) Hz; shapes_measured : (p, n_measured) real or complex.
-    f_model : (n_model,) Hz; shapes_model : (p, n_model), at the same p sensors in the same order.
-    freq_scale : relative frequency error that costs as much as a MAC loss of 0.1.
-    min_mac, max_freq_error : acceptance limits of a pair.
+    f_measured : array_like, shape (n_measured,)
+        Measured frequencies, Hz.
+    shapes_measured : array_like, shape (p, n_measured)
+        Measured shapes, real or complex.
+    f_model : array_like, shape (n_model,)
+        Model frequencies, Hz.
+    shapes_model : array_like, shape (p, n_model)
+        Model shapes at the same p sensors in the same order.
+    freq_scale : float, optional
+        The relative frequency error that costs as much as a MAC loss of 0.1 (default 0.1).
+    min_mac : float, optional
+        The least MAC of an accepted pair (default 0.5).
+    max_freq_error : float, optional
+        The largest relative frequency error of an accepted pair (default 0.5).
+
+    Returns
+    -------
+    ModePairing
+
+    Raises
+    ------
+    era.DataError
+        When the shapes are not (p, modes) arrays at the same sensors, or the frequencies do not match them.
+
+    Examples
+    --------
+    >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])
+    >>> model = np.array([[1.0, 0.9, 0.0], [0.55, -1.0, 1.0], [0.2, 0.5, -0.9]])
+    >>> pairing = era.pair_modes([2.0, 5.1], measured, [2.1, 5.0, 8.0], model)
+    >>> pairing.measured_index.tolist(), pairing.model_index.tolist()
+    ([0, 1], [0, 1])
+    >>> print(np.round(pairing.mac, 3))
+    [0.998 0.991]
     """
     fm = np.asarray(f_measured, dtype=float).reshape(-1)
     fa = np.asarray(f_model, dtype=float).reshape(-1)
@@ -136,10 +196,34 @@ def pair_modes(f_measured, shapes_measured, f_model, shapes_model, *, freq_scale
 
 
 def comac(shapes_measured: np.ndarray, shapes_model: np.ndarray) -> np.ndarray:
-    """Coordinate MAC of each sensor over k paired modes (columns in pair order): shape (p,), in [0, 1].
+    """Coordinate MAC of each sensor over k paired modes (columns in pair order).
 
     COMAC_r = (Σ_j |φ_rj ψ_rj|)² / (Σ_j φ_rj² Σ_j ψ_rj²) with each shape first scaled to unit norm and the
     model shape sign-aligned with the measured one; a low value marks a sensor where test and model disagree.
+
+    Parameters
+    ----------
+    shapes_measured : array_like, shape (p, k)
+        The measured shapes of the pairs (real or complex; made real with :func:`real_shapes`).
+    shapes_model : array_like, shape (p, k)
+        The model shapes of the same pairs, at the same sensors.
+
+    Returns
+    -------
+    ndarray, shape (p,)
+        COMAC per sensor, in [0, 1].
+
+    Raises
+    ------
+    era.DataError
+        When the two arrays are not (p, k) of the same shape.
+
+    Examples
+    --------
+    >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])
+    >>> model = np.array([[1.0, 0.9], [0.55, -1.0], [0.2, -0.5]])
+    >>> print(np.round(era.comac(measured, model), 3))
+    [0.999 0.999 0.261]
     """
     a = real_shapes(np.asarray(shapes_measured))
     b = real_shapes(np.asarray(shapes_model))
@@ -156,20 +240,45 @@ def comac(shapes_measured: np.ndarray, shapes_model: np.ndarray) -> np.ndarray:
 
 
 def serep(shapes_sensors: np.ndarray, model_sensors: np.ndarray, model_nodes: np.ndarray) -> np.ndarray:
-    """SEREP expansion (O'Callahan, Avitabile & Riemer 1989) of sensor shapes to every model node.
+    """SEREP expansion of sensor shapes to every model node.
 
     x_nodes = Φ_n Φ_s⁺ x_s, with Φ_s the model's shapes at the sensors and Φ_n the same modes at all nodes.
     The expanded shape is the model-mode combination closest (least squares) to the measured one at the sensors.
 
     Parameters
     ----------
-    shapes_sensors : (p, j) real shapes at the p sensors (e.g. measured, from :func:`real_shapes`).
-    model_sensors : (p, k) model mode shapes at the sensors, k ≤ p (more modes than sensors is not determined).
-    model_nodes : (n, k) the same k model modes at all n nodes.
+    shapes_sensors : array_like, shape (p, j) or (p,)
+        Real shapes at the p sensors (e.g. measured, from :func:`real_shapes`).
+    model_sensors : array_like, shape (p, k)
+        Model mode shapes at the sensors, k ≤ p (more modes than sensors is not determined).
+    model_nodes : array_like, shape (n, k)
+        The same k model modes at all n nodes.
 
     Returns
     -------
-    ndarray, shape (n, j).
+    ndarray, shape (n, j) or (n,)
+        The shapes at every node (1-D for a 1-D ``shapes_sensors``).
+
+    Raises
+    ------
+    era.DataError
+        When the shapes do not fit together.
+
+    References
+    ----------
+    O'Callahan, J., Avitabile, P. and Riemer, R. (1989), System equivalent reduction expansion process (SEREP),
+    Proceedings of the 7th International Modal Analysis Conference.
+
+    Examples
+    --------
+    Two model modes at four nodes, measured at nodes 1 and 2:
+
+    >>> nodes = np.array([[0.0, 0.0], [0.5, 1.0], [1.0, 0.0], [0.5, -1.0]])
+    >>> print(np.round(era.serep(np.array([[1.0], [0.9]]), nodes[[1, 2]], nodes), 3))
+    [[ 0. ]
+     [ 1. ]
+     [ 0.9]
+     [-0.1]]
     """
     xs = np.asarray(shapes_sensors, dtype=float)
     one = xs.ndim == 1
@@ -188,7 +297,28 @@ def serep(shapes_sensors: np.ndarray, model_sensors: np.ndarray, model_nodes: np
 
 @dataclass(frozen=True)
 class Gap:
-    """How far a model is from the test over the paired modes (frequencies in %, MAC in [0, 1])."""
+    """How far a model is from the test over the paired modes (frequencies in %, MAC in [0, 1]).
+
+    Made by :func:`era.gap`.
+
+    Attributes
+    ----------
+    max_abs_freq_error_pct : float
+        The largest |frequency error| of a pair, %.
+    rms_freq_error_pct : float
+        The RMS frequency error over the pairs, %.
+    min_mac : float
+        The smallest MAC of a pair.
+    mean_mac : float
+        The mean MAC of the pairs.
+    n_pairs : int
+        The number of pairs (0: every other field is NaN).
+
+    Examples
+    --------
+    >>> era.Gap(5.0, 3.5, 0.97, 0.99, 3).as_dict()["n_pairs"]
+    3
+    """
 
     max_abs_freq_error_pct: float
     rms_freq_error_pct: float
@@ -202,11 +332,40 @@ class Gap:
 
 
 def subspace_mac(pairing: ModePairing, shapes_measured, shapes_model, f_model, close: float = 0.03) -> np.ndarray:
-    """MAC of each pair (k,), where a model mode with neighbours closer than ``close`` (relative frequency) is
-    replaced by the span of that group: MAC = ‖P φ‖² / ‖φ‖², P the projector onto the group's shapes.
+    """MAC of each pair, a nearly repeated model mode replaced by the span of its group.
 
-    The individual shapes of a nearly repeated pair are not defined (a small perturbation rotates them within
-    their plane), so the measured shape is compared with the plane; isolated modes keep the ordinary MAC.
+    A model mode with neighbours closer than ``close`` (relative frequency) is replaced by the span of that group:
+    MAC = ‖P φ‖² / ‖φ‖², P the projector onto the group's shapes. The individual shapes of a nearly repeated pair
+    are not defined (a small perturbation rotates them within their plane), so the measured shape is compared with
+    the plane; isolated modes keep the ordinary MAC.
+
+    Parameters
+    ----------
+    pairing : ModePairing
+        The pairs, from :func:`pair_modes` on these shapes.
+    shapes_measured : array_like, shape (p, n_measured)
+        The measured shapes (real or complex).
+    shapes_model : array_like, shape (p, n_model)
+        The model shapes, real, at the same sensors.
+    f_model : array_like, shape (n_model,)
+        The model frequencies, Hz.
+    close : float, optional
+        The relative frequency difference within which model modes are one group (default 0.03).
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        MAC per pair, in [0, 1].
+
+    Examples
+    --------
+    The second measured shape is a mix of two model modes 2 % apart:
+
+    >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])
+    >>> model = np.array([[1.0, 0.7, 0.7], [0.5, -0.7, -0.7], [0.2, 0.0, 0.6]])
+    >>> pairing = era.pair_modes([2.0, 5.0], measured, [2.05, 4.95, 5.05], model)
+    >>> print(np.round(pairing.mac, 3), np.round(era.subspace_mac(pairing, measured, model, [2.05, 4.95, 5.05]), 3))
+    [1.    0.929] [1. 1.]
     """
     fa = np.clip(np.nan_to_num(np.asarray(f_model, dtype=float)), 0.0, None)
     sm = real_shapes(np.asarray(shapes_measured))
@@ -224,7 +383,24 @@ def subspace_mac(pairing: ModePairing, shapes_measured, shapes_model, f_model, c
 def gap(pairing: ModePairing, mac_values=None) -> Gap:
     """Summary of a pairing: max and RMS |frequency error| (%) and min and mean MAC; NaN when nothing paired.
 
-    mac_values : (k,) MAC per pair to use instead of ``pairing.mac`` (e.g. :func:`subspace_mac`).
+    Parameters
+    ----------
+    pairing : ModePairing
+        The pairs, from :func:`pair_modes`.
+    mac_values : array_like, shape (k,), optional
+        MAC per pair to use instead of ``pairing.mac`` (e.g. :func:`subspace_mac`).
+
+    Returns
+    -------
+    Gap
+
+    Examples
+    --------
+    >>> measured = np.array([[1.0, 1.0], [0.5, -1.0], [0.2, 0.4]])
+    >>> model = np.array([[1.0, 0.9, 0.0], [0.55, -1.0, 1.0], [0.2, 0.5, -0.9]])
+    >>> summary = era.gap(era.pair_modes([2.0, 5.1], measured, [2.1, 5.0, 8.0], model))
+    >>> print(f"{summary.max_abs_freq_error_pct:.2f} % {summary.min_mac:.3f} {summary.n_pairs}")
+    5.00 % 0.991 2
     """
     if pairing.n_pairs == 0:
         return Gap(float("nan"), float("nan"), float("nan"), float("nan"), 0)

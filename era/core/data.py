@@ -50,15 +50,41 @@ class ResponseData:
         array as (N, p, 1). Real, finite values only.
     dt : float
         Sampling interval Δτ in seconds (> 0).
-    outputs, inputs : sequence of str, optional
-        Channel labels, p and m of them; default ``y1..yp`` and ``u1..um``.
-    output_units, input_units : sequence of str, optional
-        Units of each output channel and each input (e.g. ``"m/s^2"``, ``"N"``), for labels and reports.
+    outputs : sequence of str, optional
+        Output channel labels, p of them; default ``y1..yp``.
+    inputs : sequence of str, optional
+        Input labels (references or initial conditions), m of them; default ``u1..um``.
+    output_units : sequence of str, optional
+        Unit of each output channel (e.g. ``"m/s^2"``), p of them, for labels and reports.
+    input_units : sequence of str, optional
+        Unit of each input (e.g. ``"N"``), m of them, for labels and reports.
+    meta : dict, optional
+        What the readers and builders know about the data, e.g. ``"name"``, ``"band_hz"`` (the band an FRF
+        holds, Hz), ``"direct_term"`` (p, m), ``"conversions"``, ``"input_points"``/``"output_points"``
+        (era.core.points' labels). Default empty.
     records : array_like, shape (n_b, N, p, m), optional
         Independent estimates of the same pulse responses, one per record of the same test (repeated hits, NExT
         segments), of which ``markov`` is the mean or the pooled estimate. Their scatter gives each mode's
         standard deviation (era.core.uncertainty.record_covariance) when there are at least
-        era.core.uncertainty.MIN_RECORDS of them; era.markov's builders fill it when given several comparable records.
+        era.core.uncertainty.MIN_RECORDS of them; era.markov's builders fill it when given several comparable
+        records.
+
+    Raises
+    ------
+    era.DataError
+        For a complex, non-finite or wrongly shaped ``markov``, a ``dt`` that is not a positive number, labels
+        whose count does not match, or ``records`` not shaped (n_b, N, p, m).
+
+    Examples
+    --------
+    A single-channel free decay of a 2 Hz mode with 1 % damping, sampled at 50 Hz:
+
+    >>> dt = 0.02
+    >>> t = np.arange(200) * dt
+    >>> y = np.exp(-0.01 * 2 * np.pi * 2 * t) * np.cos(2 * np.pi * 2 * t)
+    >>> data = era.ResponseData(y, dt, outputs=["tip"], output_units=["m/s^2"])
+    >>> data.markov.shape, data.n_samples, data.outputs, data.inputs
+    ((200, 1, 1), 200, ('tip',), ('u1',))
     """
 
     markov: np.ndarray

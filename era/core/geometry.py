@@ -34,6 +34,23 @@ class Geometry:
         The trace lines' numbers as in the source file (UFF 82 trace line number).
     line_names : tuple of str, (n_lines,)
         The trace lines' descriptions as in the source file (e.g. "Stator"); "" when the file gives none.
+
+    Raises
+    ------
+    era.DataError
+        When the arrays do not fit together (coordinates not (n_nodes, 3), repeated node ids, an edge or a
+        channel naming a node that does not exist, channel counts that differ).
+
+    Examples
+    --------
+    Two accelerometers on the ends of a 1 m bar, both measuring along z:
+
+    >>> geometry = era.Geometry(node_ids=[1, 2], coordinates=[[0, 0, 0], [1, 0, 0]], edges=[[0, 1]],
+    ...                         channel_nodes=[0, 1], channel_directions=[[0, 0, 1], [0, 0, 1]])
+    >>> geometry.n_nodes, geometry.edges.tolist(), geometry.units
+    (2, [[0, 1]], 'm')
+    >>> geometry.displaced(np.array([0.5, 1.0]), scale=0.1)[:, 2]
+    array([0.05, 0.1 ])
     """
 
     node_ids: np.ndarray
@@ -96,6 +113,13 @@ class Geometry:
         """Node coordinates displaced by a real sensor shape (p,) along each channel's direction: (n_nodes, 3).
 
         Only nodes with a sensor move; several channels on one node add up (e.g. x, y, z sensors).
+
+        Parameters
+        ----------
+        shape : ndarray, shape (p,)
+            A real sensor shape, one value per output channel (in ``units`` after ``scale``).
+        scale : float, optional
+            Factor on the shape (default 1).
         """
         shape = np.asarray(shape, dtype=float).reshape(-1)
         if shape.size != self.channel_nodes.size:

@@ -154,9 +154,30 @@ def contribution(shapes, amplitudes, z, row_shifts, col_shifts, is_pair, col_gro
 
 
 def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Modal assurance criterion between the columns of ``a`` (p, i) and ``b`` (p, j): an (i, j) array in [0, 1].
+    """Modal assurance criterion between the columns of ``a`` and ``b``.
 
     MAC = |a^H b|² / ((a^H a)(b^H b)); a zero column gives MAC 0 with every other column.
+
+    Parameters
+    ----------
+    a : array_like, shape (p, i) or (p,)
+        Shapes at p sensors, real or complex, one per column.
+    b : array_like, shape (p, j) or (p,)
+        Shapes at the same p sensors.
+
+    Returns
+    -------
+    ndarray, shape (i, j)
+        The MAC of every pair of columns, in [0, 1].
+
+    Examples
+    --------
+    >>> a = np.array([[1.0, 0.0], [1.0, 1.0]])
+    >>> print(np.round(era.mac(a, a), 3))
+    [[1.  0.5]
+     [0.5 1. ]]
+    >>> era.mac([1, 2, 3], [2j, 4j, 6j])
+    array([[1.]])
     """
     a = np.asarray(a, dtype=complex)
     b = np.asarray(b, dtype=complex)

@@ -1,5 +1,5 @@
 """The eigenvalues of a real matrix and the right and left eigenvectors of ONE member per conjugate pair, from
-LAPACK without the GIL (issue 14); also, for era.core.svd's threads, the eigenvalues (:func:`sterf`) and, by inverse
+LAPACK without the GIL; also, for era.core.svd's threads, the eigenvalues (:func:`sterf`) and, by inverse
 iteration, eigenvectors (:func:`stein`) of a symmetric tridiagonal matrix, and a product of Householder
 reflectors in two steps: its block factors (:func:`reflector_blocks`), then their product with a matrix
 (:func:`apply_reflectors`).

@@ -17,47 +17,82 @@ from .selection import kept_modes
 class ModalModel:
     """A realized discrete-time model x(k+1) = A x(k) + B u(k), y(k) = C x(k) and its modes.
 
+    Made by :meth:`Identification.realize` (or ``model``); :meth:`select` keeps some modes. Modes are sorted by
+    frequency (then by |s|). Modes whose eigenvalues coincide within their uncertainty (a repeated mode) are given
+    the basis of their eigenspace that makes their shapes most real (align_repeated).
+
     Attributes
     ----------
-    A : (n, n), B : (n, m), C : (p, n)
-        Real, discrete time, sampling interval ``dt`` seconds. From :meth:`Identification.realize` in the
-        balanced form of eq. 34; after :meth:`select`, in real modal form (2 × 2 blocks as in eq. 57).
+    A : ndarray, shape (n, n)
+        State matrix: real, discrete time, sampling interval ``dt`` seconds. From
+        :meth:`Identification.realize` in the balanced form of eq. 34; after :meth:`select`, in real modal form
+        (2 × 2 blocks as in eq. 57).
+    B : ndarray, shape (n, m)
+        Input matrix, in the same state basis.
+    C : ndarray, shape (p, n)
+        Output matrix, in the same state basis.
     dt : float
         Δτ in seconds.
-    z : (modes,) complex
+    z : complex ndarray, shape (modes,)
         Discrete eigenvalues, one per mode (the member with Im z ≥ 0 of each pair).
-    shapes : (p, modes) complex
+    shapes : complex ndarray, shape (p, modes)
         Sensor modal displacements E_p^T P_d ψ (eq. 46), largest component 1.
-    amplitudes : (modes, m) complex
+    amplitudes : complex ndarray, shape (modes, m)
         Initial modal amplitudes ψ^{-1} Q^T E_m (eq. 42), scaled so that shapes·amplitudes is the response.
-    emac, mpc : (modes,)
-        Modal amplitude coherence γ and modal phase collinearity μ, each in [0, 1].
-    contribution : (modes,)
+    emac : ndarray, shape (modes,)
+        Modal amplitude coherence γ (eq. 43), in [0, 1].
+    mpc : ndarray, shape (modes,)
+        Modal phase collinearity μ, in [0, 1].
+    contribution : ndarray, shape (modes,)
         Each mode's Frobenius norm in H(0) (units of the singular values): see indicators.contribution.
-    is_pair : (modes,) bool
+    is_pair : bool ndarray, shape (modes,)
         True for a complex-conjugate pair, False for a real pole.
-    outputs, inputs : tuple of str
-        Channel labels (p and m).
+    outputs : tuple of str
+        Output channel labels (p).
+    inputs : tuple of str
+        Input labels (m).
     method : str
         "ERA", "A1" or "A2".
-    frequency_std_hz, damping_std : (modes,)
-        Standard deviation of the damped frequency (Hz) and of the damping ratio that the data determine, to
-        first order from the scatter of the Hankel matrices (era.core.uncertainty: residual blocks of the record,
-        or the records' scatter). A 95 % interval is value ± 1.96·std (:meth:`frequency_interval_hz`,
-        :meth:`damping_interval`). NaN where not computed (A1/A2, or ``uncertainty=False``). For a repeated
-        mode (a cluster, see era.core.modal.align_repeated) the largest of the cluster's.
+    frequency_std_hz : ndarray, shape (modes,)
+        Standard deviation of the damped frequency (Hz) that the data determine, to first order from the scatter
+        of the Hankel matrices (era.core.uncertainty: residual blocks of the record, or the records' scatter).
+        A 95 % interval is value ± 1.96·std (:meth:`frequency_interval_hz`). NaN where not computed (A1/A2, or
+        ``uncertainty=False``). For a repeated mode (a cluster, see era.core.modal.align_repeated) the largest of
+        the cluster's.
+    damping_std : ndarray, shape (modes,)
+        The same for the damping ratio (:meth:`damping_interval`).
     uncertainty_source : str
         Which covariance gave them: "σ from N records" (the scatter of independent records) or "σ from one
         record's residuals" (residual blocks); "" when not computed.
     points : tuple of str
-        A label per measured point, each once (issue 26): by default the outputs. A test whose inputs were at known
+        A label per measured point, each once: by default the outputs. A test whose inputs were at known
         points (a roving hammer) or a merge of several setups (era.merge_setups) adds the struck points and the
         roving sensors.
-    point_shapes : (n_points, modes) complex
+    point_shapes : complex ndarray, shape (n_points, modes)
         The mode shape at each of ``points``, largest component 1: by default ``shapes``.
 
-    Modes are sorted by frequency (then by |s|). Modes whose eigenvalues coincide within their uncertainty (a
-    repeated mode) are given the basis of their eigenspace that makes their shapes most real (align_repeated).
+    References
+    ----------
+    Juang & Pappa (1985), eqs. 34 (the realization), 40-42 and 46 (the modes), 43 (EMAC).
+
+    Examples
+    --------
+    The realization of order 10 of the paper's Case I, and its first two modes kept:
+
+    >>> from era.examples import paper_cases
+    >>> data = paper_cases.case_1()
+    >>> model = era.identify(data, 40, 40).realize(10)
+    >>> model.order, model.n_modes, model.outputs, model.method
+    (10, 5, ('sensor 1',), 'ERA')
+    >>> print(np.round(model.frequency_hz, 4), np.round(model.damping_ratio, 4))
+    [0.1592 0.3183 0.4775 0.6366 0.7958] [0.01 0.01 0.01 0.01 0.01]
+    >>> print(np.round(model.emac, 3), np.round(model.mpc, 3))
+    [1. 1. 1. 1. 1.] [1. 1. 1. 1. 1.]
+    >>> low = model.select([0, 1])
+    >>> low.order, low.reconstruct(200).shape
+    (4, (200, 1, 1))
+    >>> print(np.round(model.fit_error(data.markov), 6))
+    [[0.]]
     """
 
     A: np.ndarray
@@ -115,12 +150,24 @@ class ModalModel:
         return np.abs(self.eigenvalues) / (2 * np.pi)
 
     def frequency_interval_hz(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
-        """(low, high) of the 95 % interval frequency_hz ± 1.96 σ (``level_z`` another normal quantile), Hz."""
+        """(low, high) of the 95 % interval frequency_hz ± 1.96 σ (``level_z`` another normal quantile), Hz.
+
+        Parameters
+        ----------
+        level_z : float, optional
+            The normal quantile of the interval (default 1.96, 95 %).
+        """
         f, sd = self.frequency_hz, self._std(self.frequency_std_hz)
         return f - level_z * sd, f + level_z * sd
 
     def damping_interval(self, level_z: float = 1.959963984540054) -> tuple[np.ndarray, np.ndarray]:
-        """(low, high) of the 95 % interval damping_ratio ± 1.96 σ."""
+        """(low, high) of the 95 % interval damping_ratio ± 1.96 σ.
+
+        Parameters
+        ----------
+        level_z : float, optional
+            The normal quantile of the interval (default 1.96, 95 %).
+        """
         z, sd = self.damping_ratio, self._std(self.damping_std)
         return z - level_z * sd, z + level_z * sd
 
@@ -146,18 +193,20 @@ class ModalModel:
                min_contribution: float | None = None, physical_only: bool = False) -> "ModalModel":
         """The reduced model that keeps some modes (model reduction, section III).
 
+        The rule is :func:`era.core.selection.kept_modes` (named modes AND thresholds).
+
         Parameters
         ----------
         indices : sequence of int or bool mask, optional
             Modes to keep (positions in this model's mode order). Default: all.
-        min_emac, min_mpc : float in [0, 1], optional
-            Keep only modes with γ ≥ min_emac and μ ≥ min_mpc.
+        min_emac : float in [0, 1], optional
+            Keep only modes with γ ≥ min_emac.
+        min_mpc : float in [0, 1], optional
+            Keep only modes with μ ≥ min_mpc.
         min_contribution : float, optional
             Keep only modes whose contribution is at least this fraction of the largest one.
-        physical_only : bool
+        physical_only : bool, optional
             Keep only complex pairs that decay (0 < ζ < 1).
-
-        The rule is :func:`era.core.selection.kept_modes` (named modes AND thresholds).
 
         Returns
         -------
@@ -173,6 +222,18 @@ class ModalModel:
         C keeps that output's row and B that input's column, shapes and amplitudes likewise, so the view
         reconstructs exactly that channel of :meth:`reconstruct` (p·m times less work). γ, μ and the
         contribution stay those of the whole model (they judge a mode, not a channel).
+
+        Parameters
+        ----------
+        output : int
+            The output, 0..p-1.
+        input : int
+            The input, 0..m-1.
+
+        Raises
+        ------
+        era.EraError
+            For an output or input out of range.
         """
         p, m = self.shapes.shape[0], self.amplitudes.shape[1]
         for value, size, name in ((output, p, "output"), (input, m, "input")):
@@ -210,6 +271,16 @@ class ModalModel:
         """Y(k) = C A^k B for k = 0..n_samples-1 from the modes (eq. 35), shape (n_samples, p, m).
 
         Summed in modal form: Y(k) = Σ_pairs 2 Re(c_j z_j^k b_j) + Σ_real c_j z_j^k b_j.
+
+        Parameters
+        ----------
+        n_samples : int
+            N, the number of samples.
+
+        Raises
+        ------
+        era.EraError
+            For a negative ``n_samples``.
         """
         n_samples = int(n_samples)
         if n_samples < 0:
@@ -222,6 +293,16 @@ class ModalModel:
         ``markov`` is an (N, p, m) array or a ResponseData. The error of channel (i, j) is
         ‖Y_ij - Ŷ_ij‖ / ‖Y_ij‖ over the N samples (0 is a perfect fit; the fit in percent is 100 (1 - e)).
         A channel that is zero throughout gets 0 if the reconstruction is zero too, else inf.
+
+        Parameters
+        ----------
+        markov : ndarray, shape (N, p, m), or ResponseData
+            The measured pulse responses.
+
+        Raises
+        ------
+        era.EraError
+            When the data's outputs and inputs do not match the model's.
         """
         y = np.asarray(getattr(markov, "markov", markov), dtype=float)
         if y.ndim != 3 or y.shape[1:] != (self.shapes.shape[0], self.amplitudes.shape[1]):

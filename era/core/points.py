@@ -1,4 +1,4 @@
-"""The mode shape at every point that was measured or struck (issue 26): ``ModalModel.points``, ``point_shapes``.
+"""The mode shape at every point that was measured or struck: ``ModalModel.points``, ``point_shapes``.
 
 A test names where its channels are in ``ResponseData.meta`` (the readers fill it: the SignalCalc ``setup.csv``,
 UFF 58 response and reference node/direction, NPZ arrays):

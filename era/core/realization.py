@@ -23,20 +23,40 @@ from .uncertainty import PoleCovariance, modal_std, source_label
 class Identification:
     """The SVD of H(0), from which every order is realized (with H(1) projected on its singular vectors).
 
+    Made by :func:`era.identify`. The realization of every order n ≤ K is a leading block of the projection
+    P^T H(1) Q (eq. 34); see :meth:`projected`.
+
     Attributes
     ----------
     data : ResponseData
-    row_shifts, col_shifts : int ndarray, shapes (r,) and (s,)
-        (0, j_1, ..., j_{r-1}) and (0, t_1, ..., t_{s-1}) of eq. 16.
+        The pulse responses identified, (N, p, m).
+    row_shifts : int ndarray, shape (r,)
+        (0, j_1, ..., j_{r-1}) of eq. 16.
+    col_shifts : int ndarray, shape (s,)
+        (0, t_1, ..., t_{s-1}) of eq. 16.
     singular_values : ndarray, shape (k,)
         d_1 ≥ d_2 ≥ ... of H(0) (eq. 38); k = min(r p, s m) for the dense SVD and for the truncated one of a
         noisy H(0) (past K from the Gram matrix's eigenvalues: era.core.svd.truncated_svd), else the computed rank.
-    P : (r p, K), Q : (s m, K)
-        Leading K left and right singular vectors (eq. 22), K = :attr:`max_order`.
-    svd_method : "dense", "truncated" or "randomized"
+    P : ndarray, shape (r p, K)
+        Leading K left singular vectors (eq. 22), K = :attr:`max_order`.
+    Q : ndarray, shape (s m, K)
+        Leading K right singular vectors (eq. 22).
+    svd_method : {"dense", "truncated", "randomized"}
+        The SVD that was taken.
 
-    The realization of every order n ≤ K is a leading block of the projection P^T H(1) Q (eq. 34); see
-    :meth:`projected`.
+    References
+    ----------
+    Juang & Pappa (1985), eqs. 16, 22, 34 and 38-39.
+
+    Examples
+    --------
+    >>> from era.examples import paper_cases
+    >>> ident = era.identify(paper_cases.case_1(), 40, 40)
+    >>> ident.rows, ident.cols, ident.dt, ident.order()
+    (40, 40, 0.05, 10)
+    >>> model = ident.model(10)
+    >>> print(np.round(model.frequency_hz, 4))
+    [0.1592 0.3183 0.4775 0.6366 0.7958]
     """
 
     data: ResponseData
@@ -76,7 +96,13 @@ class Identification:
         return self.P.shape[1]
 
     def order(self, tol: float = 1e-12) -> int:
-        """The rank n by the δ test (eqs. 38-39): the number of singular values with d_i / d_1 > tol."""
+        """The rank n by the δ test (eqs. 38-39): the number of singular values with d_i / d_1 > tol.
+
+        Parameters
+        ----------
+        tol : float, optional
+            The δ threshold on d_i / d_1 (default 1e-12).
+        """
         d = self.singular_values
         if d.size == 0 or d[0] == 0:
             return 0
@@ -111,6 +137,11 @@ class Identification:
         column shifts its block columns are those of H(0) moved by one, so P^T H(1) = [(P^T H(0)) without its
         first block column, P^T Y(j_i + t_{s-1} + 1)] with P^T H(0) = D Q^T (the SVD), and only the last block
         column is new (K² s m instead of K r p s m work); other shifts rebuild H(1) from the data.
+
+        Parameters
+        ----------
+        order : int
+            n, at most :attr:`max_order`.
         """
         n = self._check_order(order)
         with self._lock:
@@ -136,6 +167,11 @@ class Identification:
         of the paper's [P_d^# H(1) Q, Q^T E_m, E_p^T P_d]):
         A = D^{-1/2} P_n^T H(1) Q_n D^{-1/2}, B = D^{1/2} Q_n^T E_m, C = E_p^T P_n D^{1/2}, W = D^{1/2} Q_n^T.
         Shapes (n, n), (n, m), (p, n), (n, s m).
+
+        Parameters
+        ----------
+        order : int
+            n, at most :attr:`max_order`.
         """
         n = self._check_order(order)
         p, m = self.data.n_outputs, self.data.n_inputs
@@ -163,6 +199,11 @@ class Identification:
             (era.core.uncertainty.record_covariance) instead of from residual blocks of the mean. Default
             ``data.records`` when it holds at least era.core.uncertainty.MIN_RECORDS records (:meth:`records_used`);
             the model's ``uncertainty_source`` says which was used.
+
+        Raises
+        ------
+        era.OrderError
+            For an order that is not a positive integer or is above :attr:`max_order`.
         """
         return self._model(order, uncertainty, records)[0]
 
@@ -218,6 +259,13 @@ class Identification:
         in the shape, to first order (era.core.mode_uncertainty.shape_scatter for how). Cost: n pole functionals per
         mode, so it is not part of :meth:`model`; ``modes`` indexes the model's modes (default all).
 
+        Parameters
+        ----------
+        order : int
+            n.
+        modes : sequence of int, optional
+            Indices into the model's modes (default all).
+
         Returns
         -------
         (len(modes),) fractions in [0, 1]; the MAC between the estimate and the truth is about 1 minus this.
@@ -232,7 +280,13 @@ class Identification:
         return mode_uncertainty.records_used(self, records)
 
     def uncertainty_source(self, records=None) -> str:
-        """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses."""
+        """"σ from N records" or "σ from one record's residuals": which covariance :meth:`model` uses.
+
+        Parameters
+        ----------
+        records : ndarray, shape (n_b, N, p, m), optional
+            As in :meth:`model`.
+        """
         used = self.records_used(records)
         segments = records is None and self.data.meta.get("records_are") == "segments"
         return source_label(0 if used is None else used.shape[0], segments=segments)
@@ -262,6 +316,13 @@ class Identification:
         Returns
         -------
         ModalModel
+
+        Raises
+        ------
+        era.OrderError
+            For an order that is not a positive integer or is above :attr:`max_order`.
+        era.EraError
+            For a method other than "ERA", "A1" and "A2".
         """
         if order is None:
             order = max(self.order(), 1)
@@ -298,8 +359,10 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     ----------
     data : ResponseData
         Y(k) = C A^k B, shape (N, p, m), sampling interval Δτ = data.dt seconds.
-    rows, cols : int
-        r and s, the numbers of block rows and block columns. H(0) is (r p) × (s m).
+    rows : int
+        r, the number of block rows. H(0) is (r p) × (s m).
+    cols : int
+        s, the number of block columns.
     row_shifts : sequence of r - 1 increasing positive ints, optional
         j_1, ..., j_{r-1} (default j_i = i).
     col_shifts : sequence of s - 1 increasing positive ints, optional
@@ -308,17 +371,43 @@ def identify(data: ResponseData, rows: int, cols: int, row_shifts=None, col_shif
     max_order : int, optional
         The largest order needed. Default: the numerical rank of H(0) (singular values above
         max(r p, s m)·ε·d_1). With the randomized SVD, the rank computed (default 200).
-    svd_method : "auto", "dense", "truncated" or "randomized"
+    svd_method : {"auto", "dense", "truncated", "randomized"}, optional
         "auto" takes the truncated SVD of rank max_order (era.core.svd.truncated_svd) when max_order is at most
         era.core.svd.TRUNCATED_RANK_FRACTION of min(shape) of H(0) — the sweep of orders 2..120 on a 900 × 2392
         H(0) then costs less than half of one dense SVD; else the dense LAPACK SVD unless min(shape)²·max(shape)
         exceeds era.core.svd.DENSE_SVD_WORK_LIMIT, then the randomized SVD of rank max_order.
 
-    Needs N ≥ j_{r-1} + t_{s-1} + 2 samples; H(0) may hold at most era.core.hankel.MAX_HANKEL_ELEMENTS elements.
-
     Returns
     -------
     Identification
+        The SVD of H(0) and the data; ``realize(n)`` gives the model of any order n ≤ its ``max_order``.
+
+    Raises
+    ------
+    era.HankelError
+        For counts or shifts that are not positive and increasing, fewer than N ≥ j_{r-1} + t_{s-1} + 2
+        samples, or an H(0) of more than era.core.hankel.MAX_HANKEL_ELEMENTS elements.
+    era.EraError
+        When ``data`` is not an era.ResponseData, or for an unknown ``svd_method``.
+
+    References
+    ----------
+    Juang, J.-N. and Pappa, R. S. (1985), An eigensystem realization algorithm for modal parameter
+    identification and model reduction, Journal of Guidance, Control, and Dynamics 8(5), 620-627:
+    eqs. 16 (the block Hankel matrices), 22 (the SVD), 34 (the realization).
+
+    Examples
+    --------
+    The paper's Case I (eqs. 58-60): one sensor, five modes s_j = -0.01 j + i j rad/s. H(0) of 40 × 40
+    blocks has rank 10, and the realization of order 10 gives the five eigenvalues back:
+
+    >>> from era.examples import paper_cases
+    >>> ident = era.identify(paper_cases.case_1(), rows=40, cols=40)
+    >>> ident.max_order, ident.svd_method
+    (10, 'dense')
+    >>> model = ident.realize(10)
+    >>> print(np.round(model.eigenvalues, 4))
+    [-0.01+1.j -0.02+2.j -0.03+3.j -0.04+4.j -0.05+5.j]
     """
     if not isinstance(data, ResponseData):
         raise EraError(f"`data` must be an era.ResponseData, got {type(data).__name__}; wrap your (N, p, m) "

@@ -26,15 +26,51 @@ def _fraction(value, name: str) -> float | None:
 
 def keep_mask(emac, mpc, *, contribution=None, damping_ratio=None, is_pair=None, min_emac=None, min_mpc=None,
               min_contribution=None, physical_only: bool = False, max_damping: float | None = None) -> np.ndarray:
-    """(modes,) bool: the modes that pass every threshold given (None: no threshold on that indicator).
+    """The modes that pass every threshold given (None: no threshold on that indicator).
 
     Parameters
     ----------
-    emac, mpc : (modes,) γ and μ, fractions.
-    contribution : (modes,) each mode's contribution (any unit); needed with ``min_contribution``, which is a
-        fraction of the largest finite contribution.
-    damping_ratio : (modes,) ζ; is_pair : (modes,) bool, complex-conjugate pair. Needed with ``physical_only``
-        (keep decaying pairs, 0 < ζ < 1) and ``max_damping`` (ζ ≤ max_damping).
+    emac : array_like, shape (modes,)
+        Each mode's EMAC γ, a fraction.
+    mpc : array_like, shape (modes,)
+        Each mode's MPC μ, a fraction.
+    contribution : array_like, shape (modes,), optional
+        Each mode's contribution (any unit); needed with ``min_contribution``.
+    damping_ratio : array_like, shape (modes,), optional
+        Each mode's ζ; needed with ``physical_only`` and ``max_damping``.
+    is_pair : array_like of bool, shape (modes,), optional
+        True for a complex-conjugate pair; needed with ``physical_only``.
+    min_emac : float in [0, 1], optional
+        Keep modes with γ ≥ min_emac.
+    min_mpc : float in [0, 1], optional
+        Keep modes with μ ≥ min_mpc.
+    min_contribution : float in [0, 1], optional
+        Keep modes whose contribution is at least this fraction of the largest finite contribution.
+    physical_only : bool, optional
+        Keep decaying pairs only (0 < ζ < 1): real poles and growing poles are computational.
+    max_damping : float, optional
+        Keep modes with ζ ≤ max_damping.
+
+    Returns
+    -------
+    bool ndarray, shape (modes,)
+        True where the mode passes.
+
+    Raises
+    ------
+    era.EraError
+        For a threshold outside [0, 1].
+
+    References
+    ----------
+    Juang & Pappa (1985), section III (model reduction); γ of eqs. 42-45 and μ of eqs. 46-54.
+
+    Examples
+    --------
+    >>> era.keep_mask([0.99, 0.4, 0.95], [0.98, 0.9, 0.5], min_emac=0.8, min_mpc=0.8)
+    array([ True, False, False])
+    >>> era.keep_mask([1, 1], [1, 1], damping_ratio=[0.02, -0.01], is_pair=[True, True], physical_only=True)
+    array([ True, False])
     """
     emac, mpc = np.asarray(emac, dtype=float), np.asarray(mpc, dtype=float)
     keep = np.ones(emac.shape, dtype=bool)
@@ -59,14 +95,39 @@ def keep_mask(emac, mpc, *, contribution=None, damping_ratio=None, is_pair=None,
 
 def kept_modes(model, indices=None, *, min_emac=None, min_mpc=None, min_contribution=None,
                physical_only: bool = False) -> np.ndarray:
-    """Sorted indices of the modes of ``model`` (an era.ModalModel) to keep: those named AND passing the thresholds.
+    """Sorted indices of the modes of ``model`` to keep: those named AND passing the thresholds.
 
     Parameters
     ----------
-    indices : sequence of int (negative counts from the end) or a (modes,) bool mask, optional. Default: all.
-    min_emac, min_mpc, min_contribution, physical_only : see :func:`keep_mask`.
+    model : ModalModel
+        The model whose modes are judged (its ``emac``, ``mpc``, ``contribution``, ``damping_ratio``).
+    indices : sequence of int or bool array_like, shape (modes,), optional
+        The modes named (negative indices count from the end), or a mask of them. Default: all.
+    min_emac : float in [0, 1], optional
+        Keep modes with γ ≥ min_emac (see :func:`keep_mask`).
+    min_mpc : float in [0, 1], optional
+        Keep modes with μ ≥ min_mpc.
+    min_contribution : float in [0, 1], optional
+        Keep modes whose contribution is at least this fraction of the largest.
+    physical_only : bool, optional
+        Keep decaying pairs only (0 < ζ < 1).
 
-    Raises era.EraError for an index out of range, a mask of the wrong length or a threshold outside [0, 1].
+    Returns
+    -------
+    int ndarray, shape (kept,)
+        Positions among the model's modes, sorted.
+
+    Raises
+    ------
+    era.EraError
+        For an index out of range, a mask of the wrong length or a threshold outside [0, 1].
+
+    Examples
+    --------
+    >>> from era.examples import paper_cases
+    >>> model = era.identify(paper_cases.case_1(), 40, 40).realize(10)
+    >>> era.kept_modes(model, [-1, 0, 2], min_emac=0.9)
+    array([0, 2, 4])
     """
     n = model.n_modes
     named = np.ones(n, dtype=bool)

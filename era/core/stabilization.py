@@ -23,13 +23,43 @@ UNCERTAIN_FRACTION = 0.5
 class StableMode:
     """A mode suggested by the diagram: stable poles of several orders tracked as one.
 
-    frequency_hz, damping_ratio, emac, mpc : means over the orders where it appears;
-    frequency_std_hz, damping_std : their standard deviations (the spread across orders);
-    orders : the orders where it appears; pole_indices : its poles in the Stabilization arrays;
-    shape : (p,) complex, the shape at the highest of those orders;
-    data_frequency_std_hz, data_damping_std : the standard deviations the data give at that highest order
-    (era.core.uncertainty; NaN when the diagram was computed without them). The spread across orders is not an
-    uncertainty of the data: it shrinks as more orders agree on the same biased value.
+    The spread across orders (``frequency_std_hz``, ``damping_std``) is not an uncertainty of the data: it
+    shrinks as more orders agree on the same biased value; ``data_frequency_std_hz`` and ``data_damping_std`` are.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Mean damped frequency over the orders where it appears, Hz.
+    frequency_std_hz : float
+        Standard deviation of the frequency across those orders (the spread), Hz.
+    damping_ratio : float
+        Mean damping ratio ζ over those orders (a fraction).
+    damping_std : float
+        Standard deviation of the damping ratio across those orders.
+    emac : float
+        Mean EMAC γ over those orders, in [0, 1].
+    mpc : float
+        Mean MPC μ over those orders, in [0, 1].
+    orders : tuple of int
+        The orders where it appears.
+    pole_indices : tuple of int
+        Its poles in the Stabilization arrays.
+    shape : complex ndarray, shape (p,)
+        The shape at the highest of those orders.
+    data_frequency_std_hz : float
+        The standard deviation of the frequency the data give at that highest order, Hz (era.core.uncertainty;
+        NaN when the diagram was computed without them).
+    data_damping_std : float
+        The same for the damping ratio.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> data, _ = modal_response([2.0], [0.01], 2, 1, 300, 0.02, snr_db=40, seed=2)
+    >>> stab = era.stabilization(era.identify(data, 40, 40), range(2, 21, 2), uncertainty=True)
+    >>> mode = stab.modes[0]
+    >>> print(f"{mode.frequency_hz:.3f} Hz, coherent: {mode.coherent}, data σ finite: {mode.data_frequency_std_hz > 0}")
+    2.000 Hz, coherent: True, data σ finite: True
     """
 
     frequency_hz: float
@@ -54,19 +84,56 @@ class StableMode:
 class Stabilization:
     """Poles of every order of one identification; per-pole arrays have shape (n_poles,).
 
-    orders : (n_orders,) the orders computed (requested orders above ident.max_order are left out).
-    order, frequency_hz, damping_ratio, emac, mpc, contribution : each pole's order and modal values.
-    frequency_std_hz, damping_std : each stable pole's standard deviations from the data (ModalModel's; NaN
-        for the other poles, and for all unless ``stabilization(..., uncertainty=True)``; with
-        ``uncertainty="choice"`` only for the poles era.choice.choose reads, see :func:`stabilization`).
-    uncertainty_source : which scatter they come from ("σ from N records" / "σ from one record's residuals",
-        as ModalModel.uncertainty_source); "" without them.
-    mode_index : each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
-    stable_frequency, stable_damping, stable_shape : the pole has a partner at the previous computed order
-        within freq_tol (relative frequency change), damping_tol (relative damping change) and with
-        MAC ≥ mac_min; the first order has no previous one, so all False there.
-    shapes : (p, n_poles) complex.
-    modes : the suggested modes, sorted by frequency.
+    Made by :func:`era.stabilization`.
+
+    Attributes
+    ----------
+    orders : int ndarray, shape (n_orders,)
+        The orders computed (requested orders above ident.max_order are left out).
+    order : int ndarray, shape (n_poles,)
+        Each pole's model order.
+    mode_index : int ndarray, shape (n_poles,)
+        Each pole's index among the modes of its order, i.e. in ``ident.model(order)``.
+    frequency_hz : ndarray, shape (n_poles,)
+        Each pole's damped frequency, Hz.
+    damping_ratio : ndarray, shape (n_poles,)
+        Each pole's damping ratio ζ.
+    emac : ndarray, shape (n_poles,)
+        Each pole's EMAC γ, in [0, 1].
+    mpc : ndarray, shape (n_poles,)
+        Each pole's MPC μ, in [0, 1].
+    contribution : ndarray, shape (n_poles,)
+        Each pole's contribution to H(0) (units of the singular values, as ModalModel.contribution).
+    stable_frequency : bool ndarray, shape (n_poles,)
+        The pole's partner at the previous computed order is within freq_tol (relative frequency change); the
+        first order has no previous one, so this and the next two are all False there.
+    stable_damping : bool ndarray, shape (n_poles,)
+        Its partner's damping ratio is within damping_tol (relative change).
+    stable_shape : bool ndarray, shape (n_poles,)
+        Its partner's shape has MAC ≥ mac_min with the pole's.
+    shapes : complex ndarray, shape (p, n_poles)
+        Each pole's mode shape.
+    modes : tuple of StableMode
+        The suggested modes, sorted by frequency.
+    frequency_std_hz : ndarray, shape (n_poles,)
+        Each stable pole's standard deviation of the frequency from the data, Hz (ModalModel's; NaN for the
+        other poles, and for all unless ``stabilization(..., uncertainty=True)``; with ``uncertainty="choice"``
+        only for the poles era.choice.choose reads, see :func:`stabilization`).
+    damping_std : ndarray, shape (n_poles,)
+        The same for the damping ratio.
+    uncertainty_source : str
+        Which scatter they come from ("σ from N records" / "σ from one record's residuals", as
+        ModalModel.uncertainty_source); "" without them.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> data, _ = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> stab = era.stabilization(era.identify(data, 60, 60), range(2, 31, 2))
+    >>> stab.orders.tolist()[:4], stab.order.shape == stab.frequency_hz.shape == stab.stable.shape
+    ([2, 4, 6, 8], True)
+    >>> print([round(mode.frequency_hz, 3) for mode in stab.modes])
+    [2.0, 5.0]
     """
 
     orders: np.ndarray
@@ -188,20 +255,26 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
                   uncertainty: bool | str = False, workers: int | None = None) -> Stabilization:
     """Poles of every requested order, each realized from the leading block of the SAME projected H(1).
 
+    Every order is ``ident.model(order)`` (same numbers, also for repeated modes): the projection of H(1) is
+    made once for the largest order, then the orders are realized in parallel and compared in order.
+
     Parameters
     ----------
     ident : Identification
         From :func:`era.identify`; no SVD is recomputed here.
-    orders : iterable of int
-        Model orders n (state dimensions). Orders above ident.max_order are skipped.
-    freq_tol, damping_tol : float
-        Relative change of frequency and of damping ratio to the nearest pole of the previous order
-        below which a pole is stable (defaults 1 % and 5 %).
-    mac_min : float
+    orders : iterable of int, optional
+        Model orders n (state dimensions); default every even order from 2 to 120. Orders above
+        ident.max_order are skipped.
+    freq_tol : float, optional
+        Relative change of frequency to the nearest pole of the previous order below which a pole is stable in
+        frequency (default 0.01, 1 %).
+    damping_tol : float, optional
+        Relative change of damping ratio to that pole below which it is stable in damping (default 0.05, 5 %).
+    mac_min : float, optional
         MAC with that pole at or above which the shape is stable (default 0.98).
-    min_orders : int
-        A suggested mode must be found stable (all three) in at least this many orders.
-    uncertainty : bool or "choice"
+    min_orders : int, optional
+        A suggested mode must be found stable (all three) in at least this many orders (default 3).
+    uncertainty : bool or "choice", optional
         True: also the standard deviations from the data (ModalModel.frequency_std_hz, damping_std) of every
         stable pole (NaN for the others): about the work of the sweep again (tests/bench/bench_sweep.py).
         "choice": the same numbers for the poles whose σ era.choice.choose reads, NaN for the others, and the same
@@ -209,17 +282,36 @@ def stabilization(ident: Identification, orders=range(2, 121, 2), *, freq_tol: f
         stable poles of the top order when it is the identification's max_order (the exact-rank choice), and
         of each mode's other poles enough to tell whether their median σ of the frequency reaches
         UNCERTAIN_FRACTION of its frequency: the lowest orders' until more than half are below it, all of them
-        when one is not (era.analyse's default).
+        when one is not (era.analyse's default). False (default): none.
     workers : int, optional
         Orders realized at a time in threads (numpy's eigensolver releases the GIL); default the BLAS thread
         count (:func:`blas_threads`), so one BLAS thread means one core.
 
-    Every order is ``ident.model(order)`` (same numbers, also for repeated modes): the projection of H(1) is
-    made once for the largest order, then the orders are realized in parallel and compared in order.
-
     Returns
     -------
     Stabilization
+        Every pole of every computed order, its stability flags and the suggested modes.
+
+    Raises
+    ------
+    era.EraError
+        For ``orders`` that are not positive integers or an ``uncertainty`` other than False, True, "choice".
+
+    References
+    ----------
+    Juang & Pappa (1985), eq. 34: every order's realization is a leading block of one projection of H(1).
+
+    Examples
+    --------
+    Two modes (2 Hz, 1 % and 5 Hz, 2 %) seen by two sensors, with noise 40 dB below the signal:
+
+    >>> from era.examples.synthetic import modal_response
+    >>> data, truth = modal_response([2.0, 5.0], [0.01, 0.02], 2, 1, 400, 0.02, snr_db=40, seed=1)
+    >>> stab = era.stabilization(era.identify(data, 60, 60), range(2, 31, 2))
+    >>> for mode in stab.modes:
+    ...     print(f"{mode.frequency_hz:.3f} Hz, zeta {mode.damping_ratio:.3f}, stable from order {mode.orders[0]}")
+    2.000 Hz, zeta 0.010, stable from order 6
+    5.000 Hz, zeta 0.020, stable from order 6
     """
     req = sorted({int(n) for n in orders})
     if uncertainty not in (False, True, "choice"):

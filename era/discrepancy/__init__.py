@@ -1,4 +1,4 @@
-"""Simulation against test: which candidate physical effect is the model missing (issue 5).
+"""Simulation against test: which candidate physical effect is the model missing.
 
 explain() runs ERA, pairs the modes with the model, fits every candidate effect of a library (the nominal plus a
 global stiffness nuisance plus the effect's parameters), compares them by Bayesian evidence (Laplace, Beck &

@@ -34,12 +34,39 @@ def property_key(place) -> str:
 
 @dataclass(frozen=True, eq=False)
 class DeckExplainModel:
-    """A deck read by era.models.nastran.read_bdf, with explain's parameters (DECK_DEFAULTS: MatrixExplainModel's
-    keywords, and property_at "property:PSHELL 3 T" with property_factor).
+    r"""A deck read by era.models.nastran.read_bdf, with explain's parameters.
 
-    nominal : the MatrixExplainModel of the deck as read; _params : this parameter set; _shared : the changed
-    decks {(key, factor): MatrixExplainModel} and {"variations": {key: PropertyVariation}}, shared by every
-    variant; reduced : as MatrixExplainModel's (False: every parameter set solved in full)."""
+    The parameters (DECK_DEFAULTS) are MatrixExplainModel's keywords, and property_at ("property:PSHELL 3 T") with
+    property_factor. Made by :meth:`of`; :meth:`with_params` gives a variant.
+
+    Parameters
+    ----------
+    nominal : MatrixExplainModel
+        The deck as read, seen at the test's sensors.
+    reduced : bool, optional
+        As MatrixExplainModel's (False: every parameter set solved in full).
+
+    Examples
+    --------
+    The steel strip of :func:`era.load_model`'s example, and the same strip with its bars' I 10 % larger
+    (frequencies × sqrt(1.1)):
+
+    >>> import os, tempfile
+    >>> deck = ["BEGIN BULK"] + [f"GRID,{i + 1},,{0.25 * i},0.,0." for i in range(5)]
+    >>> deck += [f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,0.,1." for i in range(4)]
+    >>> deck += ["PBAR,1,1,5.-4,4.17-9,1.04-7,1.46-8", "MAT1,1,2.+11,,0.3,7850.", "SPC1,1,123456,1", "ENDDATA"]
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "strip.bdf")
+    ...     with open(path, "w") as file:
+    ...         _ = file.write("\n".join(deck) + "\n")
+    ...     strip = era.load_model(path)
+    >>> nominal = era.DeckExplainModel.of(strip, [("3", "z"), ("5", "z")])
+    >>> print(np.round(nominal.modes(2)[0], 2))
+    [ 8.16 40.74]
+    >>> stiffer = nominal.with_params(property_at="property:PBAR 1 I", property_factor=1.1)
+    >>> print(np.round(stiffer.modes(2)[0], 2))
+    [ 8.56 42.73]
+    """
 
     nominal: MatrixExplainModel
     _params: dict = field(default_factory=lambda: dict(DECK_DEFAULTS))
@@ -48,7 +75,24 @@ class DeckExplainModel:
 
     @classmethod
     def of(cls, model: MatrixModel, sensors) -> "DeckExplainModel":
-        """The nominal of a deck (a NastranModel) seen at ``sensors`` ((grid, direction) per output channel)."""
+        """The nominal of a deck seen at ``sensors``.
+
+        Parameters
+        ----------
+        model : NastranModel
+            A deck read by :func:`era.load_model` (era.models.nastran.read_bdf).
+        sensors : sequence of (grid, direction)
+            One per output channel, in channel order.
+
+        Returns
+        -------
+        DeckExplainModel
+
+        Raises
+        ------
+        era.DataError
+            When the model was not read from a Nastran deck, or a sensor is not a free DOF of it.
+        """
         if not isinstance(model, NastranModel) or model.deck is None:
             raise DataError("explain: this model was not read from a Nastran deck; use MatrixExplainModel.")
         return cls(MatrixExplainModel.of(model, sensors))
@@ -115,9 +159,23 @@ class DeckExplainModel:
 
     # what explain asks: the matrix model's answers for this parameter set
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), as MatrixExplainModel.modes.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return self._inner().modes(n_modes)
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return self._inner().node_modes(n_modes)
 
     @property

@@ -11,13 +11,40 @@ from .effects_matrix import matrix_effects
 
 
 def deck_effects(model: DeckExplainModel) -> tuple:
-    """The effects library of a deck, relative to the nominal ``model``: matrix_effects of the deck's matrices,
-    then "property_factor" at every property change (property_keys; places "property:PSHELL 3 T"), its factor
-    log-normal centred at 1 with 1σ a factor e^0.3 (a thickness or modulus 30 % off is already a gross error of
-    the deck), its places compared at T = 2 as a part's are. A MAT1's E is left out where one property alone
-    uses that material for all its stiffness: the factor then changes exactly that part's stiffness matrix, which
-    part_stiffness offers already (one change as two candidates would split its probability and read as
-    ambiguous)."""
+    r"""The effects library of a deck, relative to the nominal ``model``.
+
+    matrix_effects of the deck's matrices, then "property_factor" at every property change (property_keys;
+    places "property:PSHELL 3 T"), its factor log-normal centred at 1 with 1σ a factor e^0.3 (a thickness or
+    modulus 30 % off is already a gross error of the deck), its places compared at T = 2 as a part's are. A MAT1's
+    E is left out where one property alone uses that material for all its stiffness: the factor then changes
+    exactly that part's stiffness matrix, which part_stiffness offers already (one change as two candidates would
+    split its probability and read as ambiguous).
+
+    Parameters
+    ----------
+    model : DeckExplainModel
+        The nominal deck (:meth:`DeckExplainModel.of`).
+
+    Returns
+    -------
+    list of EffectSpec
+        "none" first, then each candidate effect with its parameters' priors and its places.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> deck = ["BEGIN BULK"] + [f"GRID,{i + 1},,{0.25 * i},0.,0." for i in range(5)]
+    >>> deck += [f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,0.,1." for i in range(4)]
+    >>> deck += ["PBAR,1,1,5.-4,4.17-9,1.04-7,1.46-8", "MAT1,1,2.+11,,0.3,7850.", "SPC1,1,123456,1", "ENDDATA"]
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "strip.bdf")
+    ...     with open(path, "w") as file:
+    ...         _ = file.write("\n".join(deck) + "\n")
+    ...     strip = era.load_model(path)
+    >>> effects = era.deck_effects(era.DeckExplainModel.of(strip, [("3", "z"), ("5", "z")]))
+    >>> [(effect.name, effect.locations) for effect in effects[-3:]]
+    [('part_mass', ('part:PBAR 1',)), ('distributed_mass', None), ('property_factor', ('property:PBAR 1 I',))]
+    """
     parts = model.nominal.model.parts or {}
     keys = tuple(k for k in property_keys(model.deck) if k not in one_part_materials(model.deck, parts))
     out = list(matrix_effects(model.nominal))

@@ -37,6 +37,27 @@ def frame_effects(model: FrameModel | Frame) -> tuple:
     every member, and the group of all members (ALL_MEMBERS, ("*",)): the structure softer than drawn beyond
     the ±1.5 % of E the nuisance allows (a thinner strip, a lower E), which frequencies and shapes cannot tell
     from spread mass: without known impulse inputs the two then share the posterior and the verdict is ambiguous.
+
+    Parameters
+    ----------
+    model : FrameModel
+        The nominal model (:meth:`FrameModel.of`).
+
+    Returns
+    -------
+    list of EffectSpec
+        "none" first, then each candidate effect with its parameters' priors and its places.
+
+    Examples
+    --------
+    >>> strip = era.Section.rectangle(0.05, 0.01)
+    >>> frame = era.Frame(nodes={"1": (0, 0, 0), "2": (0.5, 0, 0), "3": (1, 0, 0)},
+    ...                   members=[("1", "2", "strip"), ("2", "3", "strip")], sections={"strip": strip},
+    ...                   supports={"1": "fixed"}, sensors=[("2", "z"), ("3", "z")])
+    >>> effects = era.frame_effects(era.FrameModel.of(frame))
+    >>> [(effect.name, effect.locations) for effect in effects]  # doctest: +NORMALIZE_WHITESPACE
+    [('none', None), ('support_flexibility', ('1',)), ('point_mass', ('2', '3')),
+     ('member_stiffness', (('1', '2'), ('2', '3'), ('*',))), ('distributed_mass', None)]
     """
     if not isinstance(model, FrameModel):
         model = FrameModel.of(model)

@@ -130,17 +130,36 @@ def _springs(model: MatrixExplainModel, nodes: Places, directions: tuple, unit: 
 
 
 def matrix_effects(model) -> tuple:
-    """The candidate effects for a matrix model (docs/effects.md#matrices), relative to the nominal ``model``
-    (a MatrixExplainModel; a MatrixModel with ``sensors`` is wrapped).
+    """The candidate effects for a matrix model (docs/effects.md#matrices), relative to the nominal ``model``.
 
     Priors (log-normal) scale with the structure, as frame_effects' do: a point mass at 5 % of the structure's
     moving mass (1σ a factor e^1.2 ≈ 3.3); a spring to ground, one candidate per direction
     (ground_spring_x ... ground_spring_rz, together weighed as one), centred at the median stiffness a spring
     meets at that direction's DOFs (1 / Σ φ²/λ over the nominal's modes; 1σ a factor e² ≈ 7.4); a part's
     stiffness or mass 1 times as modelled (1σ a factor e^0.5); spread mass 10 % of the structure's (a factor
-    3.3). Places: every node with a free translation (a mass), every free DOF
-    (a spring), every part; a mesh with more than MAX_PLACES such nodes is thinned evenly over the structure
-    and the nodes near the best thinned ones are screened in a second pass (:func:`spread`).
+    3.3). Places: every node with a free translation (a mass), every free DOF (a spring), every part; a mesh with
+    more than MAX_PLACES such nodes is thinned evenly over the structure and the nodes near the best thinned ones
+    are screened in a second pass (:func:`spread`).
+
+    Parameters
+    ----------
+    model : MatrixExplainModel or MatrixModel
+        The nominal; a MatrixModel with ``sensors`` is wrapped (MatrixExplainModel.of).
+
+    Returns
+    -------
+    list of EffectSpec
+        "none" first, then each candidate effect with its parameters' priors and its places.
+
+    Examples
+    --------
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> [(effect.name, effect.locations) for effect in era.matrix_effects(model)]  # doctest: +NORMALIZE_WHITESPACE
+    [('none', None), ('point_mass', ('1', '2', '3', '4', '5', '6')),
+     ('ground_spring_z', ('1:z', '2:z', '3:z', '4:z', '5:z', '6:z')), ('distributed_mass', None)]
     """
     if not isinstance(model, MatrixExplainModel):
         model = MatrixExplainModel.of(model, getattr(model, "sensors", None))

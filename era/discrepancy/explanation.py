@@ -77,27 +77,84 @@ class NamedEffect:
 class Explanation:
     """Result of :func:`explain`.
 
-    verdict : one of VERDICTS; effects : the NamedEffects, most important first (empty unless "explained");
-    effect : the first of them or None; message : one paragraph for the report.
-    ranking : RankedEffect per candidate, most probable first (step 1: each alone against the nominal);
-    rankings : the ranking of every step of the search for several effects (rankings[0] is ranking).
-    before, after : Gap of the nominal and of the updated model over the paired modes.
-    updated_model : the best-supported model (the named effects fitted, else the nominal with the fitted
-        global stiffness factor); nominal_model : the model given.
-    measured : every mode ERA found; fit_modes : (k,) indices of those used (paired with some candidate);
-    unpaired_measured : indices of measured modes no candidate could pair (set aside).
-    pairing_before, pairing_after : ModePairing of the fitted modes with the nominal and the updated model;
-    mac_before, mac_after : their MAC matrices (k, n_model); comac_before, comac_after : (p,) per sensor.
-    close_modes : (k,) bool, nearly repeated modes (their shapes are compared as a plane, not one by one).
-    residual_modes : indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9),
-        worst first;
-    residual_sensors : sensors with COMAC < 0.9 after the update.
-    node_xy_ft : (n_nodes, 2) on the grid, (0, 2) on a frame; expanded_measured : (n_rows, k) SEREP expansion of
-    the measured shapes with the updated model's paired modes; expanded_model : (n_rows, k) those model modes (NaN
-    columns when unpaired); rows: the grid's joints, or a frame's node translations (node_labels "7:x", ...).
-    timing_s : wall-clock seconds of each stage.
-    model_form : (relative frequency 1σ, shape-component 1σ) of the model-form allowance the evidence used
+    Attributes
+    ----------
+    verdict : str
+        One of VERDICTS ("explained", "no_significant_discrepancy", "ambiguous", "unexplained").
+    effect : NamedEffect or None
+        The first of ``effects``, or None.
+    message : str
+        One paragraph for the report.
+    ranking : tuple of RankedEffect
+        One per candidate, most probable first (step 1: each alone against the nominal).
+    before : Gap
+        The gap of the nominal model over the paired modes.
+    after : Gap
+        The gap of the updated model over the paired modes.
+    updated_model : model
+        The best-supported model (the named effects fitted, else the nominal with the fitted global stiffness
+        factor).
+    nominal_model : model
+        The model given.
+    measured : MeasuredModes
+        Every mode ERA found.
+    fit_modes : int ndarray, shape (k,)
+        Indices of the measured modes used (paired with some candidate).
+    unpaired_measured : tuple of int
+        Indices of measured modes no candidate could pair (set aside).
+    pairing_before : ModePairing
+        The fitted modes paired with the nominal model.
+    pairing_after : ModePairing
+        The fitted modes paired with the updated model.
+    mac_before : ndarray, shape (k, n_model)
+        MAC matrix of the fitted modes with the nominal model's.
+    mac_after : ndarray, shape (k, n_model)
+        MAC matrix with the updated model's.
+    comac_before : ndarray, shape (p,)
+        COMAC per sensor with the nominal model.
+    comac_after : ndarray, shape (p,)
+        COMAC per sensor with the updated model.
+    close_modes : bool ndarray, shape (k,)
+        Nearly repeated modes (their shapes are compared as a plane, not one by one).
+    residual_modes : tuple of int
+        Indices (into fit_modes) where the updated model still misses (|Δf| > 3σ or MAC < 0.9), worst first.
+    residual_sensors : tuple of int
+        Sensors with COMAC < 0.9 after the update.
+    node_xy_ft : ndarray, shape (n_nodes, 2)
+        The grid's joints in ft; (0, 2) on a frame or a matrix model.
+    expanded_measured : ndarray, shape (n_rows, k)
+        SEREP expansion of the measured shapes with the updated model's paired modes; rows: the grid's joints, or
+        a model's node translations (``node_labels``).
+    expanded_model : ndarray, shape (n_rows, k)
+        Those model modes (NaN columns when unpaired).
+    timing_s : dict
+        Wall-clock seconds of each stage.
+    node_labels : tuple of str
+        The label of each row of the expansions ("7:x", ...).
+    effects : tuple of NamedEffect
+        The named effects, most important first (empty unless "explained").
+    rankings : tuple
+        The ranking of every step of the search for several effects (rankings[0] is ranking).
+    model_form : (float, float)
+        (relative frequency 1σ, shape-component 1σ) of the model-form allowance the evidence used
         (ErrorLevels.model_form, model_form_shape, or the model's default).
+
+    Examples
+    --------
+    >>> from era.discrepancy import modes_from_arrays
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> heavier = np.eye(6)
+    >>> heavier[3, 3] = 1.5  # the test article carries 0.5 kg at node 4, which the model does not know
+    >>> frequency_hz, shapes = model.with_matrices(mass=heavier).modes(4)
+    >>> measured = modes_from_arrays(frequency_hz, shapes, 0.002 * frequency_hz)
+    >>> result = era.explain(measured, model, refine_locations=1)  # one place fitted in full: faster
+    >>> [(entry.name, round(entry.probability, 2)) for entry in result.ranking[:2]]
+    [('point_mass', 1.0), ('distributed_mass', 0.0)]
+    >>> result.fit_modes.tolist(), result.unpaired_measured, result.as_dict()["verdict"]
+    ([0, 1, 2, 3], (), 'explained')
     """
 
     verdict: str
@@ -143,7 +200,13 @@ class Explanation:
         return tuple(out)
 
     def candidate(self, name: str) -> RankedEffect:
-        """The ranking entry of one candidate, by name."""
+        """The ranking entry of one candidate, by name.
+
+        Parameters
+        ----------
+        name : str
+            The candidate's name (EffectSpec.name), e.g. "point_mass".
+        """
         return next(r for r in self.ranking if r.name == name)
 
     def mode_table(self) -> list:

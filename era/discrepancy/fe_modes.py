@@ -50,8 +50,45 @@ def fe_sensor_shapes(fe, sensors) -> np.ndarray:
 
 
 def compare_fe_modes(measured: MeasuredModes, fe, sensors, *, max_freq_error: float = 0.5) -> ModeComparison:
-    """Pair measured modes (k,) with a finite-element program's modes ``fe`` (era.ModeSet from UFF 55) at the test's
-    ``sensors`` and report the gap; see the module docstring for what this cannot do."""
+    """Pair measured modes with a finite-element program's modes at the test's sensors and report the gap.
+
+    No effect is named: naming and fixing one needs a model this library can change (an era.Frame or an
+    era.MatrixModel, with era.explain); see the module docstring.
+
+    Parameters
+    ----------
+    measured : MeasuredModes
+        The k measured modes (era.discrepancy.measured_modes, or era.discrepancy.modes_from_arrays).
+    fe : ModeSet
+        The FE program's modes (from UFF 55: era.read_modes_uff).
+    sensors : sequence of (node, direction)
+        One per measured channel, in channel order: node ids matched to the UFF node numbers as text, direction
+        "x" | "-x" | ... | (dx, dy, dz) (e.g. era.Frame.sensors).
+    max_freq_error : float, optional
+        The largest relative frequency error of a pair (default 0.5).
+
+    Returns
+    -------
+    ModeComparison
+        ``pairing``, ``mac_matrix`` (k, n_fe), ``comac`` (p,), ``gap``, ``fe_sensor_shapes`` (p, n_fe), ``table``
+        (one dict per measured mode) and ``message``.
+
+    Raises
+    ------
+    era.DataError
+        When a sensor's node is not among the FE modes' nodes.
+
+    Examples
+    --------
+    >>> from era.discrepancy import modes_from_arrays
+    >>> shapes = np.zeros((3, 3, 2))  # three nodes, their X/Y/Z translations, two modes
+    >>> shapes[:, 2] = [[0.5, 1.0], [1.0, 0.0], [0.5, -1.0]]
+    >>> fe = era.ModeSet(np.array([2.0, 5.0]), np.zeros(2), np.array([1, 2, 3]), shapes, ("FE 1", "FE 2"))
+    >>> measured = modes_from_arrays([2.1, 4.9], np.array([[0.5, 1.0], [1.0, 0.05], [0.5, -1.0]]))
+    >>> comparison = era.compare_fe_modes(measured, fe, [(1, "z"), (2, "z"), (3, "z")])
+    >>> [(row["fe_mode"], round(row["error_pct"], 2)) for row in comparison.table]
+    [(1, -4.76), (2, 2.04)]
+    """
     s_fe = fe_sensor_shapes(fe, sensors)
     f_fe = np.asarray(fe.frequency_hz, float)
     pairing = pair_modes(measured.frequency_hz, measured.shapes, f_fe, s_fe, max_freq_error=max_freq_error)

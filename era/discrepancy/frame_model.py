@@ -52,15 +52,29 @@ def _scaled(sec: Section, factor: float) -> Section:
 class FrameModel:
     """An era.Frame with the explain parameters (DEFAULTS) applied; immutable, modes cached.
 
-    frame : the nominal Frame (its mesh is fixed to ``element_counts`` of the nominal, for ``n_mesh`` modes).
-    params : stiffness_factor (E and G of every section); gravity (geometric stiffness of the self-weight, when
-    the frame has a gravity vector); support_at + support_rotation_stiffness (N·m/rad on both bending rotations
-    of a fixed support) or support_vertical_stiffness (N/m on the vertical translation of a pinned one);
-    joint_at + joint_stiffness (N·m/rad, Frame.joint_springs); point_mass_at + point_mass_kg; member_at (i, j) +
-    member_factor (its E and G; member_at ALL_MEMBERS: every member); distributed_mass_kg (spread uniformly by
-    length over every member).
-    _shared : {"gravity": the nominal's, "reduced": ReducedFrame} shared by the nominal and every variant (the
-    reduced model built at the first solve), or None: every parameter set solved in full (``.exact``).
+    Made by :meth:`of`; :meth:`with_params` gives a variant. The parameters: stiffness_factor (E and G of every
+    section); gravity (geometric stiffness of the self-weight, when the frame has a gravity vector); support_at +
+    support_rotation_stiffness (N·m/rad on both bending rotations of a fixed support) or support_vertical_stiffness
+    (N/m on the vertical translation of a pinned one); joint_at + joint_stiffness (N·m/rad, Frame.joint_springs);
+    point_mass_at + point_mass_kg; member_at (i, j) + member_factor (its E and G; member_at ALL_MEMBERS: every
+    member); distributed_mass_kg (spread uniformly by length over every member).
+
+    Parameters
+    ----------
+    frame : Frame
+        The nominal frame (its mesh is fixed to ``element_counts`` of the nominal, for ``n_mesh`` modes).
+
+    Examples
+    --------
+    >>> strip = era.Section.rectangle(0.05, 0.01)
+    >>> frame = era.Frame(nodes={"1": (0, 0, 0), "2": (0.5, 0, 0), "3": (1, 0, 0)},
+    ...                   members=[("1", "2", "strip"), ("2", "3", "strip")], sections={"strip": strip},
+    ...                   supports={"1": "fixed"}, sensors=[("2", "z"), ("3", "z")])
+    >>> nominal = era.FrameModel.of(frame)
+    >>> print(np.round(nominal.modes(2)[0], 2))
+    [ 8.15 40.77]
+    >>> print(np.round(nominal.with_params(point_mass_at="3", point_mass_kg=0.5).modes(2)[0], 2))  # 0.5 kg at tip
+    [ 6.62 33.12]
     """
 
     frame: Frame
@@ -69,8 +83,21 @@ class FrameModel:
 
     @classmethod
     def of(cls, frame: Frame, n_mesh: int = 10, gravity: bool = True, reduced: bool = True) -> "FrameModel":
-        """The nominal FrameModel of ``frame``, its mesh fixed to the automatic mesh for ``n_mesh`` modes;
-        reduced: variants solved in the nominal's reduced model where it applies (era.fem.reduced)."""
+        """The nominal FrameModel of ``frame``, its mesh fixed to the automatic mesh for ``n_mesh`` modes.
+
+        era.DataError when the frame has no sensors.
+
+        Parameters
+        ----------
+        frame : Frame
+            The structure, with its sensors.
+        n_mesh : int, optional
+            The number of elastic modes the mesh is converged for (default 10).
+        gravity : bool, optional
+            Include the self-weight's geometric stiffness when the frame has a gravity vector (default True).
+        reduced : bool, optional
+            Solve variants in the nominal's reduced model where it applies (era.fem.reduced; default True).
+        """
         if not frame.sensors:
             raise DataError("explain: the Frame has no sensors: list (node, direction) for each output channel.")
         if frame.elements_per_member is None:    # meshed for n_mesh elastic modes (a free frame's rigid ones on top)
@@ -236,14 +263,26 @@ class FrameModel:
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (3·n_nodes, n), rows node-major (x, y, z of each
-        node in Frame.node_ids order), 1/√kg."""
+        node in Frame.node_ids order), 1/√kg.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         r = self.n_rigid
         got = self._reduced(n_modes + r)
         f, u = self.updated_frame.node_modes(n_modes + r) if got is None else got
         return f[r:], u.reshape(-1, u.shape[-1])[:, r:]
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """The lowest ``n_modes`` elastic modes: frequencies (n,) Hz and the sensors' shapes (n_sensors, n)."""
+        """The lowest ``n_modes`` elastic modes: frequencies (n,) Hz and the sensors' shapes (n_sensors, n).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         r = self.n_rigid
         got = self._reduced(n_modes + r)
         if got is None:

@@ -62,10 +62,31 @@ def _solve_subspace(k: np.ndarray, m: np.ndarray, n_modes: int, shift: float,
 class MatrixExplainModel:
     """A MatrixModel with the explain parameters (era.models.changes.EFFECT_DEFAULTS); immutable, modes cached.
 
-    model : the nominal MatrixModel; sensors : the test's points, one (node, direction) per output channel (a
-    direction may carry a sign, "-z"); reduced : solve parameter sets in the nominal's reduced model (False:
-    every one in full, ``.exact``). _shared : the nominal's basis and projected matrices, shared by every
-    variant."""
+    Made by :meth:`of`; :meth:`with_params` gives a variant (point_mass_at + point_mass, spring_at +
+    spring_stiffness, part_at + part_factor, part_mass_at + part_mass_factor, distributed_mass,
+    stiffness_factor).
+
+    Parameters
+    ----------
+    model : MatrixModel
+        The nominal model.
+    sensors : tuple of (node, direction)
+        The test's points, one per output channel (a direction may carry a sign, "-z").
+    reduced : bool, optional
+        Solve parameter sets in the nominal's reduced model (False: every one in full, ``.exact``).
+
+    Examples
+    --------
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> nominal = era.MatrixExplainModel.of(model, dofs)
+    >>> print(np.round(nominal.modes(2)[0], 2))
+    [12.13 35.69]
+    >>> print(np.round(nominal.with_params(point_mass_at="4", point_mass=0.5).exact.modes(2)[0], 2))
+    [11.54 35.53]
+    """
 
     model: MatrixModel
     sensors: tuple
@@ -75,8 +96,27 @@ class MatrixExplainModel:
 
     @classmethod
     def of(cls, model: MatrixModel, sensors=None, reduced: bool = True) -> "MatrixExplainModel":
-        """The nominal model of ``model`` seen at ``sensors`` ((node, direction) per channel; default the
-        model's own ``sensors``)."""
+        """The nominal model of ``model`` seen at ``sensors``.
+
+        Parameters
+        ----------
+        model : MatrixModel
+            The engineer's model.
+        sensors : sequence of (node, direction)
+            One per output channel, in channel order (era.explain passes the model's own ``sensors``, or the
+            points the data's output labels name).
+        reduced : bool, optional
+            Solve parameter sets in the nominal's reduced model (default True).
+
+        Returns
+        -------
+        MatrixExplainModel
+
+        Raises
+        ------
+        era.DataError
+            When there are no sensors, or a sensor is not a free DOF of the model.
+        """
         points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
         if not points:
             raise DataError("explain: the matrix model has no sensors: give the test's points as (node, direction) "
@@ -233,12 +273,24 @@ class MatrixExplainModel:
         return shapes[got[0]] * got[1][:, None]
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n)."""
+        """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, sensors, _ = self._all_modes(n_modes)
         return f.copy(), sensors.copy()
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
-        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels)."""
+        """Frequencies (n,) Hz and mass-normalised shapes at every free translation (rows: node_labels).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, _, (rows, y) = self._all_modes(n_modes)
         return f.copy(), (rows[:, :n_modes].copy() if y is None else rows @ y[:, :n_modes])
 
@@ -347,5 +399,11 @@ class MatrixExplainModel:
         return scale_sensitivity(u, du, node_rows)
 
     def part_place(self, place) -> str:
-        """A part's place, "part:name", checked against the model's parts."""
+        """A part's place, "part:name", checked against the model's parts.
+
+        Parameters
+        ----------
+        place : str
+            "part:name" or the part's name.
+        """
         return "part:" + part_name(place, self.model.parts)

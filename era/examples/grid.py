@@ -369,7 +369,7 @@ def nasa_grid(*, gravity=True, joint_stiffness=None, torsion_factor=1.0, cable_l
               distributed_mass_kg=0.0, point_mass_kg=0.0, point_mass_at=None, loose_joint_at=None,
               loose_joint_stiffness=None, stiffness_factor=1.0, elements_per_bar=1, member_at=None,
               member_factor=1.0) -> GridModel:
-    """The NASA Langley grid; each keyword switches on one candidate effect of issue 5.
+    """The NASA Langley grid; each keyword switches on one candidate effect (docs/effects.md).
 
     Parameters
     ----------

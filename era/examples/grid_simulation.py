@@ -1,4 +1,4 @@
-"""A simulated vibration test of the NASA grid with a hidden physical effect (the "truth generator" of issue 5).
+"""A simulated vibration test of the NASA grid with a hidden physical effect (the truth of simulation vs test).
 
 The truth is deliberately NOT the nominal model of :func:`era.examples.grid.nasa_grid`: a finer mesh, a few per cent of
 random scatter in each bar segment's EI and GJ, a ~1 % error in E, the hidden effect parametrised differently
@@ -263,7 +263,7 @@ def simulate_grid_test(effect=None, seed: int = 0, duration_s: float = 40.0, noi
         loose_joint_stiffness and loose_joint_at; member_stiffness: member_factor (of EI), member_at
         ((x1, y1), (x2, y2)); damaged_bar: bar=("x", y_ft) or ("y", x_ft), ei_factor;
         ground_spring: at=(x_ft, y_ft), stiffness_n_per_m).
-        Parameters not given are drawn from ``seed``, above the detection limits of issue 5; a loose joint
+        Parameters not given are drawn from ``seed``, above the detection limits of explain; a loose joint
         (3-30 N·m/rad) only where its signature exceeds LOOSE_JOINT_LIMIT_PCT (see loose_joint_signature_pct).
         "gravity_stiffening": the truth hangs in gravity as always; ``truth["nominal_params"]`` is
         {"gravity": False}, i.e. the model to hand to explain() is nasa_grid(gravity=False).

@@ -1,4 +1,4 @@
-"""Cheaper solves of the grid model for explain (issue 13's speed), each checked against the path it replaces
+"""Cheaper solves of the grid model for explain's speed, each checked against the path it replaces
 (tests/discrepancy/test_fast_fits.py): solves shared by parameter set, the matrices assembled on a kept sparse
 pattern, the self-weight solve superposed for added masses, and the attachment modes that make a Rayleigh-Ritz
 approximation follow a local change (GridModel.ritz)."""

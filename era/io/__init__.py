@@ -58,12 +58,28 @@ _READER_OPTIONS = {"orientation": ("csv", "text", "npy", "mat", "hdf5"), "variab
 class Dataset:
     """What :func:`load` read.
 
-    data : ResponseData, or None when the file holds only geometry and/or modes (UFF 15/82/55).
-    geometry : Geometry or None; its channels are the outputs of ``data``.
-    source : dict with "file", "format", "kind" (conversion used), "records" (what was read), "conversions"
-        (what was done to it, in order), "outputs"/"inputs" with units, "channels_read" (every channel as read,
-        before any was dropped): for reports; for NPZ also "name", the dataset name stored in the file (or None).
-    modes : ModeSet or None, modes stored in the file (UFF 55), e.g. from a finite-element program.
+    Attributes
+    ----------
+    data : ResponseData or None
+        The pulse responses; None when the file holds only geometry and/or modes (UFF 15/82/55).
+    geometry : Geometry or None
+        The test's nodes and trace lines; its channels are the outputs of ``data``.
+    source : dict
+        For reports: "file", "format", "kind" (conversion used), "records" (what was read), "conversions" (what
+        was done to it, in order), "outputs"/"inputs" with units, "channels_read" (every channel as read, before
+        any was dropped); for NPZ also "name", the dataset name stored in the file (or None).
+    modes : ModeSet or None
+        Modes stored in the file (UFF 55), e.g. from a finite-element program.
+
+    Examples
+    --------
+    >>> import io
+    >>> from era.examples import paper_cases
+    >>> buffer = io.BytesIO()
+    >>> era.save_npz(buffer, paper_cases.case_2())
+    >>> dataset = era.load(buffer.getvalue(), name="case2.npz")
+    >>> dataset.data.outputs, dataset.geometry, dataset.modes
+    (('sensor 1', 'sensor 2'), None, None)
     """
 
     data: ResponseData | None
@@ -126,41 +142,75 @@ def sniff(raw: bytes, name: str) -> str:
 def load(source, format: str | None = None, *, name: str | None = None, kind: str = "auto",
          dt: float | None = None, start_sample: int | None = None, drop=None, forces=None, points=None,
          max_bytes: int | None = None, **options) -> Dataset:
-    """Read test data and turn it into Markov parameters for :func:`era.identify`.
+    r"""Read test data and turn it into Markov parameters for :func:`era.identify`.
 
     Parameters
     ----------
-    source : path, bytes or binary file object, or a list of them read as one dataset: UFF files (one per hammer
-        hit or shaker reference) assembled into outputs × references by node and direction; SignalCalc FRF files
-        by their channels, or in the order given when they all name the same channels (a roving hammer); time files
-        (CSV, LVM, MAT, TDMS, ...) as one record each (several initial conditions or runs)
-    format : one of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms", "signalcalc") or
-        None (sniffed from the content, then the extension of ``name``/the path)
-    name : the original file name of an upload (for sniffing and messages)
-    kind : "auto" or the conversion ("frf", "pulse", "decay", "io", "ambient"); see era.io.records.to_response
-    dt : sampling interval in s, used only when a file carries none (text without a time column, an LVM file
-        without X_Value column or Delta_X, .npy, .mat/HDF5 without fs/dt/time, TDMS without wf_increment)
-    start_sample, drop, forces : the person's choices (era.io.choices.choose): samples skipped at the start of
-        every record (pre-trigger), channels left out, the channels that measure the excitation (names or 0-based
-        positions)
-    points : where time channels are, {channel (name or 0-based position as read): point label ("4X")}: a force
+    source : path, bytes, binary file object, or a list of them
+        A list is read as one dataset: UFF files (one per hammer hit or shaker reference) assembled into
+        outputs × references by node and direction; SignalCalc FRF files by their channels, or in the order given
+        when they all name the same channels (a roving hammer); time files (CSV, LVM, MAT, TDMS, ...) as one
+        record each (several initial conditions or runs).
+    format : str, optional
+        One of FORMATS ("uff", "csv", "text", "npz", "lvm", "npy", "mat", "hdf5", "tdms", "signalcalc"); None
+        (default): sniffed from the content, then the extension of ``name``/the path.
+    name : str, optional
+        The original file name of an upload (for sniffing and messages).
+    kind : str, optional
+        "auto" (default) or the conversion ("frf", "pulse", "decay", "io", "ambient"); see
+        era.io.records.to_response.
+    dt : float, optional
+        Sampling interval in s, used only when a file carries none (text without a time column, an LVM file
+        without X_Value column or Delta_X, .npy, .mat/HDF5 without fs/dt/time, TDMS without wf_increment).
+    start_sample : int, optional
+        Samples skipped at the start of every record (pre-trigger): the person's choice
+        (era.io.choices.choose).
+    drop : sequence of str or int, optional
+        Channels left out (names or 0-based positions as read).
+    forces : sequence of str or int, optional
+        The channels that measure the excitation (names or 0-based positions).
+    points : dict, optional
+        Where time channels are, {channel (name or 0-based position as read): point label ("4X")}: a force
         channel's point is where the structure was struck (``ResponseData.meta["input_points"]``), a response's
-        where it was measured (``output_points``); era.core.points then gives the shape at every such point
-    orientation : "rows" or "columns": where the channels are in headerless text, .npy, .mat and HDF5 arrays
-        (default: from the shape, the longer side is time)
-    variable : the .mat variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates
-    group : the TDMS group to read, when groups hold different channels
-    resample : True to resample CSV/text records whose time stamps scatter about a steady rate (a phone's or a
-        logger's jittered clock, no sample missing) onto an even grid at the mean rate, by linear interpolation;
-        what was done is the first entry of ``source["conversions"]``. Without it such a file is refused (option
-        "resample"), never resampled silently; a missing or repeated sample is refused either way
-    max_bytes : the uncompressed bytes all the files together may inflate to (NPZ members, HDF5 datasets, MATLAB
+        where it was measured (``output_points``); era.core.points then gives the shape at every such point.
+    max_bytes : int, optional
+        The uncompressed bytes all the files together may inflate to (NPZ members, HDF5 datasets, MATLAB
         variables), checked before anything is inflated and while it is (era/io/inflate.py); TooLargeError above
-        it. None: no such limit (each array still at most 2 GiB)
-    options : passed to the conversion (e.g. band_hz=..., n_observer=..., references=..., n_lags=...)
+        it. None (default): no such limit (each array still at most 2 GiB).
+    **options
+        For the readers: ``orientation`` ("rows" or "columns": where the channels are in headerless text, .npy,
+        .mat and HDF5 arrays; default from the shape, the longer side is time), ``variable`` (the .mat
+        variable(s) or HDF5 dataset path(s) holding the data, when the file has several candidates), ``group``
+        (the TDMS group to read, when groups hold different channels), ``resample`` (True to resample CSV/text
+        records whose time stamps scatter about a steady rate onto an even grid at the mean rate, by linear
+        interpolation; without it such a file is refused, never resampled silently). The others go to the
+        conversion (e.g. ``band_hz``, ``n_observer``, ``references``, ``n_lags``).
 
-    Raises DataError naming the file, record or line and what is wrong (``option`` names the parameter that fixes
-    it, when one does).
+    Returns
+    -------
+    Dataset
+        The pulse responses, the geometry and the modes the files hold, and what was done to them.
+
+    Raises
+    ------
+    era.DataError
+        Naming the file, record or line and what is wrong (``option`` names the parameter that fixes it, when
+        one does).
+    era.TooLargeError
+        When the files would inflate past ``max_bytes``.
+
+    Examples
+    --------
+    A CSV file of a free decay at two sensors, read from bytes:
+
+    >>> t = np.arange(500) * 0.01
+    >>> y = np.exp(-0.02 * 2 * np.pi * 3 * t) * np.cos(2 * np.pi * 3 * t)
+    >>> text = "time,tip,root\n" + "\n".join(f"{a:.2f},{b:.6f},{b / 2:.6f}" for a, b in zip(t, y))
+    >>> dataset = era.load(text.encode(), name="decay.csv", kind="decay")
+    >>> dataset.data.markov.shape, dataset.data.outputs, round(dataset.data.dt, 6)
+    ((499, 2, 1), ('tip', 'root'), 0.01)
+    >>> dataset.source["format"], dataset.source["kind"], dataset.geometry
+    ('csv', 'decay', None)
     """
     how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
     got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)

@@ -225,7 +225,31 @@ def npz_bytes(data: ResponseData, geometry: Geometry | None = None, *, name: str
 
 
 def save_npz(path, data: ResponseData, geometry: Geometry | None = None, *, name: str | None = None) -> None:
-    """Write :func:`npz_bytes` to ``path`` (str, path or binary file), for :func:`era.load` to read back."""
+    """Write the pulse responses (and geometry) as an NPZ file, for :func:`era.load` to read back.
+
+    The content is :func:`npz_bytes`.
+
+    Parameters
+    ----------
+    path : str, os.PathLike or binary file object
+        Where to write.
+    data : ResponseData
+        The pulse responses, their labels, units and records.
+    geometry : Geometry, optional
+        The test's nodes, trace lines and channel placement.
+    name : str, optional
+        A dataset name stored in the file (``Dataset.source["name"]`` when read back).
+
+    Examples
+    --------
+    >>> import io
+    >>> from era.examples import paper_cases
+    >>> buffer = io.BytesIO()
+    >>> era.save_npz(buffer, paper_cases.case_1(), name="Case I")
+    >>> dataset = era.load(buffer.getvalue(), name="case1.npz")
+    >>> dataset.data.markov.shape, dataset.source["name"], dataset.source["format"]
+    ((200, 1, 1), 'Case I', 'npz')
+    """
     blob = npz_bytes(data, geometry, name=name)
     if hasattr(path, "write"):
         path.write(blob)

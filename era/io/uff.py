@@ -267,9 +267,28 @@ def _channels(recs: list[dict], label: str) -> Records:
 class ModeSet:
     """Modes from UFF 55 (e.g. from a finite-element program), for comparison with identified ones.
 
-    frequency_hz (modes,) natural frequency; damping_ratio (modes,) (0 for normal modes); node_ids (n,);
-    shapes (n, 3, modes) complex translations along global X, Y, Z at each node, in m (the file's UFF 164 length
-    unit and its nodes' displacement systems, UFF 18/2420, applied); names (modes,) the sets' id lines.
+    Read by :func:`era.read_modes_uff` (or :func:`era.load`, ``Dataset.modes``).
+
+    Attributes
+    ----------
+    frequency_hz : ndarray, shape (modes,)
+        Natural frequency of each mode, Hz.
+    damping_ratio : ndarray, shape (modes,)
+        Damping ratio of each mode (0 for normal modes).
+    node_ids : int ndarray, shape (n,)
+        The nodes' labels.
+    shapes : complex ndarray, shape (n, 3, modes)
+        Translations along global X, Y, Z at each node, in m (the file's UFF 164 length unit and its nodes'
+        displacement systems, UFF 18/2420, applied).
+    names : tuple of str, (modes,)
+        The sets' id lines.
+
+    Examples
+    --------
+    >>> modes = era.ModeSet(frequency_hz=np.array([1.5]), damping_ratio=np.zeros(1), node_ids=np.array([1, 2]),
+    ...                     shapes=np.array([[[0], [0], [0.5]], [[0], [0], [1.0]]]), names=("FE mode 1",))
+    >>> modes.shapes[:, 2, 0].tolist(), modes.names
+    ([0.5, 1.0], ('FE mode 1',))
     """
 
     frequency_hz: np.ndarray
@@ -389,7 +408,34 @@ def _same_units(funcs: list[dict]) -> None:
 
 
 def read_modes_uff(path) -> ModeSet:
-    """The modes (UFF 55) in a file, in m along global X/Y/Z (ModeSet). Raises DataError when it holds none."""
+    """The modes (UFF 55) in a file, in m along global X/Y/Z.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A universal file holding UFF 55 sets (and the UFF 15 nodes and UFF 164 units they refer to).
+
+    Returns
+    -------
+    ModeSet
+
+    Raises
+    ------
+    era.DataError
+        When the file holds no modes.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from era.examples import paper_cases
+    >>> model = era.identify(paper_cases.case_1(), 40, 40).realize(10)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "modes.uff")
+    ...     _ = era.save_modes_uff(path, model)
+    ...     modes = era.read_modes_uff(path)
+    >>> print(np.round(modes.frequency_hz, 3), modes.shapes.shape)
+    [0.159 0.318 0.477 0.637 0.796] (1, 3, 5)
+    """
     label = os.path.basename(str(path))
     sets = read_sets(str(path), label)
     modes = _modes(sets, label)

@@ -98,20 +98,56 @@ def complete_modes(shapes: np.ndarray) -> np.ndarray:
 
 def save_modes_uff(path, model, geometry: Geometry | None = None, *, name: str = "ERA",
                    shape_scatter=None) -> tuple[int, ...]:
-    """Write a ModalModel's modes as UFF 55 complex modes (analysis type 3, eigenvalue s in rad/s), with the nodes
-    (UFF 15) and trace lines (UFF 82) of ``geometry``.
+    """Write a ModalModel's modes as UFF 55 complex modes, with the nodes and trace lines of ``geometry``.
 
-    path : str, os.PathLike, or a binary file object (written from its current position).
-    model : era.ModalModel; shapes (p, modes) as identified (largest component 1), or its point_shapes at every
-        measured or struck point (issue 26, :func:`written_shapes`) when it has points beyond its outputs. Its
-        frequency_std_hz and damping_std (where finite) go to each set's ID line 3, and ``shape_scatter`` (modes,)
-        (expected 1 - MAC, Identification.shape_scatter) with the model's uncertainty_source to ID line 4
-        (:func:`uncertainty_lines`; :func:`read_uncertainty_lines` reads them back).
+    The modes are analysis type 3, eigenvalue s in rad/s; the nodes are UFF 15 and the trace lines UFF 82.
+    Only modes known at every point are written (:func:`complete_modes`; a UFF 55 set has a value at each of its
+    nodes, and pyuff reads no NaN). Each written set keeps its mode's number in the model (``mode_n`` and ID line 1
+    "ERA mode 4"), so a gap says which is missing.
 
-    Returns the indices (0-based, in the model) of the modes left out: only modes known at every point are written
-    (:func:`complete_modes`; a UFF 55 set has a value at each of its nodes, and pyuff reads no NaN). Each written set
-    keeps its mode's number in the model (``mode_n`` and ID line 1 "ERA mode 4"), so a gap says which is missing.
-    Raises era.DataError when no mode is complete.
+    Parameters
+    ----------
+    path : str, os.PathLike or binary file object
+        Where to write (a file object is written from its current position).
+    model : ModalModel
+        Its shapes (p, modes) as identified (largest component 1), or its point_shapes at every measured or struck
+        point (:func:`written_shapes`) when it has points beyond its outputs. Its frequency_std_hz and damping_std
+        (where finite) go to each set's ID line 3.
+    geometry : Geometry, optional
+        The nodes, trace lines and where each channel measures; without it the shapes are written at one node per
+        channel.
+    name : str, optional
+        The label of every set's ID lines (default "ERA").
+    shape_scatter : array_like, shape (modes,), optional
+        Expected 1 - MAC of each shape (Identification.shape_scatter), written with the model's
+        uncertainty_source to ID line 4 (:func:`uncertainty_lines`; :func:`read_uncertainty_lines` reads them
+        back).
+
+    Returns
+    -------
+    tuple of int
+        The indices (0-based, in the model) of the modes left out.
+
+    Raises
+    ------
+    era.DataError
+        When the model has no modes or no mode is complete.
+
+    Examples
+    --------
+    The paper's Case II (a repeated pair, two sensors) written at the two ends of a bar and read back:
+
+    >>> import os, tempfile
+    >>> from era.examples import paper_cases
+    >>> model = era.identify(paper_cases.case_2(), 40, 40).realize(10)
+    >>> bar = era.Geometry(node_ids=[1, 2], coordinates=[[0, 0, 0], [1, 0, 0]], edges=[[0, 1]],
+    ...                    channel_nodes=[0, 1], channel_directions=[[0, 0, 1], [0, 0, 1]])
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "modes.uff")
+    ...     left_out = era.save_modes_uff(path, model, bar, name="case 2")
+    ...     modes = era.read_modes_uff(path)
+    >>> left_out, modes.shapes.shape, modes.names[0]
+    ((), (2, 3, 5), 'case 2 mode 1')
     """
     shapes, geometry = written_shapes(model, geometry)
     if shapes.ndim != 2 or shapes.shape[1] == 0:

@@ -31,13 +31,40 @@ def markov_from_decay(responses, dt, *, start="peak", n_samples: int | None = No
         p sensors, m initial conditions (or references of an impulse response).
     dt : float
         Sampling interval in seconds.
-    start : "peak", int, or sequence of m ints
+    start : "peak", int, or sequence of m ints, optional
         First sample kept: "peak" = the sample after the largest response (impact free decays); an int = that
         sample (e.g. the sample after t = 0 of an impulse response, dropping Y(0) = D); one per column to align
         several initial conditions that were triggered at different samples.
     n_samples : int, optional
         Samples kept after the start; default all that every column has.
-    outputs, inputs, output_units, input_units : labels for :class:`era.ResponseData`.
+    outputs : sequence of str, optional
+        The p output labels, for :class:`era.ResponseData`.
+    inputs : sequence of str, optional
+        The m input labels.
+    output_units : sequence of str, optional
+        The p output units.
+    input_units : sequence of str, optional
+        The m input units.
+
+    Returns
+    -------
+    ResponseData
+        markov (n_samples, p, m) from the start on; meta["start_samples"] and meta["conversions"] say where.
+
+    Raises
+    ------
+    era.DataError
+        For complex or wrongly shaped responses, or a ``start`` that is not "peak" or sample indices.
+
+    Examples
+    --------
+    A struck 3 Hz mode (2 % damping) recorded with 0.5 s of pre-trigger at 100 Hz:
+
+    >>> t = np.arange(-50, 500) * 0.01
+    >>> y = np.where(t >= 0, np.exp(-0.02 * 2 * np.pi * 3 * t) * np.sin(2 * np.pi * 3 * t), 0.0)
+    >>> data = era.markov_from_decay(y, 0.01, start="peak")
+    >>> data.markov.shape, data.meta["start_samples"]
+    ((491, 1, 1), [59])
     """
     dt = check_dt(dt)
     y = np.asarray(responses, dtype=float) if not np.iscomplexobj(responses) else None

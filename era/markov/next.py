@@ -133,16 +133,40 @@ def markov_from_ambient(outputs, dt, references=None, *, n_lags: int | None = No
     n_lags : int, optional
         Correlation lags returned, τ = 1..n_lags; default :func:`default_lags` of the first record (about four
         periods of its lowest resonance: longer lags bias damping low).
-    detrend : bool
+    detrend : bool, optional
         Remove each channel's mean first (sensor offsets would add a constant to every correlation).
-    names, output_units : sequence of p str, optional
-        Channel names and units.
+    names : sequence of p str, optional
+        Channel names (default y1..yp).
+    output_units : sequence of p str, optional
+        Channel units.
 
     Returns
     -------
     ResponseData
         markov (n_lags, p, r) with markov[k, i, j] = R_ij((k+1)Δτ), the unbiased estimate
         Σ_t y_i(t+τ) y_j(t) / (N - τ) (units: output unit × reference unit); inputs are the reference names.
+
+    Raises
+    ------
+    era.DataError
+        For a reference that is not a channel (or named twice), or records too short for ``n_lags``.
+
+    References
+    ----------
+    James, G. H., Carne, T. G. and Lauffer, J. P. (1995), The natural excitation technique (NExT) for modal
+    parameter extraction from operating structures, Modal Analysis 10(4), 260-277.
+
+    Examples
+    --------
+    Three sensors on a structure with modes at 2 and 5 Hz under white noise, 80 s at 50 Hz:
+
+    >>> from era.examples.synthetic import ambient_response
+    >>> records, truth = ambient_response([2.0, 5.0], [0.02, 0.02], 3, 4000, 0.02, seed=0)
+    >>> data = era.markov_from_ambient(records, 0.02, references=[0])
+    >>> data.markov.shape, data.inputs, data.n_records
+    ((100, 3, 1), ('ref y1',), 9)
+    >>> print(np.round(era.analyse(data, max_order=30).model.frequency_hz, 1))
+    [2. 5.]
     """
     dt = check_dt(dt)
     ys = records(outputs, "outputs")

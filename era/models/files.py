@@ -55,17 +55,46 @@ def _matrix_market(files: Files) -> MatrixModel:
 
 
 def load_model(path, *, max_bytes: int | None = MAX_BYTES) -> MatrixModel:
-    """The engineer's FE model from files (see the module docstring and docs/fe-models.md).
+    r"""The engineer's FE model from files (see the module docstring and docs/fe-models.md).
 
     Parameters
     ----------
-    path : a folder or ``.zip`` (Matrix Market files, or CalculiX's ``.sti``/``.mas``/``.dof``), one of
-        CalculiX's three files, or a Nastran deck (``.bdf``, ``.dat``, ``.nas``).
-    max_bytes : the uncompressed bytes this call may read (None: no limit).
+    path : str or os.PathLike
+        A folder or ``.zip`` (Matrix Market files ``K.mtx``, ``M.mtx``, ``dofs.csv``, or CalculiX's
+        ``.sti``/``.mas``/``.dof``), one of CalculiX's three files, or a Nastran deck (``.bdf``, ``.dat``,
+        ``.nas``).
+    max_bytes : int, optional
+        The uncompressed bytes this call may read (None: no limit; default MAX_BYTES).
 
     Returns
     -------
-    MatrixModel. DataError (TooLargeError past a limit) names the file and what to do.
+    MatrixModel
+        A Nastran deck gives an era.models.nastran.NastranModel (a MatrixModel that keeps its cards).
+
+    Raises
+    ------
+    era.DataError
+        Naming the file and what to do.
+    era.TooLargeError
+        Past ``max_bytes``.
+
+    Examples
+    --------
+    A steel strip (50 × 10 mm, 1 m) clamped at grid 1, as a free-field Nastran deck of four CBARs:
+
+    >>> import os, tempfile
+    >>> deck = ["BEGIN BULK"] + [f"GRID,{i + 1},,{0.25 * i},0.,0." for i in range(5)]
+    >>> deck += [f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,0.,1." for i in range(4)]
+    >>> deck += ["PBAR,1,1,5.-4,4.17-9,1.04-7,1.46-8", "MAT1,1,2.+11,,0.3,7850.", "SPC1,1,123456,1", "ENDDATA"]
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "strip.bdf")
+    ...     with open(path, "w") as file:
+    ...         _ = file.write("\n".join(deck) + "\n")
+    ...     strip = era.load_model(path)
+    >>> strip.n_dofs, strip.nodes
+    (24, ('2', '3', '4', '5'))
+    >>> print(np.round(strip.modes(1)[0], 2))
+    [8.16]
     """
     path = Path(path)
     if not path.exists():

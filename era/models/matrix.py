@@ -71,20 +71,54 @@ def _square(matrix, what: str, n: int | None = None) -> scipy.sparse.csr_matrix:
 class MatrixModel:
     """An FE model given as its matrices over the free DOFs.
 
+    Made from matrices, or read by :func:`era.load_model` (Matrix Market, CalculiX, Nastran).
+
     Parameters
     ----------
-    stiffness, mass : (n, n) sparse or dense, symmetric; any consistent unit system (``units``). The mass may be
-        singular (massless DOFs, e.g. rotations of a lumped-mass model); the supports are the DOFs left out.
-    dofs : n pairs (node, direction), one per row: node a label (ints are stored as str), direction one of
-        "x", "y", "z", "rx", "ry", "rz" (or 1-6).
-    coordinates : {node: (x, y, z)} optional, in the model's length unit; when given, every node of ``dofs``
-        needs one (nodes without free DOFs, the supported ones, may be listed too).
-    parts : {name: (n, n) the stiffness of that part} optional; the parts together are at most ``stiffness``
-        (each diagonal entry of their sum at most the whole's).
-    part_masses : {name: (n, n) the mass of that part} optional (a part heavier or lighter than modelled).
-    name : a label for reports; units : a name of UNIT_SYSTEMS or {"mass": ..., "force": ..., "length": ...}.
-    sensors : the test's points, one (node, direction) per output channel (a direction may carry a sign, "-z"),
-        for era.explain; () when the test is matched later (:meth:`with_sensors`).
+    stiffness : (n, n) sparse or dense matrix
+        Symmetric, in any consistent unit system (``units``); the supports are the DOFs left out.
+    mass : (n, n) sparse or dense matrix
+        Symmetric, in the same units. It may be singular (massless DOFs, e.g. rotations of a lumped-mass
+        model).
+    dofs : sequence of (node, direction), n of them
+        One per row: node a label (ints are stored as str), direction one of "x", "y", "z", "rx", "ry", "rz"
+        (or 1-6).
+    coordinates : dict, optional
+        {node: (x, y, z)} in the model's length unit; when given, every node of ``dofs`` needs one (nodes without
+        free DOFs, the supported ones, may be listed too).
+    parts : dict, optional
+        {name: (n, n) the stiffness of that part}; the parts together are at most ``stiffness`` (each diagonal
+        entry of their sum at most the whole's).
+    part_masses : dict, optional
+        {name: (n, n) the mass of that part} (a part heavier or lighter than modelled).
+    name : str, optional
+        A label for reports (default "model").
+    units : str or dict, optional
+        A name of UNIT_SYSTEMS or {"mass": ..., "force": ..., "length": ...} (default SI).
+    sensors : sequence of (node, direction), optional
+        The test's points, one per output channel (a direction may carry a sign, "-z"), for era.explain; ()
+        when the test is matched later (:meth:`with_sensors`).
+
+    Raises
+    ------
+    era.DataError
+        For matrices that are not square, symmetric and finite, DOFs that do not match their rows, or parts that
+        exceed the whole.
+
+    Examples
+    --------
+    A chain of six masses and springs, fixed at its base: its frequencies are
+    2 sqrt(k/m) sin((2j - 1) π / 26) / 2π (j = 1, 2, ...):
+
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> frequency_hz, shapes = model.modes(3)
+    >>> print(np.round(frequency_hz, 2), shapes.shape)
+    [12.13 35.69 57.18] (6, 3)
+    >>> print(np.round(2 * np.sqrt(1e5) * np.sin((2 * np.arange(1, 4) - 1) * np.pi / 26) / (2 * np.pi), 2))
+    [12.13 35.69 57.18]
     """
 
     stiffness: scipy.sparse.csr_matrix
@@ -146,7 +180,15 @@ class MatrixModel:
         return cache
 
     def index(self, node, direction) -> int:
-        """The row of (node, direction); DataError when it is not a free DOF of the model."""
+        """The row of (node, direction); DataError when it is not a free DOF of the model.
+
+        Parameters
+        ----------
+        node : str or int
+            The node label.
+        direction : str or int
+            "x", "y", "z", "rx", "ry", "rz" (or 1-6).
+        """
         key = (str(node).strip(), direction_of(direction))
         got = self.dof_index.get(key)
         if got is None:
@@ -156,7 +198,13 @@ class MatrixModel:
         return got
 
     def rows(self, direction: str) -> np.ndarray:
-        """The rows of every free DOF along ``direction``."""
+        """The rows of every free DOF along ``direction``.
+
+        Parameters
+        ----------
+        direction : str
+            "x", "y", "z", "rx", "ry" or "rz".
+        """
         d = direction_of(direction)
         return np.array([i for i, (_, a) in enumerate(self.dofs) if a == d], dtype=int)
 
@@ -171,13 +219,27 @@ class MatrixModel:
         return out
 
     def with_matrices(self, stiffness=None, mass=None) -> "MatrixModel":
-        """The same DOFs, coordinates, parts and units with another stiffness and/or mass matrix."""
+        """The same DOFs, coordinates, parts and units with another stiffness and/or mass matrix.
+
+        Parameters
+        ----------
+        stiffness : (n, n) sparse or dense matrix, optional
+            The new stiffness (default this model's).
+        mass : (n, n) sparse or dense matrix, optional
+            The new mass (default this model's).
+        """
         return MatrixModel(self.stiffness if stiffness is None else stiffness, self.mass if mass is None else mass,
                            self.dofs, coordinates=self.coordinates, parts=self.parts, part_masses=self.part_masses,
                            name=self.name, units=self.units, sensors=self.sensors)
 
     def with_sensors(self, sensors) -> "MatrixModel":
-        """The same model seen at the test's points ((node, direction) per output channel)."""
+        """The same model seen at the test's points ((node, direction) per output channel).
+
+        Parameters
+        ----------
+        sensors : sequence of (node, direction)
+            One per output channel (a direction may carry a sign, "-z").
+        """
         out = type(self).__new__(type(self))       # a reader's subclass (a Nastran deck's model) stays one
         out.__dict__.update({k: v for k, v in self.__dict__.items() if not k.startswith("_")})
         points = tuple((str(n).strip(), str(d).strip().lower()) for n, d in (sensors or ()))
@@ -187,7 +249,13 @@ class MatrixModel:
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """The lowest ``n_modes`` modes: frequencies (n,) Hz and mass-normalised shapes (n_dofs, n) (φᵀ M φ = 1
-        in the model's units), from era.fem.eigen.sparse_modes; cached."""
+        in the model's units), from era.fem.eigen.sparse_modes; cached.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         from ..fem.eigen import sparse_modes
         cache = self.__dict__.setdefault("_modes", {})
         got = next((v for k, v in cache.items() if k >= n_modes), None)
@@ -199,7 +267,13 @@ class MatrixModel:
 
     def at(self, points) -> np.ndarray:
         """Rows of the given points ((node, direction) each; a direction may carry a sign, "-z"), and their
-        signs: (rows (p,), signs (p,))."""
+        signs: (rows (p,), signs (p,)).
+
+        Parameters
+        ----------
+        points : sequence of (node, direction)
+            A direction may carry a sign, "-z".
+        """
         rows, signs = [], []
         for node, d in points:
             text = str(d).strip()

@@ -111,7 +111,44 @@ def _deck_parts(model: MatrixModel, params: dict, lines: list) -> tuple:
 
 
 def save_patch(model: MatrixModel, params, path, **kw) -> Path:
-    """:func:`patch_files` written into the zip ``path`` (or a folder when the name does not end in .zip)."""
+    """Write the patch of an updated model (:func:`patch_files`) into the zip ``path`` (or a folder).
+
+    The patch is ``K.mtx`` and/or ``M.mtx`` (only the matrices the effects change) with the effects put in,
+    ``dofs.csv`` (their rows), and ``README.txt`` saying what changed.
+
+    Parameters
+    ----------
+    model : MatrixModel
+        The nominal model the effects were fitted to.
+    params : dict or object
+        The explain parameters of the updated model ({keyword: value}, e.g. ``Explanation.updated_model.params``),
+        or an object with ``.params`` or ``.updated_model``.
+    path : str or os.PathLike
+        A ``.zip`` file, or a folder when the name does not end in .zip (made if missing).
+    **kw
+        :func:`patch_files`' options: ``stiffness_factor`` (also scale K by the fitted global stiffness factor).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Examples
+    --------
+    The chain with a 0.5 kg mass added at node 4, written as the files to load instead of the nominal's:
+
+    >>> import os, tempfile
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     _ = era.save_model(model, folder)
+    ...     _ = era.save_patch(model, {"point_mass_at": "4", "point_mass": 0.5}, folder)
+    ...     heavier = era.load_model(folder)
+    >>> print(np.round(heavier.mass.diagonal(), 2))
+    [1.  1.  1.  1.5 1.  1. ]
+    """
     path = Path(path)
     files = patch_files(model, params, **kw)
     if path.suffix.lower() == ".zip":

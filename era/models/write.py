@@ -41,7 +41,35 @@ def model_files(model: MatrixModel) -> dict[str, bytes]:
 
 
 def save_model(model: MatrixModel, path) -> Path:
-    """Write ``model`` to ``path``: a .zip when the name ends so, else a folder (made if missing). Returns path."""
+    """Write ``model`` as Matrix Market files: a .zip when the name ends so, else a folder (made if missing).
+
+    :func:`era.load_model` reads it back.
+
+    Parameters
+    ----------
+    model : MatrixModel
+        The model to write (``K.mtx``, ``M.mtx``, ``dofs.csv`` and its coordinates, parts and units).
+    path : str or os.PathLike
+        A ``.zip`` file or a folder.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> k = 1e5 * (2 * np.eye(6) - np.eye(6, k=1) - np.eye(6, k=-1))  # six 1 kg masses on springs of 100 kN/m
+    >>> k[-1, -1] = 1e5  # the top is free; below node 1 the chain is fixed to ground
+    >>> dofs = [(str(i + 1), "z") for i in range(6)]
+    >>> model = era.MatrixModel(k, np.eye(6), dofs, sensors=dofs)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     written = era.save_model(model, os.path.join(folder, "chain.zip"))
+    ...     again = era.load_model(written)
+    >>> written.name, again.n_dofs, again.dofs[0]
+    ('chain.zip', 6, ('1', 'z'))
+    """
     path = Path(path)
     files = model_files(model)
     if path.suffix.lower() == ".zip":

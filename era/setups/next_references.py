@@ -34,14 +34,33 @@ MPC_TIE = 1e-3
 class NextChoice:
     """What :func:`choose_next` found.
 
-    used : "every" or "references", the way kept.
-    result : the kept era.SetupMerge (its ``model`` is what era.merge_setups returns).
-    merges : (2,) the SetupMerge of each way (in WAYS order), None where the merge was refused.
-    complete : (2,) int, each way's complete modes (known at every point) at distinct frequencies (modes within the
-        pairing window of a counted one are not counted again: noise can split one mode in two); -1 when refused.
-    quality : (2,) float, the mean MPC of each way's complete merged shapes (NaN when none or refused).
-    refused : (2,) str, why a way's merge was refused ("" when it was not).
-    reason : the choice in words.
+    Attributes
+    ----------
+    used : {"every", "references"}
+        The way kept.
+    result : SetupMerge
+        The kept merge (its ``model`` is what era.merge_setups returns).
+    merges : tuple of SetupMerge or None, (2,)
+        The merge of each way (in WAYS order), None where the merge was refused.
+    complete : int ndarray, shape (2,)
+        Each way's complete modes (known at every point) at distinct frequencies (modes within the pairing window
+        of a counted one are not counted again: noise can split one mode in two); -1 when refused.
+    quality : ndarray, shape (2,)
+        The mean MPC of each way's complete merged shapes (NaN when none or refused).
+    refused : tuple of str, (2,)
+        Why a way's merge was refused ("" when it was not).
+    reason : str
+        The choice in words.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> choice = era.merge_choosing_next(models, None, [[0, 1], [0, 1]])
+    >>> choice.used, choice.complete.tolist(), choice.merges[1], choice.refused
+    ('every', [3, -1], None, ('', 'not ambient records'))
     """
 
     used: str
@@ -65,10 +84,40 @@ def count_complete_modes(result: SetupMerge, frequency_tolerance: float = FREQUE
 
 
 def choose_next(every, references, *, frequency_tolerance: float = FREQUENCY_TOLERANCE) -> NextChoice:
-    """The rule: of two merges of one test (``every``: NExT with every channel as reference; ``references``: with
-    the reference sensors only; each an era.SetupMerge or the era.DataError its merge raised), keep the one with
-    more complete modes (:func:`count_complete_modes`), ties to the higher mean MPC of the complete shapes, then to every
-    channel (era's default). Raises the DataError of the default way when both were refused."""
+    """Of two merges of one test, the one to keep.
+
+    The rule: keep the merge with more complete modes (:func:`count_complete_modes`), ties to the higher mean MPC of the
+    complete shapes, then to every channel (era's default).
+
+    Parameters
+    ----------
+    every : SetupMerge or era.DataError
+        The merge of the setups through NExT with every channel as reference, or the error its merge raised.
+    references : SetupMerge or era.DataError
+        The merge of the setups through NExT with the reference sensors only, or the error its merge raised.
+    frequency_tolerance : float, optional
+        The pairing window (relative) within which two complete modes count once.
+
+    Returns
+    -------
+    NextChoice
+
+    Raises
+    ------
+    era.DataError
+        The error of the default way when both were refused.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> merge = era.merge_choosing_next(models, None, [[0, 1], [0, 1]]).result
+    >>> choice = era.choose_next(merge, era.DataError("a setup's references are silent"))
+    >>> choice.used, choice.complete.tolist(), choice.refused[1]
+    ('every', [3, -1], "a setup's references are silent")
+    """
     merges, refused = [], []
     for m in (every, references):
         merges.append(m if isinstance(m, SetupMerge) else None)
@@ -101,17 +150,41 @@ def merge_choosing_next(every, references_only, references, *, frequency_toleran
 
     Parameters
     ----------
-    every : list of era.AnalysisResult, one per setup: its ambient records through NExT with every channel as
-        reference (``era.analyse(era.load(file, kind="ambient").data)``, era's default).
-    references_only : the same setups through NExT with their reference channels only
+    every : list of AnalysisResult
+        One per setup: its ambient records through NExT with every channel as reference
+        (``era.analyse(era.load(file, kind="ambient").data)``, era's default).
+    references_only : list of AnalysisResult, optional
+        The same setups through NExT with their reference channels only
         (``era.load(file, kind="ambient", references=references[k])``); None (or ``every`` itself) when the
         records are not ambient: the every-channel merge is then kept.
-    references : per setup, the indices of its reference channels (as era.merge_setups).
-    frequency_tolerance, options : era.merge_setups' options, the same for both merges.
+    references : list of sequences of int
+        Per setup, the indices of its reference channels (as era.merge_setups).
+    frequency_tolerance : float, optional
+        era.merge_setups' option, the same for both merges.
+    **options
+        era.merge_setups' other options, the same for both merges.
 
     Returns
     -------
-    NextChoice; its ``result.model`` is the merged era.ModalModel.
+    NextChoice
+        Its ``result.model`` is the merged era.ModalModel.
+
+    Raises
+    ------
+    era.DataError
+        When the merge of ``every`` is refused and there is no other way (or both are refused).
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> choice = era.merge_choosing_next(models, None, [[0, 1], [0, 1]])
+    >>> choice.used, choice.reason
+    ('every', 'Not ambient records: no NExT references to choose.')
+    >>> print(np.round(choice.result.model.frequency_hz, 3))
+    [2.  5.5 9. ]
     """
     def attempt(analyses):
         try:
@@ -133,19 +206,50 @@ def merge_ambient_setups(records, dt: float, references, *, names=None, n_lags: 
                          **options) -> NextChoice:
     """The merged modes of an ambient multi-setup test from its records, NExT's references chosen from the data.
 
-    Parameters
-    ----------
-    records : list (one per setup) of (N_k, p_k) arrays of response records (or lists of such records, as
-        era.markov_from_ambient takes), in the test's order.
-    dt : sampling interval, s (the same for every setup).
-    references : per setup, the indices of its reference channels: the same sensors, in the same order.
-    names : per setup, its p_k channel names (optional).
-    n_lags : NExT's correlation lags (default era.markov_from_ambient's).
-    options : era.merge_setups' options.
-
     Each setup goes through era.markov_from_ambient twice (every channel as reference; its references only) and
     era.analyse, as ``era.load(file, kind="ambient"[, references=...])`` then era.analyse do; the setups are merged
-    both ways and :func:`choose_next` keeps one. Returns NextChoice (``result.model``: the merged era.ModalModel).
+    both ways and :func:`choose_next` keeps one.
+
+    Parameters
+    ----------
+    records : list of array_like
+        One per setup, in the test's order: an (N_k, p_k) array of response records (or a list of such records,
+        as era.markov_from_ambient takes).
+    dt : float
+        Sampling interval, s (the same for every setup).
+    references : list of sequences of int
+        Per setup, the indices of its reference channels: the same sensors, in the same order.
+    names : list of sequences of str, optional
+        Per setup, its p_k channel names.
+    n_lags : int, optional
+        NExT's correlation lags (default era.markov_from_ambient's).
+    **options
+        era.merge_setups' options.
+
+    Returns
+    -------
+    NextChoice
+        ``result.model``: the merged era.ModalModel.
+
+    Raises
+    ------
+    era.DataError
+        When records and references do not match, or both merges are refused.
+
+    Examples
+    --------
+    Two setups of an ambient test (60 s at 50 Hz), five and four sensors, two of them in both:
+
+    >>> from era.examples.synthetic import ambient_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
+    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]
+    >>> records = [ambient_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 3000, 0.02, seed=k,
+    ...                             shapes=shapes[c])[0] for k, c in enumerate(channels)]
+    >>> choice = era.merge_ambient_setups(records, 0.02, [[0, 1], [0, 1]], n_lags=20)
+    >>> choice.used, choice.result.model.points[:3]
+    ('every', ('y1', 'y2', 'S1:y3'))
+    >>> print(np.round(choice.result.model.frequency_hz, 1))
+    [2.  5.5 9. ]
     """
     records = list(records)
     references = [list(r) for r in references]

@@ -1,4 +1,4 @@
-"""Which mode of one setup is which mode of another (era.merge_setups, issue 26): modes paired setup by setup by
+"""Which mode of one setup is which mode of another (era.merge_setups): modes paired setup by setup by
 frequency and the MAC of their reference components (an optimal assignment), split twins and modes the references
 cannot scale left out with their reason, a wrong reference choice refused, and the weak clusters a setup left out
 taken back when the other setups confirm the mode.

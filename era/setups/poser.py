@@ -1,4 +1,4 @@
-"""merge_setups(): one mode shape over several setups of a test through the reference sensors they share (issue 26).
+"""merge_setups(): one mode shape over several setups of a test through the reference sensors they share.
 
 A multi-setup ambient test (a building, a bridge) keeps a few reference sensors in place while the others rove over
 the structure, one setup at a time. Each setup is identified on its own (era.analyse); its shapes are known only up to
@@ -36,24 +36,50 @@ MIN_SETUPS = 2
 
 @dataclass(frozen=True, eq=False)
 class SetupMerge:
-    """What :func:`merge_with_evidence` found.
+    """What ``era.setups.poser.merge_with_evidence`` found: :func:`merge_setups` with its evidence.
 
-    model : the merged era.ModalModel (see :func:`merge_setups`).
-    members : (modes, setups) int, each merged mode's index in each setup's model, -1 where that setup did not see it.
-    scales : (modes, setups) complex, the factor each setup's shape was multiplied by (before the final
-        normalisation), NaN where not seen.
-    reference_mac : (modes, setups), MAC of each setup's reference components with the merged ones, NaN where not seen.
-    reference_residual : (modes, setups), |r̄ - α r_k| / |r̄| after the scale α: how far the references disagree.
-    scale_std : (modes, setups), the relative standard deviation of each scale |σ_α / α|, estimated from the
-        references' misfit (reference_residual / sqrt(references - 1)); NaN where not seen.
-    by_frequency : (modes, setups) bool, True where a setup's mode was paired by frequency alone: its reference MAC
-        failed (references near a node of the mode: small, noisy components) but it was the only mode of that setup
-        within the window of the only merged mode there.
-    point_setup : (n_points,) int, the setup each point was measured in, -1 for the references (every setup).
-    point_channel : (n_points,) int, the point's channel (output index) in that setup; a reference's in setup 1.
-    dropped : every setup mode left out, with its reason.
-    recovered : (modes, setups) bool, True where a setup's part of the shape is a cluster era.analyse had left out
-        for want of evidence (``recover``), its index in ``recovered_from`` (the setup's ``choice.rejected``).
+    Attributes
+    ----------
+    model : ModalModel
+        The merged modes (see :func:`merge_setups`).
+    members : int ndarray, shape (modes, setups)
+        Each merged mode's index in each setup's model, -1 where that setup did not see it.
+    scales : complex ndarray, shape (modes, setups)
+        The factor each setup's shape was multiplied by (before the final normalisation), NaN where not seen.
+    reference_mac : ndarray, shape (modes, setups)
+        MAC of each setup's reference components with the merged ones, NaN where not seen.
+    reference_residual : ndarray, shape (modes, setups)
+        |r̄ - α r_k| / |r̄| after the scale α: how far the references disagree.
+    scale_std : ndarray, shape (modes, setups)
+        The relative standard deviation of each scale |σ_α / α|, estimated from the references' misfit
+        (reference_residual / sqrt(references - 1)); NaN where not seen.
+    by_frequency : bool ndarray, shape (modes, setups)
+        True where a setup's mode was paired by frequency alone: its reference MAC failed (references near a node
+        of the mode: small, noisy components) but it was the only mode of that setup within the window of the only
+        merged mode there.
+    point_setup : int ndarray, shape (n_points,)
+        The setup each point was measured in, -1 for the references (every setup).
+    point_channel : int ndarray, shape (n_points,)
+        The point's channel (output index) in that setup; a reference's in setup 1.
+    dropped : tuple
+        Every setup mode left out, with its reason.
+    recovered : bool ndarray, shape (modes, setups)
+        True where a setup's part of the shape is a cluster era.analyse had left out for want of evidence
+        (``recover``).
+    recovered_from : int ndarray, shape (modes, setups)
+        Where recovered, the cluster's index in the setup's ``choice.rejected``.
+    complete : bool ndarray, shape (modes,)
+        The mode's shape is known in every setup (chosen or recovered), so its point shape has no NaN.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> merge = era.merge_choosing_next(models, None, [[0, 1], [0, 1]]).result
+    >>> merge.members.tolist(), merge.point_setup.tolist(), merge.complete.tolist()
+    ([[0, 0], [1, 1], [2, 2]], [-1, -1, 0, 0, 0, 1, 1], [True, True, True])
     """
 
     model: ModalModel
@@ -80,60 +106,76 @@ def merge_setups(analyses, references, *, frequency_tolerance: float = FREQUENCY
                  min_setups: int = MIN_SETUPS, recover: bool = True) -> ModalModel:
     """The modes of a multi-setup test, each with one shape over every point of every setup.
 
+    A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed
+    in a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real
+    evidence, and its shape is known where it was measured (and where ``recover`` found it). At the other setups'
+    points the shape is NaN, not 0: a zero would claim a node there (``SetupMerge.complete`` says which modes are
+    known everywhere, e.g. for a UFF 55 export). A mode seen in one setup only is dropped (its pairing cannot be
+    confirmed through the references, and its shape would be unknown at most points).
+
+    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) with the same shape
+    (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other
+    dropped. Give two references or more: with one, modes pair by frequency alone and a wrong one cannot be told.
+
     Parameters
     ----------
-    analyses : list of era.AnalysisResult (or era.ModalModel), one per setup, in the order of the test.
-    references : list (one per setup) of sequences of int, the indices of that setup's reference channels among its
-        outputs: the same physical sensors, in the same order, in every setup.
-    frequency_tolerance : two setups' modes are paired only within this relative frequency difference.
-    min_reference_mac : ... and when the MAC of their reference components is at least this.
-    min_reference_level : a setup's part of a mode whose reference components are all below this (its largest
-        component being 1) cannot be scaled (the references are near a node of it): it is left out, with the reason.
-    min_setups : a merged mode must have been seen in at least this many setups (at most the number of setups).
-    recover : where a setup did not choose a mode that ``min_setups`` others did, take that setup's part of the
-        shape from a cluster of its own diagram that era.analyse left out for want of evidence alone (reason
-        "orders" or "noise", era.choice.choose) when it matches the mode in frequency (``frequency_tolerance``) and in
-        its reference components (``min_reference_mac``, ``min_reference_level``): the other setups have
-        confirmed that the mode exists, so the question "is this weak cluster a mode?" is answered. Only the shape
-        is taken from it; frequency and damping come from the setups that chose the mode. Needs era.analyse
-        results (a ModalModel has no diagram).
+    analyses : list of AnalysisResult or ModalModel
+        One per setup, in the order of the test.
+    references : list of sequences of int
+        One per setup: the indices of that setup's reference channels among its outputs, the same physical
+        sensors in the same order in every setup.
+    frequency_tolerance : float, optional
+        Two setups' modes are paired only within this relative frequency difference.
+    min_reference_mac : float, optional
+        ... and when the MAC of their reference components is at least this.
+    min_reference_level : float, optional
+        A setup's part of a mode whose reference components are all below this (its largest component being 1)
+        cannot be scaled (the references are near a node of it): it is left out, with the reason.
+    min_setups : int, optional
+        A merged mode must have been seen in at least this many setups (at most the number of setups).
+    recover : bool, optional
+        Where a setup did not choose a mode that ``min_setups`` others did, take that setup's part of the shape
+        from a cluster of its own diagram that era.analyse left out for want of evidence alone (reason "orders" or
+        "noise", era.choice.choose) when it matches the mode in frequency (``frequency_tolerance``) and in its
+        reference components (``min_reference_mac``, ``min_reference_level``): the other setups have confirmed
+        that the mode exists. Only the shape is taken from it; frequency and damping come from the setups that
+        chose the mode. Needs era.analyse results (a ModalModel has no diagram). Default True.
 
     Returns
     -------
-    era.ModalModel with
-        points : the references (labelled as in the first setup), then each setup's roving channels in setup order,
-            each label once (prefixed "S<k>:" when labels repeat across setups, as y1, y2, ... from NExT do);
-        point_shapes : (n_points, modes) complex, largest component 1; NaN at the points of a setup that did not
-            see the mode; shapes is the same array and outputs the same labels;
-        frequency_hz, damping_ratio : combined over the setups that saw the mode, weighted by 1/σ² where every σ is
-            finite (else the plain mean); frequency_std_hz, damping_std : 1/sqrt(Σ 1/σ²), widened by the setups'
-            scatter when they disagree by more than their σ (sqrt of χ²/(k-1) when above 1; the setups of a test
-            are hours apart and the structure changes with temperature), NaN when not all σ are finite;
-        emac : the mean over the setups; mpc : of the merged shape (its finite points); contribution : the mean of
-            each setup's contribution over that setup's largest (1 is the strongest mode);
-        A, B, C : NOT a realization of any record (each setup has its own excitation and NExT scaling, so there is
-            no common input matrix): A is the real modal form of the merged eigenvalues (2 × 2 blocks as in
-            ModalModel.select), C maps it to the points (2 Re φ, -2 Im φ), B has no columns (inputs = ()), so
-            ``order``, ``z`` and ``eigenvalues`` agree with the merged modes and ``reconstruct`` has nothing to say.
+    ModalModel
+        ``points``: the references (labelled as in the first setup), then each setup's roving channels in setup
+        order, each label once (prefixed "S<k>:" when labels repeat across setups, as y1, y2, ... from NExT do).
+        ``point_shapes`` = ``shapes`` (n_points, modes), largest component 1, NaN at the points of a setup that
+        did not see the mode. ``frequency_hz``, ``damping_ratio``: combined over the setups that saw the mode,
+        weighted by 1/σ² where every σ is finite (else the plain mean); ``frequency_std_hz``, ``damping_std``:
+        1/sqrt(Σ 1/σ²), widened by the setups' scatter when they disagree by more than their σ (sqrt of χ²/(k-1)
+        when above 1: the setups of a test are hours apart and the structure changes with temperature), NaN when
+        not all σ are finite. ``emac``: the mean over the setups; ``mpc``: of the merged shape (its finite
+        points); ``contribution``: each setup's over that setup's largest, averaged (1 is the strongest mode).
+        ``A``, ``B``, ``C``: NOT a realization of any record (each setup has its own excitation and NExT scaling):
+        A is the real modal form of the merged eigenvalues (2 × 2 blocks as in ModalModel.select), C maps it to
+        the points (2 Re φ, -2 Im φ), B has no columns (inputs = ()): ``reconstruct`` has nothing to say.
 
-    A mode seen in some setups only (often: a setup whose roving sensors sit near its nodes, or a weak mode missed in
-    a short record) is kept when at least ``min_setups`` setups saw it: its frequency and damping are real evidence,
-    and its shape is known where it was measured (and where ``recover`` found it). At the other setups' points the
-    shape is NaN, not 0: a zero would claim a node there. :func:`merge_with_evidence` says which modes are complete (with
-    ``r = merge_with_evidence(...)``, ``r.model.select(np.flatnonzero(r.complete))`` keeps those, e.g. for a UFF 55 export, whose
-    reader refuses NaN). A mode seen in one setup only is dropped (its pairing cannot be confirmed through the
-    references, and its shape would be unknown at most points).
+    Raises
+    ------
+    era.DataError
+        When setups and references do not match (counts, indices out of range, repeated), a setup has no modes,
+        or a setup's references do not move like the others' (the wrong channels were named as references).
 
-    Two poles of one setup within the stronger one's half-power bandwidth (or the pairing window) and with the same
-    shape (MAC ≥ ``min_reference_mac`` at every sensor) are one mode split in two: the stronger is merged, the other
-    dropped.
-
-    Two references or more: with one, every pair of modes has reference MAC 1, so modes are paired by frequency
-    alone and a wrong reference cannot be told.
-
-    Raises era.DataError when the setups and references do not match (counts, indices out of range, repeated), a
-    setup has no modes, or a setup's references do not move like the others' (its modes agree in frequency with the
-    other setups' but their reference components do not: the wrong channels were named as references).
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> merged = era.merge_setups(models, references=[[0, 1], [0, 1]])
+    >>> merged.points
+    ('y1', 'y2', 'S1:y3', 'S1:y4', 'S1:y5', 'S2:y3', 'S2:y4')
+    >>> print(np.round(merged.frequency_hz, 3))
+    [2.  5.5 9. ]
+    >>> print(np.round(np.diag(era.mac(merged.point_shapes, shapes[[1, 4, 0, 2, 3, 5, 6]])), 4))
+    [1. 1. 1.]
     """
     return merge_with_evidence(analyses, references, frequency_tolerance=frequency_tolerance,
                  min_reference_mac=min_reference_mac, min_reference_level=min_reference_level,

@@ -28,13 +28,32 @@ from ..errors import DataError
 class PregerMerge:
     """What :func:`merge_correlations` made.
 
-    data : era.ResponseData, markov (N, n_points, r): the references' correlations (the mean over the setups,
-        scaled), then each setup's roving channels'; outputs the point labels (as era.merge_setups names them).
-    scales : (setups,) the factor each setup's correlations were multiplied by (setup 1: 1).
-    reference_residual : (setups,) |R̄_ref - c_k R_k,ref| / |R̄_ref| after the scale: how well one factor per setup
-        holds (large when the excitation's spectrum changed shape between setups).
-    point_setup : (n_points,) int, the setup each point was measured in, -1 for the references.
-    point_channel : (n_points,) int, its channel in that setup (a reference's in setup 1).
+    Attributes
+    ----------
+    data : ResponseData
+        markov (N, n_points, r): the references' correlations (the mean over the setups, scaled), then each
+        setup's roving channels'; outputs the point labels (as era.merge_setups names them).
+    scales : ndarray, shape (setups,)
+        The factor each setup's correlations were multiplied by (setup 1: 1).
+    reference_residual : ndarray, shape (setups,)
+        |R̄_ref - c_k R_k,ref| / |R̄_ref| after the scale: how well one factor per setup holds (large when the
+        excitation's spectrum changed shape between setups).
+    point_setup : int ndarray, shape (n_points,)
+        The setup each point was measured in, -1 for the references.
+    point_channel : int ndarray, shape (n_points,)
+        Its channel in that setup (a reference's in setup 1).
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import ambient_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))
+    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]
+    >>> records = [ambient_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 3000, 0.02, seed=k,
+    ...                             shapes=shapes[c])[0] for k, c in enumerate(channels)]
+    >>> merged = era.merge_correlations([era.markov_from_ambient(y, 0.02, [0, 1]) for y in records],
+    ...                                 [[0, 1], [0, 1]])
+    >>> merged.point_setup.tolist(), merged.point_channel.tolist(), float(merged.scales[0])
+    ([-1, -1, 0, 0, 0, 1, 1], [0, 1, 2, 3, 4, 2, 3], 1.0)
     """
 
     data: ResponseData
@@ -45,22 +64,45 @@ class PregerMerge:
 
 
 def merge_correlations(setups, references) -> PregerMerge:
-    """The setups' NExT correlation functions with respect to their references, on one scale and stacked.
+    """The setups' NExT correlation functions with respect to their references, on one scale and stacked (PreGER).
 
     Parameters
     ----------
-    setups : list of era.ResponseData, one per setup, each through NExT with that setup's reference channels as
-        the only correlation references (``era.markov_from_ambient(y, dt, references[k])`` or
+    setups : list of ResponseData
+        One per setup, each through NExT with that setup's reference channels as the only correlation references
+        (``era.markov_from_ambient(y, dt, references[k])`` or
         ``era.load(file, kind="ambient", references=references[k]).data``): markov (N_k, p_k, r), the same Δτ and
         r in every setup; the first min N_k lags are used.
-    references : per setup, the indices of its reference channels among its outputs (the same sensors in the
-        same order in every setup; the order of NExT's references).
+    references : list of sequences of int
+        Per setup, the indices of its reference channels among its outputs (the same sensors in the same order
+        in every setup; the order of NExT's references).
 
     Returns
     -------
-    PregerMerge; ``era.analyse(result.data)`` identifies every setup's points at once.
+    PregerMerge
+        ``era.analyse(result.data)`` identifies every setup's points at once.
 
-    Raises era.DataError when the setups do not match (Δτ, references) or a setup's references are silent.
+    Raises
+    ------
+    era.DataError
+        When the setups do not match (Δτ, references) or a setup's references are silent.
+
+    Examples
+    --------
+    Two setups of an ambient test (60 s at 50 Hz), five and four sensors, two of them in both:
+
+    >>> from era.examples.synthetic import ambient_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # three modes at seven points
+    >>> channels = [[1, 4, 0, 2, 3], [1, 4, 5, 6]]
+    >>> records = [ambient_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 3000, 0.02, seed=k,
+    ...                             shapes=shapes[c])[0] for k, c in enumerate(channels)]
+    >>> merged = era.merge_correlations([era.markov_from_ambient(y, 0.02, [0, 1]) for y in records],
+    ...                                 [[0, 1], [0, 1]])
+    >>> merged.data.markov.shape, merged.data.outputs
+    ((100, 7, 2), ('y1', 'y2', 'S1:y3', 'S1:y4', 'S1:y5', 'S2:y3', 'S2:y4'))
+    >>> model = era.identify(merged.data, 20, 20).model(6, uncertainty=False)
+    >>> print(np.round(model.frequency_hz, 1))
+    [2.  5.5 9. ]
     """
     setups, refs = list(setups), [np.asarray(r, dtype=int).reshape(-1) for r in references]
     if len(setups) < 1 or len(refs) != len(setups):

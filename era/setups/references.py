@@ -61,11 +61,28 @@ class ReferenceCandidate:
 class ReferenceProposal:
     """What :func:`reference_evidence` found.
 
-    references : per setup, the indices of the proposed reference channels (setup 1's order), or None.
-    shared_hz : (shared modes,) the frequencies of the modes every setup saw (setup 1's), Hz.
-    shared : (setups, shared modes) int, each shared mode's index in each setup's model.
-    candidates : every pair of setup 1's channels, best score first.
-    reason : why this proposal (or none), in words.
+    Attributes
+    ----------
+    references : list of list of int, or None
+        Per setup, the indices of the proposed reference channels (setup 1's order), or None.
+    shared_hz : ndarray, shape (shared modes,)
+        The frequencies of the modes every setup saw (setup 1's), Hz.
+    shared : int ndarray, shape (setups, shared modes)
+        Each shared mode's index in each setup's model.
+    candidates : tuple
+        Every pair of setup 1's channels, best score first.
+    reason : str
+        Why this proposal (or none), in words.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> proposal = era.reference_evidence(models)
+    >>> print(np.round(proposal.shared_hz, 3), len(proposal.candidates))
+    [2.  5.5 9. ] 10
     """
 
     references: list | None
@@ -77,8 +94,35 @@ class ReferenceProposal:
 
 def propose_references(analyses, *, min_mac: float = MIN_MAC,
                        frequency_tolerance: float = FREQUENCY_TOLERANCE) -> list | None:
-    """Per setup, the indices of the proposed reference channels (the same sensors in the same order in every
-    setup, setup 1's order), or None when no proposal passes its check. See :func:`reference_evidence`."""
+    """The proposed reference channels of a multi-setup test, found from its modes.
+
+    The same sensors in the same order in every setup (setup 1's order); see :func:`reference_evidence` for the
+    evidence and the reason.
+
+    Parameters
+    ----------
+    analyses : list of AnalysisResult or ModalModel
+        One per setup, in the order of the test.
+    min_mac : float, optional
+        A pair of channels is the references' when the MAC of its two components with setup 1's, averaged over the
+        shared modes (each weighted by how much the pair moves in it), is at least this in every setup.
+    frequency_tolerance : float, optional
+        The relative frequency window in which two setups' modes are one shared mode.
+
+    Returns
+    -------
+    list of list of int, or None
+        Per setup, the indices of the proposed reference channels; None when no proposal passes its check.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> era.propose_references(models)
+    [[0, 1], [0, 1]]
+    """
     return reference_evidence(analyses, min_mac=min_mac, frequency_tolerance=frequency_tolerance).references
 
 
@@ -88,14 +132,30 @@ def reference_evidence(analyses, *, min_mac: float = MIN_MAC,
 
     Parameters
     ----------
-    analyses : list of era.AnalysisResult (or era.ModalModel), one per setup.
-    min_mac : a pair of channels is the references' when the MAC of its two components with setup 1's, averaged
-        over the shared modes (each weighted by how much the pair moves in it), is at least this in every setup.
-    frequency_tolerance : the relative frequency window in which two setups' modes are one shared mode.
+    analyses : list of AnalysisResult or ModalModel
+        One per setup, in the order of the test.
+    min_mac : float, optional
+        A pair of channels is the references' when the MAC of its two components with setup 1's, averaged over the
+        shared modes (each weighted by how much the pair moves in it), is at least this in every setup.
+    frequency_tolerance : float, optional
+        The relative frequency window in which two setups' modes are one shared mode.
 
     Returns
     -------
-    ReferenceProposal (``references`` None when no proposal passes; ``reason`` says why).
+    ReferenceProposal
+        references None when no proposal passes; reason says why.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import modal_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> models = [era.identify(modal_response([2.0, 5.5, 9.0], [0.02, 0.01, 0.01], len(c), 1, 300, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 30, 30).realize(6) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> proposal = era.reference_evidence(models)
+    >>> proposal.references, proposal.shared.tolist()
+    ([[0, 1], [0, 1]], [[0, 1, 2], [0, 1, 2]])
+    >>> proposal.reason  # doctest: +ELLIPSIS
+    '2 channels keep the same ratios in every setup over the shared modes (MAC ≥ 1.0000); no other channel does'
     """
     models = [getattr(a, "model", a) for a in analyses]
     if len(models) < 2 or not all(isinstance(m, ModalModel) for m in models):

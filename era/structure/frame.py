@@ -94,19 +94,54 @@ def _direction(node: str, d):
 
 @dataclass(frozen=True, eq=False)
 class Frame:
-    """A 3-D frame of straight Euler-Bernoulli members (see the module docstring for every field's form).
+    """A 3-D frame of straight Euler-Bernoulli members, SI units (see the module docstring for every field's form).
 
-    nodes {id: (x, y, z) m}; members [(node i, node j, section name[, local-z vector])]; sections {name: Section};
-    supports {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}; masses {node: kg};
-    sensors [(node, "x" | "-x" | ... | (dx, dy, dz))] in the data's channel order; gravity (3,) m/s² or None (with
-    it, the geometric stiffness of the self-weight's axial forces); elements_per_member: None for the automatic
-    mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies converged to 0.1 %), a count for every
-    member, or one count per member (e.g. ``element_counts()`` of a nominal model, to keep its mesh in variants).
-    joint_springs {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (docs/effects.md): every
-    beam end there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
-    horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
-    rigid; columns stay continuous. added_mass_per_length {section name: kg/m}: non-structural mass (it weighs
-    too, and has no rotary inertia).
+    Parameters
+    ----------
+    nodes : mapping
+        {id: (x, y, z)} in m.
+    members : sequence of tuple
+        (node i, node j, section name[, local-z vector]) per member.
+    sections : mapping
+        {name: Section}.
+    supports : mapping, optional
+        {node: "fixed" | "pinned" | {kx..rz: N/m or N·m/rad or "fixed", cable: m}}.
+    masses : mapping, optional
+        {node: kg}, lumped masses.
+    sensors : sequence of tuple, optional
+        (node, "x" | "-x" | ... | (dx, dy, dz)) per output channel, in the data's channel order.
+    gravity : (3,) array_like, optional
+        m/s², or None; with it, the geometric stiffness of the self-weight's axial forces.
+    elements_per_member : int or sequence of int, optional
+        None (default) for the automatic mesh (era.fem.space.converged_mesh: the lowest max(10, n) frequencies
+        converged to 0.1 %), a count for every member, or one count per member (e.g. ``element_counts()`` of a
+        nominal model, to keep its mesh in variants).
+    joint_springs : mapping, optional
+        {node: N·m/rad}: a semi-rigid beam-to-column connection at the node (docs/effects.md): every beam end
+        there (a member not along the vertical, -gravity or else +Z) hangs on a rotational spring about the
+        horizontal axis normal to the beam (bending in the vertical plane that contains it), its other five DOFs
+        rigid; columns stay continuous.
+    added_mass_per_length : mapping, optional
+        {section name: kg/m}: non-structural mass (it weighs too, and has no rotary inertia).
+
+    Raises
+    ------
+    era.DataError
+        For a malformed field (an unknown node, section or support key, a negative stiffness), saying what to change.
+
+    Examples
+    --------
+    A 1 m steel strip (50 × 10 mm) clamped at one end: its first frequency is 1.8751² / 2π · sqrt(EI / (m L⁴)):
+
+    >>> strip = era.Section.rectangle(0.05, 0.01)
+    >>> frame = era.Frame(nodes={"1": (0, 0, 0), "2": (0.5, 0, 0), "3": (1, 0, 0)},
+    ...                   members=[("1", "2", "strip"), ("2", "3", "strip")], sections={"strip": strip},
+    ...                   supports={"1": "fixed"}, sensors=[("2", "z"), ("3", "z")])
+    >>> frequency_hz, shapes = frame.modes(3)
+    >>> print(np.round(frequency_hz, 2), shapes.shape)
+    [ 8.15 40.77 51.1 ]  (2, 3)
+    >>> print(f"{1.8751**2 / (2 * np.pi) * np.sqrt(strip.e * strip.iy / strip.mass_per_length):.2f}")
+    8.15
     """
 
     nodes: Mapping
@@ -276,17 +311,35 @@ class Frame:
         return solution.ritz_modes(self, reference, n_basis)
 
     def element_counts(self, n_modes: int = 10) -> tuple:
-        """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order."""
+        """Elements of each member in the mesh that :meth:`modes` (n_modes) uses, in member order.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return solution.element_counts(self, n_modes)
 
     def node_modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised translations (n_nodes, 3, n) of every node (rows in
-        ``node_ids`` order, columns x, y, z), 1/√kg."""
+        ``node_ids`` order, columns x, y, z), 1/√kg.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         return solution.node_modes(self, n_modes)
 
     def modes(self, n_modes: int = 10) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) Hz and mass-normalised shapes at the sensors (n_sensors, n), 1/√kg, rows in sensor
-        order (each sensor's node translation along its direction)."""
+        order (each sensor's node translation along its direction).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            The number of lowest elastic modes (default 10).
+        """
         f, u = self.node_modes(n_modes)
         return f, self.at_sensors(u)
 
@@ -318,16 +371,34 @@ class Frame:
 
     @classmethod
     def from_dict(cls, d: dict) -> "Frame":
-        """A Frame from the file format (as read from JSON or TOML); unknown keys are refused."""
+        """A Frame from the file format (as read from JSON or TOML); unknown keys are refused.
+
+        Parameters
+        ----------
+        d : dict
+            The file format of era/structure/file.py.
+        """
         return frame_from_dict(d, cls)
 
     def save(self, path) -> None:
-        """Write the model as JSON (era/structure/file.py)."""
+        """Write the model as JSON (era/structure/file.py).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The JSON file to write.
+        """
         save_frame(self, path)
 
     @classmethod
     def load(cls, path) -> "Frame":
-        """Read a model from JSON, or from TOML when the name ends in .toml."""
+        """Read a model from JSON, or from TOML when the name ends in .toml.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A JSON file, or a TOML file when the name ends in .toml.
+        """
         return load_frame(path, cls)
 
     @classmethod
@@ -339,6 +410,21 @@ class Frame:
         cm, ft, in); repeated trace lines count once and nodes on no trace line are left out. Each channel becomes
         a sensor at its node along its direction ("x", "-z", ... when along an axis); a channel with no node or
         direction, or at a node on no trace line, is an error: the sensors must follow the data's channels.
+
+        Parameters
+        ----------
+        geometry : Geometry
+            The test's nodes, trace lines and channels.
+        section : Section
+            The section of every member.
+        supports : dict, optional
+            {node: support} as :class:`Frame`'s, node ids as strings.
+        masses : dict, optional
+            {node: kg}.
+        gravity : (3,) array_like, optional
+            m/s², or None.
+        elements_per_member : int, optional
+            As :class:`Frame`'s (None: the automatic mesh).
         """
         scale = UNITS_M.get(str(geometry.units).strip().lower())
         if scale is None:

@@ -1,4 +1,4 @@
-"""Campaigns (issue 12): one row per campaign with its state and progress, so any app process can answer for it;
+"""Campaigns: one row per campaign with its state and progress, so any app process can answer for it;
 the result is a file (campaigns/{id}/campaign.json and table.csv) written before the row says done.
 
 Revision ID: 0004
