@@ -37,10 +37,24 @@ def grid_spc(c: BulkCard, defaults: dict | None = None) -> list[SpcCard]:
     return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS", ps), c)] if ps else []
 
 
-def cord2r(c: BulkCard) -> CoordCard:
-    """CORD2R CID RID A1 A2 A3 B1 B2 B3 / C1 C2 C3."""
+def cord2(c: BulkCard) -> CoordCard:
+    """CORD2R, CORD2C or CORD2S CID RID A1 A2 A3 B1 B2 B3 / C1 C2 C3."""
     return CoordCard(c.integer(0, "CID"), c.integer(1, "RID", 0), _xyz(c, 2, "A"), _xyz(c, 5, "B"),
-                     _xyz(c, 8, "C"), c)
+                     _xyz(c, 8, "C"), c, c.name[-1])
+
+
+def cord1(c: BulkCard) -> list[CoordCard]:
+    """CORD1R, CORD1C or CORD1S CIDA G1A G2A G3A CIDB G1B G2B G3B: one or two frames, each by three grids (the
+    origin, a point on the z axis, a point in the x-z plane)."""
+    out, zero = [], np.zeros(3)
+    for base in (0, 4):
+        if base and c.blank(base):
+            break
+        grids = tuple(c.integer(base + k, f"G{k}{'AB'[base // 4]}") for k in (1, 2, 3))
+        if len(set(grids)) < 3:
+            raise c.error(f"its grids {grids} are not three different grids")
+        out.append(CoordCard(c.integer(base, f"CID{'AB'[base // 4]}"), 0, zero, zero, zero, c, c.name[-1], grids))
+    return out
 
 
 def line_element(c: BulkCard) -> LineCard:

@@ -17,6 +17,7 @@ import scipy.sparse
 from ...errors import DataError
 from ...fem.mesh import DIRECTIONS
 from ...words import counted
+from .coords import rectangular
 from .deck import Deck
 
 
@@ -65,9 +66,7 @@ def _conm2(deck: Deck, index: dict, positions: dict, cd_axes: dict, frames: dict
         if m.cid == -1:
             r, axes = np.asarray(m.offset, float) - positions[label], np.eye(3)
         else:
-            if m.cid not in frames:
-                raise m.card.error(f"its frame CID {m.cid} is not a CORD2R of the deck")
-            axes = frames[m.cid][1]
+            axes = rectangular(frames, m.cid, m.card).axes
             r = axes @ np.asarray(m.offset, float)
         inertia = axes @ m.inertia @ axes.T
         skew = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
@@ -101,7 +100,7 @@ def _bushes(deck: Deck, index: dict, cd_axes: dict, frames: dict, n: int):
     between GA and GB or from GA to ground."""
     out = scipy.sparse.lil_matrix((n, n))
     for b in deck.bushes.values():
-        axes = frames[b.cid][1]
+        axes = rectangular(frames, b.cid, b.card).axes
         k6 = np.zeros((6, 6))
         k6[:3, :3] = axes @ np.diag(b.k[:3]) @ axes.T
         k6[3:, 3:] = axes @ np.diag(b.k[3:]) @ axes.T
@@ -157,7 +156,7 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
 
 def reduce(deck: Deck, dm, assembled, frames: dict) -> Reduced:
     """The deck's free-DOF matrices from the assembled mesh ``assembled`` (era.fem.mesh.assemble of
-    ``dm.mesh``, no constraints in it) and the DeckMesh ``dm``; ``frames`` {cid: (origin, axes)}."""
+    ``dm.mesh``, no constraints in it) and the DeckMesh ``dm``; ``frames`` {cid: CoordFrame} (coords.py)."""
     labels = list(dict.fromkeys(node for node, _ in assembled.dofs))
     index = {label: i for i, label in enumerate(labels)}
     n = 6 * len(labels)

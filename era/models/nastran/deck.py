@@ -14,27 +14,28 @@ from .values import BulkCard
 #: cards that hold solution or output requests, never stiffness or mass: said apart in the notes
 SOLUTION_CARDS = {"EIGRL", "EIGR", "EIGB", "PARAM", "MDLPRM", "USET", "USET1", "DTI", "NLPARM", "TSTEP", "FREQ",
                   "FREQ1", "FREQ2", "TABDMP1", "DMIG", "MONPNT1", "ENDDATA"}
-_TABLES = {"GRID": "grids", "CORD2R": "frames", "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
+_FRAMES = ("CORD2R", "CORD2C", "CORD2S")
+_TABLES = {"GRID": "grids", **dict.fromkeys(_FRAMES, "frames"), "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
            "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
            "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
            "MAT1": "materials", "CONM2": "masses", "RBE2": "rigid"}
-_READERS = {"GRID": read.grid, "CORD2R": read.cord2r, "CBAR": read.line_element, "CBEAM": read.line_element,
-            "CROD": read.line_element, "CQUAD4": read.shell_element, "CTRIA3": read.shell_element,
+_READERS = {"GRID": read.grid, **dict.fromkeys(_FRAMES, read.cord2), "CBAR": read.line_element,
+            "CBEAM": read.line_element, "CROD": read.line_element, "CQUAD4": read.shell_element, "CTRIA3": read.shell_element,
             "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
             "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2}
 #: every card read into the model
-MODELLED = tuple(sorted(set(_READERS) | {"CELAS1", "CELAS2", "PELAS", "CBUSH", "PBUSH", "SPC", "SPC1", "GRDSET",
-                                         "PARAM WTMASS"}))
+MODELLED = tuple(sorted(set(_READERS) | {"CORD1R", "CORD1C", "CORD1S", "CELAS1", "CELAS2", "PELAS", "CBUSH",
+                                         "PBUSH", "SPC", "SPC1", "GRDSET", "PARAM WTMASS"}))
 
 
 @dataclass(frozen=True, eq=False)
 class Deck:
     """The modelled cards of a deck, each table {id: record} (records.py), and what the rest of it says.
 
-    grids, frames (CORD2R), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4, CTRIA3), line_sections
-    (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials (MAT1), masses (CONM2),
-    springs (CELAS1, CELAS2), bushes (CBUSH with its PBUSH), rigid (RBE2); constraints : the SPC/SPC1 records
-    of the set the case control
+    grids, frames (CORD1R/C/S, CORD2R/C/S by frame id), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4,
+    CTRIA3), line_sections (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials
+    (MAT1), masses (CONM2), springs (CELAS1, CELAS2), bushes (CBUSH with its PBUSH), rigid (RBE2); constraints :
+    the SPC/SPC1 records of the set the case control
     selects (every set when it selects none) and the GRIDs' permanent constraints (PS); wtmass : PARAM WTMASS
     (1.0 when absent), the factor on every mass; skipped : {card name: count} of the cards not modelled;
     notes : sentences about how the deck was read; path : its main file; max_ids : {"element", "property",
@@ -105,6 +106,9 @@ def build_deck(bulk: BulkData) -> Deck:
         elif name in _READERS:
             record = _READERS[name](card)
             _put(tables[_TABLES[name]], _key(record), record, card)
+        elif name in ("CORD1R", "CORD1C", "CORD1S"):
+            for record in read.cord1(card):
+                _put(tables["frames"], record.id, record, card)
         elif name in ("SPC", "SPC1"):
             spcs += read.spc(card) if name == "SPC" else read.spc1(card)
         elif name == "PELAS":

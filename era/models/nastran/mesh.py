@@ -14,7 +14,7 @@ import numpy as np
 
 from ...errors import DataError
 from ...fem.mesh import BeamProperty, FEMesh, ShellProperty
-from .coords import basic_positions, displacement_axes, frame_axes, require
+from .coords import displacement_axes, rectangular, require, resolve
 from .deck import Deck
 
 #: the properties a factor may change: {card: (field, ...)}; "I" is both bending inertias of a beam section
@@ -60,9 +60,8 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
     this reader does not model (a PSHELL without bending)."""
     factors = dict(factors or {})
     _check_factors(deck, factors)
-    axes = frame_axes(deck.frames)
-    pos = basic_positions(deck.grids, axes)
-    cd = displacement_axes(deck.grids, axes)
+    frames, pos = resolve(deck.grids, deck.frames)
+    cd = displacement_axes(deck.grids, frames, pos)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
     shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
     composite = sorted({"PCOMP", "PCOMPG", "PSHEAR"} & set(deck.skipped))
@@ -113,8 +112,7 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         if b.gb and np.linalg.norm(pos[b.gb] - pos[b.ga]) > 1e-9 * (1 + np.linalg.norm(pos[b.ga])):
             raise b.card.error("GA and GB are apart: only a zero-length bush (GB blank or at GA) is read; model "
                                "a bush with length as a CBAR or springs on coincident grids")
-        if b.cid not in axes:
-            raise b.card.error(f"its frame CID {b.cid} is not a CORD2R of the deck")
+        rectangular(frames, b.cid, b.card)
     for m in deck.masses.values():
         require(deck.grids, m.node, "GRID", m.card)
     for s in deck.springs.values():

@@ -25,8 +25,9 @@ class GridCard:
 
 @dataclass(frozen=True, eq=False)
 class CoordCard:
-    """CORD2R: frame ``id`` defined in frame ``rid`` by its origin a, a point b on its z axis and a point c in its
-    x-z plane (each (3,))."""
+    """CORD2R/C/S: frame ``id`` of ``kind`` "R", "C" or "S" defined in frame ``rid`` by its origin a, a point b on
+    its z axis and a point c in its x-z plane (each (3,), in frame rid's coordinates); CORD1R/C/S: the same points
+    as three grids ``grids`` (a, b, c unused, rid 0)."""
 
     id: int
     rid: int
@@ -34,6 +35,8 @@ class CoordCard:
     b: np.ndarray
     c: np.ndarray
     card: BulkCard
+    kind: str = "R"
+    grids: tuple[int, int, int] | None = None
 
 
 @dataclass(frozen=True, eq=False)
