@@ -60,7 +60,8 @@ class FEMesh:
     shells : (property name, (n1, n2, n3) or (n1, n2, n3, n4)), CTRIA3/CQUAD4 connectivity order (around the edge).
     beams : (property name, n1, n2, orientation (3,)): the orientation lies in the element's local x-z plane (the
         section's local z is its part normal to the axis; Nastran's CBAR vector v lies in the local x-y plane).
-    shell_properties, beam_properties : {name: ShellProperty}, {name: BeamProperty}.
+    shell_properties, beam_properties : {name: ShellProperty or era.fem.laminate.LaminateProperty},
+        {name: BeamProperty}.
     masses : (node, mass, (Ixx, Iyy, Izz)): point masses with rotary inertia about the basic axes (CONM2).
     springs : (node1, dir1, node2 or None, dir2 or None, k): a spring between two DOFs, or to ground (None);
         directions "x", "y", "z", "rx", "ry", "rz" (CELAS1/CELAS2).

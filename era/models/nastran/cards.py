@@ -7,8 +7,8 @@ import re
 
 import numpy as np
 
-from .records import (BushCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard,
-                      ShellSection, SpcCard, SpringCard)
+from .records import (BushCard, CompositeCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard,
+                      OrthotropicCard, RigidCard, ShellCard, ShellSection, SpcCard, SpringCard)
 from .sections import DIMENSIONS, section_properties
 from .values import BulkCard, nastran_real
 
@@ -94,7 +94,7 @@ def shell_element(c: BulkCard) -> ShellCard:
     nodes = tuple(c.integer(2 + k, f"G{k + 1}") for k in range(n))
     if c.real(3 + n, "ZOFFS", 0.0) != 0.0:
         raise c.error("ZOFFS (a plate offset) is not modelled; put the grids on the mid-surface")
-    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c)
+    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c, c.real(2 + n, "THETA/MCID", 0.0))
 
 
 def pbar(c: BulkCard) -> LineSection:
@@ -262,3 +262,34 @@ def cbush(c: BulkCard, pbushes: dict) -> BushCard:
                       "is read; give CID")
     gb = c.integer(3, "GB", 0) or None
     return BushCard(eid, pbushes[pid], c.integer(2, "GA"), gb, c.integer(7, "CID"), c)
+
+
+def mat8(c: BulkCard) -> OrthotropicCard:
+    """MAT8 MID E1 E2 NU12 G12 G1Z G2Z RHO (the thermal and strength fields are not used)."""
+    e1, e2, g12 = c.real(1, "E1"), c.real(2, "E2"), c.real(4, "G12")
+    if e1 <= 0 or e2 <= 0 or g12 <= 0:
+        raise c.error("E1, E2 and G12 must be positive")
+    return OrthotropicCard(c.integer(0, "MID"), e1, e2, c.real(3, "NU12", 0.0), g12, c.optional_real(5, "G1Z"),
+                           c.optional_real(6, "G2Z"), c.real(7, "RHO", 0.0), c)
+
+
+def pcomp(c: BulkCard) -> CompositeCard:
+    """PCOMP PID Z0 NSM SB FT TREF GE LAM / MID1 T1 THETA1 SOUT1 MID2 T2 ... : a blank MID or T repeats the ply
+    before; LAM blank (every ply listed) or SYM (the plies listed are the lower half, mirrored about the middle)."""
+    lam = c.text(7).upper()
+    if lam not in ("", "SYM"):
+        raise c.error(f"LAM '{lam}' is not read (blank and SYM are); list every ply with LAM blank")
+    plies, mid, t = [], None, None
+    for base in range(8, len(c.fields), 4):
+        if all(c.blank(base + k) for k in range(3)):
+            continue
+        mid = c.integer(base, f"MID{len(plies) + 1}", mid)
+        t = c.real(base + 1, f"T{len(plies) + 1}", t)
+        if t is None or t <= 0:
+            raise c.error(f"ply {len(plies) + 1} has no positive thickness T")
+        plies.append((mid, t, c.real(base + 2, f"THETA{len(plies) + 1}", 0.0)))
+    if not plies:
+        raise c.error("no plies (MID1 T1 THETA1 ...)")
+    if lam == "SYM":
+        plies += plies[::-1]
+    return CompositeCard(c.integer(0, "PID"), c.optional_real(1, "Z0"), c.real(2, "NSM", 0.0), tuple(plies), c)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ...errors import DataError
 from ...words import counted
@@ -18,11 +18,13 @@ _FRAMES = ("CORD2R", "CORD2C", "CORD2S")
 _TABLES = {"GRID": "grids", **dict.fromkeys(_FRAMES, "frames"), "CBAR": "lines", "CBEAM": "lines", "CROD": "lines",
            "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
            "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
-           "MAT1": "materials", "CONM2": "masses", "RBE2": "rigid"}
+           "MAT1": "materials", "CONM2": "masses", "RBE2": "rigid", "PCOMP": "composites",
+           "MAT8": "orthotropic"}
 _READERS = {"GRID": read.grid, **dict.fromkeys(_FRAMES, read.cord2), "CBAR": read.line_element,
             "CBEAM": read.line_element, "CROD": read.line_element, "CQUAD4": read.shell_element, "CTRIA3": read.shell_element,
             "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
-            "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2}
+            "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2, "PCOMP": read.pcomp,
+            "MAT8": read.mat8}
 #: every card read into the model
 MODELLED = tuple(sorted(set(_READERS) | {"CORD1R", "CORD1C", "CORD1S", "CELAS1", "CELAS2", "PELAS", "CBUSH",
                                          "PBUSH", "SPC", "SPC1", "GRDSET", "PARAM WTMASS"}))
@@ -32,11 +34,11 @@ MODELLED = tuple(sorted(set(_READERS) | {"CORD1R", "CORD1C", "CORD1S", "CELAS1",
 class Deck:
     """The modelled cards of a deck, each table {id: record} (records.py), and what the rest of it says.
 
+    composites (PCOMP by property id) and orthotropic (MAT8 by material id) hold the laminated shells;
     grids, frames (CORD1R/C/S, CORD2R/C/S by frame id), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4,
     CTRIA3), line_sections (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials
     (MAT1), masses (CONM2), springs (CELAS1, CELAS2), bushes (CBUSH with its PBUSH), rigid (RBE2); constraints :
-    the SPC/SPC1 records of the set the case control
-    selects (every set when it selects none) and the GRIDs' permanent constraints (PS); wtmass : PARAM WTMASS
+    the SPC/SPC1 records of the set the case control selects (every set when it selects none) and the GRIDs' permanent constraints (PS); wtmass : PARAM WTMASS
     (1.0 when absent), the factor on every mass; skipped : {card name: count} of the cards not modelled;
     notes : sentences about how the deck was read; path : its main file; max_ids : {"element", "property",
     "material", "grid", "set"} the largest id of each kind in the deck (a patch takes new ids above them).
@@ -59,6 +61,8 @@ class Deck:
     notes: tuple[str, ...]
     path: str
     max_ids: dict
+    composites: dict = field(default_factory=dict)
+    orthotropic: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         sizes = ", ".join(counted(len(t), one, many) for one, many, t in (
@@ -144,15 +148,16 @@ def build_deck(bulk: BulkData) -> Deck:
     max_ids = {
         "element": max([0, *tables["lines"], *tables["shells"], *tables["masses"], *tables["springs"],
                         *tables["bushes"], *tables["rigid"]]),
-        "property": max([0, *tables["line_sections"], *tables["shell_sections"], *pelas, *pbush]),
-        "material": max([0, *tables["materials"]]),
+        "property": max([0, *tables["line_sections"], *tables["shell_sections"], *tables["composites"], *pelas,
+                         *pbush]),
+        "material": max([0, *tables["materials"], *tables["orthotropic"]]),
         "grid": max([0, *tables["grids"]]),
         "set": max([0, *sets]),
     }
     return Deck(tables["grids"], tables["frames"], tables["lines"], tables["shells"], tables["line_sections"],
                 tables["shell_sections"], tables["materials"], tables["masses"], tables["springs"],
                 tables["bushes"], tables["rigid"], tuple(chosen), wtmass, dict(skipped), tuple(notes), bulk.path,
-                max_ids)
+                max_ids, composites=tables["composites"], orthotropic=tables["orthotropic"])
 
 
 def _key(record) -> int:

@@ -14,6 +14,7 @@ import numpy as np
 
 from ...errors import DataError
 from ...fem.mesh import BeamProperty, FEMesh, ShellProperty
+from .composites import composite_property
 from .coords import displacement_axes, rectangular, require, resolve
 from .deck import Deck
 
@@ -64,15 +65,26 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
     cd = displacement_axes(deck.grids, frames, pos)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
     shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
-    composite = sorted({"PCOMP", "PCOMPG", "PSHEAR"} & set(deck.skipped))
+    composite = sorted({"PCOMPG", "PSHEAR"} & set(deck.skipped))
     for e in deck.shells.values():
-        if e.pid not in deck.shell_sections and composite:
-            raise e.card.error(f"its property {e.pid} is no PSHELL of the deck; {' and '.join(composite)} "
-                               "(composites, shear panels) are not modelled: give an equivalent PSHELL")
-        prop = require(deck.shell_sections, e.pid, "PSHELL", e.card)
-        name = f"PSHELL {e.pid}"
-        if name not in shell_props:
-            shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
+        if e.pid in deck.composites:
+            if e.pid in deck.shell_sections:
+                raise e.card.error(f"property {e.pid} is both a PSHELL and a PCOMP; give each its own id")
+            if e.theta:
+                raise e.card.error("a material angle THETA or frame MCID on a composite element is not read; give "
+                                   "the plies' angles from the element's G1-G2 side and leave THETA blank")
+            name = f"PCOMP {e.pid}"
+            if name not in shell_props:
+                shell_props[name] = composite_property(deck, e.pid, factors)
+        else:
+            if e.pid not in deck.shell_sections and composite:
+                raise e.card.error(f"its property {e.pid} is no PSHELL or PCOMP of the deck; "
+                                   f"{' and '.join(composite)} (ply-by-ply composites, shear panels) are not "
+                                   "modelled: give an equivalent PSHELL or PCOMP")
+            prop = require(deck.shell_sections, e.pid, "property (PSHELL or PCOMP)", e.card)
+            name = f"PSHELL {e.pid}"
+            if name not in shell_props:
+                shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
         for g in e.nodes:
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))

@@ -62,13 +62,16 @@ class LineCard:
 
 @dataclass(frozen=True, eq=False)
 class ShellCard:
-    """CQUAD4 (4 grids) or CTRIA3 (3 grids) of property ``pid``."""
+    """CQUAD4 (4 grids) or CTRIA3 (3 grids) of property ``pid``; theta : its material angle THETA or frame MCID
+    (a number; 0 when blank), zoffs : the offset of its mid-surface from the grids' plane along its normal."""
 
     kind: str
     eid: int
     pid: int
     nodes: tuple[int, ...]
     card: BulkCard
+    theta: float = 0.0
+    zoffs: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -176,4 +179,33 @@ class BushCard:
     ga: int
     gb: int | None
     cid: int
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class OrthotropicCard:
+    """MAT8: a ply material, moduli e1 (fibres), e2, nu12, g12, transverse shear g1z, g2z (None: blank, Nastran's
+    rigid transverse shear), rho (mass per volume)."""
+
+    mid: int
+    e1: float
+    e2: float
+    nu12: float
+    g12: float
+    g1z: float | None
+    g2z: float | None
+    rho: float
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class CompositeCard:
+    """PCOMP: plies ((mid, thickness, angle in degrees), ...) from the bottom up, as the whole laminate (LAM SYM
+    already mirrored), z0 the bottom surface's distance from the grids' plane (None: −half the thickness), nsm
+    (mass per area)."""
+
+    pid: int
+    z0: float | None
+    nsm: float
+    plies: tuple
     card: BulkCard
