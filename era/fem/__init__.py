@@ -10,11 +10,11 @@ era.Frame's arrays, mesh and modes); ``reduced`` screens many local changes of o
 
 from .eigen import sparse_modes
 from .frame import Assembled, PlaneFrame, assemble_out_of_plane, dof_map, lowest_modes
-from .laminate import LaminateProperty, Ply, laminate
+from .laminate import LaminateProperty, Ply, stack
 from .mesh import AssembledMesh, BeamProperty, FEMesh, ShellProperty, assemble
 from .sections import BeamSection, flat_bar
 from .statics import G_STANDARD, SelfWeight, self_weight
 
 __all__ = ["BeamSection", "flat_bar", "PlaneFrame", "Assembled", "assemble_out_of_plane", "dof_map", "lowest_modes",
            "SelfWeight", "self_weight", "G_STANDARD",
-           "FEMesh", "ShellProperty", "LaminateProperty", "Ply", "laminate", "BeamProperty", "AssembledMesh", "assemble", "sparse_modes"]
+           "FEMesh", "ShellProperty", "LaminateProperty", "Ply", "stack", "BeamProperty", "AssembledMesh", "assemble", "sparse_modes"]

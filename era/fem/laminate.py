@@ -1,6 +1,6 @@
 """Laminated shells by classical lamination theory: plies of orthotropic (or isotropic) material stacked through
 the thickness give the shell's membrane A, coupling B and bending D stiffness, its transverse shear stiffness and
-its mass per area with the first and second moments (:class:`LaminateProperty`, :func:`laminate`).
+its mass per area with the first and second moments (:class:`LaminateProperty`, :func:`stack`).
 
 Axes: x, y in the shell's plane along the element's material axes (era.fem.shell: a quad's mean 1-2 direction,
 a triangle's 1-2 side), z along its normal from the reference surface (the nodes' plane). A ply's angle θ turns
@@ -69,7 +69,7 @@ def ply_stiffness(p: Ply) -> tuple[np.ndarray, np.ndarray]:
     return t.T @ q @ t, r.T @ np.diag([p.g13, p.g23]) @ r
 
 
-def laminate(plies, z0: float | None = None, nsm: float = 0.0, name: str = "laminate") -> LaminateProperty:
+def stack(plies, z0: float | None = None, nsm: float = 0.0, name: str = "laminate") -> LaminateProperty:
     """Stack ``plies`` (Ply, from the bottom up) with the bottom surface at z = ``z0`` (None: −half the whole
     thickness, the reference surface at mid-thickness); ``nsm`` mass per area added to the translations."""
     plies = list(plies)

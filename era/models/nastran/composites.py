@@ -10,7 +10,7 @@ G in transverse shear. PARAM WTMASS multiplies the mass per area.
 
 from __future__ import annotations
 
-from ...fem.laminate import LaminateProperty, Ply, laminate
+from ...fem.laminate import LaminateProperty, Ply, stack
 from .coords import require
 
 #: a MAT8 without transverse shear moduli: rigid in Nastran, this many times G12 here
@@ -38,6 +38,6 @@ def composite_property(deck, pid: int, factors: dict) -> LaminateProperty:
     p = deck.composites[pid]
     plies = [_ply(deck, mid, t, angle, p.card, factors) for mid, t, angle in p.plies]
     try:
-        return laminate(plies, p.z0, p.nsm * deck.wtmass, name=f"PCOMP {pid}")
+        return stack(plies, p.z0, p.nsm * deck.wtmass, name=f"PCOMP {pid}")
     except ValueError as err:
         raise p.card.error(str(err)) from None
