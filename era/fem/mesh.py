@@ -68,6 +68,8 @@ class FEMesh:
     fixed : (node, direction) pairs held at zero (SPC, SPC1).
     rigid : (independent node, (dependent nodes...), directions): RBE2, the dependents' listed DOFs follow the
         independent node as a rigid body.
+    shell_offsets : one float per shell (or () for none): the offset of its mid-surface from its nodes' plane
+        along its normal (Nastran's ZOFFS; the normal by the right-hand rule around n1, n2, n3).
     """
 
     nodes: dict
@@ -79,6 +81,7 @@ class FEMesh:
     springs: tuple = ()
     fixed: tuple = ()
     rigid: tuple = ()
+    shell_offsets: tuple = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,19 +129,24 @@ def _used_nodes(mesh: FEMesh) -> list:
 def _shell_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
     """{property name: (K (e, d, d), M (e, d, d), DOFs (e, d))} of each property's quads and triangles."""
     groups: dict = {}
-    for name, conn in mesh.shells:
+    if mesh.shell_offsets and len(mesh.shell_offsets) != len(mesh.shells):
+        raise DataError(f"shell_offsets has {len(mesh.shell_offsets)} values for {len(mesh.shells)} shells; give "
+                        "one per shell.")
+    offsets = mesh.shell_offsets or (0.0,) * len(mesh.shells)
+    for (name, conn), z in zip(mesh.shells, offsets):
         if name not in mesh.shell_properties:
             raise DataError(f"Shell property {name!r} is not defined; add it to shell_properties.")
         if len(conn) not in (3, 4):
             raise DataError(f"A shell element needs 3 or 4 nodes; {tuple(conn)} has {len(conn)}.")
-        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn])
+        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn] + [float(z)])
     out: dict = {}
-    for (name, nn), conns in groups.items():
+    for (name, nn), rows in groups.items():
         p = mesh.shell_properties[name]
         fn = shell.quad4_batch if nn == 4 else shell.tria3_batch
-        for start in range(0, len(conns), CHUNK):   # bounded memory: a chunk's matrices, never the whole mesh's
-            c = np.asarray(conns[start:start + CHUNK])
-            k, m = fn(xyz[c], p)
+        for start in range(0, len(rows), CHUNK):    # bounded memory: a chunk's matrices, never the whole mesh's
+            chunk = np.asarray(rows[start:start + CHUNK])
+            c, z = chunk[:, :nn].astype(int), chunk[:, nn]
+            k, m = fn(xyz[c], p, z if z.any() else None)
             dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
             out.setdefault(name, []).append((k, m, dofs))
     return out

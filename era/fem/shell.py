@@ -3,7 +3,9 @@
 Each node carries (u, v, w, θx, θy, θz) in the basic frame. Within an element, a local frame puts the element in
 its x-y plane: a quad's mean plane (normal along the cross product of its diagonals, x along its mean 1-2
 direction); a warped quad's nodes are projected onto that plane and joined to the real nodes by rigid offsets
-(u_p = u + θ × d), which keeps the six rigid-body motions exact.
+(u_p = u + θ × d), which keeps the six rigid-body motions exact. A mid-surface offset (Nastran's ZOFFS) is one
+more such link along the normal. A laminate (era.fem.laminate) adds the membrane-bending coupling B and the mass's
+first moment.
 
 - Membrane: bilinear (quad, with Wilson's incompatible modes condensed out so that it bends in its plane without
   locking: a stiffener's web) or constant-strain (triangle) displacements with the Hughes-Brezzi drilling rotation,
@@ -195,10 +197,20 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
     return k, m
 
 
-def quad4_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
-    """MITC4 stiffness and consistent mass (e, 24, 24) of quads with corners xyz (e, 4, 3), one ShellProperty."""
+def _offset(R: np.ndarray, offset: np.ndarray, zoffs) -> np.ndarray:
+    """The nodes' rigid offsets (e, n, 3) with each element's mid-surface moved by zoffs (e,) along its normal."""
+    if zoffs is None:
+        return offset
+    return offset + np.asarray(zoffs, float).reshape(-1, 1, 1) * R[:, None, 2, :]
+
+
+def quad4_batch(xyz: np.ndarray, prop, zoffs=None) -> tuple[np.ndarray, np.ndarray]:
+    """MITC4 stiffness and consistent mass (e, 24, 24) of quads with corners xyz (e, 4, 3), one ShellProperty
+    (or LaminateProperty); zoffs (e,) the mid-surfaces' offsets from the nodes along the normals (None: 0), a rigid
+    link from each node to the element's own, as Nastran's ZOFFS."""
     xyz = np.asarray(xyz, float).reshape(-1, 4, 3)
     R, local, offset = _frame(xyz)
+    offset = _offset(R, offset, zoffs)
     mat = _materials(prop, len(xyz))
     # tying points: γ_r at the mid-points of the edges s = ∓1, γ_s at those of r = ∓1
     tie = {}
@@ -219,11 +231,12 @@ def _tria_shapes(r: float, s: float):
     return np.array([1 - r - s, r, s]), np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
 
 
-def tria3_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
+def tria3_batch(xyz: np.ndarray, prop, zoffs=None) -> tuple[np.ndarray, np.ndarray]:
     """MITC3 stiffness and consistent mass (e, 18, 18) of triangles with corners xyz (e, 3, 3), one
-    ShellProperty."""
+    ShellProperty (or LaminateProperty); zoffs as for quad4_batch."""
     xyz = np.asarray(xyz, float).reshape(-1, 3, 3)
     R, local, offset = _frame(xyz)
+    offset = _offset(R, offset, zoffs)
     mat = _materials(prop, len(xyz))
     g1 = _covariant(*_tria_shapes(0.5, 0.0), _jacobian(local, *_tria_shapes(0.5, 0.0)[1:]), 3)
     g2 = _covariant(*_tria_shapes(0.0, 0.5), _jacobian(local, *_tria_shapes(0.0, 0.5)[1:]), 3)

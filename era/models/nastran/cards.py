@@ -88,13 +88,15 @@ def line_element(c: BulkCard) -> LineCard:
 
 
 def shell_element(c: BulkCard) -> ShellCard:
-    """CQUAD4 EID PID G1 G2 G3 G4 THETA ZOFFS; CTRIA3 EID PID G1 G2 G3 THETA ZOFFS (ZOFFS must be blank or 0)."""
+    """CQUAD4 EID PID G1 G2 G3 G4 THETA|MCID ZOFFS; CTRIA3 EID PID G1 G2 G3 THETA|MCID ZOFFS (the corner
+    thicknesses T1-T4 must be blank: the property's thickness is used)."""
     eid = c.integer(0, "EID")
     n = 4 if c.name == "CQUAD4" else 3
     nodes = tuple(c.integer(2 + k, f"G{k + 1}") for k in range(n))
-    if c.real(3 + n, "ZOFFS", 0.0) != 0.0:
-        raise c.error("ZOFFS (a plate offset) is not modelled; put the grids on the mid-surface")
-    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c, c.real(2 + n, "THETA/MCID", 0.0))
+    if any(not c.blank(k) for k in range(14 - n, 14)):      # T1 ... after the continuation's TFLAG
+        raise c.error("corner thicknesses T1 ... are not read; give the thickness on the PSHELL")
+    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c, c.real(2 + n, "THETA/MCID", 0.0),
+                     c.real(3 + n, "ZOFFS", 0.0))
 
 
 def pbar(c: BulkCard) -> LineSection:

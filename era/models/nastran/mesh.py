@@ -1,6 +1,7 @@
 """A deck's elements as an era.fem mesh (FEMesh) in basic coordinates, with properties changed by factors.
 
-Shells: PSHELL t, MAT1 E and nu, mass rho t + NSM per area. CBAR and CBEAM: Euler-Bernoulli beams with I1 about
+Shells: PSHELL t, MAT1 E and nu, mass rho t + NSM per area; PCOMP laminates (composites.py); ZOFFS a rigid offset
+of the element's mid-surface from its grids along its normal. CBAR and CBEAM: Euler-Bernoulli beams with I1 about
 element z (bending in plane 1, the plane of the orientation vector v) and I2 about y, J, mass rho A + NSM per
 length; an end offset is a rigid link (an RBE2) from the grid to the beam's end. CROD: a beam with A and J only.
 The masses, springs, constraints and displacement frames are applied by constraints.py on the assembled matrices.
@@ -64,7 +65,7 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
     frames, pos = resolve(deck.grids, deck.frames)
     cd = displacement_axes(deck.grids, frames, pos)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
-    shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
+    shells, offsets, beams, shell_props, beam_props, rigid = [], [], [], {}, {}, []
     composite = sorted({"PCOMPG", "PSHEAR"} & set(deck.skipped))
     for e in deck.shells.values():
         if e.pid in deck.composites:
@@ -88,6 +89,7 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         for g in e.nodes:
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))
+        offsets.append(e.zoffs)
     for e in deck.lines.values():
         prop = require(deck.line_sections, e.pid, "property (PBAR, PBARL, PBEAM, PBEAML, PROD)", e.card)
         name = f"{prop.kind} {e.pid}"
@@ -132,7 +134,8 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
             if g:
                 require(deck.grids, g, "GRID", s.card)
     mesh = FEMesh(nodes, tuple(shells), tuple(beams), shell_props, beam_props,
-                  masses=tuple((n, 0.0, (0.0, 0.0, 0.0)) for n in sorted(touched)))
+                  masses=tuple((n, 0.0, (0.0, 0.0, 0.0)) for n in sorted(touched)),
+                  shell_offsets=tuple(offsets) if any(offsets) else ())
     return DeckMesh(mesh, nodes, {str(g): a for g, a in cd.items()}, tuple(rigid))
 
 
