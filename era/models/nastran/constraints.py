@@ -1,5 +1,5 @@
 """The assembled mesh of a deck made into Nastran's model: displacement frames (CD), CONM2 masses, CELAS springs,
-RBE2 and SPC constraints in the grids' own frames, PARAM WTMASS, and AUTOSPC (a DOF without stiffness is held,
+RBE2, RBE3, MPC and SPC constraints in the grids' own frames, PARAM WTMASS, and AUTOSPC (a DOF without stiffness is held,
 as Nastran's default for modes does).
 
 Every DOF of a grid is numbered in its displacement frame: u_basic = A u_cd with A the frame's axes for the
@@ -19,6 +19,7 @@ from ...fem.mesh import DIRECTIONS
 from ...words import counted
 from .coords import rectangular
 from .deck import Deck
+from .equations import equation_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,8 +115,10 @@ def _bushes(deck: Deck, index: dict, cd_axes: dict, frames: dict, n: int):
     return out.tocsr()
 
 
-def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
-    """C (6N, n_free) with u_cd = C u_free, and the kept DOFs (n_free,) in the full numbering."""
+def _elimination(labels, index, positions, cd_axes, rigid, held,
+                 equations=()) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
+    """C (6N, n_free) with u_cd = C u_free, and the kept DOFs (n_free,) in the full numbering; ``equations``
+    [(dependent DOF, [(independent DOF, coefficient), ...]), ...] the MPC and RBE3 rows (equations.py)."""
     n = 6 * len(labels)
     dependent = np.zeros(n, bool)
     rows, cols, vals = [], [], []
@@ -139,6 +142,18 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
                 rows += [row] * nz.size
                 cols += list(6 * i + nz)
                 vals += list(rel[int(c) - 1, nz])
+    for row, terms in equations:
+        where = f"grid {labels[row // 6]} component {row % 6 + 1}"
+        if dependent[row]:
+            raise DataError(f"{where} is the dependent DOF of two constraints (RBE2, RBE3, MPC); a DOF may "
+                            "depend on one only.")
+        if held[row]:
+            raise DataError(f"{where} is both held by an SPC and the dependent DOF of an MPC or RBE3; hold an "
+                            "independent DOF instead.")
+        dependent[row] = True
+        rows += [row] * len(terms)
+        cols += [int(j) for j, _ in terms]
+        vals += [float(v) for _, v in terms]
     ident = np.flatnonzero(~dependent)
     C = scipy.sparse.csr_matrix((np.concatenate([np.ones(ident.size), vals]),
                                  (np.concatenate([ident, rows]).astype(int), np.concatenate([ident, cols]).astype(int))),
@@ -148,7 +163,7 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
             break
         C = (C @ C).tocsr()
     else:
-        raise DataError("RBE2 elements form a loop (a grid depends on itself through others); break the loop.")
+        raise DataError("RBE2, RBE3 or MPC form a loop (a DOF depends on itself through others); break the loop.")
     keep = ~dependent & ~held
     kept = np.flatnonzero(keep)
     return C[:, kept].tocsr(), kept
@@ -175,7 +190,8 @@ def reduce(deck: Deck, dm, assembled, frames: dict) -> Reduced:
             for c in s.components:
                 if c != "0":
                     held[6 * index[label] + int(c) - 1] = True
-    C, kept = _elimination(labels, index, dm.positions, dm.cd_axes, dm.rigid, held)
+    C, kept = _elimination(labels, index, dm.positions, dm.cd_axes, dm.rigid, held,
+                           equation_rows(deck, index, dm.positions, dm.cd_axes))
     Ct = C.T.tocsr()
 
     def reduced(k):

@@ -118,7 +118,9 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         rigid.append((str(r.independent), tuple(str(g) for g in r.dependent), r.components))
     touched = {str(m.node) for m in deck.masses.values()} | {str(s.g1) for s in deck.springs.values()} | {
         str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])} | {
-        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g}
+        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g} | {
+        str(g) for m in deck.equations for g, _, _ in m.terms} | {
+        str(g) for r in deck.interpolations.values() for g in (r.ref, *(g for _, _, gs in r.groups for g in gs))}
     for b in deck.bushes.values():
         for g in (b.ga, b.gb):
             if g:
@@ -129,6 +131,12 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         rectangular(frames, b.cid, b.card)
     for m in deck.masses.values():
         require(deck.grids, m.node, "GRID", m.card)
+    for m in deck.equations:
+        for g, _, _ in m.terms:
+            require(deck.grids, g, "GRID", m.card)
+    for r in deck.interpolations.values():
+        for g in (r.ref, *(g for _, _, gs in r.groups for g in gs)):
+            require(deck.grids, g, "GRID", r.card)
     for s in deck.springs.values():
         for g in (s.g1, s.g2):
             if g:

@@ -209,3 +209,25 @@ class CompositeCard:
     nsm: float
     plies: tuple
     card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class MpcCard:
+    """MPC set ``sid``: Σ a_k u(g_k, c_k) = 0 over ``terms`` ((grid, component digit, a), ...), the first term's
+    DOF the dependent one (components in each grid's displacement frame)."""
+
+    sid: int
+    terms: tuple
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class InterpolationCard:
+    """RBE3: the reference grid ``ref``'s components ``refc`` follow the weighted least-squares rigid motion of the
+    independent grids, ``groups`` ((weight, components, (grids...)), ...)."""
+
+    eid: int
+    ref: int
+    refc: str
+    groups: tuple
+    card: BulkCard
