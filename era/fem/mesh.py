@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse
 
 from ..errors import DataError
-from . import beam3d, shell
+from . import beam3d, shell, solid
 from .sparse import scatter
 
 DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
@@ -70,6 +70,8 @@ class FEMesh:
         independent node as a rigid body.
     shell_offsets : one float per shell (or () for none): the offset of its mid-surface from its nodes' plane
         along its normal (Nastran's ZOFFS; the normal by the right-hand rule around n1, n2, n3).
+    solids : (property name, 8, 6 or 4 nodes): CHEXA, CPENTA, CTETRA (era.fem.solid: translations only, a node only
+        solids reach has no rotational stiffness); solid_properties : {name: era.fem.solid.SolidProperty}.
     """
 
     nodes: dict
@@ -82,6 +84,8 @@ class FEMesh:
     fixed: tuple = ()
     rigid: tuple = ()
     shell_offsets: tuple = ()
+    solids: tuple = ()
+    solid_properties: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,7 +110,7 @@ def _direction(d, where: str) -> int:
 
 def _used_nodes(mesh: FEMesh) -> list:
     used = {}
-    for _, conn in mesh.shells:
+    for _, conn in (*mesh.shells, *mesh.solids):
         used.update(dict.fromkeys(conn))
     for b in mesh.beams:
         used.update(dict.fromkeys(b[1:3]))
@@ -149,6 +153,24 @@ def _shell_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
             k, m = fn(xyz[c], p, z if z.any() else None)
             dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
             out.setdefault(name, []).append((k, m, dofs))
+    return out
+
+
+def _solid_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
+    """{property name: [(K, M, DOFs)]} of each property's solids, grouped by their number of nodes."""
+    groups: dict = {}
+    for name, conn in mesh.solids:
+        if name not in mesh.solid_properties:
+            raise DataError(f"Solid property {name!r} is not defined; add it to solid_properties.")
+        if len(conn) not in (4, 6, 8):
+            raise DataError(f"A solid element needs 4, 6 or 8 nodes; {tuple(conn)} has {len(conn)}.")
+        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn])
+    out: dict = {}
+    for (name, _), conns in groups.items():
+        for start in range(0, len(conns), CHUNK):
+            c = np.asarray(conns[start:start + CHUNK])
+            k, m = solid.solid_batch(xyz[c], mesh.solid_properties[name])
+            out.setdefault(name, []).append((k, m, (6 * c[:, :, None] + np.arange(3)).reshape(len(c), -1)))
     return out
 
 
@@ -243,9 +265,10 @@ def assemble(mesh: FEMesh) -> AssembledMesh:
     xyz = np.array([np.asarray(mesh.nodes[n], float) for n in labels]).reshape(-1, 3)
     n_all = 6 * len(labels)
     parts = _shell_parts(mesh, index, xyz)
-    for name, p in _beam_parts(mesh, index, xyz).items():
+    for name, p in (*_beam_parts(mesh, index, xyz).items(), *_solid_parts(mesh, index, xyz).items()):
         if name in parts:
-            raise DataError(f"Property name {name!r} is both a shell and a beam property; give them distinct names.")
+            raise DataError(f"Property name {name!r} names two kinds of elements (shell, beam, solid); give them "
+                            "distinct names.")
         parts[name] = p
     extra_k, extra_m = _extras(mesh, index)
     T, kept = _constraints(mesh, index, xyz)

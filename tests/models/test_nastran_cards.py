@@ -154,13 +154,13 @@ def test_bar_offsets_are_rigid_links(tmp_path):
 
 
 def test_the_unmodelled_cards_in_one_sentence(tmp_path):
-    cards = _cantilever() + [("EIGRL", [1, None, None, 10]), ("CHEXA", [1, 2, 1, 2, 3, 4, 5]),
-                             ("CHEXA", [2, 2, 1, 2, 3, 4, 5]), ("FORCE", [1, 5, 0, 1., 0., 0., 1.])]
+    cards = _cantilever() + [("EIGRL", [1, None, None, 10]), ("CQUAD8", [1, 2, 1, 2, 3, 4, 5]),
+                             ("CQUAD8", [2, 2, 1, 2, 3, 4, 5]), ("FORCE", [1, 5, 0, 1., 0., 0., 1.])]
     m = _model(tmp_path, cards)
     sentence = m.notes[0]
     assert sentence.count(".") == 1 and sentence == m.unmodelled
-    assert "4 cards" in sentence and "CHEXA (2)" in sentence and "EIGRL (1)" in sentence and "FORCE (1)" in sentence
-    assert "left out of the model (CHEXA, FORCE)" in sentence
+    assert "4 cards" in sentence and "CQUAD8 (2)" in sentence and "EIGRL (1)" in sentence and "FORCE (1)" in sentence
+    assert "left out of the model (CQUAD8, FORCE)" in sentence
 
 
 @pytest.mark.parametrize("card, match", [

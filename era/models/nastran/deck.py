@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from ...errors import DataError
 from ...words import counted
 from . import cards as read
-from . import equation_cards
+from . import equation_cards, solid_cards
 from .fields import BulkData, read_bulk
 from .values import BulkCard
 
@@ -20,12 +20,14 @@ _TABLES = {"GRID": "grids", **dict.fromkeys(_FRAMES, "frames"), "CBAR": "lines",
            "CQUAD4": "shells", "CTRIA3": "shells", "PBAR": "line_sections", "PBARL": "line_sections",
            "PBEAM": "line_sections", "PBEAML": "line_sections", "PROD": "line_sections", "PSHELL": "shell_sections",
            "MAT1": "materials", "CONM2": "masses", "RBE2": "rigid", "PCOMP": "composites",
-           "MAT8": "orthotropic"}
+           "MAT8": "orthotropic", "CHEXA": "solids", "CPENTA": "solids", "CTETRA": "solids",
+           "PSOLID": "solid_sections"}
 _READERS = {"GRID": read.grid, **dict.fromkeys(_FRAMES, read.cord2), "CBAR": read.line_element,
             "CBEAM": read.line_element, "CROD": read.line_element, "CQUAD4": read.shell_element, "CTRIA3": read.shell_element,
             "PBAR": read.pbar, "PBARL": read.pbarl, "PBEAM": read.pbeam, "PBEAML": read.pbarl, "PROD": read.prod,
             "PSHELL": read.pshell, "MAT1": read.mat1, "CONM2": read.conm2, "RBE2": read.rbe2, "PCOMP": read.pcomp,
-            "MAT8": read.mat8}
+            "MAT8": read.mat8, "CHEXA": solid_cards.solid_element, "CPENTA": solid_cards.solid_element,
+            "CTETRA": solid_cards.solid_element, "PSOLID": solid_cards.psolid}
 #: every card read into the model
 MODELLED = tuple(sorted(set(_READERS) | {"CORD1R", "CORD1C", "CORD1S", "CELAS1", "CELAS2", "PELAS", "CBUSH",
                                          "PBUSH", "SPC", "SPC1", "GRDSET", "PARAM WTMASS", "MPC", "MPCADD",
@@ -38,7 +40,8 @@ class Deck:
 
     composites (PCOMP by property id) and orthotropic (MAT8 by material id) hold the laminated shells;
     equations : the MPC records of the set the case control selects (through MPCADD; every MPC when it selects
-    none); interpolations : the RBE3 records by element id;
+    none); interpolations : the RBE3 records by element id; solids (CHEXA, CPENTA, CTETRA by element id) and
+    solid_sections (PSOLID);
     grids, frames (CORD1R/C/S, CORD2R/C/S by frame id), lines (CBAR, CBEAM, CROD by element id), shells (CQUAD4,
     CTRIA3), line_sections (PBAR, PBARL, PBEAM, PBEAML, PROD by property id), shell_sections (PSHELL), materials
     (MAT1), masses (CONM2), springs (CELAS1, CELAS2), bushes (CBUSH with its PBUSH), rigid (RBE2); constraints :
@@ -69,6 +72,8 @@ class Deck:
     orthotropic: dict = field(default_factory=dict)
     equations: tuple = ()
     interpolations: dict = field(default_factory=dict)
+    solids: dict = field(default_factory=dict)
+    solid_sections: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         sizes = ", ".join(counted(len(t), one, many) for one, many, t in (
@@ -163,9 +168,10 @@ def build_deck(bulk: BulkData) -> Deck:
         notes.append(f"PARAM WTMASS {wtmass:g} multiplies every mass.")
     max_ids = {
         "element": max([0, *tables["lines"], *tables["shells"], *tables["masses"], *tables["springs"],
-                        *tables["bushes"], *tables["rigid"], *tables["interpolations"]]),
+                        *tables["bushes"], *tables["rigid"], *tables["interpolations"],
+                        *tables["solids"]]),
         "property": max([0, *tables["line_sections"], *tables["shell_sections"], *tables["composites"], *pelas,
-                         *pbush]),
+                         *pbush, *tables["solid_sections"]]),
         "material": max([0, *tables["materials"], *tables["orthotropic"]]),
         "grid": max([0, *tables["grids"]]),
         "set": max([0, *sets, *(m.sid for m in mpcs), *mpcadds]),
@@ -174,7 +180,8 @@ def build_deck(bulk: BulkData) -> Deck:
                 tables["shell_sections"], tables["materials"], tables["masses"], tables["springs"],
                 tables["bushes"], tables["rigid"], tuple(chosen), wtmass, dict(skipped), tuple(notes), bulk.path,
                 max_ids, composites=tables["composites"], orthotropic=tables["orthotropic"], equations=equations,
-                interpolations=tables["interpolations"])
+                interpolations=tables["interpolations"], solids=tables["solids"],
+                solid_sections=tables["solid_sections"])
 
 
 def _mpc_set(mpcs: list, mpcadds: dict, chosen: int | None, notes: list) -> tuple:

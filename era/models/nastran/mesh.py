@@ -1,7 +1,8 @@
 """A deck's elements as an era.fem mesh (FEMesh) in basic coordinates, with properties changed by factors.
 
 Shells: PSHELL t, MAT1 E and nu, mass rho t + NSM per area; PCOMP laminates (composites.py); ZOFFS a rigid offset
-of the element's mid-surface from its grids along its normal. CBAR and CBEAM: Euler-Bernoulli beams with I1 about
+of the element's mid-surface from its grids along its normal. CHEXA, CPENTA, CTETRA: era.fem.solid's linear solids
+of the PSOLID's MAT1 (a grid only solids reach has no rotational stiffness: AUTOSPC holds its rotations). CBAR and CBEAM: Euler-Bernoulli beams with I1 about
 element z (bending in plane 1, the plane of the orientation vector v) and I2 about y, J, mass rho A + NSM per
 length; an end offset is a rigid link (an RBE2) from the grid to the beam's end. CROD: a beam with A and J only.
 The masses, springs, constraints and displacement frames are applied by constraints.py on the assembled matrices.
@@ -15,6 +16,7 @@ import numpy as np
 
 from ...errors import DataError
 from ...fem.mesh import BeamProperty, FEMesh, ShellProperty
+from ...fem.solid import SolidProperty
 from .composites import composite_property
 from .coords import displacement_axes, rectangular, require, resolve
 from .deck import Deck
@@ -90,6 +92,16 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))
         offsets.append(e.zoffs)
+    solids, solid_props = [], {}
+    for e in deck.solids.values():
+        p = require(deck.solid_sections, e.pid, "PSOLID", e.card)
+        name = f"PSOLID {e.pid}"
+        if name not in solid_props:
+            e_, _, nu, rho = _material(deck, p.mid, p.card, factors)
+            solid_props[name] = SolidProperty(e_, nu, rho * deck.wtmass)
+        for g in e.nodes:
+            require(deck.grids, g, "GRID", e.card)
+        solids.append((name, tuple(str(g) for g in e.nodes)))
     for e in deck.lines.values():
         prop = require(deck.line_sections, e.pid, "property (PBAR, PBARL, PBEAM, PBEAML, PROD)", e.card)
         name = f"{prop.kind} {e.pid}"
@@ -143,7 +155,8 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
                 require(deck.grids, g, "GRID", s.card)
     mesh = FEMesh(nodes, tuple(shells), tuple(beams), shell_props, beam_props,
                   masses=tuple((n, 0.0, (0.0, 0.0, 0.0)) for n in sorted(touched)),
-                  shell_offsets=tuple(offsets) if any(offsets) else ())
+                  shell_offsets=tuple(offsets) if any(offsets) else (), solids=tuple(solids),
+                  solid_properties=solid_props)
     return DeckMesh(mesh, nodes, {str(g): a for g, a in cd.items()}, tuple(rigid))
 
 

@@ -231,3 +231,23 @@ class InterpolationCard:
     refc: str
     groups: tuple
     card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class SolidCard:
+    """CHEXA (8 grids), CPENTA (6) or CTETRA (4) of PSOLID ``pid``."""
+
+    kind: str
+    eid: int
+    pid: int
+    nodes: tuple[int, ...]
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class SolidSection:
+    """PSOLID: its material ``mid`` (a MAT1)."""
+
+    pid: int
+    mid: int
+    card: BulkCard
