@@ -139,3 +139,15 @@ def test_solid_errors_name_the_card(tmp_path):
         path = tmp_path / "nop.bdf"
         path.write_text(deck_text([c for c in cards if c[0] != "PSOLID"], "free"))
         read_bdf(path)
+
+
+def test_a_psolid_part_stiffer_and_lighter_is_patched_as_a_new_mat1(tmp_path):
+    from era.models.nastran import deck_patch_for, write_patched_deck
+
+    nominal = _read(tmp_path, "CTETRA")
+    params = {"part_at": "part:PSOLID 1", "part_factor": 1.25, "part_mass_at": "part:PSOLID 1",
+              "part_mass_factor": 0.8}
+    patch = deck_patch_for(nominal.deck, params)
+    got = read_bdf(write_patched_deck(nominal.deck, patch, tmp_path / "patched"))
+    assert abs(got.stiffness - 1.25 * nominal.stiffness).max() <= 1e-9 * abs(nominal.stiffness).max()
+    assert abs(got.mass - 0.8 * nominal.mass).max() <= 1e-9 * abs(nominal.mass).max()

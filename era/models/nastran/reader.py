@@ -17,14 +17,15 @@ from .mesh import deck_mesh
 @dataclass(frozen=True, eq=False, init=False)
 class NastranModel(MatrixModel):
     """A MatrixModel read from a Nastran deck: the same matrices, DOFs (grid id, direction in the grid's
-    displacement frame), coordinates (basic) and parts ("PSHELL 3", "PBAR 7": each property's stiffness and
-    mass), and
+    displacement frame), coordinates (basic) and parts ("PSHELL 3", "PCOMP 4", "PSOLID 5", "PBAR 7": each
+    property's stiffness and mass).
 
     A grid's DOFs are Nastran's components 1-6 in its displacement frame CD, as Nastran reports them: "x", "y",
     "z" (and "rx", "ry", "rz" about them) are basic x, y, z for CD 0, the frame's axes for a rectangular CD, and
     the local directions at the grid for a curvilinear one: radial, tangential (θ), axial for a cylindrical CD;
     radial, meridian (θ), azimuth (φ) for a spherical CD. A test's points are matched to them by these names, so
-    a sensor on such a grid is read along those directions;
+    a sensor on such a grid is read along those directions. Besides MatrixModel's attributes:
+
     dof_axes : {grid: (3, 3)} the basic directions (columns) of the DOFs "x", "y", "z" of every grid whose CD is
         not basic (to draw or compare its shapes in basic);
     notes : sentences on how the deck was read: the cards not modelled by name and count (one sentence), the
