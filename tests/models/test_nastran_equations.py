@@ -123,8 +123,8 @@ def test_a_mass_hung_by_an_rbe3_on_a_plate_s_tip_against_calculix(tmp_path):
     nine grids, against CalculiX's distributing coupling (DCOUP3D, equal weights) with a MASS element: the mass
     lowers the first mode to the same fraction of the bare plate's (ccx run as a separate program). The reference
     is at the grids' centroid, where ccx's weighted mean of their translations and RBE3's least-squares rigid fit
-    coincide (off the centroid ccx leaves out the fit's rotation: unequal weights moved its mass in the plate's
-    torsion, 8 % lower, where the fit keeps it still)."""
+    coincide; off the centroid they differ (tried with unequal weights: ccx's mass moved in the plate's torsion,
+    8 % lower, where the rigid fit keeps it still, as Nastran's RBE3 moment-distribution does)."""
     import sys
     from pathlib import Path
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fem"))
