@@ -59,13 +59,19 @@ def deck_effects(model: DeckExplainModel) -> tuple:
 
 def one_part_materials(deck, parts) -> set:
     """The keys "MAT1 m E" of the materials that one property of ``deck`` alone uses, for all its stiffness (a
-    PSHELL with membrane and bending material m, a bar, beam or rod section of m), where that property is one of
-    ``parts`` ({"PSHELL 3": stiffness, ...}): E (with G) times a factor is then that part's stiffness times it."""
+    PSHELL with membrane and bending material m, a bar, beam or rod section of m, a PSOLID of m, a PCOMP of plies
+    of m alone), where that property is one of ``parts`` ({"PSHELL 3": stiffness, ...}): E (with G) times a factor is then that part's stiffness times it."""
     users: dict = {}
     for pid, sec in deck.shell_sections.items():
         for mid in {sec.mid1, sec.mid2} - {None}:
             users.setdefault(mid, []).append((f"PSHELL {pid}", sec.mid1 == sec.mid2))
     for pid, sec in deck.line_sections.items():
         users.setdefault(sec.mid, []).append((f"{sec.kind} {pid}", True))
+    for pid, sec in deck.solid_sections.items():
+        users.setdefault(sec.mid, []).append((f"PSOLID {pid}", True))
+    for pid, sec in deck.composites.items():     # all its stiffness only when every ply is of that MAT1
+        mids = {m for m, _, _ in sec.plies}
+        for mid in mids:
+            users.setdefault(mid, []).append((f"PCOMP {pid}", len(mids) == 1))
     return {change_key("MAT1", mid, "E") for mid, used in users.items()
             if len(used) == 1 and used[0][1] and used[0][0] in parts}

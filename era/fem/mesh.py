@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse
 
 from ..errors import DataError
-from . import beam3d, shell
+from . import beam3d, shell, solid
 from .sparse import scatter
 
 DIRECTIONS = ("x", "y", "z", "rx", "ry", "rz")
@@ -60,13 +60,18 @@ class FEMesh:
     shells : (property name, (n1, n2, n3) or (n1, n2, n3, n4)), CTRIA3/CQUAD4 connectivity order (around the edge).
     beams : (property name, n1, n2, orientation (3,)): the orientation lies in the element's local x-z plane (the
         section's local z is its part normal to the axis; Nastran's CBAR vector v lies in the local x-y plane).
-    shell_properties, beam_properties : {name: ShellProperty}, {name: BeamProperty}.
+    shell_properties, beam_properties : {name: ShellProperty or era.fem.laminate.LaminateProperty},
+        {name: BeamProperty}.
     masses : (node, mass, (Ixx, Iyy, Izz)): point masses with rotary inertia about the basic axes (CONM2).
     springs : (node1, dir1, node2 or None, dir2 or None, k): a spring between two DOFs, or to ground (None);
         directions "x", "y", "z", "rx", "ry", "rz" (CELAS1/CELAS2).
     fixed : (node, direction) pairs held at zero (SPC, SPC1).
     rigid : (independent node, (dependent nodes...), directions): RBE2, the dependents' listed DOFs follow the
         independent node as a rigid body.
+    shell_offsets : one float per shell (or () for none): the offset of its mid-surface from its nodes' plane
+        along its normal (Nastran's ZOFFS; the normal by the right-hand rule around n1, n2, n3).
+    solids : (property name, 8, 6 or 4 nodes): CHEXA, CPENTA, CTETRA (era.fem.solid: translations only, a node only
+        solids reach has no rotational stiffness); solid_properties : {name: era.fem.solid.SolidProperty}.
     """
 
     nodes: dict
@@ -78,6 +83,9 @@ class FEMesh:
     springs: tuple = ()
     fixed: tuple = ()
     rigid: tuple = ()
+    shell_offsets: tuple = ()
+    solids: tuple = ()
+    solid_properties: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,7 +110,7 @@ def _direction(d, where: str) -> int:
 
 def _used_nodes(mesh: FEMesh) -> list:
     used = {}
-    for _, conn in mesh.shells:
+    for _, conn in (*mesh.shells, *mesh.solids):
         used.update(dict.fromkeys(conn))
     for b in mesh.beams:
         used.update(dict.fromkeys(b[1:3]))
@@ -125,21 +133,44 @@ def _used_nodes(mesh: FEMesh) -> list:
 def _shell_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
     """{property name: (K (e, d, d), M (e, d, d), DOFs (e, d))} of each property's quads and triangles."""
     groups: dict = {}
-    for name, conn in mesh.shells:
+    if mesh.shell_offsets and len(mesh.shell_offsets) != len(mesh.shells):
+        raise DataError(f"shell_offsets has {len(mesh.shell_offsets)} values for {len(mesh.shells)} shells; give "
+                        "one per shell.")
+    offsets = mesh.shell_offsets or (0.0,) * len(mesh.shells)
+    for (name, conn), z in zip(mesh.shells, offsets):
         if name not in mesh.shell_properties:
             raise DataError(f"Shell property {name!r} is not defined; add it to shell_properties.")
         if len(conn) not in (3, 4):
             raise DataError(f"A shell element needs 3 or 4 nodes; {tuple(conn)} has {len(conn)}.")
-        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn])
+        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn] + [float(z)])
     out: dict = {}
-    for (name, nn), conns in groups.items():
+    for (name, nn), rows in groups.items():
         p = mesh.shell_properties[name]
         fn = shell.quad4_batch if nn == 4 else shell.tria3_batch
-        for start in range(0, len(conns), CHUNK):   # bounded memory: a chunk's matrices, never the whole mesh's
-            c = np.asarray(conns[start:start + CHUNK])
-            k, m = fn(xyz[c], p)
+        for start in range(0, len(rows), CHUNK):    # bounded memory: a chunk's matrices, never the whole mesh's
+            chunk = np.asarray(rows[start:start + CHUNK])
+            c, z = chunk[:, :nn].astype(int), chunk[:, nn]
+            k, m = fn(xyz[c], p, z if z.any() else None)
             dofs = (6 * c[:, :, None] + np.arange(6)).reshape(len(c), -1)
             out.setdefault(name, []).append((k, m, dofs))
+    return out
+
+
+def _solid_parts(mesh: FEMesh, index: dict, xyz: np.ndarray) -> dict:
+    """{property name: [(K, M, DOFs)]} of each property's solids, grouped by their number of nodes."""
+    groups: dict = {}
+    for name, conn in mesh.solids:
+        if name not in mesh.solid_properties:
+            raise DataError(f"Solid property {name!r} is not defined; add it to solid_properties.")
+        if len(conn) not in (4, 6, 8):
+            raise DataError(f"A solid element needs 4, 6 or 8 nodes; {tuple(conn)} has {len(conn)}.")
+        groups.setdefault((name, len(conn)), []).append([index[n] for n in conn])
+    out: dict = {}
+    for (name, _), conns in groups.items():
+        for start in range(0, len(conns), CHUNK):
+            c = np.asarray(conns[start:start + CHUNK])
+            k, m = solid.solid_batch(xyz[c], mesh.solid_properties[name])
+            out.setdefault(name, []).append((k, m, (6 * c[:, :, None] + np.arange(3)).reshape(len(c), -1)))
     return out
 
 
@@ -234,9 +265,10 @@ def assemble(mesh: FEMesh) -> AssembledMesh:
     xyz = np.array([np.asarray(mesh.nodes[n], float) for n in labels]).reshape(-1, 3)
     n_all = 6 * len(labels)
     parts = _shell_parts(mesh, index, xyz)
-    for name, p in _beam_parts(mesh, index, xyz).items():
+    for name, p in (*_beam_parts(mesh, index, xyz).items(), *_solid_parts(mesh, index, xyz).items()):
         if name in parts:
-            raise DataError(f"Property name {name!r} is both a shell and a beam property; give them distinct names.")
+            raise DataError(f"Property name {name!r} names two kinds of elements (shell, beam, solid); give them "
+                            "distinct names.")
         parts[name] = p
     extra_k, extra_m = _extras(mesh, index)
     T, kept = _constraints(mesh, index, xyz)

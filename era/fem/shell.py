@@ -3,7 +3,9 @@
 Each node carries (u, v, w, θx, θy, θz) in the basic frame. Within an element, a local frame puts the element in
 its x-y plane: a quad's mean plane (normal along the cross product of its diagonals, x along its mean 1-2
 direction); a warped quad's nodes are projected onto that plane and joined to the real nodes by rigid offsets
-(u_p = u + θ × d), which keeps the six rigid-body motions exact.
+(u_p = u + θ × d), which keeps the six rigid-body motions exact. A mid-surface offset (Nastran's ZOFFS) is one
+more such link along the normal. A laminate (era.fem.laminate) adds the membrane-bending coupling B and the mass's
+first moment.
 
 - Membrane: bilinear (quad, with Wilson's incompatible modes condensed out so that it bends in its plane without
   locking: a stiffener's web) or constant-strain (triangle) displacements with the Hughes-Brezzi drilling rotation,
@@ -83,14 +85,30 @@ def _to_basic(k: np.ndarray, R: np.ndarray, offset: np.ndarray) -> np.ndarray:
 
 
 def _materials(prop, e: int) -> dict:
+    """The section's stiffness per area (membrane, coupling, bending (3, 3), shear (2, 2), drill) and inertia per
+    area (m_t translations, m_1 first moment, m_r rotations), of a ShellProperty or a LaminateProperty."""
+    if hasattr(prop, "membrane"):                   # a laminate (era.fem.laminate): its resultants as given
+        return {"membrane": prop.membrane, "coupling": prop.coupling, "bending": prop.bending,
+                "shear": prop.shear, "drill": DRILL_FACTOR * prop.membrane[2, 2], "m_t": prop.mass,
+                "m_1": prop.first, "m_r": prop.rotary, "t": prop.thickness}
     t, E, nu = float(prop.thickness), float(prop.e), float(prop.nu)
     if not (t > 0 and E > 0 and -1 < nu < 0.5 and prop.rho >= 0 and prop.nsm >= 0):
         raise DataError(f"Shell property {prop} is not physical: thickness and E must be > 0, -1 < nu < 0.5, "
                         "rho and nsm >= 0.")
     plane = np.array([[1, nu, 0], [nu, 1, 0], [0, 0, (1 - nu) / 2]]) * E / (1 - nu**2)
     G = E / (2 * (1 + nu))
-    return {"membrane": plane * t, "bending": plane * t**3 / 12, "shear": SHEAR_FACTOR * G * t,
-            "drill": DRILL_FACTOR * G * t, "m_t": prop.rho * t + prop.nsm, "m_r": prop.rho * t**3 / 12}
+    return {"membrane": plane * t, "coupling": None, "bending": plane * t**3 / 12,
+            "shear": SHEAR_FACTOR * G * t * np.eye(2), "drill": DRILL_FACTOR * G * t, "m_t": prop.rho * t + prop.nsm,
+            "m_1": 0.0, "m_r": prop.rho * t**3 / 12, "t": t}
+
+
+def _density(mat: dict) -> np.ndarray:
+    """(6, 6) inertia per area on a point's (u, v, w, θx, θy, θz): with u(z) = u + z θy and v(z) = v − z θx, the
+    first moment m_1 couples u with θy and v with θx (an offset or unsymmetric section)."""
+    rho = np.diag([mat["m_t"]] * 3 + [mat["m_r"]] * 3)
+    rho[0, 4] = rho[4, 0] = mat["m_1"]
+    rho[1, 3] = rho[3, 1] = -mat["m_1"]
+    return rho
 
 
 def _point_b(N, dNx, dNy, J, gamma_rs):
@@ -147,7 +165,7 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
     e, n = local.shape[:2]
     k, m = np.zeros((e, 6 * n, 6 * n)), np.zeros((e, 6 * n, 6 * n))
     k_ci, k_ii = np.zeros((e, 6 * n, 4)), np.zeros((e, 4, 4))
-    rho = np.diag([mat["m_t"]] * 3 + [mat["m_r"]] * 3)
+    rho = _density(mat)
     _, dNr0, dNs0 = shapes(0.0, 0.0)
     J0 = _jacobian(local, dNr0, dNs0)
     det0 = np.linalg.det(J0)
@@ -163,7 +181,11 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
         dA = (w * det)[:, None, None]
         DBm = mat["membrane"] @ Bm
         k += dA * (np.swapaxes(Bm, 1, 2) @ DBm + np.swapaxes(Bb, 1, 2) @ mat["bending"] @ Bb
-                   + mat["shear"] * np.swapaxes(Bs, 1, 2) @ Bs + mat["drill"] * bd[:, :, None] * bd[:, None, :])
+                   + np.swapaxes(Bs, 1, 2) @ (mat["shear"] @ Bs) + mat["drill"] * bd[:, :, None] * bd[:, None, :])
+        if mat["coupling"] is not None:          # N = A ε + B κ, M = B ε + D κ
+            BBb = mat["coupling"] @ Bb
+            k += dA * (np.swapaxes(Bm, 1, 2) @ BBb + np.swapaxes(BBb, 1, 2) @ Bm)
+            DBm = DBm + mat["coupling"] @ Bb     # the incompatible modes' strain couples with κ as well
         if incompatible:
             Bi = _incompatible(r, s, J0, det0, det)
             k_ci += dA * (np.swapaxes(DBm, 1, 2) @ Bi)
@@ -175,10 +197,20 @@ def _integrate(points, local, mat, shapes, shear, incompatible: bool = False):
     return k, m
 
 
-def quad4_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
-    """MITC4 stiffness and consistent mass (e, 24, 24) of quads with corners xyz (e, 4, 3), one ShellProperty."""
+def _offset(R: np.ndarray, offset: np.ndarray, zoffs) -> np.ndarray:
+    """The nodes' rigid offsets (e, n, 3) with each element's mid-surface moved by zoffs (e,) along its normal."""
+    if zoffs is None:
+        return offset
+    return offset + np.asarray(zoffs, float).reshape(-1, 1, 1) * R[:, None, 2, :]
+
+
+def quad4_batch(xyz: np.ndarray, prop, zoffs=None) -> tuple[np.ndarray, np.ndarray]:
+    """MITC4 stiffness and consistent mass (e, 24, 24) of quads with corners xyz (e, 4, 3), one ShellProperty
+    (or LaminateProperty); zoffs (e,) the mid-surfaces' offsets from the nodes along the normals (None: 0), a rigid
+    link from each node to the element's own, as Nastran's ZOFFS."""
     xyz = np.asarray(xyz, float).reshape(-1, 4, 3)
     R, local, offset = _frame(xyz)
+    offset = _offset(R, offset, zoffs)
     mat = _materials(prop, len(xyz))
     # tying points: γ_r at the mid-points of the edges s = ∓1, γ_s at those of r = ∓1
     tie = {}
@@ -199,11 +231,12 @@ def _tria_shapes(r: float, s: float):
     return np.array([1 - r - s, r, s]), np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
 
 
-def tria3_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
+def tria3_batch(xyz: np.ndarray, prop, zoffs=None) -> tuple[np.ndarray, np.ndarray]:
     """MITC3 stiffness and consistent mass (e, 18, 18) of triangles with corners xyz (e, 3, 3), one
-    ShellProperty."""
+    ShellProperty (or LaminateProperty); zoffs as for quad4_batch."""
     xyz = np.asarray(xyz, float).reshape(-1, 3, 3)
     R, local, offset = _frame(xyz)
+    offset = _offset(R, offset, zoffs)
     mat = _materials(prop, len(xyz))
     g1 = _covariant(*_tria_shapes(0.5, 0.0), _jacobian(local, *_tria_shapes(0.5, 0.0)[1:]), 3)
     g2 = _covariant(*_tria_shapes(0.0, 0.5), _jacobian(local, *_tria_shapes(0.0, 0.5)[1:]), 3)
@@ -214,9 +247,9 @@ def tria3_batch(xyz: np.ndarray, prop) -> tuple[np.ndarray, np.ndarray]:
     def shear(r, s, J):
         return np.stack([g1[:, 0] + c * s, g2[:, 1] - c * r], axis=1)
 
-    t2 = float(prop.thickness) ** 2
+    t2 = float(mat["t"]) ** 2
     h2 = np.max(np.sum((local - np.roll(local, 1, axis=1)) ** 2, axis=2), axis=1)
-    mat = dict(mat, shear=(mat["shear"] * t2 / (t2 + TRIA_STABILITY * h2))[:, None, None])
+    mat = dict(mat, shear=mat["shear"][None] * (t2 / (t2 + TRIA_STABILITY * h2))[:, None, None])
     k, m = _integrate(_TRIA_POINTS, local, mat, _tria_shapes, shear)
     return _to_basic(k, R, offset), _to_basic(m, R, offset)
 

@@ -82,7 +82,7 @@ def displacements(dat: str, points) -> np.ndarray:
 
 
 def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: bool = True,
-                  printed: tuple = ()) -> str:
+                  printed: tuple = (), layers: dict | None = None, offsets: dict | None = None) -> str:
     """A ccx deck of an era.fem FEMesh's lowest ``n_modes`` modes: shells per ShellProperty, beams with a
     rectangular section per BeamProperty (``beam_rect`` {name: (depth along the beam's orientation vector, width)};
     ccx's own torsion and inertias of that rectangle are used, not the property's), MASS elements for point
@@ -91,6 +91,11 @@ def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: 
     quadratic : S8R/S6 shells and B32 beams on mid-edge nodes added at the edges' mid-points (held where both
         ends are held), far more accurate than ccx's linear S4/S3/B31 on the same mesh; else the linear ones.
     printed : node labels whose translations ccx prints for every mode (read them with :func:`displacements`).
+    layers : {shell property name: ((t, e1, e2, nu12, g12, g13, g23, rho, angle_deg), ...) from the bottom up}:
+        that property as ``*SHELL SECTION, COMPOSITE`` of transversely isotropic plies (E3 = E2, ν13 = ν12,
+        G23 from ν23), each turned by its angle about the shell's normal (global z: flat shells in the x-y plane).
+    offsets : {shell property name: ccx's OFFSET, the reference surface's offset from the mid-surface in
+        thicknesses (OFFSET = 0.5: the nodes on the top surface; Nastran's ZOFFS = −OFFSET·t)}.
     """
     if mesh.springs or mesh.rigid or any(p.nsm for p in mesh.shell_properties.values()):
         raise ValueError("frequency_inp writes no springs, RBE2 or non-structural mass")
@@ -126,8 +131,22 @@ def frequency_inp(mesh, n_modes: int, beam_rect: dict | None = None, quadratic: 
             for c in conns:
                 eid += 1
                 body.append(f"{eid}, " + ", ".join(map(str, ring(c))))
-            sections += [f"*SHELL SECTION, ELSET=E{kind}_{name}, MATERIAL=M_{name}", f"{p.thickness:.12g}"]
-        body += _material(name, p.e, p.nu, p.rho)
+            offset = f", OFFSET={offsets[name]:.12g}" if name in (offsets or {}) else ""
+            if name in (layers or {}):
+                sections += [f"*SHELL SECTION, ELSET=E{kind}_{name}, COMPOSITE{offset}"]
+                sections += [f"{ply[0]:.12g}, , M_{name}_{k}, O_{name}_{k}" for k, ply in enumerate(layers[name])]
+            else:
+                sections += [f"*SHELL SECTION, ELSET=E{kind}_{name}, MATERIAL=M_{name}{offset}",
+                             f"{p.thickness:.12g}"]
+        if name in (layers or {}):
+            for k, (_, e1, e2, nu12, g12, g13, g23, rho, angle) in enumerate(layers[name]):
+                c, s_ = np.cos(np.radians(angle)), np.sin(np.radians(angle))
+                body += [f"*ORIENTATION, NAME=O_{name}_{k}", f"{c:.15g}, {s_:.15g}, 0, {-s_:.15g}, {c:.15g}, 0",
+                         f"*MATERIAL, NAME=M_{name}_{k}", "*ELASTIC, TYPE=ENGINEERING CONSTANTS",
+                         f"{e1:.12g}, {e2:.12g}, {e2:.12g}, {nu12:.12g}, {nu12:.12g}, {e2 / (2 * g23) - 1:.12g}, "
+                         f"{g12:.12g}, {g13:.12g}", f"{g23:.12g}, 0", "*DENSITY", f"{rho:.12g}"]
+        else:
+            body += _material(name, p.e, p.nu, p.rho)
     for name, p in mesh.beam_properties.items():
         beams = [b for b in mesh.beams if b[0] == name]
         depth, width = (beam_rect or {})[name]

@@ -154,19 +154,19 @@ def test_bar_offsets_are_rigid_links(tmp_path):
 
 
 def test_the_unmodelled_cards_in_one_sentence(tmp_path):
-    cards = _cantilever() + [("EIGRL", [1, None, None, 10]), ("CHEXA", [1, 2, 1, 2, 3, 4, 5]),
-                             ("CHEXA", [2, 2, 1, 2, 3, 4, 5]), ("FORCE", [1, 5, 0, 1., 0., 0., 1.])]
+    cards = _cantilever() + [("EIGRL", [1, None, None, 10]), ("CQUAD8", [1, 2, 1, 2, 3, 4, 5]),
+                             ("CQUAD8", [2, 2, 1, 2, 3, 4, 5]), ("FORCE", [1, 5, 0, 1., 0., 0., 1.])]
     m = _model(tmp_path, cards)
     sentence = m.notes[0]
     assert sentence.count(".") == 1 and sentence == m.unmodelled
-    assert "4 cards" in sentence and "CHEXA (2)" in sentence and "EIGRL (1)" in sentence and "FORCE (1)" in sentence
-    assert "left out of the model (CHEXA, FORCE)" in sentence
+    assert "4 cards" in sentence and "CQUAD8 (2)" in sentence and "EIGRL (1)" in sentence and "FORCE (1)" in sentence
+    assert "left out of the model (CQUAD8, FORCE)" in sentence
 
 
 @pytest.mark.parametrize("card, match", [
     (("GRID", [7, None, "1.2.3", 0., 0.]), r"d\.bdf, line 2, GRID 7: X1 '1\.2\.3' is not a number"),
     (("CBAR", [50, 4, 1, 2, 0., 1., 0.]), r"CBAR 50: property .* 4 is not in the deck"),
-    (("CQUAD4", [60, 1, 1, 2, 3, 77]), r"CQUAD4 60: PSHELL 1 is not in the deck"),
+    (("CQUAD4", [60, 1, 1, 2, 3, 77]), r"CQUAD4 60: property \(PSHELL or PCOMP\) 1 is not in the deck"),
     (("PBARL", [9, 1, None, "ZED", None, None, None, None, 1.]), r"PBARL 9: the section TYPE 'ZED'"),
     (("GRID", [1, None, 0., 0., 0.]), r"id 1 is used twice"),
 ])
@@ -268,8 +268,9 @@ def test_cbush_to_ground_and_between_coincident_grids_in_its_frame(tmp_path):
                name="e.bdf")
 
 
-def test_a_composite_plate_is_refused_by_name(tmp_path):
+def test_a_ply_by_ply_composite_is_refused_by_name(tmp_path):
     cards = [("GRID", [k, None, float(k % 2), float(k // 2), 0.]) for k in range(4)]
-    cards += [("CQUAD4", [1, 5, 0, 1, 3, 2]), ("PCOMP", [5, None, None, None, None, None, None, None, 1, .001, 0.])]
-    with pytest.raises(DataError, match=r"CQUAD4 1: its property 5 is no PSHELL of the deck; PCOMP"):
+    cards += [("CQUAD4", [1, 5, 0, 1, 3, 2]), ("PCOMPG", [5, None, None, None, None, None, None, None, 1, 1,
+                                                          .001, 0.])]
+    with pytest.raises(DataError, match=r"CQUAD4 1: its property 5 is no PSHELL or PCOMP of the deck; PCOMPG"):
         _model(tmp_path, cards)

@@ -112,7 +112,7 @@ def test_pshell_12i_over_t3_scales_the_bending_stiffness(tmp_path):
 
 def test_a_femap_deck_of_a_free_plate_against_calculix(tmp_path):
     """pyNastran's models/plate_py/plate_py.dat (BSD), written by Femap for NX Nastran: a free 2 × 1 in steel plate,
-    1/8 in, 200 CQUAD4; cylindrical and spherical frames and a thermal material it never uses. Its rigid-body mass
+    1/8 in, 200 CQUAD4; cylindrical and spherical frames (read, unused) and a thermal material it never uses. Its rigid-body mass
     is ρ t A, six rigid modes come first, and the elastic ones match CalculiX's S8R on the same mesh."""
     import sys
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fem"))
@@ -122,9 +122,9 @@ def test_a_femap_deck_of_a_free_plate_against_calculix(tmp_path):
     from era.models.nastran.mesh import deck_mesh
 
     m = read_bdf(DATA / "plate_py.dat")
-    assert m.unmodelled == ("Not modelled: 10 cards of the deck, CORD2C (1), CORD2S (1), EIGRL (1), MAT4 (1), "
-                            "PARAM (6); they are left out of the model (CORD2C, CORD2S, MAT4) and solution and "
-                            "output requests (EIGRL, PARAM) do not change the modes.")
+    assert m.unmodelled == ("Not modelled: 8 cards of the deck, EIGRL (1), MAT4 (1), PARAM (6); it is left out "
+                            "of the model (MAT4) and solution and output requests (EIGRL, PARAM) do not change the "
+                            "modes.")
     assert m.total_mass() == pytest.approx(7.3315e-4 * 0.125 * 2.0 * 1.0, rel=1e-12)
     f, _ = m.modes(10)
     assert np.all(f[:6] < 1e-4 * f[6])

@@ -8,8 +8,8 @@ import re
 import numpy as np
 
 from .records import (
-    BushCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, RigidCard, ShellCard, ShellSection,
-    SpcCard, SpringCard)
+    BushCard, CompositeCard, CoordCard, GridCard, LineCard, LineSection, MassCard, MaterialCard, OrthotropicCard,
+    RigidCard, ShellCard, ShellSection, SpcCard, SpringCard)
 from .sections import DIMENSIONS, section_properties
 from .values import BulkCard, nastran_real
 
@@ -38,10 +38,24 @@ def grid_spc(c: BulkCard, defaults: dict | None = None) -> list[SpcCard]:
     return [SpcCard(-1, c.integer(0, "ID"), c.components(6, "PS", ps), c)] if ps else []
 
 
-def cord2r(c: BulkCard) -> CoordCard:
-    """CORD2R CID RID A1 A2 A3 B1 B2 B3 / C1 C2 C3."""
+def cord2(c: BulkCard) -> CoordCard:
+    """CORD2R, CORD2C or CORD2S CID RID A1 A2 A3 B1 B2 B3 / C1 C2 C3."""
     return CoordCard(c.integer(0, "CID"), c.integer(1, "RID", 0), _xyz(c, 2, "A"), _xyz(c, 5, "B"),
-                     _xyz(c, 8, "C"), c)
+                     _xyz(c, 8, "C"), c, c.name[-1])
+
+
+def cord1(c: BulkCard) -> list[CoordCard]:
+    """CORD1R, CORD1C or CORD1S CIDA G1A G2A G3A CIDB G1B G2B G3B: one or two frames, each by three grids (the
+    origin, a point on the z axis, a point in the x-z plane)."""
+    out, zero = [], np.zeros(3)
+    for base in (0, 4):
+        if base and c.blank(base):
+            break
+        grids = tuple(c.integer(base + k, f"G{k}{'AB'[base // 4]}") for k in (1, 2, 3))
+        if len(set(grids)) < 3:
+            raise c.error(f"its grids {grids} are not three different grids")
+        out.append(CoordCard(c.integer(base, f"CID{'AB'[base // 4]}"), 0, zero, zero, zero, c, c.name[-1], grids))
+    return out
 
 
 def line_element(c: BulkCard) -> LineCard:
@@ -75,13 +89,15 @@ def line_element(c: BulkCard) -> LineCard:
 
 
 def shell_element(c: BulkCard) -> ShellCard:
-    """CQUAD4 EID PID G1 G2 G3 G4 THETA ZOFFS; CTRIA3 EID PID G1 G2 G3 THETA ZOFFS (ZOFFS must be blank or 0)."""
+    """CQUAD4 EID PID G1 G2 G3 G4 THETA|MCID ZOFFS; CTRIA3 EID PID G1 G2 G3 THETA|MCID ZOFFS (the corner
+    thicknesses T1-T4 must be blank: the property's thickness is used)."""
     eid = c.integer(0, "EID")
     n = 4 if c.name == "CQUAD4" else 3
     nodes = tuple(c.integer(2 + k, f"G{k + 1}") for k in range(n))
-    if c.real(3 + n, "ZOFFS", 0.0) != 0.0:
-        raise c.error("ZOFFS (a plate offset) is not modelled; put the grids on the mid-surface")
-    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c)
+    if any(not c.blank(k) for k in range(14 - n, 14)):      # T1 ... after the continuation's TFLAG
+        raise c.error("corner thicknesses T1 ... are not read; give the thickness on the PSHELL")
+    return ShellCard(c.name, eid, c.integer(1, "PID", eid), nodes, c, c.real(2 + n, "THETA/MCID", 0.0),
+                     c.real(3 + n, "ZOFFS", 0.0))
 
 
 def pbar(c: BulkCard) -> LineSection:
@@ -249,3 +265,34 @@ def cbush(c: BulkCard, pbushes: dict) -> BushCard:
                       "is read; give CID")
     gb = c.integer(3, "GB", 0) or None
     return BushCard(eid, pbushes[pid], c.integer(2, "GA"), gb, c.integer(7, "CID"), c)
+
+
+def mat8(c: BulkCard) -> OrthotropicCard:
+    """MAT8 MID E1 E2 NU12 G12 G1Z G2Z RHO (the thermal and strength fields are not used)."""
+    e1, e2, g12 = c.real(1, "E1"), c.real(2, "E2"), c.real(4, "G12")
+    if e1 <= 0 or e2 <= 0 or g12 <= 0:
+        raise c.error("E1, E2 and G12 must be positive")
+    return OrthotropicCard(c.integer(0, "MID"), e1, e2, c.real(3, "NU12", 0.0), g12, c.optional_real(5, "G1Z"),
+                           c.optional_real(6, "G2Z"), c.real(7, "RHO", 0.0), c)
+
+
+def pcomp(c: BulkCard) -> CompositeCard:
+    """PCOMP PID Z0 NSM SB FT TREF GE LAM / MID1 T1 THETA1 SOUT1 MID2 T2 ... : a blank MID or T repeats the ply
+    before; LAM blank (every ply listed) or SYM (the plies listed are the lower half, mirrored about the middle)."""
+    lam = c.text(7).upper()
+    if lam not in ("", "SYM"):
+        raise c.error(f"LAM '{lam}' is not read (blank and SYM are); list every ply with LAM blank")
+    plies, mid, t = [], None, None
+    for base in range(8, len(c.fields), 4):
+        if all(c.blank(base + k) for k in range(3)):
+            continue
+        mid = c.integer(base, f"MID{len(plies) + 1}", mid)
+        t = c.real(base + 1, f"T{len(plies) + 1}", t)
+        if t is None or t <= 0:
+            raise c.error(f"ply {len(plies) + 1} has no positive thickness T")
+        plies.append((mid, t, c.real(base + 2, f"THETA{len(plies) + 1}", 0.0)))
+    if not plies:
+        raise c.error("no plies (MID1 T1 THETA1 ...)")
+    if lam == "SYM":
+        plies += plies[::-1]
+    return CompositeCard(c.integer(0, "PID"), c.optional_real(1, "Z0"), c.real(2, "NSM", 0.0), tuple(plies), c)

@@ -1,5 +1,5 @@
 """The assembled mesh of a deck made into Nastran's model: displacement frames (CD), CONM2 masses, CELAS springs,
-RBE2 and SPC constraints in the grids' own frames, PARAM WTMASS, and AUTOSPC (a DOF without stiffness is held,
+RBE2, RBE3, MPC and SPC constraints in the grids' own frames, PARAM WTMASS, and AUTOSPC (a DOF without stiffness is held,
 as Nastran's default for modes does).
 
 Every DOF of a grid is numbered in its displacement frame: u_basic = A u_cd with A the frame's axes for the
@@ -17,7 +17,9 @@ import scipy.sparse
 from ...errors import DataError
 from ...fem.mesh import DIRECTIONS
 from ...words import counted
+from .coords import rectangular
 from .deck import Deck
+from .equations import equation_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,9 +67,7 @@ def _conm2(deck: Deck, index: dict, positions: dict, cd_axes: dict, frames: dict
         if m.cid == -1:
             r, axes = np.asarray(m.offset, float) - positions[label], np.eye(3)
         else:
-            if m.cid not in frames:
-                raise m.card.error(f"its frame CID {m.cid} is not a CORD2R of the deck")
-            axes = frames[m.cid][1]
+            axes = rectangular(frames, m.cid, m.card).axes
             r = axes @ np.asarray(m.offset, float)
         inertia = axes @ m.inertia @ axes.T
         skew = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
@@ -101,7 +101,7 @@ def _bushes(deck: Deck, index: dict, cd_axes: dict, frames: dict, n: int):
     between GA and GB or from GA to ground."""
     out = scipy.sparse.lil_matrix((n, n))
     for b in deck.bushes.values():
-        axes = frames[b.cid][1]
+        axes = rectangular(frames, b.cid, b.card).axes
         k6 = np.zeros((6, 6))
         k6[:3, :3] = axes @ np.diag(b.k[:3]) @ axes.T
         k6[3:, 3:] = axes @ np.diag(b.k[3:]) @ axes.T
@@ -115,8 +115,10 @@ def _bushes(deck: Deck, index: dict, cd_axes: dict, frames: dict, n: int):
     return out.tocsr()
 
 
-def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
-    """C (6N, n_free) with u_cd = C u_free, and the kept DOFs (n_free,) in the full numbering."""
+def _elimination(labels, index, positions, cd_axes, rigid, held,
+                 equations=()) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
+    """C (6N, n_free) with u_cd = C u_free, and the kept DOFs (n_free,) in the full numbering; ``equations``
+    [(dependent DOF, [(independent DOF, coefficient), ...]), ...] the MPC and RBE3 rows (equations.py)."""
     n = 6 * len(labels)
     dependent = np.zeros(n, bool)
     rows, cols, vals = [], [], []
@@ -140,6 +142,18 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
                 rows += [row] * nz.size
                 cols += list(6 * i + nz)
                 vals += list(rel[int(c) - 1, nz])
+    for row, terms in equations:
+        where = f"grid {labels[row // 6]} component {row % 6 + 1}"
+        if dependent[row]:
+            raise DataError(f"{where} is the dependent DOF of two constraints (RBE2, RBE3, MPC); a DOF may "
+                            "depend on one only.")
+        if held[row]:
+            raise DataError(f"{where} is both held by an SPC and the dependent DOF of an MPC or RBE3; hold an "
+                            "independent DOF instead.")
+        dependent[row] = True
+        rows += [row] * len(terms)
+        cols += [int(j) for j, _ in terms]
+        vals += [float(v) for _, v in terms]
     ident = np.flatnonzero(~dependent)
     C = scipy.sparse.csr_matrix((np.concatenate([np.ones(ident.size), vals]),
                                  (np.concatenate([ident, rows]).astype(int), np.concatenate([ident, cols]).astype(int))),
@@ -149,7 +163,7 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
             break
         C = (C @ C).tocsr()
     else:
-        raise DataError("RBE2 elements form a loop (a grid depends on itself through others); break the loop.")
+        raise DataError("RBE2, RBE3 or MPC form a loop (a DOF depends on itself through others); break the loop.")
     keep = ~dependent & ~held
     kept = np.flatnonzero(keep)
     return C[:, kept].tocsr(), kept
@@ -157,7 +171,7 @@ def _elimination(labels, index, positions, cd_axes, rigid, held) -> tuple[scipy.
 
 def reduce(deck: Deck, dm, assembled, frames: dict) -> Reduced:
     """The deck's free-DOF matrices from the assembled mesh ``assembled`` (era.fem.mesh.assemble of
-    ``dm.mesh``, no constraints in it) and the DeckMesh ``dm``; ``frames`` {cid: (origin, axes)}."""
+    ``dm.mesh``, no constraints in it) and the DeckMesh ``dm``; ``frames`` {cid: CoordFrame} (coords.py)."""
     labels = list(dict.fromkeys(node for node, _ in assembled.dofs))
     index = {label: i for i, label in enumerate(labels)}
     n = 6 * len(labels)
@@ -176,7 +190,8 @@ def reduce(deck: Deck, dm, assembled, frames: dict) -> Reduced:
             for c in s.components:
                 if c != "0":
                     held[6 * index[label] + int(c) - 1] = True
-    C, kept = _elimination(labels, index, dm.positions, dm.cd_axes, dm.rigid, held)
+    C, kept = _elimination(labels, index, dm.positions, dm.cd_axes, dm.rigid, held,
+                           equation_rows(deck, index, dm.positions, dm.cd_axes))
     Ct = C.T.tocsr()
 
     def reduced(k):

@@ -1,8 +1,8 @@
 """A bulk-data deck's text as cards: small field (8 characters), large field (16 characters, a star after the name
 and on its continuations), free field (commas); continuation lines ("+", "*", a blank first field, a leading
 comma), "$" comments, INCLUDE relative to the including file (quoted paths, also over several lines), tabs to the
-next 8th column. Executive and case control before BEGIN BULK are skipped, except the case control's SPC set;
-reading stops at ENDDATA. A file without BEGIN BULK is bulk data throughout (an included .blk file)."""
+next 8th column. Executive and case control before BEGIN BULK are skipped, except the case control's SPC and MPC
+sets; reading stops at ENDDATA. A file without BEGIN BULK is bulk data throughout (an included .blk file)."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from .values import BulkCard
 
 _BEGIN_BULK = re.compile(r"^\s*BEGIN\s+(?:BULK|SUPER)", re.I)
 _CASE_SPC = re.compile(r"^\s*SPC\s*=\s*(\d+)", re.I)
+_CASE_MPC = re.compile(r"^\s*MPC\s*=\s*(\d+)", re.I)
 _INCLUDE = re.compile(r"^\s*INCLUDE\b(.*)$", re.I)
 _ENDDATA = re.compile(r"^\s*ENDDATA\b", re.I)
 _MAX_DEPTH = 20
@@ -28,13 +29,15 @@ class BulkData:
     case_spc : the SPC set the case control selects (the first one when subcases select several), None when it
         selects none (then every SPC and SPC1 card applies);
     notes : sentences about what was read differently from the deck's own solution (e.g. several SPC sets);
-    path : the deck's main file.
+    path : the deck's main file;
+    case_mpc : the MPC set the case control selects (the first), None when it selects none.
     """
 
     cards: tuple[BulkCard, ...]
     case_spc: int | None
     notes: tuple[str, ...]
     path: str
+    case_mpc: int | None = None
 
 
 def read_bulk(path) -> BulkData:
@@ -46,18 +49,23 @@ def read_bulk(path) -> BulkData:
     lines = _file_lines(path, path, None)
     start = next((k for k, (_, _, text) in enumerate(lines) if _BEGIN_BULK.match(_strip_comment(text))), None)
     sets: list[int] = []
+    mpcs: list[int] = []
     if start is not None:
         for _, _, text in lines[:start]:
-            m = _CASE_SPC.match(_strip_comment(text))
-            if m:
-                sets.append(int(m.group(1)))
+            for pattern, found in ((_CASE_SPC, sets), (_CASE_MPC, mpcs)):
+                m = pattern.match(_strip_comment(text))
+                if m:
+                    found.append(int(m.group(1)))
         lines = lines[start + 1:]
     notes = []
     if len(set(sets)) > 1:
         notes.append(f"The case control selects SPC sets {', '.join(map(str, dict.fromkeys(sets)))}; "
                      f"set {sets[0]} (the first) is used.")
+    if len(set(mpcs)) > 1:
+        notes.append(f"The case control selects MPC sets {', '.join(map(str, dict.fromkeys(mpcs)))}; "
+                     f"set {mpcs[0]} (the first) is used.")
     cards = _cards(_expand(lines, path, path, 0))
-    return BulkData(tuple(cards), sets[0] if sets else None, tuple(notes), str(path))
+    return BulkData(tuple(cards), sets[0] if sets else None, tuple(notes), str(path), mpcs[0] if mpcs else None)
 
 
 def _file_lines(path: Path, root: Path, where: str | None) -> list[tuple[str, int, str]]:

@@ -1,6 +1,8 @@
 """A deck's elements as an era.fem mesh (FEMesh) in basic coordinates, with properties changed by factors.
 
-Shells: PSHELL t, MAT1 E and nu, mass rho t + NSM per area. CBAR and CBEAM: Euler-Bernoulli beams with I1 about
+Shells: PSHELL t, MAT1 E and nu, mass rho t + NSM per area; PCOMP laminates (composites.py); ZOFFS a rigid offset
+of the element's mid-surface from its grids along its normal. CHEXA, CPENTA, CTETRA: era.fem.solid's linear solids
+of the PSOLID's MAT1 (a grid only solids reach has no rotational stiffness: AUTOSPC holds its rotations). CBAR and CBEAM: Euler-Bernoulli beams with I1 about
 element z (bending in plane 1, the plane of the orientation vector v) and I2 about y, J, mass rho A + NSM per
 length; an end offset is a rigid link (an RBE2) from the grid to the beam's end. CROD: a beam with A and J only.
 The masses, springs, constraints and displacement frames are applied by constraints.py on the assembled matrices.
@@ -14,7 +16,9 @@ import numpy as np
 
 from ...errors import DataError
 from ...fem.mesh import BeamProperty, FEMesh, ShellProperty
-from .coords import basic_positions, displacement_axes, frame_axes, require
+from ...fem.solid import SolidProperty
+from .composites import composite_property
+from .coords import displacement_axes, rectangular, require, resolve
 from .deck import Deck
 
 #: the properties a factor may change: {card: (field, ...)}; "I" is both bending inertias of a beam section
@@ -60,23 +64,44 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
     this reader does not model (a PSHELL without bending)."""
     factors = dict(factors or {})
     _check_factors(deck, factors)
-    axes = frame_axes(deck.frames)
-    pos = basic_positions(deck.grids, axes)
-    cd = displacement_axes(deck.grids, axes)
+    frames, pos = resolve(deck.grids, deck.frames)
+    cd = displacement_axes(deck.grids, frames, pos)
     nodes = {str(g): tuple(x) for g, x in pos.items()}
-    shells, beams, shell_props, beam_props, rigid = [], [], {}, {}, []
-    composite = sorted({"PCOMP", "PCOMPG", "PSHEAR"} & set(deck.skipped))
+    shells, offsets, beams, shell_props, beam_props, rigid = [], [], [], {}, {}, []
+    composite = sorted({"PCOMPG", "PSHEAR"} & set(deck.skipped))
     for e in deck.shells.values():
-        if e.pid not in deck.shell_sections and composite:
-            raise e.card.error(f"its property {e.pid} is no PSHELL of the deck; {' and '.join(composite)} "
-                               "(composites, shear panels) are not modelled: give an equivalent PSHELL")
-        prop = require(deck.shell_sections, e.pid, "PSHELL", e.card)
-        name = f"PSHELL {e.pid}"
-        if name not in shell_props:
-            shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
+        if e.pid in deck.composites:
+            if e.pid in deck.shell_sections:
+                raise e.card.error(f"property {e.pid} is both a PSHELL and a PCOMP; give each its own id")
+            if e.theta:
+                raise e.card.error("a material angle THETA or frame MCID on a composite element is not read; give "
+                                   "the plies' angles from the element's G1-G2 side and leave THETA blank")
+            name = f"PCOMP {e.pid}"
+            if name not in shell_props:
+                shell_props[name] = composite_property(deck, e.pid, factors)
+        else:
+            if e.pid not in deck.shell_sections and composite:
+                raise e.card.error(f"its property {e.pid} is no PSHELL or PCOMP of the deck; "
+                                   f"{' and '.join(composite)} (ply-by-ply composites, shear panels) are not "
+                                   "modelled: give an equivalent PSHELL or PCOMP")
+            prop = require(deck.shell_sections, e.pid, "property (PSHELL or PCOMP)", e.card)
+            name = f"PSHELL {e.pid}"
+            if name not in shell_props:
+                shell_props[name] = _shell_property(deck, prop, factors, 2.0 if e.pid in thicker else 1.0)
         for g in e.nodes:
             require(deck.grids, g, "GRID", e.card)
         shells.append((name, tuple(str(g) for g in e.nodes)))
+        offsets.append(e.zoffs)
+    solids, solid_props = [], {}
+    for e in deck.solids.values():
+        p = require(deck.solid_sections, e.pid, "PSOLID", e.card)
+        name = f"PSOLID {e.pid}"
+        if name not in solid_props:
+            e_, _, nu, rho = _material(deck, p.mid, p.card, factors)
+            solid_props[name] = SolidProperty(e_, nu, rho * deck.wtmass)
+        for g in e.nodes:
+            require(deck.grids, g, "GRID", e.card)
+        solids.append((name, tuple(str(g) for g in e.nodes)))
     for e in deck.lines.values():
         prop = require(deck.line_sections, e.pid, "property (PBAR, PBARL, PBEAM, PBEAML, PROD)", e.card)
         name = f"{prop.kind} {e.pid}"
@@ -105,7 +130,9 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         rigid.append((str(r.independent), tuple(str(g) for g in r.dependent), r.components))
     touched = {str(m.node) for m in deck.masses.values()} | {str(s.g1) for s in deck.springs.values()} | {
         str(s.g2) for s in deck.springs.values() if s.g2} | {n for r in rigid for n in (r[0], *r[1])} | {
-        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g}
+        str(g) for b in deck.bushes.values() for g in (b.ga, b.gb) if g} | {
+        str(g) for m in deck.equations for g, _, _ in m.terms} | {
+        str(g) for r in deck.interpolations.values() for g in (r.ref, *(g for _, _, gs in r.groups for g in gs))}
     for b in deck.bushes.values():
         for g in (b.ga, b.gb):
             if g:
@@ -113,16 +140,23 @@ def deck_mesh(deck: Deck, factors: dict | None = None, thicker: tuple = ()) -> D
         if b.gb and np.linalg.norm(pos[b.gb] - pos[b.ga]) > 1e-9 * (1 + np.linalg.norm(pos[b.ga])):
             raise b.card.error("GA and GB are apart: only a zero-length bush (GB blank or at GA) is read; model "
                                "a bush with length as a CBAR or springs on coincident grids")
-        if b.cid not in axes:
-            raise b.card.error(f"its frame CID {b.cid} is not a CORD2R of the deck")
+        rectangular(frames, b.cid, b.card)
     for m in deck.masses.values():
         require(deck.grids, m.node, "GRID", m.card)
+    for m in deck.equations:
+        for g, _, _ in m.terms:
+            require(deck.grids, g, "GRID", m.card)
+    for r in deck.interpolations.values():
+        for g in (r.ref, *(g for _, _, gs in r.groups for g in gs)):
+            require(deck.grids, g, "GRID", r.card)
     for s in deck.springs.values():
         for g in (s.g1, s.g2):
             if g:
                 require(deck.grids, g, "GRID", s.card)
     mesh = FEMesh(nodes, tuple(shells), tuple(beams), shell_props, beam_props,
-                  masses=tuple((n, 0.0, (0.0, 0.0, 0.0)) for n in sorted(touched)))
+                  masses=tuple((n, 0.0, (0.0, 0.0, 0.0)) for n in sorted(touched)),
+                  shell_offsets=tuple(offsets) if any(offsets) else (), solids=tuple(solids),
+                  solid_properties=solid_props)
     return DeckMesh(mesh, nodes, {str(g): a for g, a in cd.items()}, tuple(rigid))
 
 

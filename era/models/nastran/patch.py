@@ -104,11 +104,12 @@ def _part_cards(deck: Deck, name: str, k_factor: float, m_factor: float, factors
     stiffness is times k_factor and mass times m_factor: the property points at a new MAT1 ``mid`` with E and G
     times k_factor (and any factor on the old material's E), RHO times m_factor, and its NSM times m_factor."""
     card_name, pid = name.split()
-    table = deck.shell_sections if card_name == "PSHELL" else deck.line_sections
+    table = {"PSHELL": deck.shell_sections, "PSOLID": deck.solid_sections}.get(card_name, deck.line_sections)
     prop = table.get(int(pid))
-    if prop is None or (card_name != "PSHELL" and prop.kind != card_name):
-        raise DataError(f"part {name!r} is not a property of the deck; its parts are its PSHELL, PBAR, PBARL, PBEAM, "
-                        "PBEAML and PROD cards.")
+    if prop is None or (card_name not in ("PSHELL", "PSOLID") and prop.kind != card_name):
+        raise DataError(f"part {name!r} is not a property whose change the patch writes; those are the deck's "
+                        "PSHELL, PSOLID, PBAR, PBARL, PBEAM, PBEAML and PROD cards (a PCOMP's plies are not "
+                        "rewritten: change its materials by hand).")
     old = deck.materials[prop.mid1 if card_name == "PSHELL" else prop.mid]
     e_factor = float(factors.get(f"MAT1 {old.mid} E", 1.0)) * k_factor
     rho_factor = float(factors.get(f"MAT1 {old.mid} RHO", 1.0)) * m_factor
@@ -119,6 +120,8 @@ def _part_cards(deck: Deck, name: str, k_factor: float, m_factor: float, factors
         if fields[5] not in ("", None):
             fields[5] = mid
         fields[7] = prop.nsm * m_factor
+    elif card_name == "PSOLID":
+        fields[1] = mid
     else:
         fields[1] = mid
         nsm_at = {"PBAR": 6, "PBEAM": 7, "PROD": 5}.get(prop.kind)
@@ -238,6 +241,8 @@ def write_patched_deck(deck: Deck, patch: DeckPatch, folder) -> Path:
 def _included(deck: Deck) -> set:
     """The deck's files other than the main one (every file a modelled card came from)."""
     tables = (deck.grids, deck.frames, deck.lines, deck.shells, deck.line_sections, deck.shell_sections,
-              deck.materials, deck.masses, deck.springs, deck.bushes, deck.rigid)
-    out = {r.card.file for t in tables for r in t.values()} | {s.card.file for s in deck.constraints}
+              deck.materials, deck.masses, deck.springs, deck.bushes, deck.rigid, deck.composites, deck.orthotropic,
+              deck.interpolations, deck.solids, deck.solid_sections)
+    out = {r.card.file for t in tables for r in t.values()} | {s.card.file for s in (*deck.constraints,
+                                                                                     *deck.equations)}
     return {f for f in out if not Path(f).is_absolute() and ".." not in Path(f).parts}

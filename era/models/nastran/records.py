@@ -25,8 +25,9 @@ class GridCard:
 
 @dataclass(frozen=True, eq=False)
 class CoordCard:
-    """CORD2R: frame ``id`` defined in frame ``rid`` by its origin a, a point b on its z axis and a point c in its
-    x-z plane (each (3,))."""
+    """CORD2R/C/S: frame ``id`` of ``kind`` "R", "C" or "S" defined in frame ``rid`` by its origin a, a point b on
+    its z axis and a point c in its x-z plane (each (3,), in frame rid's coordinates); CORD1R/C/S: the same points
+    as three grids ``grids`` (a, b, c unused, rid 0)."""
 
     id: int
     rid: int
@@ -34,6 +35,8 @@ class CoordCard:
     b: np.ndarray
     c: np.ndarray
     card: BulkCard
+    kind: str = "R"
+    grids: tuple[int, int, int] | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,13 +62,16 @@ class LineCard:
 
 @dataclass(frozen=True, eq=False)
 class ShellCard:
-    """CQUAD4 (4 grids) or CTRIA3 (3 grids) of property ``pid``."""
+    """CQUAD4 (4 grids) or CTRIA3 (3 grids) of property ``pid``; theta : its material angle THETA or frame MCID
+    (a number; 0 when blank), zoffs : the offset of its mid-surface from the grids' plane along its normal."""
 
     kind: str
     eid: int
     pid: int
     nodes: tuple[int, ...]
     card: BulkCard
+    theta: float = 0.0
+    zoffs: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,4 +179,75 @@ class BushCard:
     ga: int
     gb: int | None
     cid: int
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class OrthotropicCard:
+    """MAT8: a ply material, moduli e1 (fibres), e2, nu12, g12, transverse shear g1z, g2z (None: blank, Nastran's
+    rigid transverse shear), rho (mass per volume)."""
+
+    mid: int
+    e1: float
+    e2: float
+    nu12: float
+    g12: float
+    g1z: float | None
+    g2z: float | None
+    rho: float
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class CompositeCard:
+    """PCOMP: plies ((mid, thickness, angle in degrees), ...) from the bottom up, as the whole laminate (LAM SYM
+    already mirrored), z0 the bottom surface's distance from the grids' plane (None: −half the thickness), nsm
+    (mass per area)."""
+
+    pid: int
+    z0: float | None
+    nsm: float
+    plies: tuple
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class MpcCard:
+    """MPC set ``sid``: Σ a_k u(g_k, c_k) = 0 over ``terms`` ((grid, component digit, a), ...), the first term's
+    DOF the dependent one (components in each grid's displacement frame)."""
+
+    sid: int
+    terms: tuple
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class InterpolationCard:
+    """RBE3: the reference grid ``ref``'s components ``refc`` follow the weighted least-squares rigid motion of the
+    independent grids, ``groups`` ((weight, components, (grids...)), ...)."""
+
+    eid: int
+    ref: int
+    refc: str
+    groups: tuple
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class SolidCard:
+    """CHEXA (8 grids), CPENTA (6) or CTETRA (4) of PSOLID ``pid``."""
+
+    kind: str
+    eid: int
+    pid: int
+    nodes: tuple[int, ...]
+    card: BulkCard
+
+
+@dataclass(frozen=True, eq=False)
+class SolidSection:
+    """PSOLID: its material ``mid`` (a MAT1)."""
+
+    pid: int
+    mid: int
     card: BulkCard
