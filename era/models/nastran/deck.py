@@ -126,7 +126,7 @@ def build_deck(bulk: BulkData) -> Deck:
             for record in read.cord1(card):
                 _put(tables["frames"], record.id, record, card)
         elif name == "MPC":
-            mpcs.append(equation_cards.mpc(card))
+            mpcs.append(equation_cards.mpc_card(card))
         elif name == "MPCADD":
             sid, joined = equation_cards.mpcadd(card)
             mpcadds.setdefault(sid, []).extend(joined)

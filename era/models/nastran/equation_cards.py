@@ -7,7 +7,7 @@ from .records import InterpolationCard, MpcCard
 from .values import BulkCard, nastran_real
 
 
-def mpc(c: BulkCard) -> MpcCard:
+def mpc_card(c: BulkCard) -> MpcCard:
     """MPC SID G1 C1 A1 G2 C2 A2 / (blank) G3 C3 A3 G4 C4 A4 / ...: the equation Σ A u = 0, G1's component C1
     the dependent DOF (A1 not 0)."""
     terms = []
