@@ -40,6 +40,7 @@ from .errors import NotFound
 from .importing import page_words
 from .loading import check_stored, load_upload
 from .payloads import floats
+from . import setups_analyses, setups_preger
 from .reporting import geometry_json
 from .store import new_token, write_atomic
 
@@ -89,8 +90,7 @@ def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", 
     for k, (_, blob) in enumerate(files):
         write_atomic(folder / f"setup{k + 1}.bin", blob)
     try:
-        runs = analyse_setups(store, settings, test)
-        evidence = era.reference_evidence([a for a, _ in runs])
+        evidence = setups_analyses.propose(_reader(store, settings, test), test, _refusal)
     except Refusal as exc:  # a setup that cannot be analysed: said at the merge, next to its file
         evidence = era.ReferenceProposal(None, np.zeros(0), np.zeros((len(files), 0), int), (),
                                          f"the setups could not all be analysed ({exc}), so the data propose nothing")
@@ -281,34 +281,26 @@ def _in_page_words(text: str) -> str:
     return text
 
 
-#: The analyses of the last few tests (their id -> [(era.analyse result, geometry)]): the upload analyses every
-#: setup to propose the references, the merge takes the same analyses (they do not depend on the references).
-_ANALYSES: dict = {}
-_KEPT_ANALYSES = 4
+def _reader(store, settings, test: dict):
+    """read(k, setup) -> (data, geometry): setup k's kept file through era.load (app.setups_analyses reads once)."""
+    folder = _folder(store, test["id"])
+
+    def read(k: int, s: dict):
+        blob = (folder / f"setup{k + 1}.bin").read_bytes()
+        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"))
+        return data, geometry
+    return read
+
+
+def _refusal(k: int, s: dict, exc) -> Refusal:
+    return Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file")
 
 
 def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = None) -> list:
-    """[(era.analyse result, geometry or None)] of every setup, read from its kept file as era.load reads it and
-    analysed by era.analyse: the library's path with the library's defaults, so the page and a script give one
-    answer. Ambient records go through NExT with every channel as a correlation reference (era.load's default), or,
-    with ``refs`` (per setup, its reference indices), with those references only: era.load(..., references=...)."""
-    key = (test["id"], None if refs is None else tuple(map(tuple, refs)))
-    if key in _ANALYSES:
-        return _ANALYSES[key]
-    folder = _folder(store, test["id"])
-    results = []
-    for k, s in enumerate(test["setups"]):
-        blob = (folder / f"setup{k + 1}.bin").read_bytes()
-        picked = refs[k] if refs is not None and s.get("ambient") else None
-        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"), picked)
-        try:
-            results.append((era.analyse(data), geometry))
-        except era.EraError as exc:
-            raise Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file") from None
-    while len(_ANALYSES) >= _KEPT_ANALYSES:
-        _ANALYSES.pop(next(iter(_ANALYSES)))
-    _ANALYSES[key] = results
-    return results
+    """[(era.analyse result, geometry or None)] of every setup, as era.load and era.analyse make them (ambient
+    records: NExT with every channel as reference, or with ``refs``, per setup its reference indices, only):
+    app.setups_analyses, which reads each file once and keeps the analyses for the merges."""
+    return setups_analyses.analyses(_reader(store, settings, test), test, refs, _refusal)
 
 
 #: How ambient records are correlated (NExT) at a merge: "auto" merges both ways and keeps the better merge
@@ -318,28 +310,37 @@ NEXT_REFERENCES = ("auto", "every", "references")
 
 
 def merge(store, settings, test: dict, references, points: str | None = None,
-          next_references: str = "auto") -> dict:
+          next_references: str = "auto", method: str = "poser") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
     then optional from,to lines, era.setups.geometry), which places the merged points; else the files' geometry.
-    ``next_references``: "auto" (ambient records merged with both NExT references and the better merge kept, as
-    era.merge_ambient_setups does), "every" (every channel a NExT reference) or "references" (the picked ones only).
-    Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
+    ``method``: "poser" (each setup identified, then the shapes joined: era.merge_setups) or "preger" (the
+    correlations joined, then one identification: app.setups_preger). ``next_references`` (PoSER): "auto" (ambient
+    records merged with both NExT references and the better merge kept, as era.merge_ambient_setups does),
+    "every" (every channel a NExT reference) or "references" (the picked ones only).
+    Refusal next to the picker when the merge refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
     ambient = any(s.get("ambient") for s in test["setups"])
-    runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
+    preger = None
     try:
-        if next_references == "auto":
-            only = analyse_setups(store, settings, test, refs) if ambient else None
-            choice = era.merge_choosing_next([a for a, _ in runs], None if only is None else [a for a, _ in only],
-                                             refs)
-            result, used, said = choice.result, choice.used, choice.reason
-            complete = [int(x) for x in choice.complete]
+        if method == "preger":
+            result, geometries, said, preger = setups_preger.preger(
+                _reader(store, settings, test), test, refs, lambda text: Refusal(text, "references"))
+            used, complete = "references", []
         else:
-            if next_references == "references":
-                runs = analyse_setups(store, settings, test, refs)
-            result, used = era.setups.merge.merge([a for a, _ in runs], refs), next_references
-            said, complete = f"As asked: {era.setups.next_references.WAY_WORDS[used]}.", []
+            runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
+            if next_references == "auto":
+                only = analyse_setups(store, settings, test, refs) if ambient else None
+                choice = era.merge_choosing_next([a for a, _ in runs],
+                                                 None if only is None else [a for a, _ in only], refs)
+                result, used, said = choice.result, choice.used, choice.reason
+                complete = [int(x) for x in choice.complete]
+            else:
+                if next_references == "references":
+                    runs = analyse_setups(store, settings, test, refs)
+                result, used = era.setups.merge.merge([a for a, _ in runs], refs), next_references
+                said, complete = f"As asked: {era.setups.next_references.WAY_WORDS[used]}.", []
+            geometries = [g for _, g in runs]
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
@@ -351,9 +352,14 @@ def merge(store, settings, test: dict, references, points: str | None = None,
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
-        geometry = era.setups.merge.merged_geometry([g for _, g in runs], result)
+        geometry = era.setups.merge.merged_geometry(geometries, result)
     merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
-                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
+                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete,
+                  method=method)
+    if preger is not None:
+        merged.update(modes=setups_preger.modes_words(merged["modes"], len(test["setups"])),
+                      next_asked="references", preger_scales=floats(preger.scales),
+                      preger_residual=floats(preger.reference_residual))
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 
