@@ -10,9 +10,10 @@ merge. The merged document holds everything the page draws, so the test's link (
 Every setup is read and analysed as era.load and era.analyse do (ambient records through NExT), and the merge takes
 the library's path, era.merge_choosing_next: ambient setups are merged with every channel as NExT reference and with
 the picked references only, and the merge with more modes complete is kept (so the page and
-era.merge_ambient_setups give one answer). The upload analyses the setups (every channel) at once to propose the
-references from the data (era.reference_evidence); the names propose them only when the data cannot and the names
-are not generic.
+era.merge_ambient_setups give one answer). The upload analyses the setups at once to propose the references from
+the data through the analyses the merge uses (app.setups_analyses: era.propose_ambient_references on ambient
+records, era.reference_evidence on others); the names propose them only when the data cannot and the names are not
+generic. A merge may also join the correlations before one identification (PreGER, app.setups_preger).
 
 A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
 frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see

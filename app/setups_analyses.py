@@ -14,8 +14,9 @@ from __future__ import annotations
 import era
 from era.setups.correlation_columns import references_only
 
-#: The last few tests' data and analyses, by key: (id, "data") -> [(ResponseData, geometry)]; (id, refs) ->
-#: [(era.analyse result, geometry)], refs None for every channel, else per setup its reference indices.
+#: The last few tests' data and analyses, by key: (id, "data") -> [(ResponseData, geometry)]; (id, k, refs) -> setup
+#: k's era.analyse result, refs None for every channel, else its reference indices (a tuple); (id, "preger", refs)
+#: -> PreGER's merge and analysis.
 _KEPT: dict = {}
 _KEPT_TESTS = 4
 
@@ -54,30 +55,29 @@ def _ambient(test: dict) -> bool:
 def analyses(read, test: dict, refs: list[list[int]] | None = None, refuse=None) -> list:
     """[(era.analyse result, geometry or None)] of every setup: NExT with every channel as reference, or with
     ``refs`` (per setup, its reference indices) only when the records are ambient (other records do not depend on
-    the references). ``refuse(k, setup, exc)`` turns an era.EraError of setup k's analysis into the page's
-    refusal."""
-    if refs is not None and not _ambient(test):
-        refs = None
-    key = (test["id"], None if refs is None else tuple(map(tuple, refs)))
-    if key in _KEPT:
-        return _KEPT[key]
+    the references). Each setup's analysis is kept by its own references: a new pick that changes one setup's
+    references analyses that setup alone. ``refuse(k, setup, exc)`` turns an era.EraError of setup k's analysis
+    into the page's refusal."""
     out = []
     for k, ((data, geometry), s) in enumerate(zip(setup_data(read, test), test["setups"])):
-        if refs is not None and s.get("ambient"):
-            data = references_only(data, refs[k])
-        try:
-            out.append((era.analyse(data), geometry))
-        except era.EraError as exc:
-            if refuse is None:
-                raise
-            raise refuse(k, s, exc) from None
-    return _keep(key, out)
+        mine = tuple(refs[k]) if refs is not None and s.get("ambient") else None
+        key = (test["id"], k, mine)
+        if key not in _KEPT:
+            try:
+                _keep(key, era.analyse(data if mine is None else references_only(data, list(mine))))
+            except era.EraError as exc:
+                if refuse is None:
+                    raise
+                raise refuse(k, s, exc) from None
+        out.append((_KEPT[key], geometry))
+    return out
 
 
-def keep_analyses(test: dict, refs: list[list[int]], results: list, geometries: list) -> None:
+def keep_analyses(test: dict, refs: list[list[int]], results: list) -> None:
     """Keep analyses made elsewhere (the upload's proposal through NExT with candidate references) for the merge
-    that takes those references."""
-    _keep((test["id"], tuple(map(tuple, refs))), list(zip(results, geometries)))
+    that takes those references: setup k's under its references refs[k]."""
+    for k, (r, result) in enumerate(zip(refs, results)):
+        _keep((test["id"], k, tuple(r)), result)
 
 
 def propose(read, test: dict, refuse=None) -> era.ReferenceProposal:
@@ -88,11 +88,16 @@ def propose(read, test: dict, refuse=None) -> era.ReferenceProposal:
     if not _ambient(test):
         return era.reference_evidence([a for a, _ in every])
     datas = setup_data(read, test)
-    found = era.propose_ambient_references([d for d, _ in datas], [a for a, _ in every])
+    try:
+        found = era.propose_ambient_references([d for d, _ in datas], [a for a, _ in every])
+    except era.EraError as exc:  # a candidate's analysis failed: the every-channel modes say what they can
+        first = era.reference_evidence([a for a, _ in every])
+        return era.ReferenceProposal(first.references, first.shared_hz, first.shared, first.candidates,
+                                     f"{first.reason} (the likeliest pairs could not be analysed: {exc})")
     if found.way == "references" and found.references is not None:
         # the analyses behind the proposal are NExT with the candidate pair; when it is the proposal, the merge
         # with the proposed references takes them as they are
         used = [list(m) for m in found.candidate] if found.candidate is not None else None
         if used == [list(r) for r in found.references]:
-            keep_analyses(test, used, found.analyses, [g for _, g in datas])
+            keep_analyses(test, used, found.analyses)
     return found.evidence
