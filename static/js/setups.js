@@ -175,7 +175,7 @@ function result(m) {
   $("setups-html").hidden = !frozen || Boolean(test.standalone);
   $("setups-html").href = `${base}/report.html`;
   if (test.standalone) {
-    $("setups-link").textContent = frozen.url;
+    $("setups-link").textContent = `${frozen.url} (on the server the report was made on)`;
     $("setups-link").removeAttribute("href");
   }
   $("setups-report-note").hidden = !frozen;
