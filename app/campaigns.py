@@ -26,7 +26,7 @@ from fastapi import HTTPException
 import era
 from era.campaign import require_pandas, run_campaign, time_from_name
 
-from . import config, payloads
+from . import payloads
 from .config import Settings
 from .errors import NotFound
 from .loading import KINDS
@@ -154,31 +154,14 @@ def _num(x) -> float | None:
 def standalone_html(status: dict) -> str:
     """campaign.html with plotly.js, the CSS, the page script and the finished campaign (schemas.Campaign with
     ``standalone``) inlined: the campaign's report as one file that opens with no server."""
-    import plotly
-
+    from .offline_page import offline_page, script, static_text
     from .reporting import script_json
 
-    def text(path: Path) -> str:
-        return path.read_text(encoding="utf-8")
-
-    def script(body: str) -> str:
-        return "<script>" + body.replace("</script", "<\\/script") + "</script>"
-
-    static = config.STATIC_DIR
-    page = text(static / "campaign.html")
-    replacements = {
-        '<script src="/vendor/plotly.min.js"></script>':
-            script(text(Path(plotly.__file__).parent / "package_data" / "plotly.min.js")),
-        '<link rel="stylesheet" href="/static/css/app.css">': "<style>" + text(static / "css" / "app.css") + "</style>",
+    return offline_page("campaign.html", {
         '<script src="/static/js/campaign.js"></script>':
             f"<script>window.CAMPAIGN_DATA = {script_json(dict(status, standalone=True))};</script>"
-            + script(text(static / "js" / "campaign.js")),
-    }
-    for old, new in replacements.items():
-        if old not in page:
-            raise RuntimeError(f"static/campaign.html lost the line {old!r} that the download inlines")
-        page = page.replace(old, new)
-    return page
+            + script(static_text("js", "campaign.js")),
+    })
 
 
 class Campaigns:

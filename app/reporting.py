@@ -14,14 +14,13 @@ import datetime as dt
 import io
 import json
 import platform
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 
 import era
 
-from . import config, modeling, payloads, viewing
+from . import modeling, payloads, viewing
 from .cache import Analysis
 from .choosing import Diagram
 
@@ -146,36 +145,18 @@ def standalone_html(report: dict, token: str, viser_page: str | None = None,
 
     With ``viser_page`` and ``viser_recordings`` (from :func:`offline_viser`) the kept modes also play in viser's
     own client, with no server; otherwise the page animates them with plotly."""
-    import plotly
-    plotly_js = (Path(plotly.__file__).parent / "package_data" / "plotly.min.js").read_text(encoding="utf-8")
-    page = (config.STATIC_DIR / "report.html").read_text(encoding="utf-8")
-    css = (config.STATIC_DIR / "css" / "app.css").read_text(encoding="utf-8")
-    script = (config.STATIC_DIR / "js" / "report.js").read_text(encoding="utf-8")
-    formats = (config.STATIC_DIR / "js" / "format.js").read_text(encoding="utf-8")
-    explain_view = (config.STATIC_DIR / "js" / "explain_view.js").read_text(encoding="utf-8")
+    from .offline_page import offline_page, script, static_text
+
     extra = {"offline_recordings": viser_recordings or {}, "viser_marker": _EMBED_MARKER if viser_page else None}
     data = script_json(dict(report, token=token, standalone=True, **extra))
-
-    def inline(tag: str, body: str) -> str:
-        if tag == "script":
-            return "<script>" + body.replace("</script", "<\\/script") + "</script>"
-        return "<style>" + body + "</style>"
-
-    replacements = {
-        '<script src="/vendor/plotly.min.js"></script>': inline("script", plotly_js),
-        '<link rel="stylesheet" href="/static/css/app.css">': inline("style", css),
-        '<script src="/static/js/format.js"></script>': inline("script", formats),
-        '<script src="/static/js/explain_view.js"></script>': inline("script", explain_view),
+    return offline_page("report.html", {
+        '<script src="/static/js/format.js"></script>': script(static_text("js", "format.js")),
+        '<script src="/static/js/explain_view.js"></script>': script(static_text("js", "explain_view.js")),
         '<script src="/static/js/report.js"></script>':
             f"<script>window.REPORT_DATA = {data};</script>"
             + (f"<script>window.VISER_PAGE = {script_json(viser_page)};</script>" if viser_page else "")
-            + inline("script", script),
-    }
-    for old, new in replacements.items():
-        if old not in page:
-            raise RuntimeError(f"static/report.html lost the line {old!r} that the download inlines")
-        page = page.replace(old, new)
-    return page
+            + script(static_text("js", "report.js")),
+    })
 
 
 def script_json(value) -> str:

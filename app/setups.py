@@ -10,9 +10,10 @@ merge. The merged document holds everything the page draws, so the test's link (
 Every setup is read and analysed as era.load and era.analyse do (ambient records through NExT), and the merge takes
 the library's path, era.merge_choosing_next: ambient setups are merged with every channel as NExT reference and with
 the picked references only, and the merge with more modes complete is kept (so the page and
-era.merge_ambient_setups give one answer). The upload analyses the setups (every channel) at once to propose the
-references from the data (era.reference_evidence); the names propose them only when the data cannot and the names
-are not generic.
+era.merge_ambient_setups give one answer). The upload analyses the setups at once to propose the references from
+the data through the analyses the merge uses (app.setups_analyses: era.propose_ambient_references on ambient
+records, era.reference_evidence on others); the names propose them only when the data cannot and the names are not
+generic. A merge may also join the correlations before one identification (PreGER, app.setups_preger).
 
 A mode seen in some setups only follows era.merge_setups' rule: kept when two setups or more chose it (its
 frequency and damping from those), its shape unknown (null, never 0) at the points of the setups that did not see
@@ -39,6 +40,7 @@ from .errors import NotFound
 from .importing import page_words
 from .loading import check_stored, load_upload
 from .payloads import floats
+from . import setups_analyses, setups_preger
 from .reporting import geometry_json
 from .store import new_token, write_atomic
 
@@ -88,8 +90,7 @@ def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", 
     for k, (_, blob) in enumerate(files):
         write_atomic(folder / f"setup{k + 1}.bin", blob)
     try:
-        runs = analyse_setups(store, settings, test)
-        evidence = era.reference_evidence([a for a, _ in runs])
+        evidence = setups_analyses.propose(_reader(store, settings, test), test, _refusal)
     except Refusal as exc:  # a setup that cannot be analysed: said at the merge, next to its file
         evidence = era.ReferenceProposal(None, np.zeros(0), np.zeros((len(files), 0), int), (),
                                          f"the setups could not all be analysed ({exc}), so the data propose nothing")
@@ -280,34 +281,26 @@ def _in_page_words(text: str) -> str:
     return text
 
 
-#: The analyses of the last few tests (their id -> [(era.analyse result, geometry)]): the upload analyses every
-#: setup to propose the references, the merge takes the same analyses (they do not depend on the references).
-_ANALYSES: dict = {}
-_KEPT_ANALYSES = 4
+def _reader(store, settings, test: dict):
+    """read(k, setup) -> (data, geometry): setup k's kept file through era.load (app.setups_analyses reads once)."""
+    folder = _folder(store, test["id"])
+
+    def read(k: int, s: dict):
+        blob = (folder / f"setup{k + 1}.bin").read_bytes()
+        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"))
+        return data, geometry
+    return read
+
+
+def _refusal(k: int, s: dict, exc) -> Refusal:
+    return Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file")
 
 
 def analyse_setups(store, settings, test: dict, refs: list[list[int]] | None = None) -> list:
-    """[(era.analyse result, geometry or None)] of every setup, read from its kept file as era.load reads it and
-    analysed by era.analyse: the library's path with the library's defaults, so the page and a script give one
-    answer. Ambient records go through NExT with every channel as a correlation reference (era.load's default), or,
-    with ``refs`` (per setup, its reference indices), with those references only: era.load(..., references=...)."""
-    key = (test["id"], None if refs is None else tuple(map(tuple, refs)))
-    if key in _ANALYSES:
-        return _ANALYSES[key]
-    folder = _folder(store, test["id"])
-    results = []
-    for k, s in enumerate(test["setups"]):
-        blob = (folder / f"setup{k + 1}.bin").read_bytes()
-        picked = refs[k] if refs is not None and s.get("ambient") else None
-        data, geometry, _ = _read(settings, k, s["file"], blob, test["kind"], test.get("dt"), picked)
-        try:
-            results.append((era.analyse(data), geometry))
-        except era.EraError as exc:
-            raise Refusal(f"Setup {k + 1} ({s['file']}) cannot be analysed: {exc}", "file") from None
-    while len(_ANALYSES) >= _KEPT_ANALYSES:
-        _ANALYSES.pop(next(iter(_ANALYSES)))
-    _ANALYSES[key] = results
-    return results
+    """[(era.analyse result, geometry or None)] of every setup, as era.load and era.analyse make them (ambient
+    records: NExT with every channel as reference, or with ``refs``, per setup its reference indices, only):
+    app.setups_analyses, which reads each file once and keeps the analyses for the merges."""
+    return setups_analyses.analyses(_reader(store, settings, test), test, refs, _refusal)
 
 
 #: How ambient records are correlated (NExT) at a merge: "auto" merges both ways and keeps the better merge
@@ -317,42 +310,56 @@ NEXT_REFERENCES = ("auto", "every", "references")
 
 
 def merge_test(store, settings, test: dict, references, points: str | None = None,
-          next_references: str = "auto") -> dict:
+               next_references: str = "auto", method: str = "poser") -> dict:
     """Analyse every setup, merge them through ``references`` (per setup, the indices of its reference channels),
     write and return schemas.SetupsMerged. ``points``: the test's points table as typed (CSV point,x,y,z,direction
     then optional from,to lines, era.setups.geometry), which places the merged points; else the files' geometry.
-    ``next_references``: "auto" (ambient records merged with both NExT references and the better merge kept, as
-    era.merge_ambient_setups does), "every" (every channel a NExT reference) or "references" (the picked ones only).
-    Refusal next to the picker when era.merge_setups refuses, next to the points when the table is wrong."""
+    ``method``: "poser" (each setup identified, then the shapes joined: era.merge_setups) or "preger" (the
+    correlations joined, then one identification: app.setups_preger). ``next_references`` (PoSER): "auto" (ambient
+    records merged with both NExT references and the better merge kept, as era.merge_ambient_setups does),
+    "every" (every channel a NExT reference) or "references" (the picked ones only).
+    Refusal next to the picker when the merge refuses, next to the points when the table is wrong."""
     refs = checked_references(test, references)
     ambient = any(s.get("ambient") for s in test["setups"])
-    runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
+    preger = None
     try:
-        if next_references == "auto":
-            only = analyse_setups(store, settings, test, refs) if ambient else None
-            choice = era.merge_choosing_next([a for a, _ in runs], None if only is None else [a for a, _ in only],
-                                             refs)
-            result, used, said = choice.result, choice.used, choice.reason
-            complete = [int(x) for x in choice.complete]
+        if method == "preger":
+            result, geometries, said, preger = setups_preger.preger(
+                _reader(store, settings, test), test, refs, lambda text: Refusal(text, "references"))
+            used, complete = "references", []
         else:
-            if next_references == "references":
-                runs = analyse_setups(store, settings, test, refs)
-            result, used = merge_with_evidence([a for a, _ in runs], refs), next_references
-            said, complete = f"As asked: {WAY_WORDS[used]}.", []
+            runs = analyse_setups(store, settings, test)  # every channel: made at the upload, reused
+            if next_references == "auto":
+                only = analyse_setups(store, settings, test, refs) if ambient else None
+                choice = era.merge_choosing_next([a for a, _ in runs],
+                                                 None if only is None else [a for a, _ in only], refs)
+                result, used, said = choice.result, choice.used, choice.reason
+                complete = [int(x) for x in choice.complete]
+            else:
+                if next_references == "references":
+                    runs = analyse_setups(store, settings, test, refs)
+                result, used = merge_with_evidence([a for a, _ in runs], refs), next_references
+                said, complete = f"As asked: {WAY_WORDS[used]}.", []
+            geometries = [g for _, g in runs]
     except era.DataError as exc:
         raise Refusal(_in_page_words(str(exc)), "references") from None
     if points and points.strip():
         aliases = point_aliases(result.model.points, result.point_setup, result.point_channel,
-                                                   [s["outputs"] for s in test["setups"]], refs)
+                                [s["outputs"] for s in test["setups"]], refs)
         try:
             table = parse_points(points, nodes=stored_nodes(store, settings, test))
             geometry = points_geometry(table, aliases)
         except era.DataError as exc:
             raise Refusal(str(exc), "points") from None
     else:
-        geometry = merged_geometry([g for _, g in runs], result)
+        geometry = merged_geometry(geometries, result)
     merged = dict(merged_json(test, refs, result, geometry), points_table=points or "", next_references=used,
-                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete)
+                  next_asked=next_references, next_choice=_in_page_words(said), next_complete=complete,
+                  method=method)
+    if preger is not None:
+        merged.update(modes=setups_preger.modes_words(merged["modes"], len(test["setups"])),
+                      next_asked="references", preger_scales=floats(preger.scales),
+                      preger_residual=floats(preger.reference_residual))
     write_atomic(_folder(store, test["id"]) / "merged.json", json.dumps(merged).encode())
     return merged
 

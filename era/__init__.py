@@ -22,6 +22,8 @@ from .setups.poser import SetupMerge, merge_setups  # multi-setup tests: one sha
 from .setups.references import ReferenceProposal, propose_references, reference_evidence  # references from the data
 from .setups.next_references import NextChoice, choose_next, merge_ambient_setups, merge_choosing_next  # NExT refs
 from .setups.preger import PregerMerge, merge_correlations  # merging before identifying (PreGER)
+from .setups.ambient_references import AmbientReferences, propose_ambient_references  # ambient tests' references
+from .setups.correlation_columns import references_only  # NExT with fewer references, from the correlations made
 
 # test data in: readers, writers and pulse responses from every kind of test
 from .io import Dataset, ModeSet, load, read_modes_uff, save_modes_uff, save_npz
@@ -46,6 +48,7 @@ __all__ = [
     "analyse", "AnalysisResult", "choose_modes", "ModeChoice", "Candidate", "merge_setups", "SetupMerge",
     "propose_references", "reference_evidence", "ReferenceProposal",
     "merge_ambient_setups", "merge_choosing_next", "choose_next", "NextChoice", "merge_correlations", "PregerMerge",
+    "propose_ambient_references", "AmbientReferences", "references_only",
     "ModalModel", "kept_modes", "keep_mask", "mac", "EraError", "DataError", "HankelError", "OrderError",
     "TooLargeError",
     "load", "Dataset", "ModeSet", "read_modes_uff", "save_modes_uff", "save_npz",

@@ -7,7 +7,7 @@ from __future__ import annotations
 from fastapi import APIRouter, File, Form, HTTPException, Request, UploadFile
 from fastapi.responses import FileResponse, HTMLResponse, Response
 
-from .. import config, setups, setups_export
+from .. import config, setups, setups_export, setups_offline
 from ..errors import NotFound
 from ..schemas.analyses import ViewerLink
 from ..schemas.reports import ReportCreated
@@ -49,7 +49,7 @@ async def merge(request: Request, test_id: str, body: SetupsRequest):
     test = await jobs(request).quick(setups.load, store(request), test_id)
     settings = cache(request).settings
     merged = await jobs(request).heavy(setups.merge_test, store(request), settings, test, body.references, body.points,
-                                       body.next_references,
+                                       body.next_references, body.method,
                                        progress=progress_key(request),
                                        message=f"Analysing {len(test['setups'])} setups and merging them")
     return dict(test, merged=merged)
@@ -132,6 +132,14 @@ async def report_uff(request: Request, test_id: str, token: str):
     blob = await jobs(request).quick(setups_export.modes_uff, frozen["merged"])
     return Response(blob, media_type="application/octet-stream",
                     headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.uff"'})
+
+
+@router.get("/api/setups/{test_id}/reports/{token}/report.html", response_class=HTMLResponse,
+            summary="A report as one self-contained HTML file (opens offline): the merged modes, shapes and geometry")
+async def report_html(request: Request, test_id: str, token: str):
+    frozen = await jobs(request).quick(setups.report, store(request), test_id, token)
+    html = await jobs(request).quick(setups_offline.standalone_html, frozen)
+    return HTMLResponse(html, headers={"Content-Disposition": f'attachment; filename="era-setups-{token[:8]}.html"'})
 
 
 @router.post("/api/setups/{test_id}/reports/{token}/viewer", response_model=ViewerLink,

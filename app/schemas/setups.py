@@ -75,6 +75,13 @@ class SetupsMerged(Schema):
                              "MPC)")
     next_complete: list[int] = Field(default=[], description="with \"auto\": complete modes at distinct frequencies "
                                      "with every channel, then with the references only (-1: refused)")
+    method: Literal["poser", "preger"] = Field(default="poser", description="how the setups were merged: \"poser\" "
+                                               "(each identified, the shapes joined through the references) or "
+                                               "\"preger\" (the correlations joined, one identification)")
+    preger_scales: Floats = Field(default=[], description="PreGER: (setups,) the factor each setup's correlations "
+                                  "were multiplied by (setup 1: 1)")
+    preger_residual: Floats = Field(default=[], description="PreGER: (setups,) the references' relative misfit after "
+                                    "the scale (large when the excitation's spectrum changed shape)")
     merged: float = Field(description="when the merge was made, Unix s")
 
 
@@ -145,6 +152,10 @@ class SetupsRequest(BaseModel):
         "auto", description="ambient records: \"auto\" merges with both NExT references and keeps the merge with "
         "more modes complete (ties: more consistent shapes), as era.merge_ambient_setups; \"every\" channel a NExT "
         "correlation reference (era.load's default), or the picked \"references\" only")
+    method: Literal["poser", "preger"] = Field(
+        "poser", description="\"poser\": each setup identified (era.analyse), the shapes joined through the "
+        "references (era.merge_setups); \"preger\": ambient setups' NExT correlations with the references joined "
+        "on one scale, then one identification (era.merge_correlations, era.analyse)")
 
     model_config = {"json_schema_extra": {"examples": [{"references": [[0, 1], [0, 1]]}]}}
 

@@ -24,6 +24,7 @@ from itertools import combinations, permutations
 import numpy as np
 
 from ..core.modal import ModalModel
+from ..words import counted
 
 #: Two setups' modes are one shared mode when their frequencies differ by at most this fraction (and uniquely).
 FREQUENCY_TOLERANCE = 0.03
@@ -164,8 +165,8 @@ def reference_evidence(analyses, *, min_mac: float = MIN_MAC,
     shared = shared_modes(models, frequency_tolerance)
     f = models[0].frequency_hz[shared[0]] if shared.size else np.zeros(0)
     if shared.shape[1] < MIN_SHARED_MODES:
-        return ReferenceProposal(None, f, shared, (), f"only {shared.shape[1]} modes are found in every setup at one "
-                                 f"frequency: {MIN_SHARED_MODES} or more are needed to tell the references by their "
+        return ReferenceProposal(None, f, shared, (), f"only {counted(shared.shape[1], 'mode')} found in every "
+                                 f"setup at one frequency: {MIN_SHARED_MODES} or more are needed to tell the references by their "
                                  "components; pick them by hand")
     phis = [m.shapes[:, shared[k]] for k, m in enumerate(models)]  # (channels, shared) per setup
     moving = [np.flatnonzero(_moves(phi)) for phi in phis]

@@ -6,6 +6,7 @@ import { api } from "./api.js";
 import { el, plain, plotConfig, showError } from "./state.js";
 
 const $ = (id) => document.getElementById(id);
+const METHODS = { poser: "PoSER", preger: "PreGER" };
 const CONTROLS = ["file", "kind", "dt", "references", "points"];  // a refusal's `option` -> the box next to its control
 let test = null;       // schemas.SetupsTest
 let selected = 0;
@@ -85,10 +86,10 @@ async function merge() {
   try {
     const t = await api(`/api/setups/${test.id}/merge`, {
       method: "POST", body: { references: picked(), points: $("setups-points").value || null,
-                              next_references: $("setups-next").value },
+                              next_references: $("setups-next").value, method: $("setups-method").value },
       progress: (text) => { $("setups-merge-status").textContent = text; } });
     show(t);
-    $("setups-merge-status").textContent = `Merged: ${t.merged.modes.length} modes at ${t.merged.points.length} points.`;
+    $("setups-merge-status").textContent = `Merged by ${METHODS[t.merged.method || "poser"]}: ${t.merged.modes.length} modes at ${t.merged.points.length} points.`;
   } catch (err) {
     $("setups-merge-status").textContent = "";
     const box = ["file", "points"].includes(err.option) ? err.option : "references";
@@ -118,7 +119,9 @@ function show(t) {
   $("setups-unmatched").textContent = missing.length
     ? `${missing.join("; ")}: if it is a reference there under another name, add it below.` : "";
   picker(t.merged ? t.merged.references : (t.proposed[0].length ? t.proposed : t.setups.map(() => [0, 1])));
-  if (t.merged && t.merged.next_asked) $("setups-next").value = t.merged.next_asked;
+  if (t.merged) $("setups-method").value = t.merged.method || "poser";
+  if (t.merged && t.merged.next_asked && t.merged.method !== "preger") $("setups-next").value = t.merged.next_asked;
+  methodChanged();
   if (t.merged && t.merged.points_table && !$("setups-points").value) {
     $("setups-points").value = t.merged.points_table;
   }
@@ -157,14 +160,24 @@ const scaleStd = (mode) => {
 const num = (x, d) => (x === null || x === undefined ? "–" : x.toFixed(d));
 
 function result(m) {
-  $("setups-rule").textContent = "a mode two setups or more chose is kept; its shape is unknown (not zero) at the points of a setup that missed it";
+  $("setups-rule").textContent = m.method === "preger"
+    ? "PreGER: one identification of every setup's correlations, so each mode is known at every point"
+    : "PoSER: a mode two setups or more chose is kept; its shape is unknown (not zero) at the points of a setup that missed it";
   const frozen = test.report;  // a report: the merge as it was frozen, read-only
   const link = `${location.origin}${frozen ? frozen.url : `/s/${test.id}`}`;
   $("setups-link").textContent = link;
   $("setups-link").href = link;
   const base = frozen ? `/api/setups/${test.id}/reports/${frozen.token}` : `/api/setups/${test.id}`;
-  $("setups-csv").href = `${base}/modes.csv`;
-  $("setups-uff").href = `${base}/modes.uff`;
+  const files = test.offline_files;  // the downloaded report: its files inside it
+  $("setups-csv").href = files ? `data:text/csv;base64,${files.csv}` : `${base}/modes.csv`;
+  $("setups-uff").hidden = Boolean(files && !files.uff);
+  $("setups-uff").href = files ? `data:application/octet-stream;base64,${files.uff || ""}` : `${base}/modes.uff`;
+  $("setups-html").hidden = !frozen || Boolean(test.standalone);
+  $("setups-html").href = `${base}/report.html`;
+  if (test.standalone) {
+    $("setups-link").textContent = `${frozen.url} (on the server the report was made on)`;
+    $("setups-link").removeAttribute("href");
+  }
   $("setups-report-note").hidden = !frozen;
   $("setups-report-note").textContent = frozen
     ? `Read-only report, frozen ${new Date(frozen.created * 1000).toISOString().slice(0, 16).replace("T", " ")} UTC: the merged modes and their geometry as they were then. The test itself: /s/${test.id}.` : "";
@@ -173,7 +186,11 @@ function result(m) {
   $("setups-uff-note").textContent = partial.length
     ? `The UFF 55 file leaves out ${partial.map(([mode, j]) => `mode ${j + 1} (${mode.frequency_hz.toFixed(3)} Hz, not measured in setup ${mode.missing_setups.join(", ")})`).join("; ")}: UFF 55 holds a value at every node. The CSV has it, with empty cells where it is unknown.`
     : "Every mode is known at every point.";
-  $("setups-next-note").textContent = m.next_choice ? `NExT references: ${m.next_choice}` : "";
+  const preger = m.method === "preger";
+  $("setups-method-note").textContent = preger
+    ? "Merged by PreGER (the setups' correlations joined, then one identification): every mode found is known at every point."
+    : "Merged by PoSER (each setup identified, then the shapes joined through the references).";
+  $("setups-next-note").textContent = m.next_choice ? (preger ? m.next_choice : `NExT references: ${m.next_choice}`) : "";
   const body = $("setups-modes").tBodies[0];
   body.replaceChildren(...m.modes.map((mode, j) => {
     const cells = [["mode", String(j + 1)], ["frequency_hz", num(mode.frequency_hz, 4)],
@@ -252,6 +269,10 @@ function drawing(m, j) {
 let published = null;
 async function viewer() {
   const box = $("setups-viewer");
+  if (test.standalone) {  // no server: the drawing above is the shape on its geometry
+    box.replaceChildren(el("div", { class: "note", text: "Downloaded report: the 3-D viewer needs the app; the drawing above shows the shape." }));
+    return;
+  }
   try {
     const where = test.report ? `/api/setups/${test.id}/reports/${test.report.token}` : `/api/setups/${test.id}`;
     const v = await api(`${where}/viewer`, { method: "POST" });
@@ -271,11 +292,7 @@ async function reopen(id, token) {
   try {
     const t = await api(token ? `/api/setups/${id}/reports/${token}` : `/api/setups/${id}`);
     show(t);
-    if (token) {  // a report: only the frozen result
-      $("setups-new").hidden = true;
-      $("setups-refs").hidden = true;
-      $("setups-title").textContent = `ERA multi-setup test report: ${t.name}`;
-    }
+    if (token) reportOnly(t);
   } catch (err) {
     showError("setups-file-error", err);
   }
@@ -293,7 +310,13 @@ async function freeze() {
   }
 }
 
+// PreGER correlates with the picked references only: the NExT choice is PoSER's.
+function methodChanged() {
+  $("setups-next-field").hidden = $("setups-method").value === "preger";
+}
+
 $("setups-form").addEventListener("submit", upload);
+$("setups-method").addEventListener("change", methodChanged);
 $("setups-add-ref").addEventListener("click", () => addRow(null));
 $("setups-remove-ref").addEventListener("click", () => $("setups-ref-table").tBodies[0].lastElementChild?.remove());
 $("setups-merge").addEventListener("click", merge);
@@ -319,5 +342,15 @@ $("setups-nodes-file").addEventListener("change", async (ev) => {
 });
 $("setups-modes").addEventListener("click", sendMode);
 $("setups-freeze").addEventListener("click", freeze);
+// A report shows only the frozen result.
+function reportOnly(t) {
+  $("setups-new").hidden = true;
+  $("setups-refs").hidden = true;
+  $("setups-title").textContent = `ERA multi-setup test report: ${t.name}`;
+}
+
 const opened = location.pathname.match(/^\/s\/([A-Za-z0-9_-]+)(?:\/r\/([A-Za-z0-9_-]+))?$/);
-if (opened) reopen(opened[1], opened[2]);
+if (window.SETUPS_DATA) {  // the downloaded report (app/setups_offline.py): the document is in the page
+  show(window.SETUPS_DATA);
+  reportOnly(window.SETUPS_DATA);
+} else if (opened) reopen(opened[1], opened[2]);

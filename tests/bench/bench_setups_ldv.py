@@ -1,6 +1,6 @@
 """era.merge_setups on a real multi-setup ambient test: pyOMA's steel frame, 15 setups (issue 26).
 
-Run: python3 tests/bench/bench_setups_ldv.py /path/to/pyOMA/tests/files [every | both] [defaults]
+Run: python3 tests/bench/bench_setups_ldv.py /path/to/pyOMA/tests/files [every | both | propose] [defaults]
 
 A script, not a pytest benchmark: the records are GPL-3.0 and cannot be in this repository, so nothing here could
 run them on its own. It exits non-zero when a figure below is not met.
@@ -12,6 +12,9 @@ node and records 240 s at 256 Hz together with two reference accelerometers at n
 accelerometer, column 5, is left out as pyOMA's setup_info.txt says). Per setup: decimated ×3 ×3 (28.4 Hz, as
 pyOMA's scripts), NExT with the two references (4 segments, 600 lags = 21 s: the modes' damping is ~0.15 %, so the
 correlations need many cycles), era.analyse with its defaults; then era.merge_setups(analyses, [[3, 4]] * 15).
+
+With "propose": the references proposed as the page proposes them (era.propose_ambient_references on the
+every-channel correlations: their modes first, else the likeliest pairs' NExT analyses), asserted right or none.
 
 With "both": the setups through NExT both ways and era.merge_choosing_next keeps one (asserted: the references
 only, 10 modes complete where every channel gives 5, none complete).
@@ -55,6 +58,26 @@ def setup(root: Path, n: int, every_channel: bool = False) -> era.AnalysisResult
     return era.analyse(data)
 
 
+def correlations(root: Path, n: int) -> era.ResponseData:
+    """Setup n's every-channel NExT correlations, named ch1…ch5 (the names say nothing), segments and lags as
+    :func:`setup` makes them."""
+    folder = root / f"measurement_{n}"
+    y = decimate(decimate(np.load(folder / f"measurement_{n}.npy")[:, :5], 3, axis=0), 3, axis=0)
+    names = [f"ch{i + 1}" for i in range(5)]
+    if DEFAULTS:
+        return era.markov_from_ambient(y, DT, names=names)
+    return era.markov_from_ambient(np.array_split(y, 4), DT, n_lags=600, names=names)
+
+
+def propose(root: Path) -> None:
+    t0 = time.perf_counter()
+    found = era.propose_ambient_references([correlations(root, n) for n in range(1, 16)])
+    for way, said in found.tried:
+        print(f"{way}: {said}")
+    print(f"proposed: {found.references} (way: {found.way}) in {time.perf_counter() - t0:.0f} s")
+    assert found.references in (None, [[3, 4]] * 15), found.references  # right, or none: never wrong
+
+
 def main(root: Path, every_channel: bool = False, both: bool = False) -> None:
     t0 = time.perf_counter()
     runs = [setup(root, n, every_channel) for n in range(1, 16)]
@@ -95,5 +118,9 @@ if __name__ == "__main__":
         sys.exit("usage: python3 tests/bench/bench_setups_ldv.py PYOMA_TESTS_FILES [every] (the folder holding "
                  "measurement_1 … measurement_15 of pyOMA-dev/pyOMA's tests/files; 'every': NExT with every "
                  "channel as a correlation reference, instead of the two references; 'both': both ways and "
-                 "era.merge_choosing_next's choice, as the page does; 'defaults': NExT's own segments and lags)")
-    main(Path(sys.argv[1]), "every" in sys.argv[2:], "both" in sys.argv[2:])
+                 "era.merge_choosing_next's choice, as the page does; 'propose': the references proposed as the page "
+                 "does; 'defaults': NExT's own segments and lags)")
+    if "propose" in sys.argv[2:]:
+        propose(Path(sys.argv[1]))
+    else:
+        main(Path(sys.argv[1]), "every" in sys.argv[2:], "both" in sys.argv[2:])
