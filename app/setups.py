@@ -90,7 +90,7 @@ def create(store, settings, files: list[tuple[str, bytes]], kind: str = "auto", 
     for k, (_, blob) in enumerate(files):
         write_atomic(folder / f"setup{k + 1}.bin", blob)
     try:
-        evidence = setups_analyses.propose(_reader(store, settings, test), test, _refusal)
+        evidence = setups_analyses.propose_from_data(_reader(store, settings, test), test, _refusal)
     except Refusal as exc:  # a setup that cannot be analysed: said at the merge, next to its file
         evidence = era.ReferenceProposal(None, np.zeros(0), np.zeros((len(files), 0), int), (),
                                          f"the setups could not all be analysed ({exc}), so the data propose nothing")
@@ -115,7 +115,7 @@ def _read(settings, k: int, file_name: str, blob: bytes, kind: str, dt: float | 
     return data, geometry, source
 
 
-def propose(outputs: list[list[str]]) -> tuple[list[str], list[list[int]]]:
+def propose_by_names(outputs: list[list[str]]) -> tuple[list[str], list[list[int]]]:
     """The references the names propose: the channel names in every setup, in the first setup's order; (names,
     their index in each setup). Empty when no name is in every setup, or when every channel of a setup is among
     them (generic names such as ch1..ch8 repeat in every setup and say nothing of where the sensors are)."""
@@ -132,7 +132,7 @@ SHOWN_CANDIDATES = 4
 def proposal(outputs: list[list[str]], evidence) -> dict:
     """The fields of schemas.SetupsTest that propose the references: from the data (era.reference_evidence) when
     they tell, else from the names (:func:`propose`) when those are not generic, else none; with the evidence."""
-    names, by_name = propose(outputs)
+    names, by_name = propose_by_names(outputs)
     if evidence.references is not None:
         refs, source = evidence.references, "data"
     elif names:

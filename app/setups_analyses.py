@@ -12,7 +12,7 @@ here.
 from __future__ import annotations
 
 import era
-from era.setups.correlation_columns import references_only
+from era import references_only
 
 #: The last few tests' data and analyses, by key: (id, "data") -> [(ResponseData, geometry)]; (id, k, refs) -> setup
 #: k's era.analyse result, refs None for every channel, else its reference indices (a tuple); (id, "preger", refs)
@@ -80,7 +80,7 @@ def keep_analyses(test: dict, refs: list[list[int]], results: list) -> None:
         _keep((test["id"], k, tuple(r)), result)
 
 
-def propose(read, test: dict, refuse=None) -> era.ReferenceProposal:
+def propose_from_data(read, test: dict, refuse=None) -> era.ReferenceProposal:
     """The references the data propose (era.setups.ambient_references.propose_ambient_references on ambient
     setups: the every-channel modes, else the modes through NExT with the likeliest pairs; era.reference_evidence
     on the modes of other records); the analyses it read are kept for the merge."""

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import era
-from era.setups.correlation_columns import references_only
+from era import references_only
 
 from . import setups_analyses
 
