@@ -35,7 +35,8 @@ from scipy.optimize import linear_sum_assignment
 from ..core.correlation import pairing_cost
 from ..errors import DataError
 from ..core.indicators import mac
-from .record import RecordFailure, mode_shape
+from .lookup import look_up, with_spare
+from .record import RecordFailure, mode_shape, mode_value
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,7 +74,10 @@ class Tracking:
     records : the RecordModes tracked, in order; modes : the k TrackedModes;
     assignment : (n, k) int, the index of the record's mode assigned to each tracked mode, −1 where missing;
     mac_to_reference : (n, k) MAC of that mode with the tracked mode's shape (NaN where missing);
-    refused : RecordFailures of records that cannot be compared (other channels than the reference).
+    refused : RecordFailures of records that cannot be compared (other channels than the reference);
+    found_by : (n, k) str, where each found mode came from: "choice" (the record's chosen modes), "cluster" (a
+    cluster of its diagram the choice left out, a spare), "diagram" (its diagram's poles, looked up with the
+    tracked mode's frequency and shape: era.campaign.lookup); "" where missing.
     """
 
     records: tuple
@@ -81,6 +85,7 @@ class Tracking:
     assignment: np.ndarray
     mac_to_reference: np.ndarray
     refused: tuple
+    found_by: np.ndarray | None = None
 
 
 @dataclass
@@ -165,10 +170,12 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
                   for j in range(f0.size)]
     gates = dict(freq_scale=freq_scale, min_mac=min_mac, max_freq_error=max_freq_error)
     candidates: list[_Track] = []
-    refused, kept = [], []
+    refused, kept, used, how = [], [], [], {}
+    ref_pos = -1 if reference is not None else None
     for rec in records:
         pos = len(kept)
         if not tracks and rec.n_modes:  # the first record with modes defines the reference
+            ref_pos = pos
             tracks = [_Track(float(rec.frequency_hz[i]), rec.shapes[:, i].copy(), [], "reference",
                              (float(rec.frequency_hz[i]), float(rec.damping_ratio[i]), pos))
                       for i in range(rec.n_modes)]
@@ -179,14 +186,13 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
                                          "sensors in the same order."))
             continue
         kept.append(rec)
+        used.append(set())
         f, shapes = rec.frequency_hz, rec.shapes
-        taken = set()
         for i, j in _assign(f, shapes, tracks, **gates):
-            tracks[j].hits.append((pos, i))
-            tracks[j].frequency_hz = float(f[i])
-            taken.add(i)
-        _from_spares(rec, pos, tracks, gates)
-        free = [i for i in range(rec.n_modes) if i not in taken]
+            _hit(tracks[j], pos, i, f[i], used, how, "choice")
+        _find_missing(kept, used, how, pos, [t for t in tracks if not t.hits or t.hits[-1][0] != pos], gates,
+                      chosen=False)
+        free = [i for i in range(rec.n_modes) if i not in used[pos]]
         twin = twins(f[free], shapes[:, free], tracks, min_mac=min_mac, max_freq_error=max_freq_error)
         free = [i for i, t in zip(free, twin) if not t]  # a twin of a tracked mode is never a new mode
         candidates = [c for c in candidates if pos - c.hits[-1][0] <= new_mode_gap + 1]
@@ -204,39 +210,102 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
             candidates.remove(c)
             if not twins(np.array([c.frequency_hz]), c.shape[:, None], tracks, min_mac=min_mac,
                          max_freq_error=max_freq_error)[0]:  # a tracked mode drifted onto it meanwhile
+                for q, i in c.hits:
+                    used[q].add(i)
+                    how[(q, i)] = "choice"
+                _backfill(c, kept, used, how, gates, ref_pos)
                 tracks.append(c)
-    return _tracking(kept, tracks, refused)
+    return _tracking(kept, tracks, refused, how)
 
 
-def _from_spares(rec, pos, tracks, gates) -> None:
-    """Tracked modes the record's chosen modes do not hold, looked for among its spares (the diagram's other
-    clusters, RecordModes.spares) with the same gates and one assignment: a mode the choice left out of one record
-    (at a crossing, or weak) is still that mode when its shape and frequency say so. Spares never start a mode."""
-    missing = [j for j, t in enumerate(tracks) if not t.hits or t.hits[-1][0] != pos]
-    if not missing or not rec.spares:
-        return
-    f = np.array([sp[0] for sp in rec.spares])
-    shapes = np.stack([np.asarray(sp[-1], complex) for sp in rec.spares], axis=1)
-    for a, k in _assign(f, shapes, [tracks[j] for j in missing], **gates):
-        tracks[missing[k]].hits.append((pos, rec.n_modes + a))
-        tracks[missing[k]].frequency_hz = float(f[a])
+def _hit(track, pos, i, frequency, used, how, found_by, latest=True) -> None:
+    track.hits.append((pos, int(i)))
+    if latest:
+        track.frequency_hz = float(frequency)
+    used[pos].add(int(i))
+    how[(pos, int(i))] = found_by
 
 
-def _tracking(records, tracks, refused) -> Tracking:
+def _find_missing(kept, used, how, pos, missing, gates, *, chosen: bool, latest: bool = True) -> list:
+    """The tracked modes ``missing`` from record ``pos``, looked for among what its choice left: its chosen modes
+    no tracked mode took (``chosen``: only when filling a new mode's earlier records), then its spares (the
+    diagram's other clusters, RecordModes.spares), then its diagram's poles with each mode's frequency and shape
+    as the prior (era.campaign.lookup; the record in ``kept`` then holds the looked-up mode as a spare and says so
+    in its evidence). Each with the same gates and one assignment; none of these ever starts a mode. Returns the
+    positions in ``missing`` that were found."""
+    rec = kept[pos]
+    found = []
+    sources = ([("choice", [i for i in range(rec.n_modes) if i not in used[pos]])] if chosen else []) + \
+        [("cluster", [rec.n_modes + s for s in range(len(rec.spares)) if rec.n_modes + s not in used[pos]])]
+    for found_by, idx in sources:
+        rest = [k for k in range(len(missing)) if k not in found]
+        if not idx or not rest:
+            continue
+        f = np.array([mode_value(rec, "frequency_hz", i) for i in idx])
+        shapes = np.stack([mode_shape(rec, i) for i in idx], axis=1)
+        for a, k in _assign(f, shapes, [missing[k] for k in rest], **gates):
+            _hit(missing[rest[k]], pos, idx[a], f[a], used, how, found_by, latest)
+            found.append(rest[k])
+    rest = [k for k in range(len(missing)) if k not in found]
+    if rest and rec.poles is not None:
+        hits = look_up(rec.poles, used[pos], [missing[k].frequency_hz for k in rest],
+                       np.stack([missing[k].shape for k in rest], axis=1), min_mac=gates["min_mac"],
+                       max_freq_error=gates["max_freq_error"])
+        for k, spare in hits:
+            rec, i = with_spare(rec, spare)
+            kept[pos] = rec
+            _hit(missing[rest[k]], pos, i, spare[0], used, how, "diagram", latest)
+            found.append(rest[k])
+    return found
+
+
+def _backfill(c, kept, used, how, gates, ref_pos) -> None:
+    """A new tracked mode's records before it was confirmed: those between its sightings that did not show it,
+    then the records before its first sighting, one after the other back until one does not hold it (a weak mode
+    the first records left out; a mode that appears mid-way stops at once). Looked for with its shape and the
+    nearest sighting's frequency; found there, they count as found and the mode's identity starts at the
+    earliest. Reaching the record that defined the reference, it is a reference mode."""
+    seen = sorted(q for q, _ in c.hits)
+    latest = c.frequency_hz
+
+    def probe(q) -> bool:
+        near = min(c.hits, key=lambda h: abs(h[0] - q))
+        c.frequency_hz = mode_value(kept[near[0]], "frequency_hz", near[1])
+        return bool(_find_missing(kept, used, how, q, [c], gates, chosen=True, latest=False))
+
+    for q in range(seen[0] + 1, seen[-1]):
+        if q not in seen:
+            probe(q)
+    q = seen[0] - 1
+    while q >= 0 and (ref_pos is None or q >= ref_pos) and probe(q):
+        q -= 1
+    c.hits.sort()
+    c.frequency_hz = latest
+    first, i = c.hits[0]
+    if first != seen[0]:
+        rec = kept[first]
+        c.reference = (mode_value(rec, "frequency_hz", i), mode_value(rec, "damping_ratio", i), first)
+        if first == ref_pos:
+            c.origin = "reference"
+
+
+def _tracking(records, tracks, refused, how) -> Tracking:
     n, k = len(records), len(tracks)
     order = sorted(range(k), key=lambda j: (tracks[j].origin != "reference", tracks[j].reference[2]
                                             if tracks[j].origin == "new" else 0, tracks[j].reference[0]))
     assignment = np.full((n, k), -1, dtype=int)
     mac_ref = np.full((n, k), np.nan)
+    found_by = np.full((n, k), "", dtype=object)
     modes = []
     for col, j in enumerate(order):
         t = tracks[j]
         for pos, i in t.hits:
             assignment[pos, col] = i
+            found_by[pos, col] = how.get((pos, i), "choice")
             mac_ref[pos, col] = mac(mode_shape(records[pos], i)[:, None], t.shape[:, None])[0, 0]
         modes.append(TrackedMode(mode=col, reference_frequency_hz=t.reference[0],
                                  reference_damping_ratio=t.reference[1], shape=t.shape, origin=t.origin,
                                  first_record=records[t.reference[2]].index if t.reference[2] >= 0 else -1,
                                  n_found=len(t.hits), n_held=n - max(t.reference[2], 0)))
     return Tracking(records=tuple(records), modes=tuple(modes), assignment=assignment, mac_to_reference=mac_ref,
-                    refused=tuple(refused))
+                    refused=tuple(refused), found_by=found_by)
