@@ -192,30 +192,48 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
             _hit(tracks[j], pos, i, f[i], used, how, "choice")
         _find_missing(kept, used, how, pos, [t for t in tracks if not t.hits or t.hits[-1][0] != pos], gates,
                       chosen=False)
-        free = [i for i in range(rec.n_modes) if i not in used[pos]]
-        twin = twins(f[free], shapes[:, free], tracks, min_mac=min_mac, max_freq_error=max_freq_error)
-        free = [i for i, t in zip(free, twin) if not t]  # a twin of a tracked mode is never a new mode
+        rec = kept[pos]
+        free = [i for i in [*range(rec.n_modes), *persistent_spares(rec)] if i not in used[pos]]
+        fr = np.array([mode_value(rec, "frequency_hz", i) for i in free])
+        sh = np.stack([mode_shape(rec, i) for i in free], axis=1) if free else np.zeros((p, 0), complex)
+        twin = twins(fr, sh, tracks, min_mac=min_mac, max_freq_error=max_freq_error)
+        keep = [a for a, t in enumerate(twin) if not t]  # a twin of a tracked mode is never a new mode
+        free, fr, sh = [free[a] for a in keep], fr[keep], sh[:, keep]
         candidates = [c for c in candidates if pos - c.hits[-1][0] <= new_mode_gap + 1]
         matched = set()
-        for a, j in _assign(f[free], shapes[:, free], candidates, **gates):
-            i = free[a]
-            candidates[j].hits.append((pos, i))
-            candidates[j].frequency_hz = float(f[i])
-            matched.add(i)
-        for i in free:
-            if i not in matched:
-                candidates.append(_Track(float(f[i]), shapes[:, i].copy(), [(pos, i)], "new",
-                                         (float(f[i]), float(rec.damping_ratio[i]), pos)))
+        for a, j in _assign(fr, sh, candidates, **gates):
+            candidates[j].hits.append((pos, free[a]))
+            candidates[j].frequency_hz = float(fr[a])
+            matched.add(a)
+        for a, i in enumerate(free):
+            if a not in matched:
+                candidates.append(_Track(float(fr[a]), sh[:, a].copy(), [(pos, i)], "new",
+                                         (float(fr[a]), mode_value(rec, "damping_ratio", i), pos)))
         for c in [c for c in candidates if len(c.hits) >= new_mode_records]:
             candidates.remove(c)
             if not twins(np.array([c.frequency_hz]), c.shape[:, None], tracks, min_mac=min_mac,
                          max_freq_error=max_freq_error)[0]:  # a tracked mode drifted onto it meanwhile
                 for q, i in c.hits:
                     used[q].add(i)
-                    how[(q, i)] = "choice"
+                    how[(q, i)] = "choice" if i < kept[q].n_modes else "cluster"
                 _backfill(c, kept, used, how, gates, ref_pos)
                 tracks.append(c)
     return _tracking(kept, tracks, refused, how)
+
+
+#: A spare (a cluster the record's choice left out) may start or confirm a new mode when it is stable over at least
+#: this fraction of the orders its record's chosen modes are stable over (their median): a cluster as persistent as
+#: the modes, which one record's choice judged too weak, and which other records show again.
+PERSISTENT_FRACTION = 0.5
+
+
+def persistent_spares(rec) -> list:
+    """Indices (n_modes + k) of the record's spares stable over at least PERSISTENT_FRACTION of the orders of its
+    chosen modes (their median)."""
+    if not rec.spares or not rec.n_modes:
+        return []
+    need = PERSISTENT_FRACTION * float(np.median(rec.n_orders))
+    return [rec.n_modes + k for k, sp in enumerate(rec.spares) if sp[6] >= need]
 
 
 def _hit(track, pos, i, frequency, used, how, found_by, latest=True) -> None:
@@ -285,8 +303,8 @@ def _backfill(c, kept, used, how, gates, ref_pos) -> None:
     if first != seen[0]:
         rec = kept[first]
         c.reference = (mode_value(rec, "frequency_hz", i), mode_value(rec, "damping_ratio", i), first)
-        if first == ref_pos:
-            c.origin = "reference"
+    if first == ref_pos:
+        c.origin = "reference"
 
 
 def _tracking(records, tracks, refused, how) -> Tracking:
