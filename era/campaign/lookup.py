@@ -32,7 +32,8 @@ def look_up(poles, used, frequencies, shapes, *, min_mac: float, max_freq_error:
     """[(tracked mode k, spare)] of the tracked modes (``frequencies`` (k,) Hz, ``shapes`` (p, k)) found among the
     record's diagram ``poles`` (era.campaign.record.DiagramPoles or None) whose cluster is not in ``used`` (the
     record's modes already taken). spare : the values in RecordModes.spares' order (frequency_hz, damping_ratio,
-    frequency σ NaN, damping σ NaN, emac, mpc, orders, shape (p,)) plus the evidence text. Each pole serves one
+    frequency σ NaN, damping σ NaN, emac, mpc, orders, shape (p,)), then the record's modes (chosen k < n_modes,
+    spares n_modes + k) whose poles these are, and the evidence text. Each pole serves one
     tracked mode at most; the best-matching tracked mode (mean MAC) is served first."""
     if poles is None or not poles.size or not len(frequencies):
         return []
@@ -59,9 +60,12 @@ def look_up(poles, used, frequencies, shapes, *, min_mac: float, max_freq_error:
         text = (f"left out by this record's choice; found by the campaign in the record's diagram at the tracked "
                 f"mode's frequency and shape: stable poles at {len(orders)} orders ({orders[0]}–{orders[-1]}), "
                 f"MAC {score:.2f} with its reference shape")
+        owners = sorted({int(c) for c in poles.cluster[members] if c >= 0})
+        if owners:  # a record mode of mixed shape (a crossing) whose poles these are is spent: never a candidate
+            text += f"; poles of the record's mode {', '.join(str(c) for c in owners)}"
         out.append((k, (float(np.median(f[members])), float(np.median(poles.damping_ratio[members])), float("nan"),
                         float("nan"), float(np.mean(poles.emac[members])), float(np.mean(poles.mpc[members])),
-                        len(orders), poles.shapes[:, best].copy(), text)))
+                        len(orders), poles.shapes[:, best].copy(), tuple(owners), text)))
     return out
 
 
@@ -77,7 +81,7 @@ def _one_per_order(idx, order, score) -> list:
 
 def with_spare(rec, spare):
     """(record with the looked-up mode appended to its spares and its evidence line to ``rejected``, its index)."""
-    *values, text = spare
+    *values, _, text = spare
     index = rec.n_modes + len(rec.spares)
     return replace(rec, spares=rec.spares + (tuple(values),),
                    rejected=rec.rejected + ((float(values[0]), CODE, text),)), index

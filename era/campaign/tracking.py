@@ -8,8 +8,13 @@ modes that cross in frequency keep their identities: the shape decides, not the 
   reference shape (identity does not drift); a pair is refused when MAC < ``min_mac`` or the frequency moved more
   than ``max_freq_error`` (relative);
 - a tracked mode the record's chosen modes do not hold is looked for among the record's spares (the diagram's
-  other clusters, which the choice left out: at a crossing, or a weak mode), with the same gates; found there it
-  counts as found (the table's ``record_mode`` is then n_modes + the spare's index);
+  other clusters, which the choice left out: at a crossing, or a weak mode), with the same gates, then among its
+  diagram's poles with the tracked mode's frequency and shape as the prior (era.campaign.lookup: stable poles at
+  two orders at least; the record's evidence, RecordModes.rejected, then says so); found there it counts as found
+  (the table's ``record_mode`` is then n_modes + the spare's index, ``found_by`` says where it came from);
+- where two tracked modes are within the frequency gate of each other (a crossing), a record's modes are mixtures
+  of their shapes: a tracked mode still missing there takes the record's unused mode near it that resembles it
+  more than any other tracked mode, with MAC ≥ CROSSING_MIN_MAC (0.5);
 - a tracked mode a record does not show at all is missing there (NaN in the table) and stays tracked: it is
   matched again whenever a later record shows it (it reappears);
 - a record's mode that no tracked mode takes is a candidate, unless it is a twin of a tracked mode (its shape
@@ -18,7 +23,11 @@ modes that cross in frequency keep their identities: the shape decides, not the 
   frequency no tracked mode has. Candidates are matched across records the same way, and one found in
   ``new_mode_records`` records, with gaps of at most ``new_mode_gap`` records between them, becomes a new
   tracked mode with its own identity from the record where it was first seen (its earlier records count as
-  found); others are forgotten;
+  found); others are forgotten. A spare as persistent as the record's modes (PERSISTENT_FRACTION of their orders)
+  may be a candidate too (a weak mode that records' choices call noise); other spares never start a mode. A new
+  mode's records between its sightings, and those before its first one back to the first that does not hold it,
+  are looked for as a missing tracked mode is (a weak mode the first records left out: found in the record that
+  defined the reference, it is a reference mode; a mode that appears mid-way starts at its first record);
 - each tracked mode's identification rate is the share of the records that hold it (every record from the one
   that defined it on) in which it was found.
 
@@ -77,7 +86,9 @@ class Tracking:
     refused : RecordFailures of records that cannot be compared (other channels than the reference);
     found_by : (n, k) str, where each found mode came from: "choice" (the record's chosen modes), "cluster" (a
     cluster of its diagram the choice left out, a spare), "diagram" (its diagram's poles, looked up with the
-    tracked mode's frequency and shape: era.campaign.lookup); "" where missing.
+    tracked mode's frequency and shape: era.campaign.lookup), "crossing" (a record mode of mixed shape where two
+    tracked modes are within the frequency gate of each other, taken by the one it resembles most, MAC ≥
+    CROSSING_MIN_MAC); "" where missing.
     """
 
     records: tuple
@@ -192,6 +203,7 @@ def track_modes(records, reference=None, *, freq_scale: float = 0.01, min_mac: f
             _hit(tracks[j], pos, i, f[i], used, how, "choice")
         _find_missing(kept, used, how, pos, [t for t in tracks if not t.hits or t.hits[-1][0] != pos], gates,
                       chosen=False)
+        _at_crossing(kept[pos], pos, tracks, used, how, gates)
         rec = kept[pos]
         free = [i for i in [*range(rec.n_modes), *persistent_spares(rec)] if i not in used[pos]]
         fr = np.array([mode_value(rec, "frequency_hz", i) for i in free])
@@ -236,6 +248,30 @@ def persistent_spares(rec) -> list:
     return [rec.n_modes + k for k, sp in enumerate(rec.spares) if sp[6] >= need]
 
 
+#: Where two tracked modes are within the frequency gate of each other (a crossing), a record mode there may be
+#: taken with a MAC this low: the record cannot fully tell the two shapes apart, its modes are mixtures of them.
+CROSSING_MIN_MAC = 0.5
+
+
+def _at_crossing(rec, pos, tracks, used, how, gates) -> None:
+    """Tracked modes still missing from record ``pos`` that have a tracked neighbour within the frequency gate take
+    the record's unused modes (chosen, then spares) near them that resemble them more than any other tracked mode,
+    with MAC ≥ CROSSING_MIN_MAC (found_by "crossing")."""
+    gate = gates["max_freq_error"]
+    ft = np.array([t.frequency_hz for t in tracks])
+    close = [j for j, t in enumerate(tracks) if (not t.hits or t.hits[-1][0] != pos)
+             and np.sum(np.abs(ft - ft[j]) <= gate * ft[j]) > 1]
+    idx = [i for i in range(rec.n_modes + len(rec.spares)) if i not in used[pos]]
+    if not close or not idx:
+        return
+    f = np.array([mode_value(rec, "frequency_hz", i) for i in idx])
+    shapes = np.stack([mode_shape(rec, i) for i in idx], axis=1)
+    best = np.argmax(mac(shapes, np.stack([t.shape for t in tracks], axis=1)), axis=1)
+    for a, k in _assign(f, shapes, [tracks[j] for j in close], **dict(gates, min_mac=CROSSING_MIN_MAC)):
+        if best[a] == close[k]:
+            _hit(tracks[close[k]], pos, idx[a], f[a], used, how, "crossing")
+
+
 def _hit(track, pos, i, frequency, used, how, found_by, latest=True) -> None:
     track.hits.append((pos, int(i)))
     if latest:
@@ -272,6 +308,7 @@ def _find_missing(kept, used, how, pos, missing, gates, *, chosen: bool, latest:
         for k, spare in hits:
             rec, i = with_spare(rec, spare)
             kept[pos] = rec
+            used[pos].update(spare[-2])  # the record modes whose poles these are
             _hit(missing[rest[k]], pos, i, spare[0], used, how, "diagram", latest)
             found.append(rest[k])
     return found

@@ -62,7 +62,8 @@ def test_the_campaigns_own_rates_and_evidence_agree_with_the_truth(hard):
     frame = result.modes_frame()
     assert list(frame["identification_rate"]) == [1.0] * len(result.modes)
     t = result.table
-    assert set(t[t["found"]]["found_by"]) <= {"choice", "cluster", "diagram"} and set(t[~t["found"]]["found_by"]) <= {""}
+    assert set(t[t["found"]]["found_by"]) <= {"choice", "cluster", "diagram"}
+    assert set(t[~t["found"]]["found_by"]) <= {""}
     for _, row in t[t["found_by"] == "diagram"].iterrows():  # looked up: the record's evidence says so
         rec = next(r for r in result.records if r.index == row["record"])
         assert any(code == "prior" and abs(f - row["frequency_hz"]) < 1e-9 for f, code, _ in rec.rejected)
