@@ -19,6 +19,7 @@ only what older trees have, so the same test measures a tree before a change (do
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -69,5 +70,7 @@ def test_throughput_on_one_worker(tmp_path):
         result = run_campaign(paths, kind="ambient", workers=1)
         rates.append(len(paths) / (time.perf_counter() - t0))
         assert len(result.records) == 16
+    import era
+
     print(f"\nthroughput on one worker, 16 records of 10 min: {max(rates):.3f} records/s (passes: "
-          f"{', '.join(f'{r:.3f}' for r in rates)})")
+          f"{', '.join(f'{r:.3f}' for r in rates)}; era from {os.path.dirname(era.__file__)})")
