@@ -16,11 +16,13 @@ import tempfile
 
 import numpy as np
 
-from .record import RecordModes
+from .record import DiagramPoles, RecordModes
 
 _ARRAYS = ("frequency_hz", "frequency_std_hz", "damping_ratio", "damping_std", "emac", "mpc")
-#: 2: the modes era.choose_modes chose, at one order, with the data's σ (1: the campaign's own rule)
-_VERSION = 2
+#: 3: with the diagram's poles (2: the modes era.choose_modes chose, at one order, with the data's σ; 1: the
+#: campaign's own rule)
+_VERSION = 3
+_POLE_ARRAYS = ("order", "frequency_hz", "damping_ratio", "emac", "mpc", "cluster")
 
 
 def record_key(source, fingerprint: str) -> str:
@@ -49,7 +51,18 @@ def to_json(rec: RecordModes) -> dict:
                cols=rec.cols, n_samples=rec.n_samples, p=int(rec.shapes.shape[0]), order=rec.order,
                rejected=[list(r) for r in rec.rejected],
                spares=[list(sp[:7]) + [sp[7].real.tolist(), sp[7].imag.tolist()] for sp in rec.spares])
+    if rec.poles is not None:
+        out["poles"] = {k: np.asarray(getattr(rec.poles, k)).tolist() for k in _POLE_ARRAYS}
+        out["poles"].update(shapes_re=rec.poles.shapes.real.tolist(), shapes_im=rec.poles.shapes.imag.tolist())
     return out
+
+
+def _poles(d: dict | None, p: int):
+    if d is None:
+        return None
+    shapes = (np.array(d["shapes_re"], float) + 1j * np.array(d["shapes_im"], float)).reshape(p, -1)
+    return DiagramPoles(**{k: np.array(d[k], int if k in ("order", "cluster") else float) for k in _POLE_ARRAYS},
+                        shapes=shapes)
 
 
 def from_json(d: dict, index: int, name: str) -> RecordModes:
@@ -63,7 +76,8 @@ def from_json(d: dict, index: int, name: str) -> RecordModes:
                        rejected=tuple((float(f), str(c), str(r)) for f, c, r in d["rejected"]),
                        spares=tuple(tuple(float(x) for x in sp[:6]) + (int(sp[6]),
                                     np.array(sp[7], float) + 1j * np.array(sp[8], float))
-                                    for sp in d.get("spares", [])))
+                                    for sp in d.get("spares", [])),
+                       poles=_poles(d.get("poles"), p))
 
 
 def load_entry(folder, key: str, index: int, name: str) -> RecordModes | None:

@@ -78,7 +78,10 @@ class RecordModes:
     spares : the diagram's other clusters (those in ``rejected``) as (frequency_hz, damping_ratio,
         frequency_std_hz, damping_std, emac, mpc, n_orders, shape (p,) complex), by frequency: a tracked mode
         the choice left out of this record is looked for among them (era.campaign.track_modes); index
-        ``n_modes + k`` is spare k (:func:`mode_value`, :func:`mode_shape`).
+        ``n_modes + k`` is spare k (:func:`mode_value`, :func:`mode_shape`);
+    poles : the diagram's poles that are stable in frequency (a partner at the previous order), the material a
+        tracked mode the record's clusters miss is looked up in (era.campaign.lookup), as :class:`DiagramPoles`
+        or None.
     """
 
     index: int
@@ -100,10 +103,33 @@ class RecordModes:
     order: int = 0
     rejected: tuple = ()
     spares: tuple = ()
+    poles: object = None
 
     @property
     def n_modes(self) -> int:
         return int(self.frequency_hz.size)
+
+
+@dataclass(frozen=True, eq=False)
+class DiagramPoles:
+    """q poles of one record's stabilization diagram (those stable in frequency, positive frequency).
+
+    order, frequency_hz, damping_ratio, emac, mpc : (q,) each pole's model order and values (Hz, fraction, γ, μ);
+    cluster : (q,) the record's mode the pole belongs to: k < n_modes a chosen mode, n_modes + k spare k, -1 none;
+    shapes : (p, q) complex.
+    """
+
+    order: np.ndarray
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    emac: np.ndarray
+    mpc: np.ndarray
+    cluster: np.ndarray
+    shapes: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return int(self.order.size)
 
 
 #: The values of a spare mode, in the order RecordModes.spares holds them.
@@ -174,6 +200,7 @@ def record_modes(result: AnalysisResult, *, index: int, name: str, outputs, kind
     std = lambda v: np.full(model.n_modes, np.nan) if v is None else np.asarray(v, dtype=float)  # noqa: E731
     n_orders = [len(set(c.orders).union(*(t.orders for t in choice.rejected if t.code == "twin" and t.mode == k)))
                 for k, c in enumerate(choice.chosen)]
+    spare_clusters = [c for c in choice.rejected if np.isfinite(c.frequency_hz) and c.frequency_hz > 0]
     return RecordModes(
         index=index, name=name, time=time_from_name(name), frequency_hz=np.asarray(model.frequency_hz, float),
         frequency_std_hz=std(model.frequency_std_hz), damping_ratio=np.asarray(model.damping_ratio, float),
@@ -183,7 +210,20 @@ def record_modes(result: AnalysisResult, *, index: int, name: str, outputs, kind
         rejected=tuple((float(c.frequency_hz), str(c.code), str(c.reason)) for c in choice.rejected),
         spares=tuple((float(c.frequency_hz), float(c.damping_ratio), float(c.frequency_std_hz), float(c.damping_std),
                       float(c.emac), float(c.mpc), len(c.orders), np.asarray(c.shape, complex))
-                     for c in choice.rejected if np.isfinite(c.frequency_hz) and c.frequency_hz > 0))
+                     for c in spare_clusters),
+        poles=diagram_poles(result.stabilization, list(choice.chosen) + spare_clusters))
+
+
+def diagram_poles(stab, clusters) -> DiagramPoles:
+    """The :class:`DiagramPoles` of an era.Stabilization: its poles stable in frequency, each marked with the
+    position of the cluster (era.choice Candidate, in ``clusters``: the chosen modes, then the spares) it belongs to."""
+    owner = np.full(stab.frequency_hz.size, -1)
+    for k, c in enumerate(clusters):
+        owner[list(c.pole_indices)] = k
+    keep = np.flatnonzero(np.asarray(stab.stable_frequency, bool) & (stab.frequency_hz > 0))
+    return DiagramPoles(order=np.asarray(stab.order)[keep].astype(int), frequency_hz=stab.frequency_hz[keep],
+                        damping_ratio=stab.damping_ratio[keep], emac=stab.emac[keep], mpc=stab.mpc[keep],
+                        cluster=owner[keep], shapes=np.asarray(stab.shapes)[:, keep].astype(complex))
 
 
 def analyse_record(source, index: int, settings: CampaignSettings):

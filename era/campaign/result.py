@@ -11,7 +11,7 @@ from .record import mode_value
 
 #: The table's columns, in order (see :class:`CampaignResult`).
 COLUMNS = ("record", "name", "time", "mode", "found", "frequency_hz", "damping_ratio", "mac_to_reference", "emac",
-           "mpc", "n_orders", "frequency_std_hz", "damping_std", "order", "record_mode")
+           "mpc", "n_orders", "frequency_std_hz", "damping_std", "order", "record_mode", "found_by")
 
 
 @dataclass(frozen=True, eq=False)
@@ -26,8 +26,11 @@ class CampaignResult:
         mpc (μ), n_orders (orders of the diagram where the mode is stable), frequency_std_hz and damping_std
         (standard deviations from the data, era.core.uncertainty), order (the diagram order the record's modes are
         read at, era.choose_modes), record_mode (the mode's index in the record's own RecordModes, -1 where
-        missing; n_modes + k for the record's spare k, a cluster the choice left out: RecordModes.spares). The
-        values are the record's chosen model's (era.analyse), or the spare cluster's. Where a record does not
+        missing; n_modes + k for the record's spare k, a cluster the choice left out: RecordModes.spares), found_by
+        (where the record showed it: "choice", its chosen modes; "cluster", a cluster of its diagram the choice
+        left out; "diagram", its diagram's poles looked up with the tracked mode's frequency and shape, then
+        appended to the record's spares with a line in its ``rejected`` that says so, σ NaN; "" where missing).
+        The values are the record's chosen model's (era.analyse), or the spare cluster's. Where a record does not
         show a tracked mode, ``found`` is False and the numbers are NaN (n_orders 0). Failed records have no rows.
     modes : tuple of era.campaign.TrackedMode: number, reference frequency, damping and shape, origin
         ("reference" or "new"), the record that defined it and how many records found it.
@@ -103,6 +106,8 @@ def build_table(tracking):
             rows["damping_std"].append(value("damping_std"))
             rows["order"].append(int(rec.order))
             rows["record_mode"].append(i)
+            rows["found_by"].append(str(tracking.found_by[pos, col]) if tracking.found_by is not None else
+                                    ("choice" if found else ""))
     table = pd.DataFrame(rows, columns=list(COLUMNS))
     if len(table) and isinstance(times[0], np.datetime64):
         table["time"] = pd.to_datetime(table["time"])

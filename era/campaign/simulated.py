@@ -15,7 +15,7 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
+from scipy.signal import lfilter, lfiltic
 
 from ..core.data import ResponseData
 from ..io import save_npz
@@ -38,7 +38,12 @@ class MonitoringTruth:
     frequency_hz : (n_records, 5) the damped frequencies of each record; damping_ratio : (5,);
     shapes : (6, 5) real, unit-norm columns; damaged_mode : index of the mode that drops;
     damage_from : first damaged record (0-based); damage_drop : relative drop (0.03 = 3 %);
-    dt : sampling interval in s; duration_s : record length in s.
+    dt : sampling interval in s; duration_s : record length in s;
+    amplitude : (k,) modal force level of each mode, or None for AMPLITUDE;
+    present : (n_records, k) bool, the modes each record holds (a mode that appears mid-way), or None for all;
+    second_half_hz : (n_records, k) damped frequencies from each record's middle on (a change within one record,
+        which splits the mode into twins: the same shape at two close frequencies), NaN where unchanged; or None.
+    k may exceed five (era.campaign.scenarios adds a local mode).
     """
 
     time_h: np.ndarray
@@ -51,6 +56,21 @@ class MonitoringTruth:
     damage_drop: float
     dt: float
     duration_s: float
+    amplitude: np.ndarray | None = None
+    present: np.ndarray | None = None
+    second_half_hz: np.ndarray | None = None
+
+    def record_modes(self, r: int) -> dict:
+        """The keywords of :func:`ambient_record` for record r: the modes it holds, their frequencies (and those of
+        its second half), damping, shapes and force levels."""
+        k = self.frequency_hz.shape[1]
+        keep = np.ones(k, bool) if self.present is None else np.asarray(self.present[r], bool)
+        amp = np.array([AMPLITUDE[j % len(AMPLITUDE)] for j in range(k)]) if self.amplitude is None else \
+            np.asarray(self.amplitude, float)
+        half = None if self.second_half_hz is None else np.asarray(self.second_half_hz[r], float)[keep]
+        return dict(frequency_hz=self.frequency_hz[r, keep], damping_ratio=self.damping_ratio[keep],
+                    shapes=self.shapes[:, keep], amplitude=amp[keep],
+                    second_half_hz=None if half is None or np.isnan(half).all() else half)
 
 
 def monitoring_truth(n_records: int = 48, *, hours_between: float = 1.0, damage_from: int = 30,
@@ -71,23 +91,39 @@ def monitoring_truth(n_records: int = 48, *, hours_between: float = 1.0, damage_
                            damage_drop=float(damage_drop), dt=float(dt), duration_s=float(duration_s))
 
 
+def _resonator(frequency_hz, damping_ratio, dt: float) -> list:
+    """The denominator [1, a1, a2] of the discrete resonator whose poles are the mode's, exp(λ dt)."""
+    wd = 2 * np.pi * float(frequency_hz)
+    wn = wd / np.sqrt(1 - damping_ratio**2)
+    z = np.exp((-damping_ratio * wn + 1j * wd) * dt)
+    return [1.0, -2 * z.real, abs(z) ** 2]
+
+
 def ambient_record(frequency_hz, damping_ratio, shapes, *, dt: float, duration_s: float, snr_db: float = 20.0,
-                   seed: int = 0) -> np.ndarray:
+                   seed: int = 0, amplitude=None, second_half_hz=None) -> np.ndarray:
     """(N, p) ambient accelerations: each mode a discrete resonator driven by its own white noise.
 
     frequency_hz : (k,) damped; damping_ratio : (k,); shapes : (p, k); N = round(duration_s / dt).
+    amplitude : (k,) modal force levels (None: AMPLITUDE); second_half_hz : (k,) damped frequencies from sample
+    N // 2 on (the resonator goes on from its state; NaN: unchanged), or None.
     White noise of rms(y_i)·10^(-snr_db/20) is added to each channel i.
     """
     rng = np.random.default_rng(seed)
     n = int(round(duration_s / dt))
     f, zeta = np.asarray(frequency_hz, float), np.asarray(damping_ratio, float)
-    wd = 2 * np.pi * f
-    wn = wd / np.sqrt(1 - zeta**2)
-    poles = np.exp((-zeta * wn + 1j * wd) * dt)
+    amp = [AMPLITUDE[j % len(AMPLITUDE)] for j in range(f.size)] if amplitude is None else list(amplitude)
     q = np.empty((n, f.size))
-    for j, z in enumerate(poles):
-        den = [1.0, -2 * z.real, abs(z) ** 2]
-        q[:, j] = AMPLITUDE[j % len(AMPLITUDE)] * lfilter([0.0, 1.0], den, rng.standard_normal(n))
+    for j in range(f.size):
+        x = rng.standard_normal(n)
+        den = _resonator(f[j], zeta[j], dt)
+        if second_half_hz is None or not np.isfinite(second_half_hz[j]):
+            q[:, j] = amp[j] * lfilter([0.0, 1.0], den, x)
+            continue
+        h = n // 2  # the second half goes on from the first half's last outputs and input
+        first = lfilter([0.0, 1.0], den, x[:h])
+        after = _resonator(second_half_hz[j], zeta[j], dt)
+        zi = lfiltic([0.0, 1.0], after, y=first[::-1][:2], x=x[:h][::-1][:2])
+        q[:, j] = amp[j] * np.concatenate([first, lfilter([0.0, 1.0], after, x[h:], zi=zi)[0]])
     y = q @ np.asarray(shapes, float).T
     rms = np.sqrt(np.mean(y**2, axis=0, keepdims=True))
     return y + rng.standard_normal(y.shape) * rms * 10 ** (-snr_db / 20)
@@ -110,8 +146,8 @@ def write_campaign(folder, truth: MonitoringTruth, *, snr_db: float = 20.0, seed
     paths = []
     for r, hours in enumerate(truth.time_h):
         stamp = str(base + np.timedelta64(int(round(hours * 60)), "m")).replace(":", "-")
-        y = ambient_record(truth.frequency_hz[r], truth.damping_ratio, truth.shapes, dt=truth.dt,
-                           duration_s=truth.duration_s, snr_db=snr_db, seed=seed * 100003 + r)
+        y = ambient_record(**truth.record_modes(r), dt=truth.dt, duration_s=truth.duration_s, snr_db=snr_db,
+                           seed=seed * 100003 + r)
         path = os.path.join(folder, f"rec_{stamp}.csv")
         with open(path + ".part", "wb") as fh:
             fh.write(record_csv(y, truth.dt))

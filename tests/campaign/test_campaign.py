@@ -86,7 +86,10 @@ def test_two_crossing_modes_keep_their_identities(on_processes, truth):
         assert np.all(np.abs(mine[ok] - own[ok]) < np.abs(mine[ok] - other[ok]))
     t = result.table
     crossing = t[t["mode"].isin([cols[2], cols[3]]) & t["found"]]
-    assert crossing["mac_to_reference"].min() >= 0.8
+    # a record mode of mixed shape at the crossing is taken by the tracked mode it resembles most (MAC ≥ 0.5,
+    # found_by "crossing"); every other cell passed the 0.8 gate
+    assert crossing[crossing["found_by"] != "crossing"]["mac_to_reference"].min() >= 0.8
+    assert crossing["mac_to_reference"].min() >= 0.5
 
 
 def test_local_cluster_and_local_processes_give_the_same_table(on_processes, on_cluster):

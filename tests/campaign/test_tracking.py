@@ -224,3 +224,72 @@ def frequencies_with_spares(trk, mode):
 
     return np.array([mode_value(rec, "frequency_hz", i) if (i := trk.assignment[pos, mode]) >= 0 else np.nan
                      for pos, rec in enumerate(trk.records)])
+
+
+def poles_of(freqs, shapes, orders):
+    """DiagramPoles holding each (frequency, shape) at every order of ``orders``, of no cluster."""
+    from era.campaign.record import DiagramPoles
+
+    f = np.repeat(np.asarray(freqs, float), len(orders))
+    o = np.tile(np.asarray(orders), len(freqs))
+    s = np.repeat(np.asarray(shapes, complex), len(orders), axis=1)
+    return DiagramPoles(order=o, frequency_hz=f, damping_ratio=np.full(f.size, 0.01), emac=np.ones(f.size),
+                        mpc=np.ones(f.size), cluster=np.full(f.size, -1), shapes=s)
+
+
+def test_a_mode_the_records_clusters_miss_is_looked_up_in_its_diagram_with_the_tracked_frequency_and_shape():
+    """Record 4's clusters hold no mode 1 (its choice left it out, no spare either) but its diagram's poles hold it at
+    three orders: the campaign finds it there (found_by "diagram", σ NaN, the record's evidence says so). A pole at
+    one order only, or of another shape, is not enough."""
+    from dataclasses import replace
+
+    recs = [record(r, [2.0, 4.0], [0, 1], noise=0.02) for r in range(8)]
+    recs[4] = replace(record(4, [2.0], [0]), poles=poles_of([4.01, 4.05], SHAPES[:, [1, 3]], [20, 22, 24]))
+    recs[6] = replace(record(6, [2.0], [0]), poles=poles_of([4.0], SHAPES[:, [1]], [30]))  # one order only
+    trk = track_modes(recs)
+    assert len(trk.modes) == 2 and trk.assignment[4, 1] == 1 and trk.found_by[4, 1] == "diagram"
+    assert trk.assignment[6, 1] == -1 and trk.found_by[6, 1] == ""
+    rec4 = trk.records[4]
+    assert rec4.spares[0][0] == pytest.approx(4.01) and np.isnan(rec4.spares[0][2])
+    assert rec4.rejected[-1][1] == "prior" and "found by the campaign" in rec4.rejected[-1][2]
+    assert trk.modes[1].n_found == 7 and trk.modes[1].n_held == 8
+
+
+def test_a_weak_mode_the_first_records_left_out_is_a_reference_mode_found_from_the_first_record():
+    """Mode 1 is only a spare (a cluster the choice called noise) in records 0, 2 and 3: once records 1, 4 and 5
+    confirm it, the campaign fills records 0-3 from their spares: one identity, a reference mode, rate 1."""
+    from dataclasses import replace
+
+    recs = []
+    for r in range(10):
+        if r in (0, 2, 3):
+            rec = record(r, [2.0, 6.0], [0, 2], noise=0.02)
+            rec = replace(rec, spares=((4.0 + 0.001 * r, 0.01, 0.001, 0.001, 1.0, 1.0, 20,
+                                        SHAPES[:, 1].astype(complex)),))
+        else:
+            rec = record(r, [2.0, 4.0 + 0.001 * r, 6.0], [0, 1, 2], noise=0.02)
+        recs.append(rec)
+    trk = track_modes(recs)
+    assert [m.origin for m in trk.modes] == ["reference"] * 3
+    weak = next(m for m in trk.modes if abs(m.reference_frequency_hz - 4.0) < 0.01)
+    assert (weak.first_record, weak.n_found, weak.n_held) == (0, 10, 10)
+    assert list(trk.found_by[[0, 2, 3], weak.mode]) == ["cluster"] * 3
+
+
+def test_a_local_mode_appearing_mid_way_starts_at_its_first_record_even_with_look_alikes_before():
+    """A local mode appears in record 6 (seen as a spare there, chosen from record 7 on); before it, the records'
+    diagrams hold only other shapes near its frequency: its identity starts at record 6, no earlier."""
+    from dataclasses import replace
+
+    recs = []
+    for r in range(12):
+        rec = record(r, [2.0, 4.0] + ([5.5] if r >= 7 else []), [0, 1] + ([3] if r >= 7 else []), noise=0.02)
+        if r == 6:
+            rec = replace(rec, spares=((5.49, 0.01, 0.001, 0.001, 1.0, 1.0, 12, SHAPES[:, 3].astype(complex)),))
+        else:
+            rec = replace(rec, poles=poles_of([5.5], SHAPES[:, [4]], [10, 12, 14]))
+        recs.append(rec)
+    trk = track_modes(recs)
+    assert [m.origin for m in trk.modes] == ["reference", "reference", "new"]
+    assert (trk.modes[2].first_record, trk.modes[2].n_found, trk.modes[2].n_held) == (6, 6, 6)
+    assert trk.found_by[6, 2] == "cluster"

@@ -45,6 +45,13 @@ def test_upload_records_as_a_campaign_see_the_tracking_and_open_its_report_link(
         # the plots: one trace per tracked mode, a value where the record shows it
         n_modes = page.locator("#campaign-modes tbody tr").count()
         assert 4 <= n_modes <= 6
+        # each tracked mode's identification rate, as the table's "found in" counts say
+        rows = page.evaluate("[...document.querySelectorAll('#campaign-modes tbody tr')].map(tr => "
+                             "[...tr.cells].map(td => td.textContent))")
+        assert page.text_content("#campaign-modes thead th:last-child") == "identification rate"
+        for row in rows:
+            found, held = (int(w) for w in row[5].split()[0:3:2])  # "4 of 4 records"
+            assert row[6] == f"{100 * found / held:.1f} %", row
         for plot in ("#campaign-freq", "#campaign-damp", "#campaign-mac"):
             traces = page.evaluate(f"document.querySelector('{plot}').data.map(t => t.y.filter(v => v !== null)"
                                    ".length)")
