@@ -19,8 +19,10 @@ carry, with no constant tuned to a dataset:
    shape (MAC ≥ 0.99 over three sensors or more) near it is that mode's shadow, a twin too (era.choice.evidence).
 3. **The structure's, not the noise's** (era.choice.evidence): a mode stands above the noise poles (its pole amplitude
    over theirs) and persists over the orders from the first where it appears; the louder, the fewer orders it
-   needs (persistence × log10(strength) ≥ MIN_EVIDENCE); it is coherent (γ·μ, the paper's indicators: Pappa's
-   consistent-mode indicator); and its damping is not far above the other modes'.
+   needs (persistence × log10(strength) ≥ MIN_EVIDENCE); a mode that lasts over most of the diagram, coherent
+   over three sensors or more, needs only to stand above a typical noise pole (a weak mode of an ambient record);
+   it is coherent (γ·μ, the paper's indicators: Pappa's consistent-mode indicator); and its damping is not far
+   above the other modes'.
 
 The chosen modes are then read at ONE order of the diagram at which each of them has a pole, so the model the
 engineer sees, reconstructs and reports is a model the data gave (:class:`ModeChoice`). Pure functions.

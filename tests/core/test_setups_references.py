@@ -148,8 +148,9 @@ def test_a_sensor_that_moved_in_one_setup_is_not_proposed():
 
 
 def test_the_tower_keeps_every_channel_as_nexts_reference_its_near_node_mode_the_closer():
-    """The tower at 300 s merged both ways (era.merge_choosing_next): five modes complete each way, so the rule
-    keeps the merge with the more consistent shapes (mean MPC), every channel as NExT reference; that merge's third
+    """The tower at 300 s merged both ways (era.merge_choosing_next): five modes complete each way and shapes as
+    consistent (mean MPC 0.999 both; the references-only way once read setup 4 without its 4.5 Hz mode, recovered
+    in the merge, and had the lower MPC), so the rule keeps every channel as NExT reference; that merge's third
     mode (the references near its nodes) is indeed the closer to the exact shape."""
     only = []
     for k in range(4):
@@ -157,7 +158,8 @@ def test_the_tower_keeps_every_channel_as_nexts_reference_its_near_node_mode_the
         only.append(era.analyse(era.markov_from_ambient(y, DT, TRUE_REFERENCES[k])))
     choice = era.merge_choosing_next(tower(12_000, 1), only, TRUE_REFERENCES)
     print(choice.reason)
-    assert choice.used == "every" and list(choice.complete) == [5, 5] and choice.quality[0] > choice.quality[1]
+    assert choice.used == "every" and list(choice.complete) == [5, 5]
+    assert "as consistent" in choice.reason  # within era.setups.next_references.MPC_TIE: era's default kept
     assert np.all(choice.result.complete) and choice.result.model.n_modes == 5
     every, refs = (np.diag(era.mac(m.model.point_shapes, merged_truth())) for m in choice.merges)
     print("MAC with the exact shapes, every channel", every.round(4), "references only", refs.round(4))
