@@ -13,7 +13,7 @@ import numpy as np
 import era
 from era.io.preview import preview
 
-from .loading import READING, named_sources
+from .loading import named_sources, read_key
 from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
@@ -69,13 +69,6 @@ def given(options: dict) -> dict:
     if out.get("kind") == "auto":
         del out["kind"]
     return out
-
-
-def read_key(upload_id: str, options: dict, max_bytes: int | None) -> tuple:
-    """The key of an upload read with ``options`` (the import step's): equal for a preview and a dataset that read
-    the files the same way, whatever else they choose."""
-    said = given(options)
-    return (upload_id, max_bytes) + tuple((k, repr(said.get(k))) for k in READING)
 
 
 def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,

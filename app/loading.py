@@ -36,6 +36,13 @@ def named_sources(files: list[tuple[str, bytes]]) -> list:
     return sources
 
 
+def read_key(upload_id: str, options: dict, max_bytes: int | None) -> tuple:
+    """The key of an upload read with ``options`` (the import step's): equal for a preview and a dataset that read
+    the files the same way, whatever else they choose."""
+    said = {k: v for k, v in options.items() if v is not None and v is not False}
+    return (upload_id, max_bytes) + tuple((k, repr(said.get(k))) for k in READING)
+
+
 def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", max_bytes: int | None = None, read=None,
                 **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
@@ -108,7 +115,6 @@ def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict,
     """Read ``files`` with ``options`` into a stored dataset; returns its summary (schemas.Dataset), whose
     ``source.options`` keeps what the person said (shown in the summary, frozen into reports). The files of a
     staged upload (``upload_id``) that its preview read the same way are not read again (``cache.reads``)."""
-    from .importing import read_key
     from .payloads import dataset_summary
 
     got = None if upload_id is None else cache.reads.get(read_key(upload_id, options, cache.settings.max_upload_bytes))
