@@ -15,6 +15,8 @@ import threading
 from collections import OrderedDict
 from dataclasses import dataclass
 
+import numpy as np
+
 import era
 
 from . import choosing, compute, limits
@@ -24,6 +26,8 @@ from .store import Store
 
 #: Loaded datasets kept in memory at most (and at most Settings.cache_dataset_bytes of them).
 DATASETS_KEPT = 16
+#: Staged uploads kept as read (a person previews, then makes the dataset): a few at once.
+READS_KEPT = 4
 
 
 @dataclass(frozen=True)
@@ -61,6 +65,12 @@ def identification_bytes(ident: era.Identification) -> int:
     data = ident.data
     records = data.records.nbytes if data.records is not None else 0
     return ident.P.nbytes + ident.Q.nbytes + data.markov.nbytes + records
+
+
+def read_bytes(got) -> int:
+    """The bytes uploaded files hold in memory once read (era.io.Read: their records' arrays)."""
+    records = getattr(got, "records", None)
+    return sum(np.asarray(v).nbytes for v in records.values) if records is not None else 0
 
 
 class LRU:
@@ -116,6 +126,9 @@ class Cache:
                            identification_bytes)
         self._models = LRU(settings.cache_models)
         self._diagrams = LRU(settings.cache_identifications)
+        #: staged uploads as their preview read them (era.io.Read), by importing.read_key: the dataset made
+        #: next from the same files with the same reading options converts them without reading them again
+        self.reads = LRU(READS_KEPT, settings.cache_dataset_bytes // 4, read_bytes)
         self._inflight: dict = {}
         self._inflight_lock = threading.Lock()
 

@@ -73,7 +73,8 @@ def band_of(data: era.ResponseData) -> tuple[float, float] | None:
 def diagram(ident: era.Identification, band_hz: tuple[float, float] | None, settings: Settings) -> Diagram:
     """The stabilization diagram of ``ident`` (with the data's standard deviations) and era's choice of modes in
     ``band_hz``. Blocking: run it in a worker process."""
-    stab, picked = diagram_and_choice(ident, orders(ident.max_order, settings), band_hz)
+    stab, picked = diagram_and_choice(ident, orders(ident.max_order, settings), band_hz,
+                                      workers=settings.analysis_threads)
     return Diagram(stabilization=stab, choice=picked, band_hz=band_hz or (0.0, 0.5 / float(ident.dt)),
                    order=opening_order(ident, stab, picked))
 

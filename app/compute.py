@@ -84,10 +84,16 @@ def _executor(workers: int) -> ProcessPoolExecutor:
 
 
 def _ready() -> int:
-    """Import in a worker what every analysis needs (a spawned worker starts with nothing): era, scipy's LAPACK."""
+    """Import in a worker what every analysis needs (a spawned worker starts with nothing): era, scipy's LAPACK;
+    then one small analysis, so that the first upload does not pay for what a first call loads (scipy's FFT,
+    the LAPACK routines era finds by ctypes, the thread pools' controller)."""
     import scipy.linalg  # noqa: F401
 
-    import era  # noqa: F401
+    import era
+    from era.examples.synthetic import modal_response
+
+    data, _ = modal_response([1.0, 2.5], 0.02, 2, 1, 80, 0.05, snr_db=40, seed=0)
+    era.analyse(data, workers=2)
     return os.getpid()
 
 

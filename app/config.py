@@ -65,6 +65,9 @@ class Settings:
     max_plot_points: int = 4000
     #: Heavy jobs (file parsing, SVD, stabilization) running at once; more wait in a queue.
     heavy_workers: int = 2
+    #: Threads one analysis's stabilization diagram uses in its worker process (its orders realized and their σ
+    #: computed that many at a time, each with one BLAS thread): one person's upload is answered on every core.
+    analysis_threads: int = field(default_factory=lambda: max(1, min(2, os.cpu_count() or 1)))
     #: Heavy jobs waiting at most; beyond it a request gets 503 with Retry-After (the page retries by itself).
     heavy_queue: int = 64
     #: Uploads up to this size are read on the quick threads (never queued behind SVDs), bytes.
@@ -110,7 +113,7 @@ class Settings:
 
 def from_env() -> Settings:
     """Settings from ERA_DATA_DIR, ERA_DATABASE_URL, ERA_MAX_UPLOAD_MB, ERA_MAX_HANKEL_ELEMENTS, ERA_MAX_ORDER, ERA_RATE_LIMIT,
-    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE, ERA_ACCESS_TOKEN,
+    ERA_RATE_LIMIT_HEAVY, ERA_HEAVY_WORKERS, ERA_HEAVY_QUEUE, ERA_ANALYSIS_THREADS, ERA_ACCESS_TOKEN,
     ERA_TRUST_USER_HEADER, ERA_EXPIRE_DAYS, ERA_VIEWER (0 turns the viser viewer off), ERA_VIEWER_CONNECTIONS and the
     campaigns' ERA_DASK_SCHEDULER, ERA_CAMPAIGN_WORKERS, ERA_CAMPAIGN_ROOT, ERA_MAX_CAMPAIGN_RECORDS and
     ERA_CAMPAIGN_QUEUE."""
@@ -126,6 +129,7 @@ def from_env() -> Settings:
         rate_limit_heavy_per_minute=_env("ERA_RATE_LIMIT_HEAVY", base.rate_limit_heavy_per_minute, rate),
         heavy_workers=_env("ERA_HEAVY_WORKERS", base.heavy_workers, int),
         heavy_queue=_env("ERA_HEAVY_QUEUE", base.heavy_queue, int),
+        analysis_threads=max(1, _env("ERA_ANALYSIS_THREADS", base.analysis_threads, int)),
         access_token=_env("ERA_ACCESS_TOKEN", None, str),
         trust_user_header=_env("ERA_TRUST_USER_HEADER", None, str),
         expire_days=_env("ERA_EXPIRE_DAYS", base.expire_days, float),

@@ -13,7 +13,7 @@ import numpy as np
 import era
 from era.io.preview import preview
 
-from .loading import named_sources
+from .loading import named_sources, read_key
 from .payloads import floats
 
 #: The options era.load takes from the import step (schemas.ImportOptions without ``kind``).
@@ -72,15 +72,19 @@ def given(options: dict) -> dict:
 
 
 def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,
-                 max_bytes: int | None = None) -> tuple[dict, str | None, str | None]:
+                 max_bytes: int | None = None, reads=None, upload_id: str | None = None
+                 ) -> tuple[dict, str | None, str | None]:
     """(schemas.ImportPreview, problem, its option) of ``files`` read with ``options``: the problem is what still
     stops the import although the files could be shown (no sampling interval). Raises era.EraError when they cannot
-    be read at all; ``max_bytes`` bounds what they inflate to (era.load's)."""
+    be read at all; ``max_bytes`` bounds what they inflate to (era.load's). ``reads`` (app.cache.LRU) keeps the
+    files as read under :func:`read_key` of ``upload_id``, for the dataset made from them next."""
     reading = {k: v for k, v in given(options).items() if k in READ_OPTIONS and k not in CONVERSION_OPTIONS}
     sources = named_sources(files)
     pv = preview(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
                  max_points=max_points, max_bytes=max_bytes,
                  **{k: v for k, v in reading.items() if k != "frf_sign"})
+    if reads is not None and upload_id is not None and pv.read is not None:
+        reads.put(read_key(upload_id, options, max_bytes), pv.read)
     time_like = pv.domain != "frequency"
     x_label = ("sample" if pv.step is None else "time (s)") if time_like else "frequency (Hz)"
     return {
@@ -94,13 +98,14 @@ def preview_json(files: list[tuple[str, bytes]], options: dict, max_points: int,
 
 
 def import_json(upload_id: str, files: list[tuple[str, bytes]], options: dict, max_points: int,
-                max_bytes: int | None = None) -> dict:
+                max_bytes: int | None = None, reads=None) -> dict:
     """schemas.Import: the preview, or the reason there is none, with the option that fixes it. Files that inflate
-    past ``max_bytes`` raise era.TooLargeError (413: no option fixes them)."""
+    past ``max_bytes`` raise era.TooLargeError (413: no option fixes them). ``reads``: as in :func:`preview_json`."""
     out = {"id": upload_id, "files": [n for n, _ in files], "bytes": sum(len(b) for _, b in files),
            "options": given(options), "preview": None, "error": None, "option": None}
     try:
-        out["preview"], out["error"], out["option"] = preview_json(files, options, max_points, max_bytes)
+        out["preview"], out["error"], out["option"] = preview_json(files, options, max_points, max_bytes, reads,
+                                                                      upload_id)
     except era.TooLargeError:
         raise
     except era.EraError as exc:

@@ -9,6 +9,8 @@ import era
 
 #: What the records are, as the person may say it (era.io.records.to_response); "auto" lets the loader guess.
 KINDS = ("auto", "pulse", "decay", "frf", "io", "ambient")
+#: The options of era.load that change how files are read (era.io.read's), not what is done with the records.
+READING = ("format", "dt", "orientation", "variable", "group", "resample")
 #: Files in one upload at most (one per hammer hit or reference; a roving test of 64 points fits).
 MAX_FILES = 256
 
@@ -34,18 +36,30 @@ def named_sources(files: list[tuple[str, bytes]]) -> list:
     return sources
 
 
-def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", max_bytes: int | None = None, **options):
+def read_key(upload_id: str, options: dict, max_bytes: int | None) -> tuple:
+    """The key of an upload read with ``options`` (the import step's): equal for a preview and a dataset that read
+    the files the same way, whatever else they choose."""
+    said = {k: v for k, v in options.items() if v is not None and v is not False}
+    return (upload_id, max_bytes) + tuple((k, repr(said.get(k))) for k in READING)
+
+
+def load_upload(files: list[tuple[str, bytes]], kind: str = "auto", max_bytes: int | None = None, read=None,
+                **options):
     """Parse uploaded files (name, bytes) as one dataset. ``options`` go to era.load (dt, format, orientation,
     variable, group, frf_sign, start_sample, drop, forces, references, band_hz; None means not given);
-    ``max_bytes`` bounds what the files inflate to (era.load's, ERA_MAX_UPLOAD_MB). Raises an era.EraError (shown
-    to the person as is; era.TooLargeError: 413)."""
+    ``max_bytes`` bounds what the files inflate to (era.load's, ERA_MAX_UPLOAD_MB). ``read``: the files as already
+    read with the same reading options (era.io.Read, a preview's), converted without reading them again. Raises an
+    era.EraError (shown to the person as is; era.TooLargeError: 413)."""
     if kind not in KINDS:
         raise era.DataError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}.", option="kind")
     sources = named_sources(files)  # checked on arrival (routes/datasets.read_parts)
     given = {k: v for k, v in options.items() if v is not None}
     try:
-        ds = era.load(sources if len(sources) > 1 else sources[0], name=files[0][0] if len(files) == 1 else None,
-                      kind=kind, max_bytes=max_bytes, **given)
+        if read is not None:
+            ds = era.io.convert(read, kind=kind, **{k: v for k, v in given.items() if k not in READING})
+        else:
+            ds = era.load(sources if len(sources) > 1 else sources[0],
+                          name=files[0][0] if len(files) == 1 else None, kind=kind, max_bytes=max_bytes, **given)
     except era.DataError as exc:
         if "band_hz" in given and "argument 'band_hz'" in str(exc):  # the conversion of time records takes none
             raise era.DataError(f"{files[0][0]}: a band applies to FRF records only; leave it out for these "
@@ -96,12 +110,15 @@ def check_stored(data: era.ResponseData, max_upload_bytes: int) -> None:
                                 "or samples.")
 
 
-def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict) -> dict:
+def new_dataset(cache, files: list[tuple[str, bytes]], kind: str, options: dict, upload_id: str | None = None
+                ) -> dict:
     """Read ``files`` with ``options`` into a stored dataset; returns its summary (schemas.Dataset), whose
-    ``source.options`` keeps what the person said (shown in the summary, frozen into reports)."""
+    ``source.options`` keeps what the person said (shown in the summary, frozen into reports). The files of a
+    staged upload (``upload_id``) that its preview read the same way are not read again (``cache.reads``)."""
     from .payloads import dataset_summary
 
-    data, geometry, source = load_upload(files, kind, cache.settings.max_upload_bytes, **options)
+    got = None if upload_id is None else cache.reads.get(read_key(upload_id, options, cache.settings.max_upload_bytes))
+    data, geometry, source = load_upload(files, kind, cache.settings.max_upload_bytes, got, **options)
     check_stored(data, cache.settings.max_upload_bytes)
     name = files[0][0] if len(files) == 1 else f"{files[0][0]} + {len(files) - 1} more"
     said = {k: v for k, v in options.items() if v is not None}

@@ -152,6 +152,8 @@ async def stabilization(request: Request, a: Analysis = Depends(analysis)):
     def work():
         return payloads.stabilization_json(c.diagram(a), a.data, c.settings.max_plot_points)
 
+    if c.is_diagrammed(a):  # computed with the identification (the page asks right after it): not queued behind SVDs
+        return await jobs(request).quick(work)
     return await jobs(request).heavy(work, progress=progress_key(request),
                                      message="Realizing every order, tracking the stable poles and choosing the modes")
 

@@ -48,7 +48,7 @@ async def upload(request: Request, file: list[UploadFile] = File(description="on
     settings = cache(request).settings
     try:
         return await read_files(request, files, import_json, upload_id, files, options, settings.max_plot_points,
-                                settings.max_upload_bytes)
+                                settings.max_upload_bytes, cache(request).reads)
     except era.TooLargeError:  # 413: files that inflate past the limit are not kept for another try
         await jobs(request).quick(store(request).staging.remove, upload_id)
         raise
@@ -60,7 +60,7 @@ async def preview(request: Request, upload_id: str, options: schemas.ImportOptio
     files = _staged(request, upload_id)
     settings = cache(request).settings
     return await read_files(request, files, import_json, upload_id, files, options.model_dump(),
-                            settings.max_plot_points, settings.max_upload_bytes)
+                            settings.max_plot_points, settings.max_upload_bytes, cache(request).reads)
 
 
 @router.post("/{upload_id}/dataset", summary="Make the dataset from the staged files with the person's options",
@@ -71,7 +71,7 @@ async def commit(request: Request, upload_id: str, options: schemas.ImportOption
     files = _staged(request, upload_id)
     said = {k: v for k, v in given(options.model_dump()).items() if k != "kind"}
     try:
-        summary = await read_files(request, files, new_dataset, cache(request), files, options.kind, said)
+        summary = await read_files(request, files, new_dataset, cache(request), files, options.kind, said, upload_id)
     except era.TooLargeError:
         raise
     except era.EraError as exc:  # said next to the control, in the page's words

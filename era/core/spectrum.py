@@ -20,5 +20,9 @@ def cmif(data: ResponseData) -> tuple[np.ndarray, np.ndarray]:
     values : (min(p, m), F), descending at each frequency, in the units of Y times seconds
     """
     spectrum = np.fft.rfft(data.markov, axis=0) * data.dt  # (F, p, m)
-    values = np.linalg.svd(spectrum, compute_uv=False)  # (F, min(p, m))
+    if min(spectrum.shape[1:]) == 1:  # one output or one input: the one singular value is the vector's norm
+        values = np.sqrt(np.einsum("fk,fk->f", spectrum.reshape(spectrum.shape[0], -1).conj(),
+                                   spectrum.reshape(spectrum.shape[0], -1)).real)[:, None]  # (F, 1)
+    else:
+        values = np.linalg.svd(spectrum, compute_uv=False)  # (F, min(p, m))
     return np.fft.rfftfreq(data.n_samples, data.dt), np.ascontiguousarray(values.T)

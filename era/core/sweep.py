@@ -47,6 +47,9 @@ class OrderSweep:
     raw : per order, (the decomposition as the eigensolver gave it, the model's mode order as indices into it,
         the repeated clusters): what Identification.mode_std needs for the standard deviations of some modes;
     aligned : per order, the decomposition with its repeated modes aligned, in the solver's order;
+    known_std : per order, (frequency_std_hz, damping_std) in the solver's order, computed while realizing it:
+        those of the poles that may be repeated (era.core.decomposition.cluster_candidates, the test needs them),
+        NaN for the others; what Identification.mode_std would give them, so they are not computed twice;
     perm : (n_modes,) int, the sweep's order of the modes as indices into those decompositions concatenated.
     γ, μ and the contribution come from :func:`order_indicators`.
     """
@@ -62,6 +65,7 @@ class OrderSweep:
     raw: tuple
     aligned: tuple
     perm: np.ndarray
+    known_std: tuple = ()
 
     def of(self, k: int) -> slice:
         """The modes of orders[k]."""
@@ -150,11 +154,11 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
             ident.projected(orders[-1])  # one projection of H(1) for every order
 
     def decomposed(n):
-        _, _, _, raw, dec, clusters, _, _ = ident.decomposed(n, False, histories=False)
-        return raw, dec, clusters
+        _, _, _, raw, dec, clusters, f_std, d_std = ident.decomposed(n, False, histories=False)
+        return raw, dec, clusters, (f_std, d_std)
 
     parts = in_parallel(decomposed, list(orders), workers)
-    decs: list[ModalDecomposition] = [dec for _, dec, _ in parts]
+    decs: list[ModalDecomposition] = [dec for _, dec, _, _ in parts]
     sizes = np.array([dec.z.size for dec in decs], dtype=int)
     start = np.concatenate([[0], np.cumsum(sizes)])
     group = np.repeat(np.asarray(orders, dtype=int), sizes)
@@ -169,8 +173,8 @@ def realize_orders(ident, orders: list, workers: int = 1) -> OrderSweep:
     return OrderSweep(orders=np.asarray(orders, dtype=int), start=start, order=group,
                       mode_index=np.concatenate([np.arange(k) for k in sizes]) if decs else np.zeros(0, int),
                       z=z[perm], frequency_hz=s.imag / (2 * np.pi), damping_ratio=damping, shapes=shapes[:, perm],
-                      raw=tuple((raw, loc, clusters) for (raw, _, clusters), loc in zip(parts, local)),
-                      aligned=tuple(decs), perm=perm)
+                      raw=tuple((raw, loc, clusters) for (raw, _, clusters, _), loc in zip(parts, local)),
+                      aligned=tuple(decs), perm=perm, known_std=tuple(known for *_, known in parts))
 
 
 def order_indicators(ident, sweep: OrderSweep, workers: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -214,6 +214,15 @@ def load(source, format: str | None = None, *, name: str | None = None, kind: st
     """
     how = {k: options.pop(k) for k in list(options) if k in _READER_OPTIONS}
     got = read(source, format, name=name, dt=dt, max_bytes=max_bytes, **how)
+    return convert(got, kind=kind, start_sample=start_sample, drop=drop, forces=forces, points=points, **options)
+
+
+def convert(got: "Read", *, kind: str = "auto", start_sample: int | None = None, drop=None, forces=None,
+            points=None, **options) -> Dataset:
+    """The second half of :func:`load`: the person's choices and the conversion to Markov parameters of files
+    already read (:func:`read`, or a preview's ``read``), so a preview and the dataset made after it read the
+    files once. ``kind``, ``start_sample``, ``drop``, ``forces``, ``points`` and ``options`` as in :func:`load`;
+    ``got`` is not changed, so it may be converted again with other choices."""
     if got.npz is not None:
         if start_sample or drop or forces is not None or points:
             raise DataError(f"{got.labels[0]}: an NPZ file holds era's pulse responses; start_sample, drop, forces "
@@ -382,5 +391,6 @@ def _source(labels, fmt, kind, described, data) -> dict:
     return out
 
 
-__all__ = ["load", "read", "Read", "choose", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff", "save_npz", "npz_bytes", "read_npz", "read_arrays",
+__all__ = ["load", "read", "convert", "Read", "choose", "Dataset", "ModeSet", "Records", "read_modes_uff", "save_modes_uff",
+           "save_npz", "npz_bytes", "read_npz", "read_arrays",
            "sniff"]

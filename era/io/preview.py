@@ -59,6 +59,8 @@ class Preview:
         that fixes it. geometry_nodes : nodes of the test geometry in the files (UFF 15/2411, a SignalCalc setup).
     proposed_band_hz : (low, high) Hz, the band the test's setup proposes for FRFs (a SignalCalc setup.csv's fMin and
         fMax), or None.
+    read : the files as read (era.io.read), for era.io.convert to make the dataset without reading them again;
+        None when they were read with a stand-in sampling interval or resampled because of ``problem``.
     """
 
     files: list
@@ -78,6 +80,7 @@ class Preview:
     problem_option: str | None = None
     geometry_nodes: int = 0
     proposed_band_hz: tuple | None = None
+    read: object = None
 
 
 def _direction(d: np.ndarray) -> str | None:
@@ -171,5 +174,5 @@ def preview(source, format: str | None = None, *, name: str | None = None, dt: f
         traces=np.asarray(y[idx].T, float),
         problem=problem, problem_option=option,
         geometry_nodes=len(got.parts[0]) if got.parts is not None else 0,
-        proposed_band_hz=(rec.points or {}).get("proposed_band_hz"))
+        proposed_band_hz=(rec.points or {}).get("proposed_band_hz"), read=None if problem else got)
 

@@ -128,3 +128,39 @@ def test_a_phone_csv_with_a_jittered_clock_is_shown_and_resampled_only_when_the_
         assert src["options"] == {"kind": "ambient", "resample": True}
         assert src["conversions"][0].startswith(f"{PHONE.name}: resampled onto an even grid at the mean rate "
                                                 "425.077 Hz")
+
+
+def test_a_staged_upload_is_read_once_and_its_dataset_holds_the_files_numbers(tmp_path, monkeypatch):
+    """Preview, then dataset with the same reading options: the files are read once (the preview's reading is
+    converted); the free decays are the file's columns, as numpy wrote them. Another reading option reads again."""
+    import era.io
+    import era.io.preview
+
+    t = np.arange(400) * 0.01
+    y = np.stack([np.exp(-0.3 * t) * np.sin(2 * np.pi * 5 * t), np.exp(-0.5 * t) * np.cos(2 * np.pi * 8 * t)], 1)
+    text = "time,a,b\n" + "\n".join(f"{a:.6f},{b:.17g},{c:.17g}" for a, (b, c) in zip(t, y))
+    calls = []
+    real = era.io.read
+
+    def counted(*args, **kw):
+        calls.append(kw)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(era.io, "read", counted)
+    monkeypatch.setattr(era.io.preview, "read", counted)
+    with client(tmp_path) as c:
+        up = c.post("/api/imports", files={"file": ("decay.csv", text.encode())}).json()
+        assert up["error"] is None and len(calls) == 1
+        made = c.post(f"/api/imports/{up['id']}/dataset", json={"kind": "decay"})
+        assert made.status_code == 200, made.text
+        assert len(calls) == 1  # converted from the preview's reading
+        ds = made.json()
+        assert ds["n_outputs"] == 2 and ds["dt"] == pytest.approx(0.01)
+        markov = c.app.state.cache.dataset(ds["id"]).data.markov
+        np.testing.assert_allclose(markov[:, :, 0], y[-len(markov):], rtol=1e-15, atol=1e-15)
+
+        up2 = c.post("/api/imports", files={"file": ("decay.csv", text.encode())}).json()
+        assert len(calls) == 2
+        again = c.post(f"/api/imports/{up2['id']}/dataset", json={"kind": "decay", "dt": 0.02})  # another reading
+        assert again.status_code == 200, again.text
+        assert len(calls) == 3

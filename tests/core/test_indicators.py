@@ -60,3 +60,14 @@ def test_mac_matrix():
     m = mac(a, a * (2 - 1j))
     np.testing.assert_allclose(m, np.eye(2), atol=1e-15)
     assert mac(np.zeros(3), a).tolist() == [[0.0, 0.0]]
+
+
+def test_consecutive_powers_by_blocks_equal_pythons_complex_power():
+    """z^0 .. z^(N-1) for N past the block size: inside the unit circle (by blocks), on it, outside it (the
+    running product) and zero, each against Python's own complex power."""
+    from era.core.indicators import POWER_BLOCK, powers
+    z = np.array([0.999 * np.exp(0.3j), 0.95 * np.exp(2.9j), -0.5, 1.0, np.exp(1.1j), 1.002 * np.exp(0.7j), 0.0])
+    n = 3 * POWER_BLOCK + 17
+    got = powers(z, np.arange(n))
+    truth = np.array([[complex(zj) ** k if k else 1.0 for k in range(n)] for zj in z])
+    np.testing.assert_allclose(got, truth, rtol=1e-13, atol=1e-300)
