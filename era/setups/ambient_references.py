@@ -39,12 +39,29 @@ CANDIDATES_TRIED = 2
 class AmbientReferences:
     """What :func:`propose_ambient_references` found.
 
-    evidence : the era.ReferenceProposal that decided (``evidence.references``: per setup the indices, or None).
-    analyses : the analyses the evidence was read from (list, one per setup): the every-channel ones, or those
-        through NExT with a candidate pair only (``way`` says which).
-    way : "every" (every channel a NExT reference) or "references" (a candidate pair only).
-    candidate : with way "references", per setup the pair NExT correlated with (setup 1's order); else None.
-    tried : per way tried, (what was tried in words, what its evidence said).
+    Parameters
+    ----------
+    evidence : era.ReferenceProposal
+        The evidence that decided (``evidence.references``: per setup the indices, or None).
+    analyses : list of era.AnalysisResult
+        The analyses the evidence was read from, one per setup: the every-channel ones, or those through NExT
+        with a candidate pair only (``way`` says which).
+    way : str
+        "every" (every channel a NExT reference) or "references" (a candidate pair only).
+    candidate : list or None
+        With way "references", per setup the pair NExT correlated with (setup 1's order); else None.
+    tried : tuple
+        Per way tried, (what was tried in words, what its evidence said).
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import ambient_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> setups = [era.markov_from_ambient(ambient_response([2.0, 5.5, 9.0], 0.02, len(c), 6000, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 0.02, n_lags=100) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> found = era.propose_ambient_references(setups)
+    >>> found.candidate is None, len(found.analyses), found.tried[0][0]
+    (True, 2, 'every channel as NExT reference')
     """
 
     evidence: ReferenceProposal
@@ -109,18 +126,36 @@ def propose_ambient_references(setups, every=None, *, min_mac: float = MIN_MAC,
                                n_candidates: int = CANDIDATES_TRIED) -> AmbientReferences:
     """Per setup, the reference channels of an ambient multi-setup test (or None), from the data the merge uses.
 
+    The every-channel modes are asked first (era.reference_evidence); when they do not tell, the channel pairs
+    whose correlations are most alike in every setup (:func:`correlation_candidates`) are analysed through NExT
+    with that pair only and checked the same way. No proposal is made that the check does not pass.
+
     Parameters
     ----------
-    setups : list of era.ResponseData, one per setup: NExT correlations with every channel as a reference
+    setups : list of era.ResponseData
+        One per setup: NExT correlations with every channel as a reference
         (``era.load(file, kind="ambient").data``).
-    every : their era.analyse results, when already made (else they are made here).
-    min_mac : era.reference_evidence's check.
-    n_candidates : how many candidate pairs (:func:`correlation_candidates`) are analysed and checked when the
-        every-channel modes do not tell.
+    every : list of era.AnalysisResult, optional
+        Their era.analyse results, when already made (else they are made here).
+    min_mac : float, optional
+        era.reference_evidence's check: the least MAC of the candidates' components over the shared modes.
+    n_candidates : int, optional
+        How many candidate pairs are analysed and checked when the every-channel modes do not tell.
 
     Returns
     -------
-    AmbientReferences; ``references`` is None when no proposal passes era.reference_evidence's check.
+    AmbientReferences
+        ``references`` is None when no proposal passes era.reference_evidence's check.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import ambient_response
+    >>> shapes = np.random.default_rng(3).standard_normal((7, 3))  # 3 modes at 7 points; 1 and 4 in both setups
+    >>> setups = [era.markov_from_ambient(ambient_response([2.0, 5.5, 9.0], 0.02, len(c), 6000, 0.02, seed=k,
+    ...           shapes=shapes[c])[0], 0.02, n_lags=100) for k, c in enumerate([[1, 4, 0, 2, 3], [1, 4, 5, 6]])]
+    >>> found = era.propose_ambient_references(setups)
+    >>> found.references, found.way
+    ([[0, 1], [0, 1]], 'every')
     """
     setups = list(setups)
     every = [analyse(d) for d in setups] if every is None else list(every)

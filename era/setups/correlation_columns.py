@@ -21,18 +21,35 @@ def references_only(data: ResponseData, references) -> ResponseData:
 
     Parameters
     ----------
-    data : era.ResponseData from NExT (``era.markov_from_ambient`` or ``era.load(..., kind="ambient")``): markov
-        (N, p, r) with r references among its p outputs (``data.meta["references"]``, their output indices).
-    references : indices (among the p outputs) of the channels to keep as references; each must be one of
-        ``data``'s references.
+    data : era.ResponseData
+        From NExT (``era.markov_from_ambient`` or ``era.load(..., kind="ambient")``): markov (N, p, r) with r
+        references among its p outputs (``data.meta["references"]``, their output indices).
+    references : sequence of int
+        Indices (among the p outputs) of the channels to keep as references; each must be one of ``data``'s
+        references.
 
     Returns
     -------
-    era.ResponseData, markov (N, p, len(references)): exactly what NExT with these references gives on the same
-    records (``era.load(file, kind="ambient", references=references)``): the same lags, records or segments
-    (``records`` (n, N, p, len(references))), zero lag and conversion note.
+    era.ResponseData
+        markov (N, p, len(references)): exactly what NExT with these references gives on the same records
+        (``era.load(file, kind="ambient", references=references)``): the same lags, records or segments
+        (``records`` (n, N, p, len(references))), zero lag and conversion note.
 
-    Raises era.DataError when ``data`` is not NExT correlations or a reference was not correlated with.
+    Raises
+    ------
+    era.DataError
+        When ``data`` is not NExT correlations or a reference was not correlated with.
+
+    Examples
+    --------
+    >>> from era.examples.synthetic import ambient_response
+    >>> y = ambient_response([2.0, 5.5], 0.02, 4, 6000, 0.02, seed=1)[0]
+    >>> every = era.markov_from_ambient(y, 0.02, n_lags=100)
+    >>> only = era.references_only(every, [0, 1])
+    >>> every.markov.shape, only.markov.shape
+    ((100, 4, 4), (100, 4, 2))
+    >>> bool(np.allclose(only.markov, era.markov_from_ambient(y, 0.02, [0, 1], n_lags=100).markov))
+    True
     """
     correlated = data.meta.get("references")
     if data.meta.get("source") != "next" or correlated is None:
