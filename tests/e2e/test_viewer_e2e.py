@@ -131,8 +131,9 @@ def test_live_viewer_draws_the_selected_mode_displaced(base, browser, shots):
     assert viewer.get_by_text("Share").count() == 0
     assert get_json(base + "/test/key")["sessions"] == 1
     before = get_json(base + "/test/key")["frames_sent"]
-    time.sleep(1.0)
-    assert get_json(base + "/test/key")["frames_sent"] - before >= 15      # animating (30 frames/s nominal)
+    time.sleep(2.0)
+    assert get_json(base + "/test/key")["frames_sent"] - before >= 15      # animating (30 frames/s nominal; a loaded
+    #                                                                        machine sends fewer, never none)
     page.screenshot(path=str(shots / "live_page.png"))
 
     # The viewer's own controls and the POST route drive the same state, both ways.
