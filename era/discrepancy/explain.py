@@ -33,6 +33,7 @@ from .deck_model import DeckExplainModel
 from .effects_deck import deck_effects
 from .matrix_model import MatrixExplainModel
 from .measured import MeasuredModes, identify_modes, measured_modes, node_direction
+from .part_scatter import with_part_scatter
 from .protocol import ExplainModel, as_explain_model
 from .ranking import credible_places, rank_effects
 from .search import Search, search_effects
@@ -321,7 +322,10 @@ def explain(data: ResponseData | Identification | MeasuredModes, model, *, effec
         f_nominal = model.modes(n_model + 8)[0]
         n_model = max(n_model, int(np.searchsorted(f_nominal, 1.2 * fm.frequency_hz.max())) + 2)
     close = close_modes(model, fm, n_model, errors.close)
-    weights = with_member_scatter(errors.weights(fm, close, node_rows(model, fm)), errors, model, fm, n_model)
+    weights = errors.weights(fm, close, node_rows(model, fm))
+    # an FE model's few parts: their scatter moves every mode together (a correlated error); a frame's members as before
+    weights = (with_part_scatter(weights, errors, model, fm, n_model)
+               or with_member_scatter(weights, errors, model, fm, n_model))
     t1 = time.perf_counter()
     joints = np.asarray(model.joints_ft, float)
     # a matrix model's trials are small dense eigenproblems, which a threaded BLAS slows 10-50 times on a busy

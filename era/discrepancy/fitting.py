@@ -29,6 +29,7 @@ from scipy.optimize import least_squares, linear_sum_assignment
 
 from ..core.correlation import pairing_cost
 from ..errors import EraError
+from .correlated import CorrelatedErrors
 from .effects import EffectSpec, Param, as_location
 from .measured import MeasuredModes
 from .protocol import ExplainModel, Modes
@@ -75,6 +76,10 @@ class ErrorLevels:
         the levels above, so it enters every fit's evidence: effects and places the data cannot tell apart at
         this allowance stay apart, and a further effect is named only when it pays for itself under it. None:
         the model's own (ExplainModel.default_model_form; docs/explain-accuracy.md says how it was calibrated).
+    thickness_scatter, support_scatter : relative 1σ of a deck's PSHELL thicknesses and of its springs to ground
+        (None: part_scatter's THICKNESS_SCATTER 2 % and SUPPORT_SCATTER 10 %). On an FE model with parts (matrices
+        or a deck) these and ``member_scatter`` (each part's stiffness) are correlated errors marginalised in every
+        fit (part_scatter.with_part_scatter), not per-mode levels.
     """
 
     freq_floor: float = 0.0015
@@ -89,6 +94,8 @@ class ErrorLevels:
     member_scatter: float | None = None
     model_form: float | None = None
     model_form_shape: float | None = None
+    thickness_scatter: float | None = None
+    support_scatter: float | None = None
 
     def for_model(self, model: ExplainModel) -> "ErrorLevels":
         """These levels with the model's defaults put in for those left None (member scatter, model form)."""
@@ -131,12 +138,15 @@ class ErrorLevels:
 class ModeWeights:
     """Per-mode error levels: sigma_f (k,) Hz of each frequency, sigma_s (k,) of each unit-norm shape component;
     scale_whitener (k, k) L⁻¹ of the covariance of the log modal-constant scales (per-mode errors plus the
-    common gain error), and node_rows (sensor rows, input rows) of the model's node_modes; None without them."""
+    common gain error), and node_rows (sensor rows, input rows) of the model's node_modes; None without them;
+    correlated : errors shared across modes (the parts' stiffness scatter, part_scatter.with_part_scatter) that
+    whiten the residuals normalised by the levels above, None without them."""
 
     sigma_f: np.ndarray
     sigma_s: np.ndarray
     scale_whitener: np.ndarray | None = None
     node_rows: tuple | None = None
+    correlated: CorrelatedErrors | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,7 +199,8 @@ def mode_residuals(model: Modes, measured: MeasuredModes, w: ModeWeights, n_mode
     Returns r (n + n p [+ n],): frequency residuals (f_model − f_meas)/σ_f, shape residuals (ψ̂ − φ̂)/σ_s of
     unit-norm, sign-aligned shapes, and, when w has a scale_whitener, the whitened log scales ln s_j of the
     measured modal constants Q_j against the model's φ_j(sensors) φ_j(inputs)ᵀ = P_j, s_j = ‖Q_j‖/‖P_j‖
-    (1 when the model's mass is right); and (f_model (n,), mac (n,), model_index (n,)). The scale is the
+    (1 when the model's mass is right); and (f_model (n,), mac (n,), model_index (n,)). With w.correlated (an FE
+    model's parts, thicknesses and supports scattered) r is whitened against those shared errors as well. The scale is the
     constants' size only: their pattern is the shape, which the shape residuals already compare (a projection
     ⟨Q_j, P_j⟩/⟨P_j, P_j⟩ counted a shape misfit twice, and collapsed for a partner whose shape is far off, such
     as a nominal's crossed modes, which made the linearised screening of places miss the right one).
@@ -218,7 +229,10 @@ def mode_residuals(model: Modes, measured: MeasuredModes, w: ModeWeights, n_mode
         pp = np.maximum(np.einsum("pmk,pmk->k", P, P), 1e-300)
         s = np.maximum(np.sqrt(np.einsum("pmk,pmk->k", Q, Q) / pp), 1e-300)
         parts.append(whiten @ np.log(s))
-    return np.concatenate(parts), (fa, m[np.arange(measured.n_modes), idx], idx)
+    r = np.concatenate(parts)
+    if w.correlated is not None:
+        r = w.correlated.whiten(r)
+    return r, (fa, m[np.arange(measured.n_modes), idx], idx)
 
 
 def _prior_residuals(params, u):

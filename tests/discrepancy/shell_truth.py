@@ -170,8 +170,9 @@ def make_case(index: int, folder: str, scatter: float = 1.0, mesh: tuple = (),
     """Blind case ``index``: family and effect label cycled (every label on both structures), the places, sizes,
     model-form scatter and noise drawn from a generator seeded by the index; ``scatter`` multiplies the
     model-form scatter (0: only the formulation and mesh differ); ``mesh`` as :func:`nominal`'s; ``hidden``
-    {"label": ..., "truth": (kind, place, size), "regions": {pid: {"t"|"e"|"rho": factor}}} hides that effect
-    instead of the drawn one (the scatter and noise still drawn from the index)."""
+    {"label": ..., "truth": (kind, place, size), "regions": {pid: {"t"|"e"|"rho": factor}}, "mass": (node, kg),
+    "spring": (node, direction, k)} (regions, mass and spring optional) hides that effect instead of the drawn
+    one (the scatter and noise still drawn from the index)."""
     family = FAMILIES[index % len(FAMILIES)]
     label = LABELS[index // len(FAMILIES) % len(LABELS)]
     s = STRUCTURES[family](*mesh)
@@ -179,7 +180,8 @@ def make_case(index: int, folder: str, scatter: float = 1.0, mesh: tuple = (),
     rng = np.random.default_rng([index, 38])
     truth, changes, mass, spring = _effect(label, s, rng, model.total_mass())
     if hidden is not None:
-        label, truth, changes, mass, spring = hidden["label"], hidden["truth"], hidden["regions"], None, None
+        label, truth, changes = hidden["label"], hidden["truth"], hidden.get("regions", {})
+        mass, spring = hidden.get("mass"), hidden.get("spring")
     regions = {}
     for pid, (_, t, e, nu, rho) in s["regions"].items():
         c = changes.get(pid, {})
