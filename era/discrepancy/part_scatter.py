@@ -62,14 +62,29 @@ class Cause:
     central: bool = True
 
 
+def _stiffness(place: str) -> Callable[[float], dict]:
+    """A part's stiffness × (1 + e)."""
+    return lambda e: {"part_at": place, "part_factor": 1.0 + e}
+
+
+def _thickness(place: str) -> Callable[[float], dict]:
+    """A plate part's thickness × (1 + e): its bending stiffness × (1 + 3e), its mass × (1 + e)."""
+    return lambda e: {"part_at": place, "part_factor": 1.0 + 3.0 * e, "part_mass_at": place,
+                      "part_mass_factor": 1.0 + e}
+
+
+def _support(place: str, k: float) -> Callable[[float], dict]:
+    """A spring to ground of stiffness k, e × k of it (one side: less may make a mechanism)."""
+    return lambda e: {"spring_at": place, "spring_stiffness": e * k}
+
+
 def causes(model: ExplainModel, errors: ErrorLevels) -> list:
     """Every scatter cause (:class:`Cause`): each part's stiffness (errors.member_scatter, its E); on a deck each
     PSHELL's thickness (its part's bending stiffness × (1 + 3e) and its mass × (1 + e): a plate's bending goes with
     T³, and the part's stiffness on the reduced model costs no re-assembly; membrane parts are overstated, which
     only widens) and each spring to ground (ErrorLevels.thickness_scatter, support_scatter; None: this module's
     constants)."""
-    out = [Cause(p, lambda e, p=p: {"part_at": p, "part_factor": 1.0 + e}, errors.member_scatter)
-           for p in part_places(model)]
+    out = [Cause(p, _stiffness(p), float(errors.member_scatter or 0.0)) for p in part_places(model)]
     if isinstance(model, DeckExplainModel):
         t = THICKNESS_SCATTER if errors.thickness_scatter is None else errors.thickness_scatter
         k = SUPPORT_SCATTER if errors.support_scatter is None else errors.support_scatter
@@ -77,13 +92,11 @@ def causes(model: ExplainModel, errors: ErrorLevels) -> list:
         for pid in sorted(model.deck.shell_sections):
             p = f"PSHELL {pid}"
             if p in (model.deck_model.parts or {}) and p in masses:
-                out.append(Cause(f"{p} T", lambda e, p=PART + p: {"part_at": p, "part_factor": 1.0 + 3.0 * e,
-                                                                  "part_mass_at": p, "part_mass_factor": 1.0 + e}, t))
+                out.append(Cause(f"{p} T", _thickness(PART + p), t))
         for s in model.deck.springs.values():
             if not s.g2 and s.c1 and (str(s.g1), DIRECTIONS[s.c1 - 1]) in model.nominal.model.dof_index:
                 place = dof_place(str(s.g1), DIRECTIONS[s.c1 - 1])
-                out.append(Cause(place, lambda e, place=place, kk=s.k: {"spring_at": place, "spring_stiffness": e * kk},
-                                 k, central=False))
+                out.append(Cause(place, _support(place, s.k), k, central=False))
     return [c for c in out if c.sigma]
 
 
