@@ -241,7 +241,9 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
     player = page.frame(url=lambda u: "/viser/" in u)
     time_field = viewer.locator("input[inputmode=decimal]").first
     images = {}
-    for t in ("0.5", "1"):
+    # At most four times asked for: on a loaded machine the player has once shown the same frame for two of them
+    # (seen in CI); two frames that differ are what this test needs, wherever in the cycle they fall.
+    for t in ("0.5", "1", "0.25", "1.5"):
         player.evaluate(SHOW_ALL)
         time_field.fill(t)
         time_field.press("Enter")
@@ -249,14 +251,19 @@ def test_recorded_cycle_plays_back_without_a_live_session(base, browser, shots):
         player.evaluate(ISOLATE_CANVAS)
         page.wait_for_timeout(200)
         images[t] = canvas_pixels(page, shots / f"playback_t{t}.png")
-    rest, peak = images["0.5"], images["1"]
-    assert drawn(rest).sum() > 2000 and drawn(peak).sum() > 2000            # the grid is there
+        shown = list(images.values())
+        if len(shown) >= 2 and max((np.abs(a.astype(int) - shown[-1].astype(int)).sum(axis=-1) > 60).sum()
+                                   for a in shown[:-1]) > 1000:
+            break
+    shown = list(images.values())
+    assert all(drawn(img).sum() > 2000 for img in shown)                # the grid is there
     # On a loaded machine the player may not sit exactly on the time asked for (seen in CI: at t = 0.5 s it showed
     # the upward bend), so check that it animates the mode: a clearly displaced frame with red mid-span, and two
-    # different deformations at the two times.
-    displaced = max((rest, peak), key=lambda img: warm(img).sum())
+    # different deformations among the times asked for.
+    displaced = max(shown, key=lambda img: warm(img).sum())
     assert warm(displaced).sum() > 1000 and red(displaced).sum() > 10
-    assert (np.abs(rest - peak).sum(axis=-1) > 60).sum() > 1000
+    assert max((np.abs(a.astype(int) - b.astype(int)).sum(axis=-1) > 60).sum()
+               for i, a in enumerate(shown) for b in shown[i + 1:]) > 1000
     assert sockets == []                                     # no live session behind it
     page.close()
 
